@@ -1,0 +1,48 @@
+#pragma once
+// The interface the controller and the runner use to learn a mapping x -> y online or in
+// batch, without depending on a particular learner (LWPR is engine/lwpr/).
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <memory>
+
+namespace armfarm {
+
+/// One prediction, y (n_out × 1), with a per-output confidence half-width (same units as y),
+/// the largest kernel activation that contributed, and whether any local model was
+/// trustworthy enough to predict at x. When `trustworthy` is false, `value` is not a
+/// prediction (it is zero) and callers must not use it as one.
+struct Prediction {
+  Eigen::VectorXd value;
+  Eigen::VectorXd confidence;
+  double max_activation = 0.0;
+  bool trustworthy = false;
+};
+
+/// Caller-owned scratch space for predictions, so that predict() can be const and several
+/// threads can predict from one learner, each with its own workspace.
+class PredictionWorkspace {
+ public:
+  virtual ~PredictionWorkspace() = default;
+};
+
+class Learner {
+ public:
+  virtual ~Learner() = default;
+
+  virtual int input_dim() const = 0;
+  virtual int output_dim() const = 0;
+
+  /// Learns one sample. Throws std::invalid_argument (model unchanged) if x or y has the wrong
+  /// size or holds NaN or Inf.
+  virtual void update(const Eigen::VectorXd& x, const Eigen::VectorXd& y) = 0;
+
+  virtual std::unique_ptr<PredictionWorkspace> make_workspace() const = 0;
+  /// Predicts y at x; const and thread-safe given one workspace per thread.
+  virtual Prediction predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace) const = 0;
+
+  /// Number of local models (LWPR: receptive fields summed over outputs).
+  virtual std::size_t size() const = 0;
+};
+
+}  // namespace armfarm

@@ -1,0 +1,37 @@
+// armfarm: a batch experiment farm for learning the motor control of simulated robot arms.
+#include "runner/cli/subcommand.hpp"
+
+#include <exception>
+#include <iostream>
+
+int main(int argc, char** argv) {
+  CLI::App app{"armfarm: parameter sweeps of learned motor control on simulated robot arms"};
+  app.require_subcommand(1);
+  app.fallthrough(false);
+
+  armfarm::cli::RunFunction selected;
+  std::vector<std::pair<CLI::App*, armfarm::cli::RunFunction>> runs;
+  for (const auto& entry : armfarm::cli::all_subcommands()) {
+    const std::size_t before = app.get_subcommands({}).size();
+    armfarm::cli::RunFunction run = entry.setup(app);
+    const auto subs = app.get_subcommands({});
+    if (subs.size() > before) runs.emplace_back(subs.back(), std::move(run));
+  }
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+
+  try {
+    for (auto& [sub, run] : runs) {
+      if (sub->parsed()) return run();
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "armfarm: " << e.what() << "\n";
+    return 2;
+  }
+  return 2;
+}

@@ -1,0 +1,27 @@
+#pragma once
+// The armfarm CLI is a table of subcommands (subcommands.cpp), each in one small file
+// cmd_<name>.cpp that registers its options on a CLI11 sub-app and returns the function
+// that runs it once the command line has been parsed.
+//
+// Exit codes, for every subcommand: 0 success; 1 the command ran but found failures
+// (failed jobs, a regressed metric); 2 bad usage or bad input (an exception escaping
+// the run function is reported on one line and exits 2).
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <vector>
+
+namespace armfarm::cli {
+
+using RunFunction = std::function<int()>;
+using SetupFunction = RunFunction (*)(CLI::App& parent);
+
+struct SubcommandEntry {
+  const char* name;
+  SetupFunction setup;
+};
+
+/// All subcommands, in the order `armfarm --help` lists them.
+const std::vector<SubcommandEntry>& all_subcommands();
+
+}  // namespace armfarm::cli

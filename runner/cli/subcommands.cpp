@@ -1,0 +1,15 @@
+// The one list of armfarm's subcommands (git's builtin table). Add a line per cmd_<name>.cpp.
+#include "runner/cli/subcommand.hpp"
+
+namespace armfarm::cli {
+
+RunFunction setup_version(CLI::App& parent);
+
+const std::vector<SubcommandEntry>& all_subcommands() {
+  static const std::vector<SubcommandEntry> entries = {
+      {"version", setup_version},
+  };
+  return entries;
+}
+
+}  // namespace armfarm::cli
