@@ -4,10 +4,12 @@
 namespace armfarm::cli {
 
 RunFunction setup_version(CLI::App& parent);
+RunFunction setup_lwpr(CLI::App& parent);
 
 const std::vector<SubcommandEntry>& all_subcommands() {
   static const std::vector<SubcommandEntry> entries = {
       {"version", setup_version},
+      {"lwpr", setup_lwpr},
   };
   return entries;
 }

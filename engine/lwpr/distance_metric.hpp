@@ -1,0 +1,50 @@
+#pragma once
+// Distance-metric adaptation of one receptive field: stochastic gradient descent on
+//   J = (1/W) Σ_i Σ_r w_i e_cv,r,i² + (γ/n) Σ_jk D_jk²,
+// the weighted leave-one-out (PRESS) errors of the field's R projection regressions (e_cv,r is the
+// residual after projection r over 1 − w s_r²/Σλws_r², Vijayakumar et al. 2005) plus a penalty on narrow
+// fields, w.r.t. the Cholesky factor M of D = MᵀM (Vijayakumar et al. 2005, section 3.2 and
+// appendix; Schaal & Atkeson 1998 for the PRESS memory terms). Optional second-order learning
+// rates by Incremental Delta-Bar-Delta (Sutton 1992). Normalised units throughout.
+#include "engine/lwpr/lwpr_params.hpp"
+#include "engine/lwpr/receptive_field.hpp"
+
+#include <Eigen/Core>
+
+namespace armfarm::lwpr {
+
+/// What one sample contributes to the metric gradient. The PRESS sums (W, E) already include the
+/// sample; the memory terms rf.press_H / press_R are still those before it.
+struct MetricSample {
+  MetricSample(const Eigen::VectorXd& s_, const Eigen::VectorXd& e_, const Eigen::VectorXd& e_cv_)
+      : s(s_), e(e_), e_cv(e_cv_) {}
+  double w = 0.0;        ///< activation of the sample (with the current metric)
+  double q = 0.0;        ///< (x−c)ᵀD(x−c)
+  const Eigen::VectorXd& s;     ///< projections s_r of the sample (≥ R elements)
+  const Eigen::VectorXd& e;     ///< residual after each projection (after the PLS update) (≥ R)
+  const Eigen::VectorXd& e_cv;  ///< its leave-one-out version e_r/(1 − w s_r²/Σλws_r²) (≥ R)
+  double W = 0.0;        ///< Σλw including the sample
+  double E = 0.0;        ///< Σλw Σ_r e_cv,r² including the sample
+};
+
+/// ∂J1/∂w (the PRESS part of J w.r.t. this sample's activation), from the sample and the field's
+/// memory terms (the univariate case of Schaal & Atkeson 1998's derivation, per projection).
+double calc_press_dw(const ReceptiveField& rf, const MetricSample& sample);
+
+/// Gradient of J w.r.t. the stored elements of M (shape of rf.metric_factor; only the upper
+/// triangle is filled for full metrics): dJ1_dw·∂w/∂M + (w/W)·∂J2/∂M, with diff = x − c.
+/// If `curvature` is non-null it also gets the diagonal second derivative estimate used by IDBD.
+void calc_metric_gradient(const LwprParams& params, const ReceptiveField& rf, const Eigen::VectorXd& diff,
+                          const MetricSample& sample, double dJ1_dw, double d2J1_dw2, Eigen::MatrixXd& grad,
+                          Eigen::MatrixXd* curvature, Eigen::VectorXd& md_scratch);
+
+/// One gradient (or IDBD) step on rf.metric_factor, then D = MᵀM. An element whose step would
+/// exceed a tenth of max|M| is skipped and its learning rate halved (the library's safeguard); if
+/// the new D is not finite the old M and D are kept. `transient` scales the step (≤ 1).
+void update_distance_metric(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
+                            double transient, ReceptiveField& rf, FieldScratch& scratch);
+
+/// D = MᵀM for the field's storage layout (full or diagonal).
+void calc_metric_from_factor(const Eigen::MatrixXd& M, Eigen::MatrixXd& D);
+
+}  // namespace armfarm::lwpr

@@ -1,0 +1,211 @@
+// LWPR model: per-output receptive field sets, creation, pruning, blended prediction.
+#include "engine/lwpr/lwpr_model.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace armfarm::lwpr {
+namespace {
+
+void require_vector(const Eigen::VectorXd& v, int size, const char* name) {
+  if (v.size() != size) {
+    throw std::invalid_argument(std::string("LWPR: ") + name + " has " + std::to_string(v.size()) +
+                                " elements, expected " + std::to_string(size));
+  }
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v(i))) {
+      throw std::invalid_argument(std::string("LWPR: ") + name + "[" + std::to_string(i) + "] is not finite");
+    }
+  }
+}
+
+double calc_trace(const ReceptiveField& rf) {
+  return rf.diagonal() ? rf.metric.sum() : rf.metric.trace();
+}
+
+}  // namespace
+
+LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
+    : n_in_(n_in), n_out_(n_out), params_(params) {
+  validate_lwpr_params(params_, n_in, n_out);
+  init_metric_ = calc_init_metric(params_, n_in);
+  norm_in_ = calc_norm_vector(params_.norm_in, n_in);
+  norm_out_ = calc_norm_vector(params_.norm_out, n_out);
+  trust_n_data_ = params_.trust_n_data > 0.0 ? params_.trust_n_data : 2.0 * n_in;
+  fields_.resize(n_out);
+  x_normalised_.resize(n_in);
+  scratch_.resize(n_in, params_.diag_only);
+}
+
+LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params, std::vector<std::vector<ReceptiveField>> fields,
+                     std::uint64_t n_updates)
+    : LwprModel(n_in, n_out, params) {
+  if (static_cast<int>(fields.size()) != n_out) {
+    throw std::invalid_argument("LWPR: " + std::to_string(fields.size()) + " field lists for " +
+                                std::to_string(n_out) + " outputs");
+  }
+  const Eigen::Index metric_cols = params_.diag_only ? 1 : n_in;
+  for (const auto& list : fields) {
+    for (const ReceptiveField& rf : list) {
+      const int r = rf.n_reg();
+      const bool ok = rf.center.size() == n_in && rf.metric.rows() == n_in && rf.metric.cols() == metric_cols &&
+                      rf.metric_factor.rows() == n_in && rf.metric_factor.cols() == metric_cols &&
+                      rf.log_alpha.rows() == n_in && rf.log_alpha.cols() == metric_cols &&
+                      rf.meta_trace.rows() == n_in && rf.meta_trace.cols() == metric_cols &&
+                      rf.mean_x.size() == n_in && r >= 1 && r <= n_in && rf.sum_w.size() == r &&
+                      rf.n_data.size() == r && rf.sxy.rows() == n_in && rf.sxy.cols() == r &&
+                      rf.sxs.rows() == n_in && rf.sxs.cols() == r && rf.sys.size() == r &&
+                      rf.sum_e_cv2.size() == r && rf.press_H.size() == r && rf.press_R.size() == r &&
+                      rf.directions.rows() == n_in && rf.directions.cols() == r && rf.loadings.rows() == n_in &&
+                      rf.loadings.cols() == r && rf.beta.size() == r;
+      if (!ok) throw std::invalid_argument("LWPR: a receptive field's sizes do not match the model");
+    }
+  }
+  fields_ = std::move(fields);
+  n_updates_ = n_updates;
+}
+
+void LwprModel::update(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+  require_vector(x, n_in_, "x");
+  require_vector(y, n_out_, "y");
+  x_normalised_ = x.cwiseQuotient(norm_in_);
+  for (int o = 0; o < n_out_; ++o) update_output(o, y(o) / norm_out_(o));
+  ++n_updates_;
+}
+
+void LwprModel::update_output(int output, double y) {
+  std::vector<ReceptiveField>& fields = fields_[output];
+  const Eigen::VectorXd& x = x_normalised_;
+  double w_max = 0.0;
+  int i_max = -1;
+  int prune_a = -1;
+  int prune_b = -1;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    ReceptiveField& rf = fields[i];
+    const double w = calc_activation(rf, params_.kernel, x, params_.cutoff, scratch_);
+    if (w <= params_.cutoff || w <= 0.0) continue;
+    if (w > w_max) {
+      w_max = w;
+      i_max = static_cast<int>(i);
+    }
+    if (w > params_.w_prune) {
+      if (prune_a < 0) {
+        prune_a = static_cast<int>(i);
+      } else if (prune_b < 0) {
+        prune_b = static_cast<int>(i);
+      }
+    }
+    update_receptive_field(params_, trust_n_data_, x, y, w, rf, scratch_);
+  }
+
+  if (w_max <= params_.w_gen && (params_.max_fields == 0 || fields.size() < params_.max_fields)) {
+    // Start from the metric of the nearest field if it is trustworthy and not too far away.
+    const bool use_neighbour = i_max >= 0 && w_max > 0.1 * params_.w_gen && fields[i_max].trustworthy;
+    Eigen::MatrixXd D;
+    if (use_neighbour) {
+      const ReceptiveField& near = fields[i_max];
+      D = near.diagonal() ? Eigen::MatrixXd(near.metric.col(0).asDiagonal()) : near.metric;
+    } else {
+      D = init_metric_;
+    }
+    fields.push_back(make_receptive_field(params_, x, D));
+    update_receptive_field(params_, trust_n_data_, x, y, 1.0, fields.back(), scratch_);
+  }
+
+  if (prune_b >= 0) {
+    const int victim = calc_trace(fields[prune_a]) >= calc_trace(fields[prune_b]) ? prune_a : prune_b;
+    fields.erase(fields.begin() + victim);
+  }
+}
+
+std::unique_ptr<PredictionWorkspace> LwprModel::make_workspace() const {
+  auto workspace = std::make_unique<LwprWorkspace>();
+  workspace->x_normalised.resize(n_in_);
+  workspace->scratch.resize(n_in_, params_.diag_only);
+  return workspace;
+}
+
+Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace) const {
+  LwprPredictionDetail detail;
+  return predict(x, workspace, detail);
+}
+
+Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace,
+                              LwprPredictionDetail& detail) const {
+  require_vector(x, n_in_, "x");
+  auto* ws = dynamic_cast<LwprWorkspace*>(&workspace);
+  if (ws == nullptr) throw std::invalid_argument("LWPR: predict() needs a workspace from make_workspace()");
+  ws->x_normalised = x.cwiseQuotient(norm_in_);
+  const Eigen::VectorXd& xn = ws->x_normalised;
+
+  Prediction prediction;
+  prediction.value = Eigen::VectorXd::Zero(n_out_);
+  prediction.confidence = Eigen::VectorXd::Constant(n_out_, std::numeric_limits<double>::infinity());
+  prediction.trustworthy = true;
+  detail.max_activation = Eigen::VectorXd::Zero(n_out_);
+  detail.trustworthy.assign(n_out_, false);
+  double min_of_max = std::numeric_limits<double>::infinity();
+
+  for (int o = 0; o < n_out_; ++o) {
+    double sum_w = 0.0, sum_wy = 0.0, sum_wyy = 0.0, sum_wvar = 0.0;
+    double w_best = 0.0, y_best = 0.0, var_best = 0.0;
+    for (const ReceptiveField& rf : fields_[o]) {
+      if (!rf.trustworthy) continue;
+      const double w = calc_activation(rf, params_.kernel, xn, params_.cutoff, ws->scratch);
+      if (w <= params_.cutoff || w <= 0.0) continue;
+      double leverage = 0.0;
+      const double y = predict_receptive_field(rf, xn, leverage, ws->scratch);
+      const double variance = calc_field_noise_variance(rf) * (1.0 + w * leverage);
+      if (params_.blend) {
+        sum_w += w;
+        sum_wy += w * y;
+        sum_wyy += w * y * y;
+        sum_wvar += w * variance;
+      }
+      if (w > w_best) {
+        w_best = w;
+        y_best = y;
+        var_best = variance;
+      }
+    }
+    detail.max_activation(o) = w_best;
+    min_of_max = std::min(min_of_max, w_best);
+    if (w_best <= 0.0) {
+      prediction.trustworthy = false;
+      continue;
+    }
+    detail.trustworthy[o] = true;
+    double mean = y_best;
+    double variance = var_best;
+    if (params_.blend) {
+      mean = sum_wy / sum_w;
+      // Mean of the fields' noise variances plus their disagreement about the mean.
+      variance = (sum_wvar + std::max(0.0, sum_wyy - sum_w * mean * mean)) / sum_w;
+    }
+    prediction.value(o) = mean * norm_out_(o);
+    prediction.confidence(o) = std::sqrt(std::max(0.0, variance)) * norm_out_(o);
+  }
+  prediction.max_activation = n_out_ > 0 ? min_of_max : 0.0;
+  return prediction;
+}
+
+std::size_t LwprModel::size() const {
+  std::size_t total = 0;
+  for (const auto& list : fields_) total += list.size();
+  return total;
+}
+
+double LwprModel::calc_mean_projections() const {
+  std::size_t fields = 0;
+  double projections = 0.0;
+  for (const auto& list : fields_) {
+    for (const ReceptiveField& rf : list) projections += rf.n_reg();
+    fields += list.size();
+  }
+  return fields == 0 ? 0.0 : projections / static_cast<double>(fields);
+}
+
+}  // namespace armfarm::lwpr

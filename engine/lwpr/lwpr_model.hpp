@@ -1,0 +1,89 @@
+#pragma once
+// An LWPR model (Vijayakumar, D'Souza & Schaal 2005): one independent set of receptive fields
+// per output, each field a locally weighted PLS regression. Inputs and outputs are in the
+// caller's units; the model normalises them by LwprParams::norm_in / norm_out internally.
+#include "engine/learning/learner.hpp"
+#include "engine/lwpr/lwpr_params.hpp"
+#include "engine/lwpr/receptive_field.hpp"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace armfarm::lwpr {
+
+/// Scratch space of LwprModel::predict (one per thread).
+class LwprWorkspace final : public PredictionWorkspace {
+ public:
+  Eigen::VectorXd x_normalised;
+  FieldScratch scratch;
+};
+
+/// Per-output detail of a prediction (all sizes n_out), in the caller's units.
+struct LwprPredictionDetail {
+  Eigen::VectorXd max_activation;  ///< largest activation among the output's trustworthy fields
+  std::vector<bool> trustworthy;   ///< whether any trustworthy field was active for the output
+};
+
+class LwprModel final : public Learner {
+ public:
+  /// An empty model (no fields) learning n_in → n_out. Throws std::invalid_argument if the
+  /// parameters are invalid for these sizes (see validate_lwpr_params()).
+  LwprModel(int n_in, int n_out, const LwprParams& params);
+
+  /// A model restored from saved state: `fields` has one list per output, `n_updates` the samples
+  /// learnt. Throws std::invalid_argument if the sizes are inconsistent.
+  LwprModel(int n_in, int n_out, const LwprParams& params, std::vector<std::vector<ReceptiveField>> fields,
+            std::uint64_t n_updates);
+
+  int input_dim() const override { return n_in_; }
+  int output_dim() const override { return n_out_; }
+
+  /// Learns (x, y) (n_in, n_out): updates every field activated more than `cutoff`, creates a
+  /// field at x for an output where no field is activated more than w_gen (unless at max_fields),
+  /// and prunes one of two fields activated more than w_prune. Throws std::invalid_argument with
+  /// the model unchanged if a size is wrong or x or y holds NaN or Inf.
+  void update(const Eigen::VectorXd& x, const Eigen::VectorXd& y) override;
+
+  std::unique_ptr<PredictionWorkspace> make_workspace() const override;
+
+  /// Blended (or winner-take-all) prediction at x with a one-standard-deviation confidence per
+  /// output. `trustworthy` is false if any output has no trustworthy active field; that output's
+  /// value is 0 and its confidence +∞. max_activation is the smallest over outputs of each
+  /// output's largest activation. Throws std::invalid_argument for a wrong size, a non-finite x,
+  /// or a workspace not made by this class.
+  Prediction predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace) const override;
+
+  /// predict() plus the per-output activations and trust flags.
+  Prediction predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail& detail) const;
+
+  /// Receptive fields summed over outputs.
+  std::size_t size() const override;
+
+  const LwprParams& params() const { return params_; }
+  const std::vector<ReceptiveField>& fields(int output) const { return fields_.at(output); }
+  std::uint64_t n_updates() const { return n_updates_; }
+  /// Mean number of PLS projections per receptive field (0 without fields).
+  double calc_mean_projections() const;
+
+ private:
+  void update_output(int output, double y);
+
+  int n_in_;
+  int n_out_;
+  LwprParams params_;
+  Eigen::MatrixXd init_metric_;  // n_in×n_in
+  Eigen::VectorXd norm_in_;
+  Eigen::VectorXd norm_out_;
+  double trust_n_data_;
+  std::vector<std::vector<ReceptiveField>> fields_;
+  std::uint64_t n_updates_ = 0;
+  // Update scratch (update() is not const; predict() uses the caller's workspace instead).
+  Eigen::VectorXd x_normalised_;
+  FieldScratch scratch_;
+};
+
+}  // namespace armfarm::lwpr

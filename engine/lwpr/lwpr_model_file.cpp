@@ -1,0 +1,315 @@
+// Versioned little-endian binary serialisation of LwprModel.
+#include "engine/lwpr/lwpr_model_file.hpp"
+
+#include <cstring>
+#include <istream>
+#include <iterator>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace armfarm::lwpr {
+namespace {
+
+constexpr char kMagic[8] = {'A', 'F', 'L', 'W', 'P', 'R', '\r', '\n'};
+constexpr std::uint32_t kMaxDimension = 1u << 16;
+
+std::uint64_t calc_fnv1a(const std::string& bytes) {
+  std::uint64_t hash = 14695981039346656037ull;
+  for (unsigned char c : bytes) {
+    hash ^= c;
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
+
+class Writer {
+ public:
+  void put_u64(std::uint64_t v) {
+    for (int i = 0; i < 8; ++i) bytes_.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
+  }
+  void put_u32(std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes_.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
+  }
+  void put_f64(double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    put_u64(bits);
+  }
+  void put_bool(bool v) { put_u32(v ? 1 : 0); }
+  void put_matrix(const Eigen::MatrixXd& m) {
+    put_u32(static_cast<std::uint32_t>(m.rows()));
+    put_u32(static_cast<std::uint32_t>(m.cols()));
+    for (Eigen::Index c = 0; c < m.cols(); ++c) {
+      for (Eigen::Index r = 0; r < m.rows(); ++r) put_f64(m(r, c));
+    }
+  }
+  const std::string& bytes() const { return bytes_; }
+
+ private:
+  std::string bytes_;
+};
+
+class Reader {
+ public:
+  Reader(const std::string& bytes, std::size_t base) : bytes_(bytes), base_(base) {}
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error("LWPR model file: byte " + std::to_string(base_ + pos_) + ": " + what);
+  }
+  std::uint64_t get_u64() {
+    need(8);
+    std::uint64_t v = 0;
+    for (int i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes_[pos_ + i])) << (8 * i);
+    pos_ += 8;
+    return v;
+  }
+  std::uint32_t get_u32() {
+    need(4);
+    std::uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes_[pos_ + i])) << (8 * i);
+    pos_ += 4;
+    return v;
+  }
+  double get_f64() {
+    const std::uint64_t bits = get_u64();
+    double v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+  bool get_bool() {
+    const std::uint32_t v = get_u32();
+    if (v > 1) fail("flag is " + std::to_string(v) + ", expected 0 or 1");
+    return v == 1;
+  }
+  Eigen::MatrixXd get_matrix(Eigen::Index rows, Eigen::Index cols, const char* name) {
+    const std::uint32_t r = get_u32(), c = get_u32();
+    if (r != rows || c != cols) {
+      fail(std::string(name) + " is " + std::to_string(r) + "x" + std::to_string(c) + ", expected " +
+           std::to_string(rows) + "x" + std::to_string(cols));
+    }
+    Eigen::MatrixXd m(rows, cols);
+    for (Eigen::Index j = 0; j < cols; ++j) {
+      for (Eigen::Index i = 0; i < rows; ++i) m(i, j) = get_f64();
+    }
+    return m;
+  }
+  Eigen::VectorXd get_vector(Eigen::Index size, const char* name) { return get_matrix(size, 1, name).col(0); }
+  std::uint32_t get_dimension(const char* name, std::uint32_t lo, std::uint32_t hi) {
+    const std::uint32_t v = get_u32();
+    if (v < lo || v > hi) fail(std::string(name) + " is " + std::to_string(v) + ", out of range");
+    return v;
+  }
+  bool at_end() const { return pos_ == bytes_.size(); }
+
+ private:
+  void need(std::size_t n) const {
+    if (bytes_.size() - pos_ < n) fail("unexpected end of data");
+  }
+  const std::string& bytes_;
+  std::size_t base_;
+  std::size_t pos_ = 0;
+};
+
+void put_params(Writer& w, const LwprParams& p) {
+  w.put_matrix(p.init_D);
+  w.put_f64(p.init_alpha);
+  w.put_f64(p.penalty);
+  w.put_bool(p.diag_only);
+  w.put_bool(p.update_D);
+  w.put_bool(p.meta);
+  w.put_f64(p.meta_rate);
+  w.put_f64(p.w_gen);
+  w.put_f64(p.w_prune);
+  w.put_f64(p.init_lambda);
+  w.put_f64(p.final_lambda);
+  w.put_f64(p.tau_lambda);
+  w.put_f64(p.init_S2);
+  w.put_f64(p.add_threshold);
+  w.put_u32(p.kernel == Kernel::kGaussian ? 0 : 1);
+  w.put_matrix(p.norm_in);
+  w.put_matrix(p.norm_out);
+  w.put_bool(p.blend);
+  w.put_bool(p.add_proj);
+  w.put_u32(static_cast<std::uint32_t>(p.init_n_reg));
+  w.put_u64(p.max_fields);
+  w.put_f64(p.cutoff);
+  w.put_f64(p.trust_n_data);
+}
+
+LwprParams get_params(Reader& r, int n_in, int n_out) {
+  LwprParams p;
+  const std::uint32_t rows = r.get_u32(), cols = r.get_u32();
+  if (!((rows == 1 && cols == 1) || (rows == static_cast<std::uint32_t>(n_in) && (cols == 1 || cols == rows)))) {
+    r.fail("init_D has a bad shape");
+  }
+  p.init_D.resize(rows, cols);
+  for (std::uint32_t j = 0; j < cols; ++j) {
+    for (std::uint32_t i = 0; i < rows; ++i) p.init_D(i, j) = r.get_f64();
+  }
+  p.init_alpha = r.get_f64();
+  p.penalty = r.get_f64();
+  p.diag_only = r.get_bool();
+  p.update_D = r.get_bool();
+  p.meta = r.get_bool();
+  p.meta_rate = r.get_f64();
+  p.w_gen = r.get_f64();
+  p.w_prune = r.get_f64();
+  p.init_lambda = r.get_f64();
+  p.final_lambda = r.get_f64();
+  p.tau_lambda = r.get_f64();
+  p.init_S2 = r.get_f64();
+  p.add_threshold = r.get_f64();
+  const std::uint32_t kernel = r.get_dimension("kernel", 0, 1);
+  p.kernel = kernel == 0 ? Kernel::kGaussian : Kernel::kBisquare;
+  const std::uint32_t nin_rows = r.get_u32();
+  if (r.get_u32() != 1 || (nin_rows != 1 && nin_rows != static_cast<std::uint32_t>(n_in))) r.fail("norm_in has a bad shape");
+  p.norm_in.resize(nin_rows);
+  for (std::uint32_t i = 0; i < nin_rows; ++i) p.norm_in(i) = r.get_f64();
+  const std::uint32_t nout_rows = r.get_u32();
+  if (r.get_u32() != 1 || (nout_rows != 1 && nout_rows != static_cast<std::uint32_t>(n_out))) {
+    r.fail("norm_out has a bad shape");
+  }
+  p.norm_out.resize(nout_rows);
+  for (std::uint32_t i = 0; i < nout_rows; ++i) p.norm_out(i) = r.get_f64();
+  p.blend = r.get_bool();
+  p.add_proj = r.get_bool();
+  p.init_n_reg = static_cast<int>(r.get_dimension("init_n_reg", 1, kMaxDimension));
+  p.max_fields = r.get_u64();
+  p.cutoff = r.get_f64();
+  p.trust_n_data = r.get_f64();
+  return p;
+}
+
+void put_field(Writer& w, const ReceptiveField& rf) {
+  w.put_u32(static_cast<std::uint32_t>(rf.n_reg()));
+  w.put_matrix(rf.center);
+  w.put_matrix(rf.metric_factor);
+  w.put_matrix(rf.metric);
+  w.put_matrix(rf.log_alpha);
+  w.put_matrix(rf.meta_trace);
+  w.put_f64(rf.lambda);
+  w.put_matrix(rf.mean_x);
+  w.put_f64(rf.beta0);
+  w.put_matrix(rf.sum_w);
+  w.put_matrix(rf.n_data);
+  w.put_matrix(rf.sxy);
+  w.put_matrix(rf.sxs);
+  w.put_matrix(rf.ss2);
+  w.put_matrix(rf.sys);
+  w.put_matrix(rf.sum_e_cv2);
+  w.put_f64(rf.sum_e2);
+  w.put_f64(rf.press_E);
+  w.put_matrix(rf.press_H);
+  w.put_matrix(rf.press_R);
+  w.put_bool(rf.trustworthy);
+  // Cached derived quantities are stored too, so predictions after loading are bit-identical.
+  w.put_matrix(rf.directions);
+  w.put_matrix(rf.loadings);
+  w.put_matrix(rf.beta);
+}
+
+ReceptiveField get_field(Reader& r, int n, bool diagonal) {
+  ReceptiveField rf;
+  const int R = static_cast<int>(r.get_dimension("number of projections", 1, static_cast<std::uint32_t>(n)));
+  const Eigen::Index mc = diagonal ? 1 : n;
+  rf.center = r.get_vector(n, "center");
+  rf.metric_factor = r.get_matrix(n, mc, "M");
+  rf.metric = r.get_matrix(n, mc, "D");
+  rf.log_alpha = r.get_matrix(n, mc, "log_alpha");
+  rf.meta_trace = r.get_matrix(n, mc, "meta_trace");
+  rf.lambda = r.get_f64();
+  rf.mean_x = r.get_vector(n, "mean_x");
+  rf.beta0 = r.get_f64();
+  rf.sum_w = r.get_vector(R, "sum_w");
+  rf.n_data = r.get_vector(R, "n_data");
+  rf.sxy = r.get_matrix(n, R, "sxy");
+  rf.sxs = r.get_matrix(n, R, "sxs");
+  rf.ss2 = r.get_vector(R, "ss2");
+  rf.sys = r.get_vector(R, "sys");
+  rf.sum_e_cv2 = r.get_vector(R, "sum_e_cv2");
+  rf.sum_e2 = r.get_f64();
+  rf.press_E = r.get_f64();
+  rf.press_H = r.get_vector(R, "press_H");
+  rf.press_R = r.get_vector(R, "press_R");
+  rf.trustworthy = r.get_bool();
+  rf.directions = r.get_matrix(n, R, "directions");
+  rf.loadings = r.get_matrix(n, R, "loadings");
+  rf.beta = r.get_vector(R, "beta");
+  if (!rf.metric.allFinite() || !rf.metric_factor.allFinite() || !rf.center.allFinite()) {
+    r.fail("receptive field has a non-finite metric or centre");
+  }
+  return rf;
+}
+
+}  // namespace
+
+void write_lwpr_model(const LwprModel& model, std::ostream& out) {
+  Writer payload;
+  payload.put_u32(static_cast<std::uint32_t>(model.input_dim()));
+  payload.put_u32(static_cast<std::uint32_t>(model.output_dim()));
+  payload.put_u64(model.n_updates());
+  put_params(payload, model.params());
+  for (int o = 0; o < model.output_dim(); ++o) {
+    payload.put_u64(model.fields(o).size());
+    for (const ReceptiveField& rf : model.fields(o)) put_field(payload, rf);
+  }
+  Writer header;
+  header.put_u32(kLwprModelFormatVersion);
+  header.put_u64(payload.bytes().size());
+  Writer trailer;
+  trailer.put_u64(calc_fnv1a(payload.bytes()));
+  out.write(kMagic, sizeof kMagic);
+  out.write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
+  out.write(payload.bytes().data(), static_cast<std::streamsize>(payload.bytes().size()));
+  out.write(trailer.bytes().data(), static_cast<std::streamsize>(trailer.bytes().size()));
+  if (!out) throw std::runtime_error("LWPR model file: write failed");
+}
+
+LwprModel load_lwpr_model(std::istream& in) {
+  const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (all.size() < sizeof kMagic || std::memcmp(all.data(), kMagic, sizeof kMagic) != 0) {
+    throw std::runtime_error("LWPR model file: byte 0: not an armfarm LWPR model (bad magic)");
+  }
+  const std::string header = all.substr(sizeof kMagic, 12);
+  Reader head(header, sizeof kMagic);
+  const std::uint32_t version = head.get_u32();
+  if (version > kLwprModelFormatVersion) {
+    throw std::runtime_error("LWPR model file: format version " + std::to_string(version) +
+                             " is newer than this armfarm reads (" + std::to_string(kLwprModelFormatVersion) +
+                             "); upgrade armfarm");
+  }
+  if (version == 0) head.fail("format version 0 is invalid");
+  const std::uint64_t length = head.get_u64();
+  const std::size_t start = sizeof kMagic + 12;
+  if (all.size() != start + length + 8) {
+    throw std::runtime_error("LWPR model file: size " + std::to_string(all.size()) + " bytes, expected " +
+                             std::to_string(start + length + 8) + " (truncated or corrupt)");
+  }
+  const std::string payload = all.substr(start, length);
+  const std::string trailer = all.substr(start + length);
+  Reader tail(trailer, start + length);
+  if (tail.get_u64() != calc_fnv1a(payload)) {
+    throw std::runtime_error("LWPR model file: byte " + std::to_string(start + length) +
+                             ": checksum mismatch (corrupt file)");
+  }
+  Reader r(payload, start);
+  const int n_in = static_cast<int>(r.get_dimension("n_in", 1, kMaxDimension));
+  const int n_out = static_cast<int>(r.get_dimension("n_out", 1, kMaxDimension));
+  const std::uint64_t n_updates = r.get_u64();
+  const LwprParams params = get_params(r, n_in, n_out);
+  std::vector<std::vector<ReceptiveField>> fields(n_out);
+  for (int o = 0; o < n_out; ++o) {
+    const std::uint64_t count = r.get_u64();
+    if (count > payload.size()) r.fail("field count " + std::to_string(count) + " is impossible");
+    for (std::uint64_t k = 0; k < count; ++k) fields[o].push_back(get_field(r, n_in, params.diag_only));
+  }
+  if (!r.at_end()) r.fail("trailing bytes after the last field");
+  try {
+    return LwprModel(n_in, n_out, params, std::move(fields), n_updates);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("LWPR model file: ") + e.what());
+  }
+}
+
+}  // namespace armfarm::lwpr

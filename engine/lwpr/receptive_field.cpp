@@ -1,0 +1,286 @@
+// One receptive field: kernel, incremental weighted PLS, leave-one-out statistics.
+#include "engine/lwpr/receptive_field.hpp"
+
+#include "engine/lwpr/distance_metric.hpp"
+
+#include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace armfarm::lwpr {
+namespace {
+
+constexpr double kTinyWeight = 1e-10;  // initial Σw and n_data, so that divisions stay finite
+constexpr double kMinOneMinusH = 1e-3;  // floor of 1 − leverage in leave-one-out residuals
+
+// Smallest q at which the activation is at most `cutoff` (infinite when cutoff = 0).
+double calc_q_limit(Kernel kernel, double cutoff) {
+  if (cutoff <= 0.0) return std::numeric_limits<double>::infinity();
+  if (kernel == Kernel::kGaussian) return -2.0 * std::log(cutoff);
+  return 4.0 * (1.0 - std::sqrt(cutoff));
+}
+
+void refresh_projection(ReceptiveField& rf, int r) {
+  const double norm = rf.sxy.col(r).norm();
+  if (norm > 0.0) {
+    rf.directions.col(r) = rf.sxy.col(r) / norm;
+  } else {
+    rf.directions.col(r).setZero();
+  }
+  rf.loadings.col(r) = rf.sxs.col(r) / rf.ss2(r);
+  rf.beta(r) = rf.sys(r) / rf.ss2(r);
+}
+
+}  // namespace
+
+void FieldScratch::resize(int n, bool diagonal) {
+  z.resize(n);
+  diff.resize(n);
+  md.resize(n);
+  s.resize(n);
+  residual.resize(n);
+  e_cv.resize(n);
+  one_minus_h.resize(n);
+  const int cols = diagonal ? 1 : n;
+  grad.resize(n, cols);
+  curvature.resize(n, cols);
+  old_factor.resize(n, cols);
+  new_metric.resize(n, cols);
+}
+
+ReceptiveField make_receptive_field(const LwprParams& params, const Eigen::VectorXd& x, const Eigen::MatrixXd& D) {
+  const int n = static_cast<int>(x.size());
+  ReceptiveField rf;
+  rf.center = x;
+  if (params.diag_only) {
+    rf.metric = D.diagonal();
+    rf.metric_factor = rf.metric.array().sqrt().matrix();
+  } else {
+    rf.metric = D;
+    Eigen::LLT<Eigen::MatrixXd> llt(D);  // D = LLᵀ = MᵀM with M = Lᵀ upper triangular
+    rf.metric_factor = llt.matrixU();
+    calc_metric_from_factor(rf.metric_factor, rf.metric);
+  }
+  rf.log_alpha = Eigen::MatrixXd::Constant(rf.metric.rows(), rf.metric.cols(), std::log(params.init_alpha));
+  rf.meta_trace = Eigen::MatrixXd::Zero(rf.metric.rows(), rf.metric.cols());
+  if (!params.diag_only) rf.log_alpha.triangularView<Eigen::StrictlyLower>().setZero();
+  rf.lambda = params.init_lambda;
+  rf.mean_x = x;
+  rf.beta0 = 0.0;
+  rf.sum_w.resize(0);
+  rf.n_data.resize(0);
+  rf.sxy.resize(n, 0);
+  rf.sxs.resize(n, 0);
+  rf.ss2.resize(0);
+  rf.sys.resize(0);
+  rf.sum_e_cv2.resize(0);
+  rf.press_H.resize(0);
+  rf.press_R.resize(0);
+  rf.directions.resize(n, 0);
+  rf.loadings.resize(n, 0);
+  rf.beta.resize(0);
+  for (int r = 0; r < std::min(params.init_n_reg, n); ++r) add_projection(params, rf);
+  rf.n_data.setConstant(kTinyWeight);
+  return rf;
+}
+
+void add_projection(const LwprParams& params, ReceptiveField& rf) {
+  const int n = rf.input_dim();
+  const int r = rf.n_reg();
+  auto grow = [r](Eigen::VectorXd& v, double value) {
+    v.conservativeResize(r + 1);
+    v(r) = value;
+  };
+  auto grow_cols = [n, r](Eigen::MatrixXd& m) {
+    m.conservativeResize(n, r + 1);
+    m.col(r).setZero();
+  };
+  grow(rf.sum_w, kTinyWeight);
+  grow(rf.n_data, 0.0);
+  grow_cols(rf.sxy);
+  grow_cols(rf.sxs);
+  grow(rf.ss2, params.init_S2);
+  grow(rf.sys, 0.0);
+  grow(rf.sum_e_cv2, 0.0);
+  grow(rf.press_H, 0.0);
+  grow(rf.press_R, 0.0);
+  grow_cols(rf.directions);
+  grow_cols(rf.loadings);
+  grow(rf.beta, 0.0);
+}
+
+void refresh_receptive_field(ReceptiveField& rf) {
+  for (int r = 0; r < rf.n_reg(); ++r) refresh_projection(rf, r);
+}
+
+double calc_kernel(Kernel kernel, double q) {
+  if (kernel == Kernel::kGaussian) return std::exp(-0.5 * q);
+  if (q >= 4.0) return 0.0;
+  const double a = 1.0 - 0.25 * q;
+  return a * a;
+}
+
+double calc_kernel_dq(Kernel kernel, double q) {
+  if (kernel == Kernel::kGaussian) return -0.5 * std::exp(-0.5 * q);
+  if (q >= 4.0) return 0.0;
+  return -0.5 * (1.0 - 0.25 * q);
+}
+
+double calc_kernel_dq2(Kernel kernel, double q) {
+  if (kernel == Kernel::kGaussian) return 0.25 * std::exp(-0.5 * q);
+  if (q >= 4.0) return 0.0;
+  return 0.125;
+}
+
+double calc_activation(const ReceptiveField& rf, Kernel kernel, const Eigen::VectorXd& x, double cutoff,
+                       FieldScratch& scratch) {
+  const int n = rf.input_dim();
+  const double q_limit = calc_q_limit(kernel, cutoff);
+  double q = 0.0;
+  const double* xc = x.data();
+  const double* cc = rf.center.data();
+  if (rf.diagonal()) {
+    const double* dd = rf.metric.data();
+    // Blocks of 4 so the compiler can vectorise; the early exit is checked once per block.
+    int i = 0;
+    for (; i + 4 <= n; i += 4) {
+      const double d0 = xc[i] - cc[i], d1 = xc[i + 1] - cc[i + 1];
+      const double d2 = xc[i + 2] - cc[i + 2], d3 = xc[i + 3] - cc[i + 3];
+      q += dd[i] * d0 * d0 + dd[i + 1] * d1 * d1 + dd[i + 2] * d2 * d2 + dd[i + 3] * d3 * d3;
+      if (q >= q_limit) return 0.0;
+    }
+    for (; i < n; ++i) {
+      const double d = xc[i] - cc[i];
+      q += dd[i] * d * d;
+    }
+  } else {
+    scratch.diff = x - rf.center;
+    const Eigen::MatrixXd& M = rf.metric_factor;
+    for (int r = 0; r < n; ++r) {
+      const double v = M.row(r).tail(n - r).dot(scratch.diff.tail(n - r));
+      q += v * v;
+      if (q >= q_limit) return 0.0;
+    }
+  }
+  if (q >= q_limit) return 0.0;
+  return calc_kernel(kernel, q);
+}
+
+double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage,
+                               FieldScratch& scratch) {
+  scratch.z = x - rf.mean_x;
+  double y = rf.beta0;
+  leverage = 0.0;
+  const int last = rf.n_reg() - 1;
+  for (int r = 0; r <= last; ++r) {
+    const double s = rf.directions.col(r).dot(scratch.z);
+    y += rf.beta(r) * s;
+    leverage += s * s / rf.ss2(r);
+    if (r < last) scratch.z.noalias() -= s * rf.loadings.col(r);
+  }
+  return y;
+}
+
+double calc_field_noise_variance(const ReceptiveField& rf) {
+  const int last = rf.n_reg() - 1;
+  return rf.sum_e_cv2(last) / rf.sum_w(last);
+}
+
+void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
+                            double w, ReceptiveField& rf, FieldScratch& scratch) {
+  const double lambda = rf.lambda;
+  const double lambda_slow = 1.0 - (1.0 - lambda) / 10.0;  // PLS directions forget more slowly
+  const int n_reg = rf.n_reg();
+
+  // Weighted means: x₀ and β₀.
+  const double w_old = lambda * rf.sum_w(0);
+  rf.sum_w = lambda * rf.sum_w.array() + w;
+  rf.n_data = lambda * rf.n_data.array() + w;
+  const double w_new = rf.sum_w(0);
+  rf.mean_x = (w_old * rf.mean_x + w * x) / w_new;
+  rf.beta0 = (w_old * rf.beta0 + w * y) / w_new;
+
+  // Incremental PLS (Vijayakumar et al. 2005, table 2): each projection regresses the residual
+  // left by the previous ones on s_r = u_rᵀz_r and deflates the input by s_r·p_r.
+  scratch.z = x - rf.mean_x;
+  double res = y - rf.beta0;
+  for (int r = 0; r < n_reg; ++r) {
+    rf.sxy.col(r) = lambda_slow * rf.sxy.col(r) + (w * res) * scratch.z;
+    const double norm = rf.sxy.col(r).norm();
+    if (norm > 0.0) {
+      rf.directions.col(r) = rf.sxy.col(r) / norm;
+    } else {
+      rf.directions.col(r).setZero();
+    }
+    const double s = rf.directions.col(r).dot(scratch.z);
+    rf.ss2(r) = lambda * rf.ss2(r) + w * s * s;
+    rf.sys(r) = lambda * rf.sys(r) + w * s * res;
+    rf.sxs.col(r) = lambda * rf.sxs.col(r) + (w * s) * scratch.z;
+    rf.beta(r) = rf.sys(r) / rf.ss2(r);
+    rf.loadings.col(r) = rf.sxs.col(r) / rf.ss2(r);
+    res -= rf.beta(r) * s;
+    scratch.z.noalias() -= s * rf.loadings.col(r);
+    scratch.s(r) = s;
+    scratch.residual(r) = res;
+    const double h = w * s * s / rf.ss2(r);
+    scratch.one_minus_h(r) = std::max(1.0 - h, kMinOneMinusH);
+    scratch.e_cv(r) = res / scratch.one_minus_h(r);
+  }
+
+  // Leave-one-out statistics and the metric update wait until the field has some data: the
+  // library waits for n_data > 0.1/(1−λ) (100 samples at λ = 0.999); we also accept
+  // 4·(R+1), a few times the local model's parameter count, which adapts D much earlier and
+  // measured better on the cross function (README).
+  const double ready_n = std::min(0.1 / std::max(1.0 - lambda, 1e-12), 4.0 * (n_reg + 1));
+  if (rf.n_data(0) > ready_n) {
+    const double e = scratch.residual(n_reg - 1);
+    // Leave-one-out error of the model with r+1 projections, for the add_threshold rule.
+    double leverage_r = 0.0;
+    for (int r = 0; r < n_reg; ++r) {
+      leverage_r += 1.0 - scratch.one_minus_h(r);
+      const double e_cv = scratch.residual(r) / std::max(1.0 - leverage_r, kMinOneMinusH);
+      rf.sum_e_cv2(r) = lambda * rf.sum_e_cv2(r) + w * e_cv * e_cv;
+    }
+    rf.sum_e2 = lambda * rf.sum_e2 + w * e * e;
+    rf.press_E = lambda * rf.press_E + w * scratch.e_cv.head(n_reg).squaredNorm();
+    if (params.update_D) {
+      MetricSample sample(scratch.s, scratch.residual, scratch.e_cv);
+      sample.w = w;
+      scratch.diff = x - rf.center;
+      sample.q = rf.diagonal() ? rf.metric.col(0).dot(scratch.diff.cwiseAbs2())
+                               : (rf.metric_factor.triangularView<Eigen::Upper>() * scratch.diff).squaredNorm();
+      sample.W = rf.sum_w(0);
+      sample.E = rf.press_E;
+      // The library's transient multiplier: small steps while the leave-one-out error is still
+      // much larger than the fitted error (a young or changing field).
+      const double ratio = rf.sum_e2 / (rf.sum_e_cv2(n_reg - 1) + 1e-10);
+      const double transient = std::min(1.0, ratio * ratio * ratio * ratio);
+      update_distance_metric(params, scratch.diff, sample, transient, rf, scratch);
+    }
+    for (int r = 0; r < n_reg; ++r) {
+      const double s = scratch.s(r);
+      const double e_cv = scratch.e_cv(r);
+      const double one_minus_h = scratch.one_minus_h(r);
+      rf.press_H(r) = lambda * rf.press_H(r) + w * s * e_cv / one_minus_h;
+      rf.press_R(r) = lambda * rf.press_R(r) + w * w * s * s * e_cv * e_cv / one_minus_h;
+    }
+  }
+
+  // Add a projection when the last one still cut the leave-one-out error by enough and has seen
+  // (nearly) all the data the field has.
+  if (params.add_proj && n_reg >= 2 && n_reg < rf.input_dim()) {
+    const double mse_last = rf.sum_e_cv2(n_reg - 1) / rf.sum_w(n_reg - 1) + 1e-10;
+    const double mse_prev = rf.sum_e_cv2(n_reg - 2) / rf.sum_w(n_reg - 2) + 1e-10;
+    if (mse_last / mse_prev < params.add_threshold && rf.n_data(n_reg - 1) / rf.n_data(0) > 0.99 &&
+        rf.n_data(n_reg - 1) * (1.0 - lambda) > 0.5) {
+      add_projection(params, rf);
+    }
+  }
+
+  rf.lambda = params.tau_lambda * lambda + (1.0 - params.tau_lambda) * params.final_lambda;
+  rf.trustworthy = rf.n_data(0) >= trust_n_data;
+}
+
+}  // namespace armfarm::lwpr

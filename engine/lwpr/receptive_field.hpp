@@ -1,0 +1,103 @@
+#pragma once
+// One receptive field of LWPR: a Gaussian (or bisquare) kernel around a centre c with distance
+// metric D = MᵀM, and a local linear model y ≈ β₀ + Σ_r β_r s_r fitted by incremental weighted
+// partial least squares (PLS) on forgetting-weighted sufficient statistics (Vijayakumar et al.
+// 2005, section 3 and table 2). All vectors here are in normalised units (x / norm_in, y / norm_out).
+#include "engine/lwpr/lwpr_params.hpp"
+
+#include <Eigen/Core>
+
+namespace armfarm::lwpr {
+
+/// The state of one receptive field. n = input dimension, R = number of PLS projections.
+/// Diagonal metrics (LwprParams::diag_only) keep M, D, log_alpha and meta_trace as n×1 columns
+/// (the diagonal); full metrics keep them n×n with M upper triangular.
+struct ReceptiveField {
+  Eigen::VectorXd center;      ///< c (n)
+  Eigen::MatrixXd metric_factor;  ///< M, D = MᵀM (n×n upper triangular, or n×1 diagonal)
+  Eigen::MatrixXd metric;      ///< D (n×n, or n×1 diagonal)
+  Eigen::MatrixXd log_alpha;   ///< log of the per-element learning rates of M (shape of M)
+  Eigen::MatrixXd meta_trace;  ///< IDBD memory trace of M's updates (shape of M)
+
+  double lambda = 0.999;       ///< forgetting factor, annealed towards final_lambda
+  Eigen::VectorXd mean_x;      ///< weighted mean x₀ of the inputs seen (n)
+  double beta0 = 0.0;          ///< weighted mean of the outputs seen: the local model's offset
+  Eigen::VectorXd sum_w;       ///< Σλw per projection (R)
+  Eigen::VectorXd n_data;      ///< Σλw per projection, restarted at 0 for an added projection (R)
+
+  Eigen::MatrixXd sxy;         ///< Σλw z res, per projection: the PLS direction u_r before normalising (n×R)
+  Eigen::MatrixXd sxs;         ///< Σλw z s, per projection: the input loadings p_r·Σws² (n×R)
+  Eigen::VectorXd ss2;         ///< Σλw s² per projection (R)
+  Eigen::VectorXd sys;         ///< Σλw s res per projection: β_r·Σws² (R)
+
+  Eigen::VectorXd sum_e_cv2;   ///< Σλw e_cv² with r+1 projections (leave-one-out error) (R)
+  double sum_e2 = 0.0;         ///< Σλw e² of the full model (fitted, not cross-validated)
+  double press_E = 0.0;        ///< Σλw Σ_r e_cv,r² (per-projection leave-one-out), for the metric gradient
+  Eigen::VectorXd press_H;     ///< PRESS memory Σλ w s_r e_cv/(1−h) (R)
+  Eigen::VectorXd press_R;     ///< PRESS memory Σλ w² s_r² e_cv²/(1−h) (R)
+
+  bool trustworthy = false;    ///< has seen enough data (n_data ≥ trust threshold) to predict
+
+  // Derived from the statistics above by refresh_receptive_field() (cached for prediction):
+  Eigen::MatrixXd directions;  ///< u_r = sxy_r/|sxy_r|, zero while sxy_r = 0 (n×R)
+  Eigen::MatrixXd loadings;    ///< p_r = sxs_r/ss2_r (n×R)
+  Eigen::VectorXd beta;        ///< β_r = sys_r/ss2_r (R)
+
+  int input_dim() const { return static_cast<int>(center.size()); }
+  int n_reg() const { return static_cast<int>(ss2.size()); }
+  bool diagonal() const { return metric.cols() == 1; }
+};
+
+/// Scratch space for one field update or prediction (sized once, reused; no allocation per call).
+struct FieldScratch {
+  Eigen::VectorXd z;        ///< input residual (n)
+  Eigen::VectorXd diff;     ///< x − c (n)
+  Eigen::VectorXd md;       ///< M(x − c) (n)
+  Eigen::VectorXd s;        ///< projections (n: capacity for R ≤ n)
+  Eigen::VectorXd residual; ///< output residual after each projection (n)
+  Eigen::VectorXd e_cv;     ///< leave-one-out residual of each projection's regression (n)
+  Eigen::VectorXd one_minus_h; ///< 1 − w s_r²/Σλws_r² per projection (n)
+  Eigen::MatrixXd grad;     ///< gradient of the cost w.r.t. M (shape of M)
+  Eigen::MatrixXd curvature;///< its second derivative (shape of M), for IDBD
+  Eigen::MatrixXd old_factor;  ///< M before a metric step, to restore it
+  Eigen::MatrixXd new_metric;  ///< D after a metric step, before it is accepted
+  void resize(int n, bool diagonal);
+};
+
+/// Makes a field centred at x (normalised) with metric D (n×n; its diagonal if diag_only) and
+/// `params.init_n_reg` empty projections. It has seen no data yet.
+ReceptiveField make_receptive_field(const LwprParams& params, const Eigen::VectorXd& x,
+                                    const Eigen::MatrixXd& D);
+
+/// Kernel activation w(q) and its derivatives w.r.t. q = (x−c)ᵀD(x−c).
+double calc_kernel(Kernel kernel, double q);
+double calc_kernel_dq(Kernel kernel, double q);
+double calc_kernel_dq2(Kernel kernel, double q);
+
+/// The field's activation at x (normalised). O(n) for diagonal metrics, O(n²) for full ones.
+/// Returns 0 without finishing the sum once q is past the point where w ≤ `cutoff`.
+double calc_activation(const ReceptiveField& rf, Kernel kernel, const Eigen::VectorXd& x, double cutoff,
+                       FieldScratch& scratch);
+
+/// The local model's prediction at x (normalised). Also returns in `leverage` Σ_r s_r²/Σλws_r²,
+/// the field's uncertainty about its own fit at x.
+double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage,
+                               FieldScratch& scratch);
+
+/// The field's leave-one-out estimate of the output noise variance (normalised units²).
+double calc_field_noise_variance(const ReceptiveField& rf);
+
+/// Learns one sample (x, y) (normalised) seen with activation w > 0 (computed with the current
+/// metric): updates the means, the PLS projections and regressions, the leave-one-out error
+/// statistics, the distance metric (if params.update_D), adds a projection when the add_threshold
+/// rule says so, and anneals λ. `trust_n_data` is the weighted count after which the field predicts.
+void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x,
+                            double y, double w, ReceptiveField& rf, FieldScratch& scratch);
+
+/// Recomputes the cached directions, loadings and β from the sufficient statistics.
+void refresh_receptive_field(ReceptiveField& rf);
+
+/// Appends an empty projection to the field (R → R+1). Precondition: R < n.
+void add_projection(const LwprParams& params, ReceptiveField& rf);
+
+}  // namespace armfarm::lwpr

@@ -1,0 +1,21 @@
+#pragma once
+// Reading numeric CSV files (recorded trajectories, LWPR training data): a header row of column
+// names, then rows of numbers separated by commas.
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace armfarm::io {
+
+/// A numeric table: column names from the header and one matrix row per data row.
+struct CsvTable {
+  std::vector<std::string> header;
+  Eigen::MatrixXd values;  ///< rows × header.size()
+};
+
+/// Loads `path`. Throws std::runtime_error "path:line: what" for a missing file, an empty file,
+/// a row with the wrong number of fields, or a field that is not a finite number.
+CsvTable load_csv(const std::string& path);
+
+}  // namespace armfarm::io

@@ -1,0 +1,98 @@
+// Distance-metric gradient against finite differences of the activation and of the penalty.
+#include "engine/lwpr/distance_metric.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace armfarm::lwpr {
+namespace {
+
+double calc_activation_of_factor(const ReceptiveField& rf, const Eigen::VectorXd& diff) {
+  Eigen::MatrixXd D;
+  calc_metric_from_factor(rf.metric_factor, D);
+  const double q = rf.diagonal() ? D.col(0).dot(diff.cwiseAbs2()) : diff.dot(D * diff);
+  return std::exp(-0.5 * q);
+}
+
+double calc_penalty(const ReceptiveField& rf) {
+  Eigen::MatrixXd D;
+  calc_metric_from_factor(rf.metric_factor, D);
+  return rf.diagonal() ? D.squaredNorm() : D.squaredNorm();
+}
+
+void check_gradient(bool diag_only) {
+  LwprParams params;
+  params.diag_only = diag_only;
+  Eigen::Matrix3d D;
+  D << 5, 1, 0.3, 1, 4, -0.5, 0.3, -0.5, 6;
+  if (diag_only) D = D.diagonal().asDiagonal();
+  ReceptiveField rf = make_receptive_field(params, Eigen::Vector3d::Zero(), D);
+  const Eigen::Vector3d diff(0.2, -0.3, 0.25);
+  Eigen::VectorXd zero = Eigen::VectorXd::Zero(3), md(3);
+  MetricSample sample(zero, zero, zero);
+  sample.w = calc_activation_of_factor(rf, diff);
+  sample.q = -2.0 * std::log(sample.w);
+  sample.W = 1.0;
+  Eigen::MatrixXd grad;
+  // Activation part only: dJ1/dw = 1, no penalty.
+  params.penalty = 0.0;
+  calc_metric_gradient(params, rf, diff, sample, 1.0, 0.0, grad, nullptr, md);
+  const double h = 1e-7;
+  for (Eigen::Index c = 0; c < rf.metric_factor.cols(); ++c) {
+    for (Eigen::Index r = 0; r <= (diag_only ? 2 : c); ++r) {
+      ReceptiveField plus = rf, minus = rf;
+      plus.metric_factor(r, c) += h;
+      minus.metric_factor(r, c) -= h;
+      const double fd = (calc_activation_of_factor(plus, diff) - calc_activation_of_factor(minus, diff)) / (2 * h);
+      EXPECT_NEAR(grad(r, c), fd, 1e-6) << r << "," << c;
+    }
+  }
+  // Penalty part only: (w/W)·(γ/n)·Σ D² with w/W = 1 here.
+  params.penalty = 3.0;
+  sample.w = 1.0;
+  calc_metric_gradient(params, rf, diff, sample, 0.0, 0.0, grad, nullptr, md);
+  for (Eigen::Index c = 0; c < rf.metric_factor.cols(); ++c) {
+    for (Eigen::Index r = 0; r <= (diag_only ? 2 : c); ++r) {
+      ReceptiveField plus = rf, minus = rf;
+      plus.metric_factor(r, c) += h;
+      minus.metric_factor(r, c) -= h;
+      const double fd = (3.0 / 3.0) * (calc_penalty(plus) - calc_penalty(minus)) / (2 * h);
+      EXPECT_NEAR(grad(r, c), fd, 1e-4 * std::max(1.0, std::abs(fd))) << r << "," << c;
+    }
+  }
+}
+
+TEST(DistanceMetric, GradientMatchesFiniteDifferencesDiagonal) { check_gradient(true); }
+TEST(DistanceMetric, GradientMatchesFiniteDifferencesFull) { check_gradient(false); }
+
+TEST(DistanceMetric, PressDerivativeOfALoneSampleIsItsExcessError) {
+  // With empty memory terms, ∂J1/∂w = (e_cv² − E/W)/W.
+  LwprParams params;
+  ReceptiveField rf = make_receptive_field(params, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity());
+  Eigen::VectorXd s = Eigen::Vector2d(0.5, 0.1), e = Eigen::Vector2d(0.3, 0.2), ecv = Eigen::Vector2d(0.4, 0.25);
+  MetricSample sample(s, e, ecv);
+  sample.W = 10.0;
+  sample.E = 0.5;
+  EXPECT_NEAR(calc_press_dw(rf, sample), (0.16 + 0.0625 - 0.05) / 10.0, 1e-15);
+}
+
+TEST(DistanceMetric, NeverLeavesANonFiniteMetric) {
+  LwprParams params;
+  ReceptiveField rf = make_receptive_field(params, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity() * 4.0);
+  FieldScratch scratch;
+  scratch.resize(2, true);
+  const Eigen::MatrixXd before = rf.metric;
+  Eigen::VectorXd s = Eigen::Vector2d(1e300, 1e300), e = Eigen::Vector2d(1e300, 1e300);
+  MetricSample sample(s, e, e);
+  sample.w = 0.5;
+  sample.q = 1.0;
+  sample.W = 1e-300;
+  sample.E = 1e300;
+  update_distance_metric(params, Eigen::Vector2d(0.5, 0.5), sample, 1.0, rf, scratch);
+  EXPECT_TRUE(rf.metric.allFinite());
+  EXPECT_EQ(rf.metric, before);
+}
+
+}  // namespace
+}  // namespace armfarm::lwpr

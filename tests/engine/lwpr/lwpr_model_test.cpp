@@ -1,0 +1,269 @@
+// LwprModel: accuracy on the published cross-function benchmark (2-D and with 18 redundant and
+// irrelevant inputs), a 1-D function, forgetting, determinism, NaN rejection, field cap, trust.
+#include "engine/lwpr/lwpr_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <numeric>
+#include <random>
+#include <vector>
+
+namespace armfarm::lwpr {
+namespace {
+
+double cross(double x1, double x2) {
+  return std::max({std::exp(-10.0 * x1 * x1), std::exp(-50.0 * x2 * x2),
+                   1.25 * std::exp(-5.0 * (x1 * x1 + x2 * x2))});
+}
+
+struct Data {
+  std::vector<Eigen::VectorXd> x;
+  std::vector<double> y;
+};
+
+// Raw 2-D cross inputs, targets with N(0, 0.1²) noise.
+Data make_cross_training(std::mt19937_64& rng, int n) {
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::normal_distribution<double> noise(0.0, 0.1);
+  Data data;
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd x(2);
+    x << uniform(rng), uniform(rng);
+    data.x.push_back(x);
+    data.y.push_back(cross(x(0), x(1)) + noise(rng));
+  }
+  return data;
+}
+
+Data make_cross_grid() {
+  Data data;
+  for (int i = 0; i < 41; ++i) {
+    for (int j = 0; j < 41; ++j) {
+      Eigen::VectorXd x(2);
+      x << -1.0 + 0.05 * i, -1.0 + 0.05 * j;
+      data.x.push_back(x);
+      data.y.push_back(cross(x(0), x(1)));
+    }
+  }
+  return data;
+}
+
+// 20-D version (Vijayakumar et al. 2005, section 4.1): x1, x2, 8 linear combinations of them plus
+// N(0, 0.05²) noise, and 10 irrelevant N(0, 0.05²) inputs.
+struct Embedding {
+  Eigen::MatrixXd mix;  // 8×2
+  Eigen::VectorXd embed(const Eigen::VectorXd& x2d, std::mt19937_64& rng) const {
+    std::normal_distribution<double> noise(0.0, 0.05);
+    Eigen::VectorXd x(20);
+    x.head(2) = x2d;
+    for (int k = 0; k < 8; ++k) x(2 + k) = mix.row(k).dot(x2d) + noise(rng);
+    for (int k = 0; k < 10; ++k) x(10 + k) = noise(rng);
+    return x;
+  }
+};
+
+// The published benchmark's setting: init_D = 25·I, init_alpha = 250, w_gen = 0.2, full D, meta.
+// In 20-D the redundant inputs multiply the effective metric, so a wider diagonal init_D = 10·I.
+LwprParams cross_params(int n_in) {
+  LwprParams p;
+  p.init_D = Eigen::MatrixXd::Constant(1, 1, n_in == 2 ? 25.0 : 10.0);
+  p.init_alpha = 250.0;
+  p.w_gen = 0.2;
+  p.diag_only = n_in > 2;
+  p.meta = true;
+  return p;
+}
+
+double calc_nmse(const LwprModel& model, const Data& test) {
+  auto workspace = model.make_workspace();
+  const double mean = std::accumulate(test.y.begin(), test.y.end(), 0.0) / test.y.size();
+  double variance = 0.0, error = 0.0;
+  for (std::size_t i = 0; i < test.x.size(); ++i) {
+    const Prediction p = model.predict(test.x[i], *workspace);
+    error += (p.value(0) - test.y[i]) * (p.value(0) - test.y[i]);
+    variance += (test.y[i] - mean) * (test.y[i] - mean);
+  }
+  return error / variance;
+}
+
+void train(LwprModel& model, const Data& data, int epochs, std::mt19937_64& rng) {
+  std::vector<std::size_t> order(data.x.size());
+  std::iota(order.begin(), order.end(), 0);
+  Eigen::VectorXd y(1);
+  for (int epoch = 0; epoch < epochs; ++epoch) {
+    std::shuffle(order.begin(), order.end(), rng);
+    for (std::size_t i : order) {
+      y(0) = data.y[i];
+      model.update(data.x[i], y);
+    }
+  }
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+TEST(LwprModel, CrossFunctionMatchesPublishedAccuracy) {
+  // Published library: nMSE 0.038 (0.033–0.045 over seeds) with about 43 fields.
+  const Data grid = make_cross_grid();
+  std::vector<double> nmse;
+  for (int seed = 1; seed <= 5; ++seed) {
+    std::mt19937_64 rng(seed);
+    const Data training = make_cross_training(rng, 500);
+    LwprModel model(2, 1, cross_params(2));
+    train(model, training, 20, rng);
+    nmse.push_back(calc_nmse(model, grid));
+    RecordProperty("nmse_seed_" + std::to_string(seed), std::to_string(nmse.back()));
+    std::printf("cross seed %d: nMSE %.4f, %zu fields, %.2f projections\n", seed, nmse.back(), model.size(),
+                model.calc_mean_projections());
+  }
+  EXPECT_LE(median(nmse), 0.040);
+}
+
+TEST(LwprModel, CrossFunctionWithRedundantAndIrrelevantInputs) {
+  std::vector<double> nmse;
+  for (int seed = 1; seed <= 3; ++seed) {
+    std::mt19937_64 rng(seed);
+    Embedding embedding;
+    embedding.mix = Eigen::MatrixXd(8, 2);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    for (int i = 0; i < 8; ++i) embedding.mix.row(i) << uniform(rng), uniform(rng);
+    Data training = make_cross_training(rng, 500);
+    for (auto& x : training.x) x = embedding.embed(x, rng);
+    Data grid = make_cross_grid();
+    for (auto& x : grid.x) x = embedding.embed(x, rng);
+    LwprModel model(20, 1, cross_params(20));
+    train(model, training, 20, rng);
+    nmse.push_back(calc_nmse(model, grid));
+    std::printf("cross 20-D seed %d: nMSE %.4f, %zu fields, %.2f projections\n", seed, nmse.back(), model.size(),
+                model.calc_mean_projections());
+  }
+  EXPECT_LE(median(nmse), 0.06);
+}
+
+Data make_sine(std::mt19937_64& rng, int n, double phase) {
+  std::uniform_real_distribution<double> uniform(-3.0, 3.0);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  Data data;
+  for (int i = 0; i < n; ++i) {
+    Eigen::VectorXd x(1);
+    x << uniform(rng);
+    data.x.push_back(x);
+    data.y.push_back(std::sin(2.0 * x(0) + phase) + noise(rng));
+  }
+  return data;
+}
+
+Data make_sine_grid(double phase) {
+  Data data;
+  for (int i = 0; i <= 200; ++i) {
+    Eigen::VectorXd x(1);
+    x << -2.8 + 5.6 * i / 200.0;
+    data.x.push_back(x);
+    data.y.push_back(std::sin(2.0 * x(0) + phase));
+  }
+  return data;
+}
+
+TEST(LwprModel, LearnsOneDimensionalFunction) {
+  std::mt19937_64 rng(3);
+  LwprParams params;
+  params.init_D = Eigen::MatrixXd::Constant(1, 1, 10.0);
+  LwprModel model(1, 1, params);
+  train(model, make_sine(rng, 500, 0.0), 10, rng);
+  const double nmse = calc_nmse(model, make_sine_grid(0.0));
+  EXPECT_LT(nmse, 0.01) << model.size() << " fields";
+  EXPECT_GT(model.size(), 2u);
+}
+
+TEST(LwprModel, ForgettingAdaptsToAChangedFunction) {
+  std::mt19937_64 rng(4);
+  LwprParams params;
+  params.init_D = Eigen::MatrixXd::Constant(1, 1, 10.0);
+  params.init_lambda = 0.99;
+  params.final_lambda = 0.995;
+  LwprModel model(1, 1, params);
+  train(model, make_sine(rng, 500, 0.0), 10, rng);
+  const double before = calc_nmse(model, make_sine_grid(1.0));  // the new function, not learnt yet
+  train(model, make_sine(rng, 500, 1.0), 10, rng);
+  const double after = calc_nmse(model, make_sine_grid(1.0));
+  EXPECT_GT(before, 0.3);
+  EXPECT_LT(after, 0.02);
+}
+
+TEST(LwprModel, SameDataGivesIdenticalModel) {
+  std::mt19937_64 rng_a(9), rng_b(9);
+  LwprModel a(2, 1, cross_params(2)), b(2, 1, cross_params(2));
+  train(a, make_cross_training(rng_a, 200), 3, rng_a);
+  train(b, make_cross_training(rng_b, 200), 3, rng_b);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.fields(0).size(); ++i) {
+    EXPECT_EQ(a.fields(0)[i].metric, b.fields(0)[i].metric);
+    EXPECT_EQ(a.fields(0)[i].beta, b.fields(0)[i].beta);
+  }
+  auto wa = a.make_workspace();
+  auto wb = b.make_workspace();
+  const Eigen::Vector2d x(0.3, -0.2);
+  EXPECT_EQ(a.predict(x, *wa).value(0), b.predict(x, *wb).value(0));
+}
+
+TEST(LwprModel, RejectsNonFiniteSamplesAndLeavesModelUnchanged) {
+  std::mt19937_64 rng(5);
+  LwprModel model(2, 1, cross_params(2));
+  train(model, make_cross_training(rng, 200), 2, rng);
+  const std::size_t fields = model.size();
+  const std::uint64_t updates = model.n_updates();
+  auto workspace = model.make_workspace();
+  const Eigen::Vector2d probe(0.1, 0.1);
+  const double before = model.predict(probe, *workspace).value(0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(model.update(Eigen::Vector2d(nan, 0.0), Eigen::VectorXd::Ones(1)), std::invalid_argument);
+  EXPECT_THROW(model.update(Eigen::Vector2d(0.1, 0.1), Eigen::VectorXd::Constant(1, inf)), std::invalid_argument);
+  EXPECT_THROW(model.update(Eigen::Vector3d(0.1, 0.1, 0.1), Eigen::VectorXd::Ones(1)), std::invalid_argument);
+  EXPECT_EQ(model.size(), fields);
+  EXPECT_EQ(model.n_updates(), updates);
+  EXPECT_EQ(model.predict(probe, *workspace).value(0), before);
+  for (const ReceptiveField& rf : model.fields(0)) EXPECT_TRUE(rf.metric.allFinite());
+}
+
+TEST(LwprModel, FieldCapIsRespected) {
+  std::mt19937_64 rng(6);
+  LwprParams params = cross_params(2);
+  params.init_D = Eigen::MatrixXd::Constant(1, 1, 400.0);  // narrow: would make hundreds of fields
+  params.max_fields = 20;
+  LwprModel model(2, 1, params);
+  train(model, make_cross_training(rng, 300), 2, rng);
+  EXPECT_EQ(model.size(), 20u);
+}
+
+TEST(LwprModel, FlagsPredictionsWithoutTrustworthyFields) {
+  LwprModel model(2, 2, cross_params(2));
+  auto workspace = model.make_workspace();
+  Prediction empty = model.predict(Eigen::Vector2d(0.0, 0.0), *workspace);
+  EXPECT_FALSE(empty.trustworthy);
+  EXPECT_TRUE(std::isinf(empty.confidence(0)));
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> uniform(-0.2, 0.2);
+  for (int i = 0; i < 400; ++i) {
+    const Eigen::Vector2d x(uniform(rng), uniform(rng));
+    model.update(x, Eigen::Vector2d(x(0) + 2.0 * x(1), 1.0 - x(0)));
+  }
+  LwprPredictionDetail detail;
+  const Prediction near = model.predict(Eigen::Vector2d(0.05, -0.05), *workspace, detail);
+  EXPECT_TRUE(near.trustworthy);
+  EXPECT_NEAR(near.value(0), 0.05 - 0.1, 5e-3);  // a plane, up to the lag of the forgetting PLS
+  EXPECT_NEAR(near.value(1), 0.95, 5e-3);
+  EXPECT_GT(near.max_activation, 0.5);
+  const Prediction far = model.predict(Eigen::Vector2d(5.0, 5.0), *workspace);
+  EXPECT_FALSE(far.trustworthy);
+  EXPECT_EQ(far.value(0), 0.0);
+}
+
+}  // namespace
+}  // namespace armfarm::lwpr
