@@ -119,6 +119,13 @@ struct JobResultRecord {
   std::vector<SeriesRecord> series;
 };
 
+/// Events of a sweep run handed to the store by the writer thread.
+struct JobBatch {
+  std::vector<std::string> started;
+  std::vector<JobResultRecord> finished;
+  std::vector<std::string> abandoned;
+};
+
 /// What `merge_from` did. A conflict is a job key present in both files with a different
 /// status, metrics or series (timings and provenance are not compared).
 struct MergeReport {
@@ -150,6 +157,8 @@ class ResultsStore {
   /// The jobs of a sweep in expansion order, `params` as varied in that sweep.
   std::vector<JobRecord> find_jobs(const std::string& sweep) const;
   std::optional<JobRecord> find_job(const std::string& key) const;
+  /// Keys of all jobs starting with `prefix` (to accept abbreviated keys on the command line).
+  std::vector<std::string> find_job_keys(const std::string& prefix) const;
   std::vector<MetricRecord> find_metrics(std::int64_t job_id) const;
   /// All metrics of the jobs of a sweep, ordered by job position, name, joint.
   std::vector<MetricRecord> find_sweep_metrics(const std::string& sweep) const;
@@ -163,13 +172,11 @@ class ResultsStore {
   /// `jobs` the sweep's membership (replacing the old one unless `shard` is set, in which case
   /// the membership grows), opens a `runs` row. One transaction.
   RegisteredRun insert_sweep_run(const SweepRegistration& sweep, const std::vector<JobRegistration>& jobs);
-  /// Sets the status of jobs (`running` when started, `pending` when abandoned), counting
-  /// attempts for `running`. One transaction.
-  void update_job_status(const std::vector<std::string>& keys, const std::string& status,
-                         const std::string& sweep_name);
-  /// Records finished attempts (status, message, timings, metrics, series replacing any earlier
-  /// ones). One transaction for the whole batch.
-  void insert_job_results(const std::vector<JobResultRecord>& results);
+  /// Applies a batch of job events in one transaction, in this order: `started` jobs become
+  /// `running` (attempts + 1, `jobs.sweep` = sweep_name), `finished` attempts are recorded
+  /// (status, message, timings; metrics and series replace earlier ones), `abandoned` jobs
+  /// (interrupted by Ctrl-C) go back to `pending`.
+  void insert_job_batch(const JobBatch& batch, const std::string& sweep_name);
   /// Closes a run: `complete` or `interrupted`; a complete run stamps sweeps.finished_at.
   /// Regenerates the sweep's `sweep_<name>` view.
   void update_run_finished(std::int64_t run_id, const std::string& status, int jobs_run, int jobs_skipped,

@@ -4,10 +4,22 @@
 namespace armfarm::cli {
 
 RunFunction setup_version(CLI::App& parent);
+RunFunction setup_expand(CLI::App& parent);
+RunFunction setup_run(CLI::App& parent);
+RunFunction setup_status(CLI::App& parent);
+RunFunction setup_table(CLI::App& parent);
+RunFunction setup_export(CLI::App& parent);
+RunFunction setup_merge(CLI::App& parent);
 
 const std::vector<SubcommandEntry>& all_subcommands() {
   static const std::vector<SubcommandEntry> entries = {
       {"version", setup_version},
+      {"expand", setup_expand},
+      {"run", setup_run},
+      {"status", setup_status},
+      {"table", setup_table},
+      {"export", setup_export},
+      {"merge", setup_merge},
   };
   return entries;
 }
