@@ -60,7 +60,7 @@ std::string format_number(double value, int significant_digits) {
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
   char buffer[64];
   const double magnitude = std::fabs(value);
-  if (value != 0.0 && (magnitude < 1e-3 || magnitude >= 1e5)) {
+  if (value != 0.0 && (magnitude < 1e-2 || magnitude >= 1e5)) {
     std::snprintf(buffer, sizeof buffer, "%.*e", significant_digits - 1, value);
   } else {
     std::snprintf(buffer, sizeof buffer, "%.*g", significant_digits, value);

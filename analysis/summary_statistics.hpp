@@ -27,7 +27,7 @@ struct SummaryStatistics {
 /// Precondition: none (an empty list gives count 0).
 SummaryStatistics calc_summary_statistics(std::vector<double> values);
 
-/// `significant_digits` significant digits; scientific ("1.95e-03") when |x| < 1e-3 or ≥ 1e5.
+/// `significant_digits` significant digits; scientific ("1.950e-03") when |x| < 1e-2 or ≥ 1e5.
 std::string format_number(double value, int significant_digits = 4);
 
 }  // namespace armfarm

@@ -1,118 +1,86 @@
-// `armfarm table DB [--sweep NAME]`: one row per job, its varying parameters against the main
-// metrics (a joint's metric is the column name_j<joint>). The analysis commands refine this.
+// `armfarm table DB [--sweep NAME] [--rows P,…] [--cols M,…] [--joints …] [--where P=V]
+// [--agg mean|median|min|max] [--format md|csv|latex|json]`: experiment tables of a sweep,
+// by default the thesis's (analysis/table.hpp).
+#include "analysis/analysis_error.hpp"
+#include "analysis/table.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
-#include <cstdio>
 #include <iostream>
 #include <memory>
-#include <set>
-#include <sstream>
 
 namespace armfarm::cli {
 namespace {
 
-// Shown by default when present; otherwise every metric of the sweep is.
-const std::vector<std::string> kMainMetrics = {"tracking_nmse", "test_nmse", "ff_fb_ratio_avg"};
+struct TableOptions {
+  std::string database;
+  std::string sweep;
+  std::vector<std::string> rows;
+  std::vector<std::string> cols;
+  std::vector<int> joints;
+  std::vector<std::string> where;
+  std::string aggregate = "mean";
+  std::string format = "md";
+};
 
-std::string format_cell(const nlohmann::json& value) {
-  if (value.is_number_float()) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4g", value.get<double>());
-    return text;
+std::pair<std::string, std::string> parse_where(const std::string& text) {
+  const auto equals = text.find('=');
+  if (equals == std::string::npos || equals == 0) {
+    throw AnalysisError("--where \"" + text + "\": expected PARAM=VALUE");
   }
-  return value.is_string() ? value.get<std::string>() : value.dump();
-}
-
-void print_sweep_table(const ResultsStore& store, const std::string& sweep, const std::vector<std::string>& wanted) {
-  const std::vector<JobRecord> jobs = store.find_jobs(sweep);
-  const std::vector<MetricRecord> metrics = store.find_sweep_metrics(sweep);
-  std::set<std::string> param_names;
-  for (const JobRecord& job : jobs) {
-    for (const auto& item : job.params.items()) param_names.insert(item.key());
-  }
-  std::set<std::string> present;
-  for (const MetricRecord& m : metrics) present.insert(m.name);
-  std::set<std::string> shown;
-  for (const std::string& name : wanted) {
-    if (present.count(name)) shown.insert(name);
-  }
-  if (shown.empty()) shown = present;
-  std::vector<std::pair<std::string, std::optional<int>>> metric_columns;
-  {
-    std::set<std::pair<std::string, int>> seen;
-    for (const MetricRecord& m : metrics) {
-      if (shown.count(m.name) && seen.insert({m.name, m.joint.value_or(0)}).second) metric_columns.emplace_back(m.name, m.joint);
-    }
-    std::sort(metric_columns.begin(), metric_columns.end());
-  }
-  std::map<std::int64_t, std::map<std::pair<std::string, int>, double>> values;
-  for (const MetricRecord& m : metrics) values[m.job_id][{m.name, m.joint.value_or(0)}] = m.value;
-
-  std::vector<std::vector<std::string>> rows;
-  std::vector<std::string> header = {"key"};
-  header.insert(header.end(), param_names.begin(), param_names.end());
-  header.push_back("status");
-  for (const auto& [name, joint] : metric_columns) header.push_back(joint ? name + "_j" + std::to_string(*joint) : name);
-  rows.push_back(header);
-  for (const JobRecord& job : jobs) {
-    std::vector<std::string> row = {job.key.substr(0, 8)};
-    for (const std::string& param : param_names) row.push_back(job.params.contains(param) ? format_cell(job.params[param]) : "");
-    row.push_back(job.status);
-    for (const auto& [name, joint] : metric_columns) {
-      const auto& job_values = values[job.id];
-      const auto found = job_values.find({name, joint.value_or(0)});
-      row.push_back(found == job_values.end() ? "" : format_cell(found->second));
-    }
-    rows.push_back(row);
-  }
-  std::vector<std::size_t> widths(header.size(), 0);
-  for (const auto& row : rows) {
-    for (std::size_t c = 0; c < row.size(); ++c) widths[c] = std::max(widths[c], row[c].size());
-  }
-  std::cout << "sweep " << sweep << " (" << jobs.size() << " jobs)\n";
-  for (const auto& row : rows) {
-    std::string line;
-    for (std::size_t c = 0; c < row.size(); ++c) {
-      line += row[c] + std::string(widths[c] - row[c].size() + (c + 1 < row.size() ? 2 : 0), ' ');
-    }
-    while (!line.empty() && line.back() == ' ') line.pop_back();
-    std::cout << line << "\n";
-  }
+  return {text.substr(0, equals), text.substr(equals + 1)};
 }
 
 }  // namespace
 
 RunFunction setup_table(CLI::App& parent) {
-  struct Options {
-    std::string db;
-    std::string sweep;
-    std::vector<std::string> metrics;
-  };
-  auto options = std::make_shared<Options>();
-  CLI::App* app = parent.add_subcommand("table", "Print each job's varying parameters against its main metrics");
-  app->add_option("db", options->db, "Results database")->required();
-  app->add_option("--sweep", options->sweep, "Only this sweep (default: all)");
-  app->add_option("--metrics", options->metrics, "Metric names to show (default: tracking_nmse, test_nmse, "
-                                                 "ff_fb_ratio_avg when present, otherwise all)")
-      ->delimiter(',');
-
+  auto options = std::make_shared<TableOptions>();
+  CLI::App* sub = parent.add_subcommand("table", "Print experiment tables of a results database (thesis tables by default)");
+  sub->add_option("database", options->database, "Results database (SQLite)")->required();
+  sub->add_option("--sweep", options->sweep, "Sweep name (default: every sweep of the database)");
+  sub->add_option("--rows", options->rows, "Row parameters, dotted paths or 'joint' (default: the swept parameters)")->delimiter(',');
+  sub->add_option("--cols", options->cols, "Metrics as columns (default: the thesis's tables)")->delimiter(',');
+  sub->add_option("--joints", options->joints, "Joints to show, 1-based (default: all)")->delimiter(',');
+  sub->add_option("--where", options->where, "Keep jobs whose PARAM=VALUE (repeatable)");
+  sub->add_option("--agg", options->aggregate, "Aggregate over repeats: mean (± std), median, min, max")
+      ->check(CLI::IsMember({"mean", "median", "min", "max"}));
+  sub->add_option("--format", options->format, "md, csv, latex or json")->check(CLI::IsMember({"md", "csv", "latex", "json"}));
   return [options] {
-    const ResultsStore store = ResultsStore::open(options->db, ResultsStore::Mode::read_only);
+    const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
+    const Aggregate aggregate = parse_aggregate(options->aggregate);
+    const TableFormat format = parse_table_format(options->format);
+    std::vector<std::pair<std::string, std::string>> where;
+    for (const std::string& text : options->where) where.push_back(parse_where(text));
+
     std::vector<std::string> sweeps;
     if (!options->sweep.empty()) {
-      if (!store.find_sweep(options->sweep)) {
-        std::cerr << "armfarm: " << options->db << ": no sweep named '" << options->sweep << "'\n";
-        return 2;
-      }
-      sweeps.push_back(options->sweep);
+      sweeps.push_back(choose_sweep(store, options->sweep));
     } else {
-      for (const SweepRecord& sweep : store.find_sweeps()) sweeps.push_back(sweep.name);
+      for (const SweepRecord& record : store.find_sweeps()) sweeps.push_back(record.name);
+      if (sweeps.empty()) throw AnalysisError(options->database + ": the database holds no sweep");
     }
-    const std::vector<std::string> wanted = options->metrics.empty() ? kMainMetrics : options->metrics;
-    for (std::size_t i = 0; i < sweeps.size(); ++i) {
-      if (i > 0) std::cout << "\n";
-      print_sweep_table(store, sweeps[i], wanted);
+    for (const std::string& sweep : sweeps) {
+      const SweepData data = load_sweep_data(store, sweep);
+      std::vector<TableSpec> specs;
+      if (!options->cols.empty()) {
+        TableSpec spec;
+        spec.title = "Sweep " + sweep;
+        spec.metrics = options->cols;
+        for (const std::string& path : data.varying_params) {
+          if (path != "seed") spec.rows.push_back(path);
+        }
+        specs.push_back(spec);
+      } else {
+        specs = make_default_table_specs(data);
+        for (TableSpec& spec : specs) spec.title = spec.title + " — sweep " + sweep;
+      }
+      for (TableSpec& spec : specs) {
+        if (!options->rows.empty()) spec.rows = options->rows;
+        spec.joints = options->joints;
+        spec.where = where;
+        std::cout << format_table(make_table(data, spec), format, aggregate);
+        if (format == TableFormat::csv) std::cout << "\n";
+      }
     }
     return 0;
   };

@@ -10,6 +10,9 @@ RunFunction setup_status(CLI::App& parent);
 RunFunction setup_table(CLI::App& parent);
 RunFunction setup_export(CLI::App& parent);
 RunFunction setup_merge(CLI::App& parent);
+RunFunction setup_compare(CLI::App& parent);
+RunFunction setup_plot(CLI::App& parent);
+RunFunction setup_report(CLI::App& parent);
 
 const std::vector<SubcommandEntry>& all_subcommands() {
   static const std::vector<SubcommandEntry> entries = {
@@ -20,6 +23,9 @@ const std::vector<SubcommandEntry>& all_subcommands() {
       {"table", setup_table},
       {"export", setup_export},
       {"merge", setup_merge},
+      {"compare", setup_compare},
+      {"plot", setup_plot},
+      {"report", setup_report},
   };
   return entries;
 }
