@@ -192,9 +192,9 @@ std::vector<TableSpec> make_default_table_specs(const SweepData& data) {
     rows.push_back("joint");
     specs.push_back({"Feed-forward to feedback ratio per joint (thesis tables 6.1, 6.4-6.7)", rows, ff_fb, {}, {}});
   }
-  const auto tracking = present({"tracking_nmse_x", "tracking_nmse_y", "tracking_nmse_z"});
+  const auto tracking = present({"tracking_nmse_x", "tracking_nmse_y", "tracking_nmse_z", "tracking_nmse"});
   if (!tracking.empty()) {
-    specs.push_back({"Tracking nMSE per task axis (thesis tables 6.2-6.3)", swept, tracking, {}, {}});
+    specs.push_back({"Tracking nMSE per task axis and joint (thesis tables 6.2-6.3)", swept, tracking, {}, {}});
   }
   const auto learned = present({"test_nmse", "id_nmse", "n_receptive_fields"});
   if (!learned.empty()) {
