@@ -3,13 +3,31 @@
 
 namespace armfarm::cli {
 
-RunFunction setup_version(CLI::App& parent);
+RunFunction setup_run(CLI::App& parent);
+RunFunction setup_expand(CLI::App& parent);
+RunFunction setup_status(CLI::App& parent);
+RunFunction setup_table(CLI::App& parent);
+RunFunction setup_compare(CLI::App& parent);
+RunFunction setup_export(CLI::App& parent);
+RunFunction setup_plot(CLI::App& parent);
+RunFunction setup_report(CLI::App& parent);
+RunFunction setup_merge(CLI::App& parent);
 RunFunction setup_lwpr(CLI::App& parent);
+RunFunction setup_version(CLI::App& parent);
 
 const std::vector<SubcommandEntry>& all_subcommands() {
   static const std::vector<SubcommandEntry> entries = {
-      {"version", setup_version},
+      {"run", setup_run},
+      {"expand", setup_expand},
+      {"status", setup_status},
+      {"table", setup_table},
+      {"compare", setup_compare},
+      {"export", setup_export},
+      {"plot", setup_plot},
+      {"report", setup_report},
+      {"merge", setup_merge},
       {"lwpr", setup_lwpr},
+      {"version", setup_version},
   };
   return entries;
 }

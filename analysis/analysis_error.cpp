@@ -1,1 +1,0 @@
-#include "analysis/analysis_error.hpp"

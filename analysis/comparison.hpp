@@ -1,0 +1,75 @@
+#pragma once
+// Regression checks: two sets of results paired by job key, each metric compared within a
+// tolerance, a change outside it judged by the metric's direction of "better".
+#include "analysis/metric_direction.hpp"
+#include "analysis/sweep_data.hpp"
+
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace armfarm {
+
+/// |new − base| ≤ atol + rtol·|base| is within tolerance.
+struct Tolerance {
+  double rtol = 1e-6;
+  double atol = 0.0;
+  std::optional<MetricDirection> direction;  ///< overrides find_metric_direction
+};
+
+/// Tolerances by metric and by (metric, joint), with a default; the most specific applies.
+struct ToleranceTable {
+  Tolerance defaults;
+  std::map<std::string, Tolerance> by_metric;
+  std::map<std::pair<std::string, int>, Tolerance> by_metric_joint;
+  Tolerance find(const MetricId& metric) const;
+};
+
+/// Parses a tolerances file's text:
+/// {"default": {"rtol": 0.01, "atol": 0},
+///  "metrics": {"tracking_nmse": {"rtol": 0.05, "direction": "lower",
+///                                 "joints": {"2": {"atol": 1e-4}}}}}
+/// Fields left out inherit from the enclosing level. Throws AnalysisError naming `source` and
+/// the JSON path of a bad entry.
+ToleranceTable parse_tolerances(const std::string& text, const std::string& source, const Tolerance& defaults);
+
+enum class Verdict { within, improved, regressed };
+
+struct MetricComparison {
+  std::string key;
+  MetricId metric;
+  double base = 0.0;
+  double next = 0.0;
+  double relative_change = 0.0;  ///< (next − base)/|base|; ±inf when base is 0 and next is not
+  MetricDirection direction = MetricDirection::neutral;
+  Verdict verdict = Verdict::within;
+};
+
+struct StatusChange {
+  std::string key;
+  std::string base_status;
+  std::string next_status;
+};
+
+struct ComparisonReport {
+  int jobs_paired = 0;
+  std::vector<MetricComparison> metrics;     ///< every compared metric of every paired done job
+  std::vector<std::string> only_in_base;     ///< keys
+  std::vector<std::string> only_in_next;     ///< keys
+  std::vector<StatusChange> status_changes;
+  std::vector<std::string> missing_metrics;  ///< "key: metric" present in base, absent in new
+  /// True when a metric regressed, a base job is missing or no longer done, or a metric vanished.
+  bool regressed() const;
+};
+
+/// Compares `next` against `base`. `metric_filter` (names) limits the metrics; metrics whose
+/// direction is `ignored` are skipped unless the tolerance table gives them a direction.
+ComparisonReport compare_results(const std::vector<JobResult>& base, const std::vector<JobResult>& next,
+                                 const ToleranceTable& tolerances, const std::vector<std::string>& metric_filter);
+
+/// Markdown (changes outside tolerance, then all compared metrics) or JSON.
+std::string format_comparison(const ComparisonReport& report, bool json, bool show_all);
+
+}  // namespace armfarm

@@ -1,0 +1,149 @@
+#include "analysis/figure.hpp"
+
+#include "analysis/analysis_error.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace armfarm {
+
+namespace {
+
+std::string quote_gnuplot(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string data_file_name(std::size_t panel, std::size_t curve) {
+  return "data_" + std::to_string(panel) + "_" + std::to_string(curve) + ".dat";
+}
+
+bool ends_with(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+std::string make_gnuplot_script(const Figure& figure, const std::string& terminal_line, const std::string& output_path,
+                                const std::string& data_dir) {
+  std::ostringstream script;
+  const std::size_t n_panels = figure.panels.size();
+  const std::size_t columns = n_panels <= 1 ? 1 : (n_panels <= 4 ? 2 : 3);
+  const std::size_t rows = (n_panels + columns - 1) / columns;
+  script << terminal_line << "\n"
+         << "set output " << quote_gnuplot(output_path) << "\n"
+         << "set termoption noenhanced\n"
+         << "set grid\nset key outside bottom center horizontal\n"
+         << "set datafile missing 'nan'\n";
+  if (n_panels > 1 || !figure.title.empty()) {
+    script << "set multiplot layout " << rows << "," << columns;
+    if (!figure.title.empty()) script << " title " << quote_gnuplot(figure.title);
+    script << "\n";
+  }
+  for (std::size_t p = 0; p < n_panels; ++p) {
+    const Panel& panel = figure.panels[p];
+    script << "set title " << quote_gnuplot(panel.title) << "\n"
+           << "set xlabel " << quote_gnuplot(panel.x_label) << "\n"
+           << "set ylabel " << quote_gnuplot(panel.y_label) << "\n"
+           << (panel.log_x ? "set logscale x\n" : "unset logscale x\n")
+           << (panel.log_y ? "set logscale y\n" : "unset logscale y\n")
+           << (panel.equal_axes ? "set size ratio -1\n" : "set size noratio\n");
+    script << "plot ";
+    for (std::size_t c = 0; c < panel.curves.size(); ++c) {
+      const Curve& curve = panel.curves[c];
+      const std::string file = (std::filesystem::path(data_dir) / data_file_name(p, c)).string();
+      script << (c ? ", \\\n     " : "") << quote_gnuplot(file);
+      switch (curve.style) {
+        case Curve::Style::lines: script << " using 1:2 with lines lw 2"; break;
+        case Curve::Style::points: script << " using 1:2 with points pt 7 ps 0.6"; break;
+        case Curve::Style::lines_points: script << " using 1:2 with linespoints lw 2 pt 7"; break;
+        case Curve::Style::error_bars: script << " using 1:2:3 with yerrorlines lw 2 pt 7"; break;
+      }
+      script << " title " << quote_gnuplot(curve.title);
+    }
+    script << "\n";
+  }
+  if (n_panels > 1 || !figure.title.empty()) script << "unset multiplot\n";
+  script << "set output\n";
+  return script.str();
+}
+
+void write_figure(const Figure& figure, const std::string& out_path) {
+  std::string terminal_line;
+  if (ends_with(out_path, ".svg")) {
+    terminal_line = "set terminal svg size 1000,700 dynamic background rgb 'white' font 'sans,12'";
+  } else if (ends_with(out_path, ".png")) {
+    terminal_line = "set terminal pngcairo size 1200,840 font 'sans,11'";
+  } else {
+    throw AnalysisError(out_path + ": the output must end in .svg or .png");
+  }
+  if (figure.panels.empty()) throw AnalysisError(out_path + ": nothing to plot");
+  for (const Panel& panel : figure.panels) {
+    bool any = false;
+    for (const Curve& curve : panel.curves) any = any || !curve.x.empty();
+    if (!any) throw AnalysisError(out_path + ": panel '" + panel.title + "' has no data");
+  }
+
+  namespace fs = std::filesystem;
+  std::string pattern = (fs::temp_directory_path() / "armfarm-plot-XXXXXX").string();
+  if (mkdtemp(pattern.data()) == nullptr) throw AnalysisError("cannot create a temporary directory for gnuplot");
+  const fs::path work(pattern);
+  struct Cleanup {
+    fs::path path;
+    ~Cleanup() {
+      std::error_code ignored;
+      fs::remove_all(path, ignored);
+    }
+  } cleanup{work};
+
+  for (std::size_t p = 0; p < figure.panels.size(); ++p) {
+    for (std::size_t c = 0; c < figure.panels[p].curves.size(); ++c) {
+      const Curve& curve = figure.panels[p].curves[c];
+      std::ofstream data(work / data_file_name(p, c));
+      char line[128];
+      for (std::size_t i = 0; i < curve.x.size() && i < curve.y.size(); ++i) {
+        if (curve.style == Curve::Style::error_bars) {
+          const double error = i < curve.y_error.size() ? curve.y_error[i] : 0.0;
+          std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", curve.x[i], curve.y[i], error);
+        } else {
+          std::snprintf(line, sizeof line, "%.17g %.17g\n", curve.x[i], curve.y[i]);
+        }
+        data << line;
+      }
+    }
+  }
+  // Render next to the destination, then rename: the output is whole or absent.
+  const fs::path destination = fs::absolute(out_path);
+  const fs::path partial = destination.string() + ".partial";
+  {
+    std::ofstream script_file(work / "plot.gp");
+    script_file << make_gnuplot_script(figure, terminal_line, partial.string(), work.string());
+  }
+  const std::string command = "gnuplot " + (work / "plot.gp").string() + " > " + (work / "gnuplot.log").string() + " 2>&1";
+  const int status = std::system(command.c_str());
+  if (status != 0 || !fs::exists(partial)) {
+    std::ifstream log(work / "gnuplot.log");
+    std::string first_line;
+    std::getline(log, first_line);
+    std::error_code ignored;
+    fs::remove(partial, ignored);
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
+      throw AnalysisError("gnuplot is not installed (Debian package gnuplot-nox; `make deps` installs it)");
+    }
+    throw AnalysisError(out_path + ": gnuplot failed" + (first_line.empty() ? "" : ": " + first_line));
+  }
+  std::error_code error;
+  fs::rename(partial, destination, error);
+  if (error) throw AnalysisError(out_path + ": cannot write: " + error.message());
+}
+
+}  // namespace armfarm

@@ -1,0 +1,46 @@
+#pragma once
+// The thesis's figures for a results database: nMSE and receptive fields against kernel width
+// (figures 6.1–6.2), receptive-field growth (6.7), feedback/feed-forward/composite torques
+// (6.3, 6.5, 6.8–6.10), end-effector paths in the y–z plane (6.4), and any metric against any
+// swept parameter with error bars over repeats.
+#include "analysis/figure.hpp"
+#include "analysis/sweep_data.hpp"
+#include "results/results_store.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace armfarm {
+
+enum class PlotKind { nmse_vs_kernel, rf_growth, signals, tracking, metric_vs_param };
+
+/// Parses "nmse-vs-kernel", "rf-growth", "signals", "tracking", "metric-vs-param".
+PlotKind parse_plot_kind(const std::string& word);
+const char* to_string(PlotKind kind);
+/// All kinds, for help texts and reports.
+std::vector<PlotKind> all_plot_kinds();
+
+struct PlotRequest {
+  PlotKind kind = PlotKind::metric_vs_param;
+  std::optional<std::string> sweep;
+  std::vector<std::string> job_keys;  ///< full keys or unique prefixes; empty = chosen from the sweep
+  std::string metric;                 ///< metric-vs-param
+  std::optional<int> joint;           ///< metric-vs-param: a per-joint metric's joint
+  std::string param;                  ///< metric-vs-param: x axis
+  std::string group;                  ///< metric-vs-param: one curve per value (optional)
+  std::string kernel_param = "learning.lwpr.init_D";
+  std::string adaptation_param = "learning.lwpr.update_D";
+};
+
+/// Builds the figure a request asks for. Throws AnalysisError when the sweep lacks what the
+/// kind needs (saying what is missing).
+Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request);
+
+/// Which plot kinds a sweep has data for (used by the report).
+std::vector<PlotKind> find_available_plot_kinds(const ResultsStore& store, const SweepData& data);
+
+/// A short label of a job from its varying parameters ("init_D=25, gain_scale=0.2").
+std::string make_job_label(const JobResult& job);
+
+}  // namespace armfarm

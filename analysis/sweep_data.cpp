@@ -1,0 +1,119 @@
+#include "analysis/sweep_data.hpp"
+
+#include "analysis/analysis_error.hpp"
+
+#include <algorithm>
+#include <tuple>
+
+namespace armfarm {
+
+bool MetricId::operator<(const MetricId& other) const {
+  // Job-level metrics (no joint) sort before the joints of the same name.
+  return std::make_tuple(name, joint.has_value(), joint.value_or(0)) <
+         std::make_tuple(other.name, other.joint.has_value(), other.joint.value_or(0));
+}
+
+bool MetricId::operator==(const MetricId& other) const { return name == other.name && joint == other.joint; }
+
+std::string make_metric_label(const MetricId& id) {
+  return id.joint ? id.name + " j" + std::to_string(*id.joint) : id.name;
+}
+
+namespace {
+
+// "control.kp[1]" -> "/control/kp/1" (JSON pointer), so nlohmann can look it up.
+std::optional<nlohmann::json::json_pointer> make_json_pointer(const std::string& dotted) {
+  std::string pointer;
+  std::string token;
+  auto flush = [&] {
+    if (token.empty()) return;
+    std::string escaped;
+    for (char c : token) {
+      if (c == '~') escaped += "~0";
+      else if (c == '/') escaped += "~1";
+      else escaped += c;
+    }
+    pointer += "/" + escaped;
+    token.clear();
+  };
+  for (char c : dotted) {
+    if (c == '.' || c == '[' || c == ']') flush();
+    else token += c;
+  }
+  flush();
+  try {
+    return nlohmann::json::json_pointer(pointer);
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
+nlohmann::json find_param_value(const JobResult& job, const std::string& path) {
+  if (job.params.is_object()) {
+    auto it = job.params.find(path);
+    if (it != job.params.end()) return *it;
+  }
+  const auto pointer = make_json_pointer(path);
+  if (!pointer || !job.config.is_object()) return nullptr;
+  try {
+    if (job.config.contains(*pointer)) return job.config.at(*pointer);
+  } catch (const nlohmann::json::exception&) {
+  }
+  return nullptr;
+}
+
+std::string choose_sweep(const ResultsStore& store, const std::optional<std::string>& requested) {
+  const std::vector<SweepRecord> sweeps = store.find_sweeps();
+  std::string names;
+  for (const SweepRecord& sweep : sweeps) names += (names.empty() ? "" : ", ") + sweep.name;
+  if (requested) {
+    for (const SweepRecord& sweep : sweeps) {
+      if (sweep.name == *requested) return sweep.name;
+    }
+    throw AnalysisError(store.path() + ": no sweep named '" + *requested + "' (sweeps: " +
+                        (names.empty() ? "none" : names) + ")");
+  }
+  if (sweeps.size() == 1) return sweeps.front().name;
+  if (sweeps.empty()) throw AnalysisError(store.path() + ": the database holds no sweep");
+  throw AnalysisError(store.path() + ": several sweeps (" + names + "); choose one with --sweep");
+}
+
+std::vector<std::string> calc_varying_params(const std::vector<JobResult>& jobs) {
+  std::vector<std::string> paths;
+  for (const JobResult& job : jobs) {
+    if (!job.params.is_object()) continue;
+    for (const auto& item : job.params.items()) {
+      if (std::find(paths.begin(), paths.end(), item.key()) == paths.end()) paths.push_back(item.key());
+    }
+  }
+  return paths;
+}
+
+SweepData load_sweep_data(const ResultsStore& store, const std::string& sweep) {
+  SweepData data;
+  data.name = sweep;
+  std::map<std::int64_t, std::size_t> index_by_id;
+  for (const JobRecord& record : store.find_jobs(sweep)) {
+    JobResult job;
+    job.id = record.id;
+    job.key = record.key;
+    job.status = record.status;
+    job.message = record.message;
+    job.seed = record.seed;
+    job.params = record.params;
+    job.config = record.config;
+    index_by_id[record.id] = data.jobs.size();
+    data.jobs.push_back(std::move(job));
+  }
+  for (const MetricRecord& metric : store.find_sweep_metrics(sweep)) {
+    auto it = index_by_id.find(metric.job_id);
+    if (it == index_by_id.end()) continue;
+    data.jobs[it->second].metrics[MetricId{metric.name, metric.joint}] = metric.value;
+  }
+  data.varying_params = calc_varying_params(data.jobs);
+  return data;
+}
+
+}  // namespace armfarm

@@ -1,0 +1,59 @@
+#pragma once
+// A sweep's jobs and their metrics, read once from a results database into plain values that
+// the tables, comparisons, plots and reports work on (and that tests can build by hand).
+#include "results/results_store.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace armfarm {
+
+/// A metric's identity: its name and, for per-joint metrics, the 1-based joint number.
+struct MetricId {
+  std::string name;
+  std::optional<int> joint;
+  bool operator<(const MetricId& other) const;
+  bool operator==(const MetricId& other) const;
+};
+
+/// "name" for a job-level metric, "name j2" for joint 2.
+std::string make_metric_label(const MetricId& id);
+
+/// One job as the analysis sees it.
+struct JobResult {
+  std::int64_t id = 0;
+  std::string key;
+  std::string status;   ///< done, failed, diverged, timeout, pending, running
+  std::string message;
+  std::int64_t seed = 0;
+  nlohmann::json params;  ///< the sweep's varying parameters, {"dotted.path": value}
+  nlohmann::json config;  ///< the full resolved configuration
+  std::map<MetricId, double> metrics;
+};
+
+struct SweepData {
+  std::string name;
+  std::vector<std::string> varying_params;  ///< dotted paths, in first-seen order
+  std::vector<JobResult> jobs;              ///< in expansion order
+};
+
+/// The value of a parameter of a job: from its varying params, else from its configuration
+/// by dotted path ("control.kp[1]"); null when the configuration has no such element.
+nlohmann::json find_param_value(const JobResult& job, const std::string& path);
+
+/// The name of the sweep to analyse: `requested` if given (it must exist), else the only
+/// sweep of the database. Throws AnalysisError listing the sweeps otherwise.
+std::string choose_sweep(const ResultsStore& store, const std::optional<std::string>& requested);
+
+/// Reads a sweep's jobs, params and metrics.
+SweepData load_sweep_data(const ResultsStore& store, const std::string& sweep);
+
+/// Makes the varying-parameter list of hand-built data (union of the jobs' params keys).
+std::vector<std::string> calc_varying_params(const std::vector<JobResult>& jobs);
+
+}  // namespace armfarm

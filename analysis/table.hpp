@@ -1,0 +1,65 @@
+#pragma once
+// Experiment tables: swept parameters (and optionally the joint) as rows, metrics as columns,
+// repeats (seeds) aggregated to mean ± standard deviation with their count. Jobs that did not
+// finish (failed, diverged, timeout) are counted per row and never averaged in.
+#include "analysis/summary_statistics.hpp"
+#include "analysis/sweep_data.hpp"
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace armfarm {
+
+/// What a table shows. The row parameter "joint" puts each joint on its own row (the thesis's
+/// per-joint tables); otherwise a per-joint metric gets one column per joint.
+struct TableSpec {
+  std::string title;
+  std::vector<std::string> rows;     ///< dotted parameter paths, or "joint"
+  std::vector<std::string> metrics;  ///< metric names
+  std::vector<int> joints;           ///< 1-based; empty = every joint present
+  std::vector<std::pair<std::string, std::string>> where;  ///< keep jobs whose param equals the value
+};
+
+struct TableColumn {
+  std::string header;
+  MetricId metric;  ///< joint empty and `joint_from_row` true: the row's joint
+  bool joint_from_row = false;
+};
+
+struct TableRow {
+  std::vector<std::string> labels;  ///< one per TableSpec::rows entry
+  std::optional<int> joint;         ///< when "joint" is a row parameter
+  int jobs_done = 0;
+  int jobs_failed = 0;    ///< failed, diverged or timeout
+  int jobs_unfinished = 0;  ///< pending or running
+  std::vector<SummaryStatistics> cells;  ///< one per column, over the row's done jobs
+};
+
+struct Table {
+  std::string title;
+  std::vector<std::string> row_headers;
+  std::vector<TableColumn> columns;
+  std::vector<TableRow> rows;
+};
+
+enum class TableFormat { markdown, csv, latex, json };
+/// Parses "md", "csv", "latex", "json"; throws std::invalid_argument otherwise.
+TableFormat parse_table_format(const std::string& word);
+
+/// Builds a table. Throws AnalysisError when a metric or row parameter names nothing in the sweep.
+Table make_table(const SweepData& data, const TableSpec& spec);
+
+/// The thesis's default tables that the sweep has metrics for: ff/fb statistics per joint
+/// (tables 6.1, 6.4–6.7), tracking nMSE per task axis (6.2–6.3), test nMSE and receptive fields
+/// against the swept parameters (figures 6.1–6.2); a table of all job-level metrics otherwise.
+std::vector<TableSpec> make_default_table_specs(const SweepData& data);
+
+/// Renders a table as text in `format`, with cells as the chosen aggregate (mean adds ± std).
+std::string format_table(const Table& table, TableFormat format, Aggregate aggregate);
+
+/// Formats a parameter value for a table cell: numbers with format_number, strings unquoted.
+std::string format_param_value(const nlohmann::json& value);
+
+}  // namespace armfarm

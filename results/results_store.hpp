@@ -1,0 +1,201 @@
+#pragma once
+// The results store: one SQLite file holding sweeps, jobs, metrics and recorded series
+// (schema in results/README.md). All of armfarm's SQL lives behind this class.
+//
+// One ResultsStore is one SQLite connection: use it from one thread at a time, open one per
+// thread to read in parallel (WAL mode lets readers run while a writer commits). Times are UTC
+// ISO-8601 text; durations and simulated times are seconds. Errors throw StoreError whose
+// message names the file.
+#include "results/store_error.hpp"
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace armfarm {
+
+class SqliteConnection;
+
+/// The schema version this build writes and reads (PRAGMA user_version).
+inline constexpr int kResultsSchemaVersion = 1;
+
+/// Where a sweep's results came from: the armfarm build and the machine.
+struct Provenance {
+  std::string armfarm_version;
+  std::string git_commit;
+  bool git_dirty = false;
+  std::string compiler;
+  std::string simbody_version;
+  std::string host;
+};
+
+/// One row of `sweeps`.
+struct SweepRecord {
+  std::int64_t id = 0;
+  std::string name;
+  std::string description;
+  std::string spec_text;
+  std::string spec_hash;
+  std::string started_at;
+  std::optional<std::string> finished_at;  ///< empty while running or after an interrupted run
+  Provenance provenance;
+};
+
+/// One job as seen from a sweep: a row of `jobs` with the sweep's own varying parameters.
+struct JobRecord {
+  std::int64_t id = 0;
+  std::string key;             ///< 32 hex digits, XXH3-128 of the canonical configuration
+  std::string sweep;           ///< the sweep that last ran the job
+  nlohmann::json params;       ///< varying parameters, {"dotted.path": value, ...}
+  nlohmann::json config;       ///< the full resolved job configuration
+  std::string status;          ///< pending, running, done, failed, diverged, timeout
+  std::string message;         ///< empty when done
+  std::int64_t seed = 0;
+  std::optional<double> end_time;      ///< simulated time reached, s
+  std::optional<double> wall_seconds;  ///< last attempt, s
+  std::optional<std::string> started_at;
+  std::optional<std::string> finished_at;
+  int attempts = 0;
+};
+
+/// One row of `metrics`. `job_id` is ignored when writing.
+struct MetricRecord {
+  std::int64_t job_id = 0;
+  std::string name;
+  std::optional<int> joint;  ///< 1-based joint number; empty for a job-level metric
+  double value = 0.0;
+};
+
+/// One row of `series`, decoded. `job_id` is ignored when writing.
+struct SeriesRecord {
+  std::int64_t job_id = 0;
+  std::string name;
+  std::vector<std::string> columns;
+  Eigen::MatrixXd rows;  ///< n_samples × columns.size()
+};
+
+/// A job of a sweep as the runner registers it before running anything.
+struct JobRegistration {
+  std::string key;
+  nlohmann::json params;
+  nlohmann::json config;
+  std::int64_t seed = 0;
+};
+
+/// A sweep run as the runner registers it.
+struct SweepRegistration {
+  std::string name;
+  std::string description;
+  std::string spec_text;
+  std::string spec_hash;
+  std::string started_at;
+  std::optional<std::string> shard;  ///< "I/N" when the run is one shard of the sweep
+  Provenance provenance;
+};
+
+/// What the store knows of a freshly registered sweep run.
+struct RegisteredRun {
+  std::int64_t sweep_id = 0;
+  std::int64_t run_id = 0;
+  std::map<std::string, std::string> status_by_key;  ///< every registered job's current status
+};
+
+/// The result of one attempt of a job, written when it ends.
+struct JobResultRecord {
+  std::string key;
+  std::string status;  ///< done, failed, diverged or timeout
+  std::string message;
+  double end_time = 0.0;
+  double wall_seconds = 0.0;
+  std::string started_at;
+  std::string finished_at;
+  std::vector<MetricRecord> metrics;
+  std::vector<SeriesRecord> series;
+};
+
+/// Events of a sweep run handed to the store by the writer thread.
+struct JobBatch {
+  std::vector<std::string> started;
+  std::vector<JobResultRecord> finished;
+  std::vector<std::string> abandoned;
+};
+
+/// What `merge_from` did. A conflict is a job key present in both files with a different
+/// status, metrics or series (timings and provenance are not compared).
+struct MergeReport {
+  int jobs_added = 0;
+  int jobs_identical = 0;
+  int jobs_replaced = 0;  ///< not done here, done in the other file: taken from the other file
+  std::vector<std::string> conflicts;  ///< one line per conflicting job or sweep
+};
+
+class ResultsStore {
+ public:
+  enum class Mode { read_only, read_write };
+
+  /// Opens (read_write: creating if absent and migrating to kResultsSchemaVersion) the database
+  /// at `path`. Throws StoreError for a file that is not SQLite, is corrupt, belongs to another
+  /// application or was written by a newer schema.
+  static ResultsStore open(const std::string& path, Mode mode);
+
+  ResultsStore(ResultsStore&&) noexcept;
+  ResultsStore& operator=(ResultsStore&&) noexcept;
+  ~ResultsStore();
+
+  const std::string& path() const { return path_; }
+  int schema_version() const;
+
+  // ---- reads ----
+  std::vector<SweepRecord> find_sweeps() const;
+  std::optional<SweepRecord> find_sweep(const std::string& name) const;
+  /// The jobs of a sweep in expansion order, `params` as varied in that sweep.
+  std::vector<JobRecord> find_jobs(const std::string& sweep) const;
+  std::optional<JobRecord> find_job(const std::string& key) const;
+  /// Keys of all jobs starting with `prefix` (to accept abbreviated keys on the command line).
+  std::vector<std::string> find_job_keys(const std::string& prefix) const;
+  std::vector<MetricRecord> find_metrics(std::int64_t job_id) const;
+  /// All metrics of the jobs of a sweep, ordered by job position, name, joint.
+  std::vector<MetricRecord> find_sweep_metrics(const std::string& sweep) const;
+  std::vector<std::string> find_series_names(std::int64_t job_id) const;
+  std::optional<SeriesRecord> find_series(std::int64_t job_id, const std::string& name) const;
+  /// Number of the sweep's jobs per status ("done" → 12, …).
+  std::map<std::string, int> count_jobs_by_status(const std::string& sweep) const;
+
+  // ---- writes (read_write only) ----
+  /// Registers a run of a sweep: upserts the sweep row, inserts unknown jobs as pending, makes
+  /// `jobs` the sweep's membership (replacing the old one unless `shard` is set, in which case
+  /// the membership grows), opens a `runs` row. One transaction.
+  RegisteredRun insert_sweep_run(const SweepRegistration& sweep, const std::vector<JobRegistration>& jobs);
+  /// Applies a batch of job events in one transaction, in this order: `started` jobs become
+  /// `running` (attempts + 1, `jobs.sweep` = sweep_name), `finished` attempts are recorded
+  /// (status, message, timings; metrics and series replace earlier ones), `abandoned` jobs
+  /// (interrupted by Ctrl-C) go back to `pending`.
+  void insert_job_batch(const JobBatch& batch, const std::string& sweep_name);
+  /// Closes a run: `complete` or `interrupted`; a complete run stamps sweeps.finished_at.
+  /// Regenerates the sweep's `sweep_<name>` view.
+  void update_run_finished(std::int64_t run_id, const std::string& status, int jobs_run, int jobs_skipped,
+                           const std::string& finished_at);
+  /// Copies the sweeps, jobs, memberships, metrics and series of another database into this one.
+  MergeReport merge_from(const std::string& other_path);
+  /// Recreates the `sweep_<name>` view of one sweep (columns: its params and metrics).
+  void update_sweep_view(const std::string& sweep);
+
+ private:
+  ResultsStore(std::string path, std::unique_ptr<SqliteConnection> connection);
+  std::string path_;
+  std::unique_ptr<SqliteConnection> db_;
+};
+
+/// The `sweep_<name>` view name of a sweep: "sweep_" + name with [^A-Za-z0-9_] replaced by '_'.
+std::string make_sweep_view_name(const std::string& sweep);
+
+/// Current UTC time as ISO-8601 text with milliseconds ("2024-05-01T12:34:56.789Z").
+std::string make_utc_timestamp();
+
+}  // namespace armfarm

@@ -1,0 +1,161 @@
+#include "results/sqlite_connection.hpp"
+
+#include <sqlite3.h>
+
+namespace armfarm {
+
+// ---- SqliteConnection ----
+
+SqliteConnection::SqliteConnection(const std::string& path, bool read_only) : path_(path) {
+  const int flags = read_only ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  const int rc = sqlite3_open_v2(path.c_str(), &db_, flags | SQLITE_OPEN_NOMUTEX, nullptr);
+  if (rc != SQLITE_OK) {
+    const std::string message = db_ != nullptr ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw StoreError(path + ": cannot open the database: " + message);
+  }
+  sqlite3_extended_result_codes(db_, 1);
+  // Readers wait for a writer's lock as well (WAL checkpoints, schema changes).
+  sqlite3_busy_timeout(db_, 10000);
+}
+
+SqliteConnection::~SqliteConnection() { sqlite3_close_v2(db_); }
+
+void SqliteConnection::fail(const std::string& what) const {
+  throw StoreError(path_ + ": " + what + ": " + sqlite3_errmsg(db_));
+}
+
+void SqliteConnection::execute(const std::string& sql) {
+  char* error = nullptr;
+  if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
+    const std::string message = error != nullptr ? error : "unknown error";
+    sqlite3_free(error);
+    throw StoreError(path_ + ": " + message);
+  }
+}
+
+std::int64_t SqliteConnection::query_int(const std::string& sql) {
+  SqliteStatement statement(*this, sql);
+  if (!statement.step()) throw StoreError(path_ + ": no result for " + sql);
+  return statement.column_int(0);
+}
+
+std::int64_t SqliteConnection::last_insert_rowid() const { return sqlite3_last_insert_rowid(db_); }
+
+int SqliteConnection::changes() const { return sqlite3_changes(db_); }
+
+// ---- SqliteStatement ----
+
+SqliteStatement::SqliteStatement(SqliteConnection& connection, const std::string& sql) : connection_(&connection) {
+  if (sqlite3_prepare_v2(connection.handle(), sql.c_str(), static_cast<int>(sql.size() + 1), &statement_, nullptr) !=
+      SQLITE_OK) {
+    connection.fail("cannot prepare \"" + sql.substr(0, 60) + "\"");
+  }
+}
+
+SqliteStatement::SqliteStatement(SqliteStatement&& other) noexcept
+    : connection_(other.connection_), statement_(other.statement_) {
+  other.statement_ = nullptr;
+}
+
+SqliteStatement::~SqliteStatement() { sqlite3_finalize(statement_); }
+
+SqliteStatement& SqliteStatement::bind(int index, std::int64_t value) {
+  if (sqlite3_bind_int64(statement_, index, value) != SQLITE_OK) connection_->fail("bind");
+  return *this;
+}
+
+SqliteStatement& SqliteStatement::bind(int index, double value) {
+  if (sqlite3_bind_double(statement_, index, value) != SQLITE_OK) connection_->fail("bind");
+  return *this;
+}
+
+SqliteStatement& SqliteStatement::bind(int index, const std::string& value) {
+  if (sqlite3_bind_text(statement_, index, value.data(), static_cast<int>(value.size()), SQLITE_TRANSIENT) !=
+      SQLITE_OK) {
+    connection_->fail("bind");
+  }
+  return *this;
+}
+
+SqliteStatement& SqliteStatement::bind(int index, const std::vector<unsigned char>& blob) {
+  if (sqlite3_bind_blob64(statement_, index, blob.data(), blob.size(), SQLITE_TRANSIENT) != SQLITE_OK) {
+    connection_->fail("bind");
+  }
+  return *this;
+}
+
+SqliteStatement& SqliteStatement::bind_null(int index) {
+  if (sqlite3_bind_null(statement_, index) != SQLITE_OK) connection_->fail("bind");
+  return *this;
+}
+
+bool SqliteStatement::step() {
+  const int rc = sqlite3_step(statement_);
+  if (rc == SQLITE_ROW) return true;
+  if (rc == SQLITE_DONE) return false;
+  connection_->fail("query failed");
+}
+
+void SqliteStatement::execute() {
+  while (step()) {
+  }
+  reset();
+}
+
+void SqliteStatement::reset() {
+  sqlite3_reset(statement_);
+  sqlite3_clear_bindings(statement_);
+}
+
+bool SqliteStatement::is_null(int column) const { return sqlite3_column_type(statement_, column) == SQLITE_NULL; }
+
+std::int64_t SqliteStatement::column_int(int column) const { return sqlite3_column_int64(statement_, column); }
+
+double SqliteStatement::column_double(int column) const { return sqlite3_column_double(statement_, column); }
+
+std::string SqliteStatement::column_text(int column) const {
+  const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(statement_, column));
+  if (text == nullptr) return {};
+  return std::string(text, static_cast<std::size_t>(sqlite3_column_bytes(statement_, column)));
+}
+
+std::optional<std::string> SqliteStatement::column_optional_text(int column) const {
+  if (is_null(column)) return std::nullopt;
+  return column_text(column);
+}
+
+std::optional<double> SqliteStatement::column_optional_double(int column) const {
+  if (is_null(column)) return std::nullopt;
+  return column_double(column);
+}
+
+std::vector<unsigned char> SqliteStatement::column_blob(int column) const {
+  const auto* data = static_cast<const unsigned char*>(sqlite3_column_blob(statement_, column));
+  const int size = sqlite3_column_bytes(statement_, column);
+  if (data == nullptr || size <= 0) return {};
+  return std::vector<unsigned char>(data, data + size);
+}
+
+// ---- SqliteTransaction ----
+
+SqliteTransaction::SqliteTransaction(SqliteConnection& connection) : connection_(connection) {
+  connection_.execute("BEGIN IMMEDIATE");
+}
+
+SqliteTransaction::~SqliteTransaction() {
+  if (!open_) return;
+  try {
+    connection_.execute("ROLLBACK");
+  } catch (const StoreError&) {
+    // Nothing more can be done: the connection's own rollback happens on close.
+  }
+}
+
+void SqliteTransaction::commit() {
+  connection_.execute("COMMIT");
+  open_ = false;
+}
+
+}  // namespace armfarm

@@ -1,0 +1,77 @@
+// `armfarm compare BASE.db NEW.db [--sweep NAME] [--metrics …] [--rtol X] [--atol Y]
+// [--tolerances FILE.json] [--format md|json] [--all]`: regression check of NEW against BASE.
+// Exit 0 within tolerance, 1 on a regression, 2 on a usage or file error.
+#include "analysis/analysis_error.hpp"
+#include "analysis/comparison.hpp"
+#include "results/results_store.hpp"
+#include "runner/cli/subcommand.hpp"
+
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+namespace armfarm::cli {
+namespace {
+
+struct CompareOptions {
+  std::string base;
+  std::string next;
+  std::string sweep;
+  std::vector<std::string> metrics;
+  double rtol = 1e-6;
+  double atol = 0.0;
+  std::string tolerances;
+  std::string format = "md";
+  bool show_all = false;
+};
+
+// Every job of a database (or of one sweep), each once.
+std::vector<JobResult> load_jobs(const ResultsStore& store, const std::string& sweep) {
+  if (!sweep.empty()) return load_sweep_data(store, choose_sweep(store, sweep)).jobs;
+  std::vector<JobResult> jobs;
+  std::map<std::string, bool> seen;
+  for (const SweepRecord& record : store.find_sweeps()) {
+    for (JobResult& job : load_sweep_data(store, record.name).jobs) {
+      if (seen.emplace(job.key, true).second) jobs.push_back(std::move(job));
+    }
+  }
+  return jobs;
+}
+
+}  // namespace
+
+RunFunction setup_compare(CLI::App& parent) {
+  auto options = std::make_shared<CompareOptions>();
+  CLI::App* sub = parent.add_subcommand("compare", "Compare two results databases job by job; exit 1 when a metric regressed");
+  sub->add_option("base", options->base, "Baseline database")->required();
+  sub->add_option("new", options->next, "New database")->required();
+  sub->add_option("--sweep", options->sweep, "Only this sweep's jobs");
+  sub->add_option("--metrics", options->metrics, "Only these metrics")->delimiter(',');
+  sub->add_option("--rtol", options->rtol, "Relative tolerance (default 1e-6)")->check(CLI::NonNegativeNumber);
+  sub->add_option("--atol", options->atol, "Absolute tolerance (default 0)")->check(CLI::NonNegativeNumber);
+  sub->add_option("--tolerances", options->tolerances, "JSON file of per-metric / per-joint tolerances and directions");
+  sub->add_option("--format", options->format, "md or json")->check(CLI::IsMember({"md", "json"}));
+  sub->add_flag("--all", options->show_all, "List every compared metric, not only those outside tolerance");
+  return [options] {
+    const Tolerance defaults{options->rtol, options->atol, std::nullopt};
+    ToleranceTable tolerances;
+    tolerances.defaults = defaults;
+    if (!options->tolerances.empty()) {
+      std::ifstream in(options->tolerances);
+      if (!in) throw AnalysisError(options->tolerances + ": cannot read the file");
+      std::ostringstream text;
+      text << in.rdbuf();
+      tolerances = parse_tolerances(text.str(), options->tolerances, defaults);
+    }
+    const ResultsStore base = ResultsStore::open(options->base, ResultsStore::Mode::read_only);
+    const ResultsStore next = ResultsStore::open(options->next, ResultsStore::Mode::read_only);
+    const ComparisonReport report =
+        compare_results(load_jobs(base, options->sweep), load_jobs(next, options->sweep), tolerances, options->metrics);
+    std::cout << format_comparison(report, options->format == "json", options->show_all);
+    return report.regressed() ? 1 : 0;
+  };
+}
+
+}  // namespace armfarm::cli

@@ -1,0 +1,55 @@
+// `armfarm expand SPEC.json [--json]`: the jobs a sweep spec expands into, with their keys and
+// varying parameters (the JSON form also gives each job's full configuration, accepted as is by
+// `armfarm job`).
+#include "runner/cli/subcommand.hpp"
+#include "runner/execution/job_kind.hpp"
+#include "runner/execution/sweep_runner.hpp"
+#include "runner/spec/spec_error.hpp"
+#include "runner/spec/sweep_expansion.hpp"
+
+#include <iostream>
+#include <memory>
+
+namespace armfarm::cli {
+
+RunFunction setup_expand(CLI::App& parent) {
+  struct Options {
+    std::string spec;
+    bool json = false;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* app = parent.add_subcommand("expand", "List the jobs of a sweep spec with their keys and parameters");
+  app->add_option("spec", options->spec, "Sweep spec (JSON)")->required();
+  app->add_flag("--json", options->json, "Print {\"jobs\": [{\"key\", \"params\", \"config\"}]}");
+
+  return [options] {
+    const JobKind kind = make_job_kind_from_environment();
+    ExpandedSweep sweep;
+    try {
+      sweep = expand_sweep(load_sweep_spec(options->spec, kind.schema), kind.schema);
+    } catch (const SpecError& e) {
+      for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
+      return 2;
+    }
+    if (options->json) {
+      nlohmann::json out;
+      out["sweep"] = sweep.spec.name;
+      out["spec_hash"] = sweep.spec_hash;
+      out["jobs"] = nlohmann::json::array();
+      for (const ExpandedJob& job : sweep.jobs) {
+        out["jobs"].push_back({{"key", job.key}, {"params", job.params}, {"config", job.config}});
+      }
+      std::cout << out.dump(2) << "\n";
+      return 0;
+    }
+    std::cout << "sweep " << sweep.spec.name << ": " << sweep.jobs.size() << " jobs\n";
+    for (const ExpandedJob& job : sweep.jobs) {
+      std::cout << job.key;
+      for (const auto& [path, value] : job.params.items()) std::cout << "  " << path << "=" << value.dump();
+      std::cout << "\n";
+    }
+    return 0;
+  };
+}
+
+}  // namespace armfarm::cli

@@ -1,0 +1,48 @@
+// `armfarm merge OUT.db IN.db...`: combines shard databases (or any results databases) into
+// OUT. A job present in several files must have the same results there; conflicts are reported
+// (exit 1) and OUT keeps its own row.
+#include "results/results_store.hpp"
+#include "runner/cli/subcommand.hpp"
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+namespace armfarm::cli {
+
+RunFunction setup_merge(CLI::App& parent) {
+  struct Options {
+    std::string out;
+    std::vector<std::string> inputs;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* app = parent.add_subcommand("merge", "Merge results databases (e.g. the shards of a sweep) into one");
+  app->add_option("out", options->out, "Database to merge into (created if absent)")->required();
+  app->add_option("inputs", options->inputs, "Databases to merge from")->required();
+
+  return [options] {
+    for (const std::string& input : options->inputs) {
+      if (!std::filesystem::exists(input)) {
+        std::cerr << "armfarm: " << input << ": no such database file\n";
+        return 2;
+      }
+      if (std::filesystem::exists(options->out) && std::filesystem::equivalent(input, options->out)) {
+        std::cerr << "armfarm: " << input << ": cannot merge a database into itself\n";
+        return 2;
+      }
+    }
+    ResultsStore store = ResultsStore::open(options->out, ResultsStore::Mode::read_write);
+    int conflicts = 0;
+    for (const std::string& input : options->inputs) {
+      const MergeReport report = store.merge_from(input);
+      std::cout << input << ": " << report.jobs_added << " jobs added, " << report.jobs_replaced
+                << " unfinished jobs completed, " << report.jobs_identical << " identical, " << report.conflicts.size()
+                << " conflicts\n";
+      for (const std::string& conflict : report.conflicts) std::cout << "  conflict: " << conflict << "\n";
+      conflicts += static_cast<int>(report.conflicts.size());
+    }
+    return conflicts > 0 ? 1 : 0;
+  };
+}
+
+}  // namespace armfarm::cli

@@ -1,0 +1,85 @@
+// `armfarm run SPEC.json`: expands a sweep and runs the jobs not yet done, in parallel, into a
+// results database (resume is the default; --force runs everything again).
+#include "runner/cli/subcommand.hpp"
+#include "runner/execution/job_kind.hpp"
+#include "runner/execution/provenance.hpp"
+#include "runner/execution/stop_signal.hpp"
+#include "runner/execution/sweep_runner.hpp"
+#include "runner/spec/spec_error.hpp"
+
+#include <unistd.h>
+
+#include <iostream>
+#include <memory>
+#include <thread>
+
+namespace armfarm::cli {
+
+RunFunction setup_run(CLI::App& parent) {
+  struct Options {
+    std::string spec;
+    std::string db = "results.db";
+    int threads = 0;
+    double timeout = 0.0;
+    bool force = false;
+    std::string shard;
+  };
+  auto options = std::make_shared<Options>();
+  CLI::App* app = parent.add_subcommand("run", "Run a sweep's jobs into a results database (resumes by default)");
+  app->add_option("spec", options->spec, "Sweep spec (JSON)")->required();
+  app->add_option("--db", options->db, "Results database (created if absent)")->capture_default_str();
+  app->add_option("-j,--jobs", options->threads, "Jobs run in parallel (default: the number of cores)")
+      ->check(CLI::NonNegativeNumber);
+  app->add_option("--timeout", options->timeout, "Stop a job after this many seconds of wall clock (0: none)")
+      ->check(CLI::NonNegativeNumber);
+  app->add_flag("--force", options->force, "Run every job again, even those already done");
+  app->add_option("--shard", options->shard, "Run only shard I of N (I/N, 1-based), to split a sweep across machines");
+
+  return [options] {
+    const JobKind kind = make_job_kind_from_environment();
+    ExpandedSweep sweep;
+    RunOptions run;
+    try {
+      sweep = expand_sweep(load_sweep_spec(options->spec, kind.schema), kind.schema);
+      if (!options->shard.empty()) run.shard = parse_shard(options->shard);
+    } catch (const SpecError& e) {
+      for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
+      return 2;
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "armfarm: " << e.what() << "\n";
+      return 2;
+    }
+    run.db_path = options->db;
+    run.threads = options->threads > 0 ? options->threads
+                                       : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    if (options->timeout > 0.0) run.timeout_seconds = options->timeout;
+    run.force = options->force;
+    run.progress = isatty(STDERR_FILENO) ? ProgressStyle::terminal : ProgressStyle::lines;
+    run.progress_out = &std::cerr;
+    run.provenance = make_provenance();
+
+    std::cout << "sweep " << sweep.spec.name << ": " << sweep.jobs.size() << " jobs"
+              << (run.shard.count > 1 ? " (shard " + options->shard + ")" : "") << ", " << run.threads
+              << " threads, database " << run.db_path << (kind.name == "fake" ? ", FAKE jobs (ARMFARM_FAKE_JOBS=1)" : "")
+              << std::endl;
+    StopSignalScope signals;
+    const RunSummary summary = run_sweep(sweep, kind.executor, run, signals.stop_requested());
+
+    std::cout << "sweep " << sweep.spec.name << ": " << summary.done << " done, " << summary.failed << " failed, "
+              << summary.diverged << " diverged, " << summary.timeout << " timed out, " << summary.skipped
+              << " already done (skipped)";
+    if (run.shard.count > 1) std::cout << "; " << summary.jobs_in_shard << " of " << summary.jobs_in_sweep << " jobs in this shard";
+    std::cout << "; " << make_duration_text(summary.elapsed_seconds) << "\n";
+    const std::size_t shown = std::min<std::size_t>(summary.failures.size(), 20);
+    for (std::size_t i = 0; i < shown; ++i) std::cout << "  " << summary.failures[i] << "\n";
+    if (summary.failures.size() > shown) {
+      std::cout << "  ... and " << summary.failures.size() - shown << " more (armfarm status " << run.db_path << ")\n";
+    }
+    if (summary.interrupted) {
+      std::cout << "interrupted: " << summary.abandoned << " jobs not finished; run the same command again to resume\n";
+    }
+    return summary.all_done() ? 0 : 1;
+  };
+}
+
+}  // namespace armfarm::cli

@@ -1,0 +1,43 @@
+// `armfarm status DB`: job counts by status for each sweep, then the failures with their messages.
+#include "results/results_store.hpp"
+#include "runner/cli/subcommand.hpp"
+
+#include <iostream>
+#include <memory>
+
+namespace armfarm::cli {
+
+RunFunction setup_status(CLI::App& parent) {
+  auto db_path = std::make_shared<std::string>();
+  CLI::App* app = parent.add_subcommand("status", "Count a database's jobs by status and list the failures");
+  app->add_option("db", *db_path, "Results database")->required();
+
+  return [db_path] {
+    const ResultsStore store = ResultsStore::open(*db_path, ResultsStore::Mode::read_only);
+    const std::vector<SweepRecord> sweeps = store.find_sweeps();
+    if (sweeps.empty()) std::cout << *db_path << ": no sweeps\n";
+    bool any_failure = false;
+    for (const SweepRecord& sweep : sweeps) {
+      const std::map<std::string, int> counts = store.count_jobs_by_status(sweep.name);
+      int total = 0;
+      for (const auto& [status, count] : counts) total += count;
+      std::cout << "sweep " << sweep.name << ": " << total << " jobs";
+      for (const char* status : {"done", "failed", "diverged", "timeout", "running", "pending"}) {
+        const auto found = counts.find(status);
+        if (found != counts.end()) std::cout << ", " << found->second << " " << status;
+      }
+      std::cout << " (started " << sweep.started_at << ", "
+                << (sweep.finished_at ? "finished " + *sweep.finished_at : std::string("not finished")) << ")\n";
+      for (const JobRecord& job : store.find_jobs(sweep.name)) {
+        if (job.status != "failed" && job.status != "diverged" && job.status != "timeout") continue;
+        any_failure = true;
+        std::cout << "  " << job.status << " " << job.key.substr(0, 12);
+        for (const auto& [path, value] : job.params.items()) std::cout << " " << path << "=" << value.dump();
+        std::cout << ": " << job.message << "\n";
+      }
+    }
+    return any_failure ? 1 : 0;
+  };
+}
+
+}  // namespace armfarm::cli

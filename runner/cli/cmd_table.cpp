@@ -1,0 +1,89 @@
+// `armfarm table DB [--sweep NAME] [--rows P,…] [--cols M,…] [--joints …] [--where P=V]
+// [--agg mean|median|min|max] [--format md|csv|latex|json]`: experiment tables of a sweep,
+// by default the thesis's (analysis/table.hpp).
+#include "analysis/analysis_error.hpp"
+#include "analysis/table.hpp"
+#include "results/results_store.hpp"
+#include "runner/cli/subcommand.hpp"
+
+#include <iostream>
+#include <memory>
+
+namespace armfarm::cli {
+namespace {
+
+struct TableOptions {
+  std::string database;
+  std::string sweep;
+  std::vector<std::string> rows;
+  std::vector<std::string> cols;
+  std::vector<int> joints;
+  std::vector<std::string> where;
+  std::string aggregate = "mean";
+  std::string format = "md";
+};
+
+std::pair<std::string, std::string> parse_where(const std::string& text) {
+  const auto equals = text.find('=');
+  if (equals == std::string::npos || equals == 0) {
+    throw AnalysisError("--where \"" + text + "\": expected PARAM=VALUE");
+  }
+  return {text.substr(0, equals), text.substr(equals + 1)};
+}
+
+}  // namespace
+
+RunFunction setup_table(CLI::App& parent) {
+  auto options = std::make_shared<TableOptions>();
+  CLI::App* sub = parent.add_subcommand("table", "Print experiment tables of a results database (thesis tables by default)");
+  sub->add_option("database", options->database, "Results database (SQLite)")->required();
+  sub->add_option("--sweep", options->sweep, "Sweep name (default: every sweep of the database)");
+  sub->add_option("--rows", options->rows, "Row parameters, dotted paths or 'joint' (default: the swept parameters)")->delimiter(',');
+  sub->add_option("--cols", options->cols, "Metrics as columns (default: the thesis's tables)")->delimiter(',');
+  sub->add_option("--joints", options->joints, "Joints to show, 1-based (default: all)")->delimiter(',');
+  sub->add_option("--where", options->where, "Keep jobs whose PARAM=VALUE (repeatable)");
+  sub->add_option("--agg", options->aggregate, "Aggregate over repeats: mean (± std), median, min, max")
+      ->check(CLI::IsMember({"mean", "median", "min", "max"}));
+  sub->add_option("--format", options->format, "md, csv, latex or json")->check(CLI::IsMember({"md", "csv", "latex", "json"}));
+  return [options] {
+    const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
+    const Aggregate aggregate = parse_aggregate(options->aggregate);
+    const TableFormat format = parse_table_format(options->format);
+    std::vector<std::pair<std::string, std::string>> where;
+    for (const std::string& text : options->where) where.push_back(parse_where(text));
+
+    std::vector<std::string> sweeps;
+    if (!options->sweep.empty()) {
+      sweeps.push_back(choose_sweep(store, options->sweep));
+    } else {
+      for (const SweepRecord& record : store.find_sweeps()) sweeps.push_back(record.name);
+      if (sweeps.empty()) throw AnalysisError(options->database + ": the database holds no sweep");
+    }
+    for (const std::string& sweep : sweeps) {
+      const SweepData data = load_sweep_data(store, sweep);
+      std::vector<TableSpec> specs;
+      if (!options->cols.empty()) {
+        TableSpec spec;
+        spec.title = "Sweep " + sweep;
+        spec.metrics = options->cols;
+        for (const std::string& path : data.varying_params) {
+          if (path != "seed") spec.rows.push_back(path);
+        }
+        specs.push_back(spec);
+      } else {
+        specs = make_default_table_specs(data);
+        for (TableSpec& spec : specs) spec.title = spec.title + " — sweep " + sweep;
+      }
+      for (TableSpec& spec : specs) {
+        if (!options->rows.empty()) spec.rows = options->rows;
+        spec.joints = options->joints;
+        spec.where = where;
+        std::cout << format_table(make_table(data, spec), format, aggregate);
+        if (format == TableFormat::csv) std::cout << "\n";
+      }
+    }
+    return 0;
+  };
+}
+
+}  // namespace armfarm::cli

@@ -1,0 +1,19 @@
+#pragma once
+// A cheap, deterministic stand-in for the experiment job, for the runner's tests and
+// benchmarks (and `armfarm` itself when ARMFARM_FAKE_JOBS=1, a testing aid): its metrics and
+// series are closed-form functions of the configuration and seed; it can sleep, burn CPU,
+// fail, throw, diverge or hang on request (the `fake` section of its configuration).
+#include "runner/execution/job_executor.hpp"
+
+namespace armfarm {
+
+/// Defaults: model, seed, control.{kp,kd,gain_scale}, learning.lwpr.{init_D,init_alpha},
+/// trajectory.{kind,period,amplitude}, simulation.{duration,samples},
+/// fake.{sleep_ms,work,fail,throw,diverge,hang}.
+JobConfigSchema make_fake_job_config_schema();
+
+/// Metrics: tracking_nmse per joint (1-based, one per control.kp entry), test_nmse and
+/// work_checksum per job. Series: POS and TOR, simulation.samples rows of t, q1..qn / tau1..taun.
+JobExecutor make_fake_job_executor();
+
+}  // namespace armfarm

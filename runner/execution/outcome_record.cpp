@@ -1,0 +1,22 @@
+#include "runner/execution/outcome_record.hpp"
+
+namespace armfarm {
+
+JobResultRecord make_job_result_record(const std::string& key, JobOutcome outcome, double wall_seconds,
+                                       const std::string& started_at, const std::string& finished_at) {
+  JobResultRecord record;
+  record.key = key;
+  record.status = to_string(outcome.status);
+  record.message = std::move(outcome.message);
+  record.end_time = outcome.end_time;
+  record.wall_seconds = wall_seconds;
+  record.started_at = started_at;
+  record.finished_at = finished_at;
+  for (Metric& metric : outcome.metrics) record.metrics.push_back({0, std::move(metric.name), metric.joint, metric.value});
+  for (Series& series : outcome.series) {
+    record.series.push_back({0, std::move(series.name), std::move(series.columns), std::move(series.rows)});
+  }
+  return record;
+}
+
+}  // namespace armfarm

@@ -1,0 +1,15 @@
+#pragma once
+// From the experiment job's JobOutcome to the store's JobResultRecord (engine/ and results/
+// do not know each other; the runner translates).
+#include "engine/experiment/job_outcome.hpp"
+#include "results/results_store.hpp"
+
+#include <string>
+
+namespace armfarm {
+
+/// Moves the outcome's metrics and series into a record of one attempt of job `key`.
+JobResultRecord make_job_result_record(const std::string& key, JobOutcome outcome, double wall_seconds,
+                                       const std::string& started_at, const std::string& finished_at);
+
+}  // namespace armfarm

@@ -1,0 +1,23 @@
+#pragma once
+// Ctrl-C for a running sweep: while a StopSignalScope lives, SIGINT and SIGTERM set a flag that
+// the runner polls (stop taking jobs, ask running ones to stop, record what finished). The
+// first signal restores the default handlers, so a second Ctrl-C ends the process at once
+// (the database stays consistent either way: every batch is one transaction).
+#include <atomic>
+
+namespace armfarm {
+
+class StopSignalScope {
+ public:
+  StopSignalScope();
+  ~StopSignalScope();
+  StopSignalScope(const StopSignalScope&) = delete;
+  StopSignalScope& operator=(const StopSignalScope&) = delete;
+
+  /// Set once SIGINT or SIGTERM arrived.
+  const std::atomic<bool>& stop_requested() const;
+  /// The signal received (0 if none).
+  int signal_number() const;
+};
+
+}  // namespace armfarm

@@ -1,0 +1,165 @@
+#include "runner/execution/sweep_runner.hpp"
+
+#include "runner/execution/outcome_record.hpp"
+#include "runner/execution/result_writer.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <mutex>
+#include <thread>
+
+namespace armfarm {
+namespace {
+
+std::string make_param_text(const nlohmann::json& value) {
+  if (value.is_number_float()) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value.get<double>());
+    return text;
+  }
+  return value.is_string() ? value.get<std::string>() : value.dump();
+}
+
+}  // namespace
+
+std::string make_job_label(const ExpandedJob& job) {
+  std::string label = job.key.substr(0, 8);
+  for (const auto& [path, value] : job.params.items()) label += " " + path + "=" + make_param_text(value);
+  return label;
+}
+
+RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, const RunOptions& options,
+                     const std::atomic<bool>& stop_requested) {
+  const auto start = std::chrono::steady_clock::now();
+  RunSummary summary;
+  summary.jobs_in_sweep = static_cast<int>(sweep.jobs.size());
+
+  std::vector<const ExpandedJob*> shard_jobs;
+  for (const ExpandedJob& job : sweep.jobs) {
+    if (options.shard.count == 1 || calc_shard_of(job.key, options.shard.count) == options.shard.index) {
+      shard_jobs.push_back(&job);
+    }
+  }
+  summary.jobs_in_shard = static_cast<int>(shard_jobs.size());
+
+  ResultsStore store = ResultsStore::open(options.db_path, ResultsStore::Mode::read_write);
+  SweepRegistration registration;
+  registration.name = sweep.spec.name;
+  registration.description = sweep.spec.description;
+  registration.spec_text = sweep.spec.text;
+  registration.spec_hash = sweep.spec_hash;
+  registration.started_at = make_utc_timestamp();
+  if (options.shard.count > 1) {
+    registration.shard = std::to_string(options.shard.index) + "/" + std::to_string(options.shard.count);
+  }
+  registration.provenance = options.provenance;
+  std::vector<JobRegistration> jobs;
+  for (const ExpandedJob* job : shard_jobs) jobs.push_back({job->key, job->params, job->config, job->seed});
+  const RegisteredRun registered = store.insert_sweep_run(registration, jobs);
+
+  std::vector<const ExpandedJob*> to_run;
+  for (const ExpandedJob* job : shard_jobs) {
+    if (options.force || registered.status_by_key.at(job->key) != "done") {
+      to_run.push_back(job);
+    } else {
+      ++summary.skipped;
+    }
+  }
+
+  const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::ostream* out = options.progress_out;
+  ProgressReporter progress(*out, out != nullptr ? options.progress : ProgressStyle::quiet,
+                            static_cast<int>(to_run.size()));
+  std::mutex summary_mutex;
+  {
+    ResultWriter writer(store, sweep.spec.name);
+    auto run_one = [&](const ExpandedJob& job) {
+      if (stop_requested.load() || writer.failed()) {
+        std::lock_guard lock(summary_mutex);
+        ++summary.abandoned;
+        return;
+      }
+      writer.push_started(job.key);
+      const std::string started_at = make_utc_timestamp();
+      const auto job_start = std::chrono::steady_clock::now();
+      bool stopped_by_request = false;
+      bool stopped_by_timeout = false;
+      JobControl control;
+      control.should_stop = [&] {
+        if (stop_requested.load() || writer.failed()) {
+          stopped_by_request = true;
+          return true;
+        }
+        if (options.timeout_seconds &&
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - job_start).count() > *options.timeout_seconds) {
+          stopped_by_timeout = true;
+          return true;
+        }
+        return false;
+      };
+      JobOutcome outcome;
+      try {
+        outcome = executor(job.config, control);
+      } catch (const std::exception& e) {
+        outcome = JobOutcome{};
+        outcome.status = JobStatus::failed;
+        outcome.message = std::string("exception: ") + e.what();
+      } catch (...) {
+        outcome = JobOutcome{};
+        outcome.status = JobStatus::failed;
+        outcome.message = "unknown exception";
+      }
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - job_start).count();
+      if (stopped_by_request && outcome.status != JobStatus::done) {
+        writer.push_abandoned(job.key);
+        std::lock_guard lock(summary_mutex);
+        ++summary.abandoned;
+        return;
+      }
+      if (stopped_by_timeout && outcome.status != JobStatus::done) {
+        outcome.status = JobStatus::timeout;
+        char text[96];
+        std::snprintf(text, sizeof text, "stopped after the timeout of %g s", *options.timeout_seconds);
+        outcome.message = text;
+      }
+      const std::string status = to_string(outcome.status);
+      const std::string message = outcome.message;
+      writer.push_finished(make_job_result_record(job.key, std::move(outcome), wall, started_at, make_utc_timestamp()));
+      progress.update_finished(make_job_label(job), status, wall, message);
+      std::lock_guard lock(summary_mutex);
+      ++summary.run;
+      if (status == "done") {
+        ++summary.done;
+      } else {
+        if (status == "failed") ++summary.failed;
+        if (status == "diverged") ++summary.diverged;
+        if (status == "timeout") ++summary.timeout;
+        summary.failures.push_back(make_job_label(job) + ": " + status + ": " + message);
+      }
+    };
+
+    tbb::global_control allow(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, to_run.size(), 1),
+          [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) run_one(*to_run[i]);
+          },
+          tbb::simple_partitioner());
+    });
+    progress.finish();
+    writer.finish();  // throws the store's error, if any
+  }
+  summary.interrupted = stop_requested.load();
+  store.update_run_finished(registered.run_id, summary.interrupted ? "interrupted" : "complete", summary.run,
+                            summary.skipped, make_utc_timestamp());
+  summary.elapsed_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace armfarm

@@ -1,0 +1,163 @@
+#include "runner/spec/sweep_expansion.hpp"
+
+#include "runner/spec/canonical_json.hpp"
+#include "runner/spec/spec_error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <unordered_set>
+
+namespace armfarm {
+namespace {
+
+// One value of a factor: the elements it sets, each with its spec location for messages.
+struct Assignment {
+  std::string path;
+  const std::vector<PathSegment>* segments;
+  nlohmann::json value;
+  std::string location;
+};
+using FactorEntry = std::vector<Assignment>;
+using Factor = std::vector<FactorEntry>;
+
+// A real number in [0, 1) from 53 random bits: the same on every platform (unlike
+// std::uniform_real_distribution, whose algorithm the standard leaves open).
+double draw_unit(std::mt19937_64& generator) { return static_cast<double>(generator() >> 11) * 0x1.0p-53; }
+
+std::vector<Factor> make_factors(const SweepSpec& spec, const std::vector<PathSegment>& seed_segments) {
+  std::vector<Factor> factors;
+  for (const SpecAxis& axis : spec.grid) {
+    Factor factor;
+    for (std::size_t i = 0; i < axis.values.size(); ++i) {
+      factor.push_back({{axis.path, &axis.segments, axis.values[i], axis.location + "[" + std::to_string(i) + "]"}});
+    }
+    factors.push_back(std::move(factor));
+  }
+  for (const SpecZipGroup& group : spec.zip) {
+    Factor factor(group.axes.front().values.size());
+    for (const SpecAxis& axis : group.axes) {
+      for (std::size_t i = 0; i < axis.values.size(); ++i) {
+        factor[i].push_back({axis.path, &axis.segments, axis.values[i], axis.location + "[" + std::to_string(i) + "]"});
+      }
+    }
+    factors.push_back(std::move(factor));
+  }
+  if (spec.random) {
+    std::mt19937_64 generator(spec.random->seed);
+    Factor factor;
+    for (int s = 0; s < spec.random->samples; ++s) {
+      FactorEntry entry;
+      for (const SpecRandomParam& param : spec.random->params) {
+        const double u = draw_unit(generator);
+        nlohmann::json value;
+        switch (param.distribution) {
+          case RandomDistribution::uniform:
+            value = param.low + u * (param.high - param.low);
+            break;
+          case RandomDistribution::loguniform:
+            value = std::exp(std::log(param.low) + u * (std::log(param.high) - std::log(param.low)));
+            break;
+          case RandomDistribution::choice:
+            value = param.choices[std::min(param.choices.size() - 1,
+                                           static_cast<std::size_t>(u * static_cast<double>(param.choices.size())))];
+            break;
+        }
+        entry.push_back({param.path, &param.segments, value, param.location + " (sample " + std::to_string(s) + ")"});
+      }
+      factor.push_back(std::move(entry));
+    }
+    factors.push_back(std::move(factor));
+  }
+  if (!spec.repeat_seeds.empty()) {
+    Factor factor;
+    for (std::size_t i = 0; i < spec.repeat_seeds.size(); ++i) {
+      factor.push_back({{"seed", &seed_segments, spec.repeat_seeds[i], "sweep.repeat (seed " +
+                                                                            std::to_string(spec.repeat_seeds[i]) + ")"}});
+    }
+    factors.push_back(std::move(factor));
+  }
+  return factors;
+}
+
+// The spec location to blame for a schema error at `error_path`: the axis that set it (or an
+// element inside it, or the array it is part of), otherwise the base configuration.
+std::string locate_error(const std::string& error_path, const FactorEntry& assignments) {
+  auto related = [](const std::string& a, const std::string& b) {
+    if (a.empty() || b.empty()) return false;
+    if (a == b) return true;
+    const std::string& shorter = a.size() < b.size() ? a : b;
+    const std::string& longer = a.size() < b.size() ? b : a;
+    return longer.compare(0, shorter.size(), shorter) == 0 &&
+           (longer[shorter.size()] == '.' || longer[shorter.size()] == '[');
+  };
+  for (const Assignment& a : assignments) {
+    if (related(a.path, error_path)) return a.location;
+  }
+  return error_path.empty() ? std::string("base") : "base." + error_path;
+}
+
+}  // namespace
+
+ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
+  ExpandedSweep sweep;
+  const std::vector<PathSegment> seed_segments = {{"seed", std::nullopt}};
+  const std::vector<Factor> factors = make_factors(spec, seed_segments);
+
+  std::vector<std::size_t> counter(factors.size(), 0);
+  std::vector<std::string> errors;
+  std::set<std::string> seen_errors;
+  std::unordered_set<std::string> seen_keys;
+  for (bool more = true; more;) {
+    FactorEntry assignments;
+    for (std::size_t f = 0; f < factors.size(); ++f) {
+      const FactorEntry& entry = factors[f][counter[f]];
+      assignments.insert(assignments.end(), entry.begin(), entry.end());
+    }
+    ExpandedJob job;
+    job.config = spec.base;
+    job.params = nlohmann::json::object();
+    for (const Assignment& a : assignments) {
+      set_config_element(job.config, *a.segments, a.value);
+      job.params[a.path] = a.value;
+    }
+    try {
+      if (schema.validate) schema.validate(job.config);
+      job.key = calc_job_key(job.config);
+      if (job.config.contains("seed") && job.config["seed"].is_number_integer()) {
+        job.seed = job.config["seed"].get<std::int64_t>();
+      }
+      if (seen_keys.insert(job.key).second) sweep.jobs.push_back(std::move(job));
+    } catch (const ConfigError& e) {
+      const std::string where = locate_error(e.json_path(), assignments);
+      const std::string what = e.what();
+      const std::string bare = e.json_path().empty() ? what : what.substr(e.json_path().size() + 2);
+      const bool on_axis = where.rfind("base", 0) != 0;
+      const std::string line =
+          spec.file + ": " + where + ": " + (on_axis && !e.json_path().empty() ? e.json_path() + ": " : "") + bare;
+      if (seen_errors.insert(line).second && errors.size() < 20) errors.push_back(line);
+    }
+    // Odometer: the last factor varies fastest.
+    more = false;
+    for (std::size_t f = factors.size(); f-- > 0;) {
+      if (++counter[f] < factors[f].size()) {
+        more = true;
+        break;
+      }
+      counter[f] = 0;
+    }
+  }
+  if (!errors.empty()) throw SpecError(errors);
+
+  nlohmann::json keys = nlohmann::json::array();
+  std::vector<std::string> sorted_keys;
+  for (const ExpandedJob& job : sweep.jobs) sorted_keys.push_back(job.key);
+  std::sort(sorted_keys.begin(), sorted_keys.end());
+  for (const std::string& key : sorted_keys) keys.push_back(key);
+  sweep.spec_hash = calc_text_hash(calc_canonical_json(keys));
+  sweep.spec = std::move(spec);
+  return sweep;
+}
+
+}  // namespace armfarm

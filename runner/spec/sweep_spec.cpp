@@ -1,0 +1,395 @@
+#include "runner/spec/sweep_spec.hpp"
+
+#include "runner/spec/config_check.hpp"
+#include "runner/spec/did_you_mean.hpp"
+#include "runner/spec/spec_error.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace armfarm {
+namespace {
+
+std::string read_text_file(const std::string& path, const std::string& referenced_from) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw SpecError({(referenced_from.empty() ? path : referenced_from + ": " + path) + ": cannot read the file"});
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+nlohmann::json parse_json_text(const std::string& text, const std::string& file) {
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    std::string message = e.what();
+    const std::size_t colon = message.find(": ", message.find("column"));
+    if (colon != std::string::npos) message = message.substr(colon + 2);
+    throw SpecError({file + ": line " + std::to_string(line) + ", column " + std::to_string(column) +
+                     ": not valid JSON: " + message});
+  }
+}
+
+std::string quoted(const std::string& parent, const std::string& key) { return parent + "[\"" + key + "\"]"; }
+
+bool is_prefix_path(const std::vector<PathSegment>& a, const std::vector<PathSegment>& b) {
+  if (a.size() > b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].index != b[i].index || a[i].key != b[i].key) return false;
+  }
+  return true;
+}
+
+class SpecParser {
+ public:
+  SpecParser(const std::string& file, const std::string& folder, const JobConfigSchema& schema)
+      : file_(file), folder_(folder), schema_(schema) {}
+
+  SweepSpec parse(const std::string& text) {
+    SweepSpec spec;
+    spec.file = file_;
+    spec.text = text;
+    const nlohmann::json root = parse_json_text(text, file_);
+    if (!root.is_object()) throw SpecError({file_ + ": (top level): a sweep spec is a JSON object"});
+    check_keys(root, "", {"name", "description", "base", "include", "sweep", "comment"});
+
+    if (!root.contains("name")) {
+      error("name", "missing; every sweep needs a name");
+    } else if (!root["name"].is_string() || root["name"].get<std::string>().empty()) {
+      error("name", "expected a non-empty string");
+    } else {
+      spec.name = root["name"].get<std::string>();
+    }
+    if (root.contains("description")) {
+      if (root["description"].is_string()) {
+        spec.description = root["description"].get<std::string>();
+      } else {
+        error("description", "expected a string");
+      }
+    }
+
+    resolved_ = schema_.defaults;
+    if (root.contains("include")) read_includes(root["include"]);
+    if (root.contains("base")) {
+      std::vector<std::string> lines;
+      const nlohmann::json base = calc_checked_value(root["base"], schema_.defaults, "base", lines);
+      for (const std::string& line : lines) errors_.push_back(file_ + ": " + line);
+      if (lines.empty()) merge_config_into(resolved_, base);
+    }
+    spec.base = resolved_;
+
+    if (root.contains("sweep")) {
+      const nlohmann::json& sweep = root["sweep"];
+      if (!sweep.is_object()) {
+        error("sweep", "expected an object with grid, zip, random and/or repeat");
+      } else {
+        check_keys(sweep, "sweep", {"grid", "zip", "random", "repeat"});
+        if (sweep.contains("grid")) read_grid(sweep["grid"], spec);
+        if (sweep.contains("zip")) read_zip(sweep["zip"], spec);
+        if (sweep.contains("random")) read_random(sweep["random"], spec);
+        if (sweep.contains("repeat")) read_repeat(sweep["repeat"], spec);
+      }
+    }
+    if (!errors_.empty()) throw SpecError(errors_);
+    return spec;
+  }
+
+ private:
+  void error(const std::string& path, const std::string& message) {
+    errors_.push_back(file_ + ": " + (path.empty() ? "(top level)" : path) + ": " + message);
+  }
+
+  void check_keys(const nlohmann::json& object, const std::string& path, const std::vector<std::string>& allowed) {
+    for (const auto& item : object.items()) {
+      if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end()) {
+        error(path.empty() ? item.key() : path + "." + item.key(), "unknown key" + make_did_you_mean(item.key(), allowed));
+      }
+    }
+  }
+
+  void read_includes(const nlohmann::json& include) {
+    std::vector<std::string> names;
+    if (include.is_string()) {
+      names.push_back(include.get<std::string>());
+    } else if (include.is_array()) {
+      for (std::size_t i = 0; i < include.size(); ++i) {
+        if (include[i].is_string()) {
+          names.push_back(include[i].get<std::string>());
+        } else {
+          error("include[" + std::to_string(i) + "]", "expected a file name");
+        }
+      }
+    } else {
+      error("include", "expected a file name or a list of file names");
+      return;
+    }
+    for (const std::string& name : names) {
+      const std::string path = (std::filesystem::path(folder_) / name).lexically_normal().string();
+      nlohmann::json config;
+      try {
+        config = parse_json_text(read_text_file(path, file_ + ": include"), path);
+      } catch (const SpecError& e) {
+        errors_.insert(errors_.end(), e.lines().begin(), e.lines().end());
+        continue;
+      }
+      std::vector<std::string> lines;
+      const nlohmann::json checked = calc_checked_value(config, schema_.defaults, "", lines);
+      for (const std::string& line : lines) errors_.push_back(path + ": " + line);
+      if (lines.empty()) merge_config_into(resolved_, checked);
+    }
+  }
+
+  // Resolves a dotted path of an axis; false (with an error) when it names nothing.
+  bool resolve_path(const std::string& path, const std::string& location, std::vector<PathSegment>& segments,
+                    const nlohmann::json*& reference) {
+    try {
+      segments = parse_config_path(path);
+    } catch (const std::invalid_argument& e) {
+      error(location, "'" + path + "' is not a dotted path: " + e.what());
+      return false;
+    }
+    std::string problem;
+    if (find_config_element(resolved_, segments, problem) == nullptr) {
+      error(location, "'" + path + "' names nothing in the job configuration: " + problem);
+      return false;
+    }
+    reference = find_schema_reference(schema_.defaults, segments, problem);
+    if (reference == nullptr) {
+      error(location, "'" + path + "' names nothing in the job configuration: " + problem);
+      return false;
+    }
+    for (const auto& [other_path, other] : claimed_) {
+      if (is_prefix_path(other.first, segments) || is_prefix_path(segments, other.first)) {
+        error(location, "'" + path + "' overlaps '" + other_path + "', already varied at " + other.second);
+        return false;
+      }
+    }
+    claimed_.emplace(path, std::make_pair(segments, location));
+    return true;
+  }
+
+  std::optional<SpecAxis> read_axis(const std::string& path, const nlohmann::json& values, const std::string& location) {
+    SpecAxis axis;
+    axis.path = path;
+    axis.location = location;
+    const nlohmann::json* reference = nullptr;
+    if (!resolve_path(path, location, axis.segments, reference)) return std::nullopt;
+    if (!values.is_array() || values.empty()) {
+      error(location, "expected a non-empty list of values");
+      return std::nullopt;
+    }
+    std::vector<std::string> lines;
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      axis.values.push_back(calc_checked_value(values[i], *reference, location + "[" + std::to_string(i) + "]", lines));
+    }
+    for (const std::string& line : lines) errors_.push_back(file_ + ": " + line);
+    if (!lines.empty()) return std::nullopt;
+    return axis;
+  }
+
+  void read_grid(const nlohmann::json& grid, SweepSpec& spec) {
+    if (!grid.is_object()) {
+      error("sweep.grid", "expected an object {\"dotted.path\": [values...]}");
+      return;
+    }
+    for (const auto& [path, values] : grid.items()) {
+      if (auto axis = read_axis(path, values, quoted("sweep.grid", path))) spec.grid.push_back(std::move(*axis));
+    }
+  }
+
+  void read_zip(const nlohmann::json& zip, SweepSpec& spec) {
+    std::vector<nlohmann::json> groups;
+    if (zip.is_object()) {
+      groups.push_back(zip);
+    } else if (zip.is_array()) {
+      groups.assign(zip.begin(), zip.end());
+    } else {
+      error("sweep.zip", "expected a group {\"path\": [...], \"path2\": [...]} or a list of groups");
+      return;
+    }
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      const std::string location = zip.is_object() ? "sweep.zip" : "sweep.zip[" + std::to_string(g) + "]";
+      if (!groups[g].is_object() || groups[g].empty()) {
+        error(location, "expected a non-empty object {\"dotted.path\": [values...]}");
+        continue;
+      }
+      SpecZipGroup group;
+      bool complete = true;
+      for (const auto& [path, values] : groups[g].items()) {
+        auto axis = read_axis(path, values, quoted(location, path));
+        if (axis) {
+          group.axes.push_back(std::move(*axis));
+        } else {
+          complete = false;
+        }
+      }
+      if (!complete) continue;
+      for (const SpecAxis& axis : group.axes) {
+        if (axis.values.size() != group.axes.front().values.size()) {
+          error(location, "lists that vary together must have the same length: " +
+                              std::to_string(group.axes.front().values.size()) + " values for '" +
+                              group.axes.front().path + "', " + std::to_string(axis.values.size()) + " for '" +
+                              axis.path + "'");
+          complete = false;
+          break;
+        }
+      }
+      if (complete) spec.zip.push_back(std::move(group));
+    }
+  }
+
+  void read_random(const nlohmann::json& random, SweepSpec& spec) {
+    if (!random.is_object()) {
+      error("sweep.random", "expected an object {\"samples\": N, \"seed\": S, \"params\": {...}}");
+      return;
+    }
+    check_keys(random, "sweep.random", {"samples", "seed", "params"});
+    SpecRandom result;
+    if (!random.contains("samples") || !random["samples"].is_number_integer() || random["samples"].get<long long>() < 1 ||
+        random["samples"].get<long long>() > 1000000) {
+      error("sweep.random.samples", "expected an integer number of samples in [1, 1000000]");
+    } else {
+      result.samples = random["samples"].get<int>();
+    }
+    if (random.contains("seed")) {
+      if (!random["seed"].is_number_unsigned()) {
+        error("sweep.random.seed", "expected a non-negative integer");
+      } else {
+        result.seed = random["seed"].get<std::uint64_t>();
+      }
+    }
+    if (!random.contains("params") || !random["params"].is_object() || random["params"].empty()) {
+      error("sweep.random.params", "expected an object {\"dotted.path\": {\"uniform\": [low, high]}, ...}");
+      return;
+    }
+    const std::vector<std::string> kinds = {"uniform", "loguniform", "choice"};
+    for (const auto& [path, distribution] : random["params"].items()) {
+      const std::string location = quoted("sweep.random.params", path);
+      SpecRandomParam param;
+      param.path = path;
+      param.location = location;
+      const nlohmann::json* reference = nullptr;
+      if (!resolve_path(path, location, param.segments, reference)) continue;
+      if (!distribution.is_object() || distribution.size() != 1) {
+        error(location, "expected one of {\"uniform\": [low, high]}, {\"loguniform\": [low, high]}, {\"choice\": [...]}");
+        continue;
+      }
+      const std::string kind = distribution.begin().key();
+      const nlohmann::json& arguments = distribution.begin().value();
+      if (kind == "choice") {
+        param.distribution = RandomDistribution::choice;
+        if (!arguments.is_array() || arguments.empty()) {
+          error(location + ".choice", "expected a non-empty list of values");
+          continue;
+        }
+        std::vector<std::string> lines;
+        for (std::size_t i = 0; i < arguments.size(); ++i) {
+          param.choices.push_back(
+              calc_checked_value(arguments[i], *reference, location + ".choice[" + std::to_string(i) + "]", lines));
+        }
+        for (const std::string& line : lines) errors_.push_back(file_ + ": " + line);
+        if (lines.empty()) result.params.push_back(std::move(param));
+        continue;
+      }
+      if (kind != "uniform" && kind != "loguniform") {
+        error(location + "." + kind, "unknown distribution" + make_did_you_mean(kind, kinds));
+        continue;
+      }
+      param.distribution = kind == "uniform" ? RandomDistribution::uniform : RandomDistribution::loguniform;
+      if (!reference->is_number_float() && !reference->is_null()) {
+        error(location + "." + kind, "draws real numbers, but '" + path + "' is not a real number (use choice)");
+        continue;
+      }
+      if (!arguments.is_array() || arguments.size() != 2 || !arguments[0].is_number() || !arguments[1].is_number()) {
+        error(location + "." + kind, "expected [low, high]");
+        continue;
+      }
+      param.low = arguments[0].get<double>();
+      param.high = arguments[1].get<double>();
+      if (!(param.low <= param.high)) {
+        error(location + "." + kind, "low must not exceed high");
+        continue;
+      }
+      if (param.distribution == RandomDistribution::loguniform && !(param.low > 0.0)) {
+        error(location + "." + kind, "loguniform needs 0 < low <= high");
+        continue;
+      }
+      result.params.push_back(std::move(param));
+    }
+    spec.random = std::move(result);
+  }
+
+  void read_repeat(const nlohmann::json& repeat, SweepSpec& spec) {
+    std::vector<PathSegment> segments;
+    const nlohmann::json* reference = nullptr;
+    if (!resolve_path("seed", "sweep.repeat", segments, reference)) return;
+    if (!resolved_["seed"].is_number_integer()) {
+      error("sweep.repeat", "the job configuration's 'seed' is not an integer");
+      return;
+    }
+    if (repeat.is_number_integer()) {
+      const long long count = repeat.get<long long>();
+      if (count < 1 || count > 100000) {
+        error("sweep.repeat", "expected a number of repeats in [1, 100000] or a list of seeds");
+        return;
+      }
+      const std::int64_t first = resolved_["seed"].get<std::int64_t>();
+      for (long long i = 0; i < count; ++i) spec.repeat_seeds.push_back(first + i);
+      return;
+    }
+    if (!repeat.is_array() || repeat.empty()) {
+      error("sweep.repeat", "expected a number of repeats or a non-empty list of integer seeds");
+      return;
+    }
+    std::set<std::int64_t> seen;
+    for (std::size_t i = 0; i < repeat.size(); ++i) {
+      if (!repeat[i].is_number_integer()) {
+        error("sweep.repeat[" + std::to_string(i) + "]", "expected an integer seed");
+        continue;
+      }
+      const std::int64_t seed = repeat[i].get<std::int64_t>();
+      if (!seen.insert(seed).second) {
+        error("sweep.repeat[" + std::to_string(i) + "]", "seed " + std::to_string(seed) + " is repeated");
+        continue;
+      }
+      spec.repeat_seeds.push_back(seed);
+    }
+  }
+
+  const std::string& file_;
+  const std::string& folder_;
+  const JobConfigSchema& schema_;
+  nlohmann::json resolved_;
+  std::vector<std::string> errors_;
+  std::map<std::string, std::pair<std::vector<PathSegment>, std::string>> claimed_;
+};
+
+}  // namespace
+
+SweepSpec parse_sweep_spec(const std::string& text, const std::string& file, const std::string& folder,
+                           const JobConfigSchema& schema) {
+  return SpecParser(file, folder, schema).parse(text);
+}
+
+SweepSpec load_sweep_spec(const std::string& path, const JobConfigSchema& schema) {
+  if (std::filesystem::is_directory(path)) throw SpecError({path + ": is a directory, not a sweep spec"});
+  const std::string text = read_text_file(path, "");
+  const std::string folder = std::filesystem::path(path).parent_path().string();
+  return parse_sweep_spec(text, path, folder.empty() ? "." : folder, schema);
+}
+
+}  // namespace armfarm

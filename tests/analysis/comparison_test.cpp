@@ -1,0 +1,117 @@
+// Regression checks: verdicts by direction and tolerance; exit codes 0, 1 and 2 of `compare`.
+#include "analysis/analysis_error.hpp"
+#include "analysis/comparison.hpp"
+#include "test_database.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace armfarm {
+namespace {
+
+JobResult make_job(const std::string& key, std::map<MetricId, double> metrics, const std::string& status = "done") {
+  JobResult job;
+  job.key = key;
+  job.status = status;
+  job.metrics = std::move(metrics);
+  return job;
+}
+
+const MetricComparison& find(const ComparisonReport& report, const std::string& name) {
+  for (const MetricComparison& m : report.metrics) {
+    if (m.metric.name == name) return m;
+  }
+  throw std::runtime_error("no comparison of " + name);
+}
+
+TEST(Comparison, DirectionDecidesBetweenImprovementAndRegression) {
+  const std::vector<JobResult> base = {make_job("a", {{{"tracking_nmse", 1}, 0.010}, {{"ff_fb_ratio_avg", 1}, 0.80}})};
+  const std::vector<JobResult> better = {make_job("a", {{{"tracking_nmse", 1}, 0.008}, {{"ff_fb_ratio_avg", 1}, 0.90}})};
+  const std::vector<JobResult> worse = {make_job("a", {{{"tracking_nmse", 1}, 0.012}, {{"ff_fb_ratio_avg", 1}, 0.70}})};
+  ToleranceTable tolerances;
+  tolerances.defaults.rtol = 0.05;
+  const auto improved = compare_results(base, better, tolerances, {});
+  EXPECT_EQ(find(improved, "tracking_nmse").verdict, Verdict::improved);
+  EXPECT_EQ(find(improved, "ff_fb_ratio_avg").verdict, Verdict::improved);
+  EXPECT_FALSE(improved.regressed());
+  const auto regressed = compare_results(base, worse, tolerances, {});
+  EXPECT_EQ(find(regressed, "tracking_nmse").verdict, Verdict::regressed);
+  EXPECT_EQ(find(regressed, "ff_fb_ratio_avg").verdict, Verdict::regressed);
+  EXPECT_NEAR(find(regressed, "tracking_nmse").relative_change, 0.2, 1e-12);
+  EXPECT_TRUE(regressed.regressed());
+  tolerances.defaults.rtol = 0.5;  // wide enough: within tolerance
+  EXPECT_FALSE(compare_results(base, worse, tolerances, {}).regressed());
+}
+
+TEST(Comparison, TimingsAreIgnoredAndMissingJobsReported) {
+  const std::vector<JobResult> base = {make_job("a", {{{"learner_us_per_update", {}}, 10.0}}), make_job("b", {}),
+                                       make_job("c", {{{"test_nmse", 1}, 0.1}})};
+  const std::vector<JobResult> next = {make_job("a", {{{"learner_us_per_update", {}}, 30.0}}), make_job("d", {}),
+                                       make_job("c", {{{"test_nmse", 1}, 0.1}}, "diverged")};
+  const auto report = compare_results(base, next, ToleranceTable{}, {});
+  EXPECT_TRUE(report.metrics.empty());  // timing ignored; c is not done in new
+  EXPECT_EQ(report.only_in_base, std::vector<std::string>{"b"});
+  EXPECT_EQ(report.only_in_next, std::vector<std::string>{"d"});
+  ASSERT_EQ(report.status_changes.size(), 1u);
+  EXPECT_EQ(report.status_changes[0].next_status, "diverged");
+  EXPECT_TRUE(report.regressed());
+}
+
+TEST(Comparison, TolerancesFilePerMetricAndJoint) {
+  const ToleranceTable table = parse_tolerances(
+      R"({"default": {"rtol": 0.01}, "metrics": {"tracking_nmse": {"rtol": 0.1, "joints": {"2": {"atol": 1.0}}},
+          "learner_us_per_update": {"direction": "lower", "rtol": 0.5}}})",
+      "tol.json", Tolerance{});
+  EXPECT_DOUBLE_EQ(table.find(MetricId{"test_nmse", 1}).rtol, 0.01);
+  EXPECT_DOUBLE_EQ(table.find(MetricId{"tracking_nmse", 1}).rtol, 0.1);
+  EXPECT_DOUBLE_EQ(table.find(MetricId{"tracking_nmse", 2}).atol, 1.0);
+  EXPECT_DOUBLE_EQ(table.find(MetricId{"tracking_nmse", 2}).rtol, 0.1);  // inherited from the metric
+  const std::vector<JobResult> base = {make_job("a", {{{"learner_us_per_update", {}}, 10.0}})};
+  const std::vector<JobResult> next = {make_job("a", {{{"learner_us_per_update", {}}, 30.0}})};
+  EXPECT_TRUE(compare_results(base, next, table, {}).regressed());  // named by the file: compared
+  try {
+    parse_tolerances(R"({"metrics": {"tracking_nmse": {"rtol": "wide"}}})", "tol.json", Tolerance{});
+    FAIL() << "expected an error";
+  } catch (const AnalysisError& e) {
+    EXPECT_NE(std::string(e.what()).find("tol.json: metrics.tracking_nmse.rtol"), std::string::npos) << e.what();
+  }
+}
+
+TEST(CompareCommand, ExitCodesZeroOneTwo) {
+  testing::TemporaryDirectory directory;
+  auto make_jobs = [](double nmse) {
+    testing::TestJob job;
+    job.params = {{"control.gain_scale", 0.2}};
+    job.metrics = {{0, "tracking_nmse", 1, nmse}, {0, "sim_seconds_per_wall_second", std::nullopt, nmse * 1000}};
+    return std::vector<testing::TestJob>{job};
+  };
+  testing::write_test_sweep(directory.file("base.db"), "s", make_jobs(0.010));
+  testing::write_test_sweep(directory.file("same.db"), "s", make_jobs(0.010));
+  testing::write_test_sweep(directory.file("worse.db"), "s", make_jobs(0.020));
+  const std::string base = directory.file("base.db");
+  EXPECT_EQ(testing::run_armfarm("compare " + base + " " + directory.file("same.db")).exit_code, 0);
+  const auto worse = testing::run_armfarm("compare " + base + " " + directory.file("worse.db"));
+  EXPECT_EQ(worse.exit_code, 1) << worse.output;
+  EXPECT_NE(worse.output.find("REGRESSED"), std::string::npos) << worse.output;
+  EXPECT_EQ(testing::run_armfarm("compare " + base + " " + directory.file("worse.db") + " --rtol 2").exit_code, 0);
+  EXPECT_EQ(testing::run_armfarm("compare " + base + " " + directory.file("absent.db")).exit_code, 2);
+  EXPECT_EQ(testing::run_armfarm("compare " + base).exit_code, 2);
+  {
+    std::ofstream bad(directory.file("bad.json"));
+    bad << "{\"metrics\": ";
+  }
+  const auto bad_tolerances = testing::run_armfarm("compare " + base + " " + base + " --tolerances " + directory.file("bad.json"));
+  EXPECT_EQ(bad_tolerances.exit_code, 2);
+  EXPECT_NE(bad_tolerances.output.find("bad.json: not valid JSON"), std::string::npos) << bad_tolerances.output;
+  // A job missing from the new database is reported and fails the check.
+  testing::write_test_sweep(directory.file("other.db"), "t", make_jobs(0.010));
+  const auto missing = testing::run_armfarm("compare " + base + " " + directory.file("other.db") + " --format json");
+  EXPECT_EQ(missing.exit_code, 1);
+  const auto json = nlohmann::json::parse(missing.output);
+  EXPECT_EQ(json["only_in_base"][0], "key_s_0");
+  EXPECT_EQ(json["only_in_new"][0], "key_t_0");
+}
+
+}  // namespace
+}  // namespace armfarm

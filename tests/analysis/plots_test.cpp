@@ -1,0 +1,171 @@
+// Plots and the report render from a small database: valid SVG/PNG files with the expected
+// series, one-line errors when the sweep lacks what a plot needs.
+#include "analysis/analysis_error.hpp"
+#include "analysis/plots.hpp"
+#include "analysis/report.hpp"
+#include "test_database.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace armfarm {
+namespace {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+SeriesRecord make_series(const std::string& name, std::vector<std::string> columns, int rows,
+                         const std::function<double(int, int)>& value) {
+  SeriesRecord series;
+  series.name = name;
+  series.columns = std::move(columns);
+  series.rows.resize(rows, static_cast<Eigen::Index>(series.columns.size()));
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < static_cast<int>(series.columns.size()); ++c) series.rows(r, c) = value(r, c);
+  }
+  return series;
+}
+
+class PlotTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    db_ = directory_.file("results.db");
+    std::vector<testing::TestJob> kernel_jobs;
+    for (bool update_d : {false, true}) {
+      for (double init_d : {1.0, 10.0, 100.0}) {
+        for (int seed = 1; seed <= 2; ++seed) {
+          testing::TestJob job;
+          job.params = {{"learning.lwpr.init_D", init_d}, {"learning.lwpr.update_D", update_d}, {"seed", seed}};
+          const double nmse = 0.1 / std::sqrt(init_d) + (update_d ? 0.02 : 0.0) + 0.001 * seed;
+          job.metrics = {{0, "test_nmse", 1, nmse}, {0, "test_nmse", 2, 2 * nmse},
+                         {0, "n_receptive_fields", std::nullopt, 5 * init_d + (update_d ? 10 : 0)}};
+          kernel_jobs.push_back(job);
+        }
+      }
+    }
+    testing::write_test_sweep(db_, "kernel", kernel_jobs);
+
+    std::vector<testing::TestJob> tracking_jobs;
+    for (const char* mode : {"feedback", "composite"}) {
+      testing::TestJob job;
+      job.params = {{"control.mode", mode}};
+      const double error = std::string(mode) == "feedback" ? 0.05 : 0.005;
+      const int n = 200;
+      auto time = [n](int r) { return 4.0 * r / n; };
+      job.series.push_back(make_series("POS_D", {"t", "x", "y", "z"}, n, [&](int r, int c) {
+        const double t = time(r);
+        return c == 0 ? t : c == 1 ? 0.5 : c == 2 ? 0.2 * std::sin(M_PI * t) : 0.4 + 0.1 * std::sin(2 * M_PI * t);
+      }));
+      job.series.push_back(make_series("POS", {"t", "x", "y", "z"}, n, [&](int r, int c) {
+        const double t = time(r);
+        return c == 0 ? t : c == 1 ? 0.5 : c == 2 ? 0.2 * std::sin(M_PI * t) + error : 0.4 + 0.1 * std::sin(2 * M_PI * t) - error;
+      }));
+      for (const char* name : {"F", "FF", "TOR"}) {
+        job.series.push_back(make_series(name, {"t", "joint 1", "joint 2"}, n, [&](int r, int c) {
+          return c == 0 ? time(r) : (std::string(name) == "F" ? 0.1 : 1.0) * std::cos(time(r) * c);
+        }));
+      }
+      job.series.push_back(make_series("RF", {"trial", "n_receptive_fields"}, 20, [](int r, int c) {
+        return c == 0 ? r + 1 : 40.0 * (1 - std::exp(-0.2 * (r + 1)));
+      }));
+      job.metrics = {{0, "ff_fb_ratio_avg", 1, std::string(mode) == "feedback" ? 0.0 : 0.9}};
+      tracking_jobs.push_back(job);
+    }
+    testing::write_test_sweep(db_, "tracking", tracking_jobs);
+  }
+
+  std::string render(const std::string& arguments, const std::string& out) {
+    const auto result = testing::run_armfarm("plot " + db_ + " " + arguments + " --out " + out);
+    EXPECT_EQ(result.exit_code, 0) << arguments << ": " << result.output;
+    keep_for_inspection(out);
+    const std::string svg = read_file(out);
+    EXPECT_NE(svg.find("<svg"), std::string::npos) << arguments;
+    EXPECT_NE(svg.find("</svg>"), std::string::npos) << arguments;
+    return svg;
+  }
+
+  // ARMFARM_KEEP_PLOTS=DIR keeps a copy of every rendered plot, to look at them.
+  static void keep_for_inspection(const std::string& path) {
+    if (const char* keep = std::getenv("ARMFARM_KEEP_PLOTS")) {
+      std::error_code ignored;
+      std::filesystem::copy_file(path, std::filesystem::path(keep) / std::filesystem::path(path).filename(),
+                                 std::filesystem::copy_options::overwrite_existing, ignored);
+    }
+  }
+
+  testing::TemporaryDirectory directory_;
+  std::string db_;
+};
+
+TEST_F(PlotTest, NmseAgainstKernelWidthHasBothAdaptationCurvesPerJoint) {
+  const std::string svg = render("nmse-vs-kernel --sweep kernel", directory_.file("nmse.svg"));
+  EXPECT_NE(svg.find("update_D=true"), std::string::npos);
+  EXPECT_NE(svg.find("update_D=false"), std::string::npos);
+  EXPECT_NE(svg.find("joint 2"), std::string::npos);
+  EXPECT_NE(svg.find("receptive fields"), std::string::npos);
+}
+
+TEST_F(PlotTest, MetricAgainstParamWithErrorBars) {
+  const std::string svg = render("metric-vs-param --sweep kernel --metric test_nmse --joint 1 --param learning.lwpr.init_D "
+                                 "--group learning.lwpr.update_D",
+                                 directory_.file("metric.svg"));
+  EXPECT_NE(svg.find("test_nmse j1"), std::string::npos);
+  EXPECT_NE(svg.find("update_D=true"), std::string::npos);
+}
+
+TEST_F(PlotTest, SignalsTrackingAndReceptiveFieldGrowth) {
+  const std::string signals = render("signals --sweep tracking", directory_.file("signals.svg"));
+  for (const char* title : {"feedback", "feed-forward", "composite", "torque (N·m)"}) {
+    EXPECT_NE(signals.find(title), std::string::npos) << title;
+  }
+  const std::string tracking = render("tracking --sweep tracking", directory_.file("tracking.svg"));
+  for (const char* title : {"desired", "mode=feedback", "mode=composite", "y (m)", "z (m)"}) {
+    EXPECT_NE(tracking.find(title), std::string::npos) << title;
+  }
+  const std::string growth = render("rf-growth --sweep tracking", directory_.file("rf.svg"));
+  EXPECT_NE(growth.find("receptive fields (count)"), std::string::npos);
+}
+
+TEST_F(PlotTest, PngOutputIsAPng) {
+  const std::string out = directory_.file("signals.png");
+  const auto result = testing::run_armfarm("plot " + db_ + " signals --sweep tracking --out " + out);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  keep_for_inspection(out);
+  const std::string png = read_file(out);
+  ASSERT_GT(png.size(), 1000u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+}
+
+TEST_F(PlotTest, MissingDataIsAOneLineErrorAndNoFile) {
+  const std::string out = directory_.file("none.svg");
+  const auto result = testing::run_armfarm("plot " + db_ + " signals --sweep kernel --out " + out);
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.output.find("no done job recorded the F and FF series"), std::string::npos) << result.output;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_EQ(testing::run_armfarm("plot " + db_ + " signals --out " + out).exit_code, 2);  // two sweeps, none chosen
+}
+
+TEST_F(PlotTest, ReportIsSelfContainedHtmlPerSweep) {
+  const std::string out = directory_.file("report");
+  const auto result = testing::run_armfarm("report " + db_ + " --out " + out);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string kernel = read_file(out + "/sweep_kernel.html");
+  EXPECT_NE(kernel.find("<table>"), std::string::npos);
+  EXPECT_NE(kernel.find("deadbeef"), std::string::npos);  // provenance
+  EXPECT_NE(kernel.find("<svg"), std::string::npos);      // plot inline
+  EXPECT_NE(kernel.find("test_nmse j1"), std::string::npos);
+  const std::string tracking = read_file(out + "/sweep_tracking.html");
+  EXPECT_NE(tracking.find("tracking"), std::string::npos);
+  EXPECT_NE(read_file(out + "/index.html").find("sweep_kernel.html"), std::string::npos);
+  EXPECT_EQ(escape_html("<a href=\"x\">&'"), "&lt;a href=&quot;x&quot;&gt;&amp;&#39;");
+}
+
+}  // namespace
+}  // namespace armfarm

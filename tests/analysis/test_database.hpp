@@ -1,0 +1,101 @@
+#pragma once
+// Small results databases for the analysis tests, written through the store's public API with
+// hand-chosen metrics and series so that every expected figure is known in advance.
+#include "results/results_store.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace armfarm::testing {
+
+/// A job to put in a test database.
+struct TestJob {
+  nlohmann::json params;  ///< varying parameters, also written into the config
+  std::string status = "done";
+  std::string message;
+  std::vector<MetricRecord> metrics;
+  std::vector<SeriesRecord> series;
+};
+
+/// A fresh temporary directory, removed when the object goes.
+struct TemporaryDirectory {
+  std::filesystem::path path;
+  TemporaryDirectory() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "armfarm-analysis-test-XXXXXX").string();
+    path = mkdtemp(pattern.data());
+  }
+  ~TemporaryDirectory() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+  std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
+/// Writes a sweep named `sweep` with `jobs` into the database at `path` (created if absent).
+inline void write_test_sweep(const std::string& path, const std::string& sweep, const std::vector<TestJob>& jobs) {
+  ResultsStore store = ResultsStore::open(path, ResultsStore::Mode::read_write);
+  SweepRegistration registration;
+  registration.name = sweep;
+  registration.description = "test sweep " + sweep;
+  registration.spec_text = "{\"name\": \"" + sweep + "\"}";
+  registration.spec_hash = "0123456789abcdef0123456789abcdef";
+  registration.started_at = make_utc_timestamp();
+  registration.provenance = {"0.1.0", "deadbeef", false, "GNU 12", "3.7", "testhost"};
+  std::vector<JobRegistration> registrations;
+  JobBatch batch;
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    JobRegistration job;
+    job.config = {{"sweep", sweep}, {"index", i}};
+    for (const auto& item : jobs[i].params.items()) {
+      // Dotted paths become nested objects, as in a real configuration.
+      nlohmann::json* node = &job.config;
+      std::string path = item.key();
+      std::size_t start = 0;
+      for (std::size_t dot = path.find('.'); dot != std::string::npos; dot = path.find('.', start)) {
+        node = &(*node)[path.substr(start, dot - start)];
+        start = dot + 1;
+      }
+      (*node)[path.substr(start)] = item.value();
+    }
+    job.key = "key_" + sweep + "_" + std::to_string(i);  // the same job index pairs across databases
+    job.params = jobs[i].params;
+    job.seed = jobs[i].params.value("seed", 0);
+    registrations.push_back(job);
+    JobResultRecord result;
+    result.key = job.key;
+    result.status = jobs[i].status;
+    result.message = jobs[i].message;
+    result.end_time = 1.0;
+    result.wall_seconds = 0.5;
+    result.started_at = registration.started_at;
+    result.finished_at = make_utc_timestamp();
+    result.metrics = jobs[i].metrics;
+    result.series = jobs[i].series;
+    batch.started.push_back(job.key);
+    batch.finished.push_back(result);
+  }
+  const RegisteredRun run = store.insert_sweep_run(registration, registrations);
+  store.insert_job_batch(batch, sweep);
+  store.update_run_finished(run.run_id, "complete", static_cast<int>(jobs.size()), 0, make_utc_timestamp());
+}
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;
+};
+
+/// Runs the armfarm binary with `arguments`, capturing stdout and stderr.
+inline CommandResult run_armfarm(const std::string& arguments) {
+  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  CommandResult result;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) result.output += buffer;
+  const int status = pclose(pipe);
+  result.exit_code = WEXITSTATUS(status);
+  return result;
+}
+
+}  // namespace armfarm::testing
