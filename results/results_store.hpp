@@ -150,6 +150,8 @@ class ResultsStore {
 
   const std::string& path() const { return path_; }
   int schema_version() const;
+  /// The result of PRAGMA integrity_check: "ok" for a sound file, otherwise SQLite's findings.
+  std::string check_integrity() const;
 
   // ---- reads ----
   std::vector<SweepRecord> find_sweeps() const;

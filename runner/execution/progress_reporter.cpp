@@ -19,8 +19,8 @@ std::string make_duration_text(double seconds) {
   return text;
 }
 
-ProgressReporter::ProgressReporter(std::ostream& out, ProgressStyle style, int total)
-    : out_(out), style_(style), total_(total), start_(std::chrono::steady_clock::now()), last_print_(start_) {}
+ProgressReporter::ProgressReporter(std::ostream* out, ProgressStyle style, int total)
+    : out_(out), style_(out != nullptr ? style : ProgressStyle::quiet), total_(total), start_(std::chrono::steady_clock::now()), last_print_(start_) {}
 
 void ProgressReporter::update_finished(const std::string& label, const std::string& status, double wall_seconds,
                                        const std::string& message) {
@@ -31,9 +31,9 @@ void ProgressReporter::update_finished(const std::string& label, const std::stri
     const int width = static_cast<int>(std::to_string(total_).size());
     char prefix[64];
     std::snprintf(prefix, sizeof prefix, "[%*d/%d] %-8s", width, finished_, total_, status.c_str());
-    out_ << prefix << " " << label << " (" << make_duration_text(wall_seconds) << ")"
+    *out_ << prefix << " " << label << " (" << make_duration_text(wall_seconds) << ")"
          << (message.empty() ? "" : ": " + message) << "\n";
-    out_.flush();
+    out_->flush();
   } else if (style_ == ProgressStyle::terminal) {
     print_line(finished_ == total_);
   }
@@ -46,17 +46,17 @@ void ProgressReporter::print_line(bool force) {
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   std::string eta = "?";
   if (finished_ > 0) eta = make_duration_text(elapsed / finished_ * (total_ - finished_));
-  out_ << "\r\033[K" << finished_ << "/" << total_ << " jobs, " << not_done_ << " failed, elapsed "
+  *out_ << "\r\033[K" << finished_ << "/" << total_ << " jobs, " << not_done_ << " failed, elapsed "
        << make_duration_text(elapsed) << ", ETA " << eta;
-  out_.flush();
+  out_->flush();
 }
 
 void ProgressReporter::finish() {
   std::lock_guard lock(mutex_);
   if (style_ == ProgressStyle::terminal && total_ > 0) {
     print_line(true);
-    out_ << "\n";
-    out_.flush();
+    *out_ << "\n";
+    out_->flush();
   }
 }
 

@@ -12,7 +12,8 @@ enum class ProgressStyle { terminal, lines, quiet };
 
 class ProgressReporter {
  public:
-  ProgressReporter(std::ostream& out, ProgressStyle style, int total);
+  /// `out` may be null (then nothing is printed, whatever the style).
+  ProgressReporter(std::ostream* out, ProgressStyle style, int total);
 
   /// A job ended (any thread). `label` is its short key and varying parameters.
   void update_finished(const std::string& label, const std::string& status, double wall_seconds,
@@ -23,7 +24,7 @@ class ProgressReporter {
  private:
   void print_line(bool force);
 
-  std::ostream& out_;
+  std::ostream* out_;
   const ProgressStyle style_;
   const int total_;
   int finished_ = 0;

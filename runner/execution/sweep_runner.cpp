@@ -71,9 +71,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   }
 
   const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  std::ostream* out = options.progress_out;
-  ProgressReporter progress(*out, out != nullptr ? options.progress : ProgressStyle::quiet,
-                            static_cast<int>(to_run.size()));
+  ProgressReporter progress(options.progress_out, options.progress, static_cast<int>(to_run.size()));
   std::mutex summary_mutex;
   {
     ResultWriter writer(store, sweep.spec.name);

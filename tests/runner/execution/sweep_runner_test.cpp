@@ -1,0 +1,185 @@
+// The parallel runner with the fake job: resume, failures recorded while the sweep goes on,
+// timeouts, stop requests, identical metrics whatever -j, shard + merge equal to one run.
+#include "runner/execution/sweep_runner.hpp"
+
+#include "runner/execution/fake_job.hpp"
+#include "runner/spec/sweep_expansion.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <filesystem>
+#include <map>
+#include <thread>
+
+namespace armfarm {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SweepRunnerTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() / ("armfarm_runner_" + std::to_string(::getpid()) + "_" +
+                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  std::string path(const std::string& name) const { return (folder_ / name).string(); }
+
+  ExpandedSweep expand(const std::string& text) const {
+    return expand_sweep(parse_sweep_spec(text, "test.json", ".", schema_), schema_);
+  }
+  RunSummary run(const ExpandedSweep& sweep, const std::string& db, int threads, bool force = false,
+                 Shard shard = {}) const {
+    RunOptions options;
+    options.db_path = path(db);
+    options.threads = threads;
+    options.force = force;
+    options.shard = shard;
+    const std::atomic<bool> no_stop{false};
+    return run_sweep(sweep, make_fake_job_executor(), options, no_stop);
+  }
+
+  fs::path folder_;
+  JobConfigSchema schema_ = make_fake_job_config_schema();
+};
+
+const char* kSpec = R"({"name": "s", "base": {"fake": {"sleep_ms": 1}}, "sweep": {
+    "grid": {"learning.lwpr.init_D": [10, 25, 50, 100], "control.gain_scale": [0.5, 1]}, "repeat": 2}})";
+
+// key -> (status, metric values in order, POS series)
+using Snapshot = std::map<std::string, std::tuple<std::string, std::vector<double>, Eigen::MatrixXd>>;
+
+Snapshot read_snapshot(const std::string& db, const std::string& sweep) {
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  Snapshot snapshot;
+  for (const JobRecord& job : store.find_jobs(sweep)) {
+    std::vector<double> values;
+    for (const MetricRecord& m : store.find_metrics(job.id)) values.push_back(m.value);
+    const auto pos = store.find_series(job.id, "POS");
+    snapshot[job.key] = {job.status, values, pos ? pos->rows : Eigen::MatrixXd()};
+  }
+  return snapshot;
+}
+
+TEST_F(SweepRunnerTest, ResumeSkipsDoneJobsAndForceRunsThemAgain) {
+  const ExpandedSweep sweep = expand(kSpec);
+  const RunSummary first = run(sweep, "r.db", 2);
+  EXPECT_EQ(first.done, 16);
+  EXPECT_TRUE(first.all_done());
+  const RunSummary second = run(sweep, "r.db", 2);
+  EXPECT_EQ(second.skipped, 16);
+  EXPECT_EQ(second.run, 0);
+  const ResultsStore store = ResultsStore::open(path("r.db"), ResultsStore::Mode::read_only);
+  for (const JobRecord& job : store.find_jobs("s")) EXPECT_EQ(job.attempts, 1);
+  const RunSummary forced = run(sweep, "r.db", 2, true);
+  EXPECT_EQ(forced.run, 16);
+  EXPECT_EQ(store.find_jobs("s")[0].attempts, 2);
+}
+
+TEST_F(SweepRunnerTest, ChangingOneValueRerunsOnlyTheJobsItChanges) {
+  run(expand(kSpec), "r.db", 2);
+  std::string changed = kSpec;
+  changed.replace(changed.find("100]"), 3, "200");
+  const RunSummary summary = run(expand(changed), "r.db", 2);
+  EXPECT_EQ(summary.skipped, 12);
+  EXPECT_EQ(summary.run, 4);
+  const ResultsStore store = ResultsStore::open(path("r.db"), ResultsStore::Mode::read_only);
+  EXPECT_EQ(store.find_jobs("s").size(), 16u);  // the sweep now lists its new jobs only
+}
+
+TEST_F(SweepRunnerTest, FailuresAreRecordedAndTheSweepGoesOn) {
+  const ExpandedSweep sweep = expand(R"({"name": "f", "base": {"fake": {"sleep_ms": 0}}, "sweep": {"zip": {
+      "fake.fail": [false, true, false, false, false], "fake.throw": [false, false, true, false, false],
+      "fake.diverge": [false, false, false, true, false], "fake.hang": [false, false, false, false, true]}}})");
+  RunOptions options;
+  options.db_path = path("f.db");
+  options.threads = 2;
+  options.timeout_seconds = 0.2;
+  const std::atomic<bool> no_stop{false};
+  const RunSummary summary = run_sweep(sweep, make_fake_job_executor(), options, no_stop);
+  EXPECT_EQ(summary.done, 1);
+  EXPECT_EQ(summary.failed, 2);
+  EXPECT_EQ(summary.diverged, 1);
+  EXPECT_EQ(summary.timeout, 1);
+  EXPECT_FALSE(summary.all_done());
+  const ResultsStore store = ResultsStore::open(path("f.db"), ResultsStore::Mode::read_only);
+  const auto jobs = store.find_jobs("f");
+  ASSERT_EQ(jobs.size(), 5u);
+  EXPECT_EQ(jobs[1].message, "fake job asked to fail");
+  EXPECT_EQ(jobs[2].message, "exception: fake job asked to throw");
+  EXPECT_EQ(jobs[3].status, "diverged");
+  EXPECT_DOUBLE_EQ(*jobs[3].end_time, 2.0);
+  EXPECT_EQ(jobs[4].status, "timeout");
+  EXPECT_NE(jobs[4].message.find("timeout of 0.2 s"), std::string::npos);
+  // Failed jobs run again on resume; the done one does not.
+  const RunSummary again = run_sweep(sweep, make_fake_job_executor(), options, no_stop);
+  EXPECT_EQ(again.skipped, 1);
+  EXPECT_EQ(again.run, 4);
+}
+
+TEST_F(SweepRunnerTest, AStopRequestLeavesUnfinishedJobsPendingForResume) {
+  const ExpandedSweep sweep = expand(R"({"name": "h", "base": {"fake": {"hang": true}}, "sweep": {"repeat": 4}})");
+  RunOptions options;
+  options.db_path = path("h.db");
+  options.threads = 2;
+  std::atomic<bool> stop{false};
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    stop = true;
+  });
+  const RunSummary summary = run_sweep(sweep, make_fake_job_executor(), options, stop);
+  stopper.join();
+  EXPECT_TRUE(summary.interrupted);
+  EXPECT_EQ(summary.abandoned, 4);
+  EXPECT_EQ(summary.run, 0);
+  const ResultsStore store = ResultsStore::open(path("h.db"), ResultsStore::Mode::read_only);
+  EXPECT_EQ(store.count_jobs_by_status("h").at("pending"), 4);
+  EXPECT_FALSE(store.find_sweep("h")->finished_at.has_value());
+  EXPECT_EQ(store.check_integrity(), "ok");
+}
+
+TEST_F(SweepRunnerTest, MetricsAreIdenticalWhateverTheThreadCount) {
+  const ExpandedSweep sweep = expand(kSpec);
+  run(sweep, "j1.db", 1);
+  run(sweep, "j2.db", 2);
+  run(sweep, "j4.db", 4);
+  const Snapshot one = read_snapshot(path("j1.db"), "s");
+  ASSERT_EQ(one.size(), 16u);
+  EXPECT_EQ(one, read_snapshot(path("j2.db"), "s"));
+  EXPECT_EQ(one, read_snapshot(path("j4.db"), "s"));
+}
+
+TEST_F(SweepRunnerTest, ShardsPartitionTheSweepAndMergeIntoTheUnshardedResult) {
+  const ExpandedSweep sweep = expand(kSpec);
+  run(sweep, "all.db", 2);
+  int total = 0;
+  for (int i = 1; i <= 3; ++i) {
+    const RunSummary summary = run(sweep, "shard" + std::to_string(i) + ".db", 1, false, {i, 3});
+    EXPECT_GT(summary.jobs_in_shard, 0);
+    total += summary.jobs_in_shard;
+  }
+  EXPECT_EQ(total, 16);
+  ResultsStore merged = ResultsStore::open(path("merged.db"), ResultsStore::Mode::read_write);
+  for (int i = 1; i <= 3; ++i) {
+    const MergeReport report = merged.merge_from(path("shard" + std::to_string(i) + ".db"));
+    EXPECT_TRUE(report.conflicts.empty());
+  }
+  // Merging a shard again is harmless: identical rows.
+  const MergeReport again = merged.merge_from(path("shard1.db"));
+  EXPECT_TRUE(again.conflicts.empty());
+  EXPECT_EQ(again.jobs_added, 0);
+  EXPECT_EQ(read_snapshot(path("merged.db"), "s"), read_snapshot(path("all.db"), "s"));
+}
+
+TEST(Shard, ParsesAndSpreadsKeys) {
+  EXPECT_EQ(parse_shard("2/4").index, 2);
+  EXPECT_EQ(parse_shard("2/4").count, 4);
+  for (const char* bad : {"0/4", "5/4", "2", "a/b", "2/4x", "1/0"}) EXPECT_THROW(parse_shard(bad), std::invalid_argument) << bad;
+  EXPECT_EQ(calc_shard_of("0000000000000005ffffffffffffffff", 4), 2);  // 5 mod 4 = 1 -> shard 2
+}
+
+}  // namespace
+}  // namespace armfarm

@@ -1,0 +1,117 @@
+// Expansion: counts (grid × zip × random × repeat), parameters, reproducible random samples,
+// keys independent of how the spec is written.
+#include "runner/execution/fake_job.hpp"
+#include "runner/spec/canonical_json.hpp"
+#include "runner/spec/spec_error.hpp"
+#include "runner/spec/sweep_expansion.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+namespace armfarm {
+namespace {
+
+ExpandedSweep expand_text(const std::string& text) {
+  const JobConfigSchema schema = make_fake_job_config_schema();
+  return expand_sweep(parse_sweep_spec(text, "inline.json", ".", schema), schema);
+}
+
+std::vector<std::string> keys_of(const ExpandedSweep& sweep) {
+  std::vector<std::string> keys;
+  for (const auto& job : sweep.jobs) keys.push_back(job.key);
+  return keys;
+}
+
+std::set<std::string> key_set_of(const ExpandedSweep& sweep) {
+  const std::vector<std::string> keys = keys_of(sweep);
+  return {keys.begin(), keys.end()};
+}
+
+TEST(SweepExpansion, CountIsTheProductOfGridZipAndRepeat) {
+  const ExpandedSweep sweep = expand_text(R"({"name": "n", "sweep": {
+      "grid": {"control.gain_scale": [0.5, 1, 2], "trajectory.kind": ["figure8", "circle"]},
+      "zip": [{"learning.lwpr.init_D": [10, 20, 40, 80], "learning.lwpr.init_alpha": [100, 200, 400, 800]}],
+      "repeat": [3, 5]}})");
+  EXPECT_EQ(sweep.jobs.size(), 3u * 2u * 4u * 2u);
+  EXPECT_EQ(key_set_of(sweep).size(), sweep.jobs.size());
+  for (const ExpandedJob& job : sweep.jobs) {
+    EXPECT_EQ(job.params.size(), 5u);
+    // Zipped values stay together; params and config agree; key is the config's.
+    EXPECT_DOUBLE_EQ(job.params["learning.lwpr.init_alpha"].get<double>(),
+                     10.0 * job.params["learning.lwpr.init_D"].get<double>());
+    EXPECT_EQ(job.config["learning"]["lwpr"]["init_D"], job.params["learning.lwpr.init_D"]);
+    EXPECT_EQ(job.config["seed"], job.params["seed"]);
+    EXPECT_EQ(job.seed, job.params["seed"].get<std::int64_t>());
+    EXPECT_EQ(job.key, calc_job_key(job.config));
+  }
+  // The first axis varies slowest, repeat fastest.
+  EXPECT_EQ(sweep.jobs[0].params["seed"], 3);
+  EXPECT_EQ(sweep.jobs[1].params["seed"], 5);
+  EXPECT_EQ(sweep.jobs[0].params["control.gain_scale"], sweep.jobs[15].params["control.gain_scale"]);
+}
+
+TEST(SweepExpansion, NoSweepSectionIsOneJobAndRepeatCountStartsAtTheBaseSeed) {
+  EXPECT_EQ(expand_text(R"({"name": "n"})").jobs.size(), 1u);
+  const ExpandedSweep sweep = expand_text(R"({"name": "n", "base": {"seed": 10}, "sweep": {"repeat": 3}})");
+  ASSERT_EQ(sweep.jobs.size(), 3u);
+  EXPECT_EQ(sweep.jobs[2].seed, 12);
+}
+
+TEST(SweepExpansion, RandomSamplesAreReproducibleAndWithinBounds) {
+  const std::string text = R"({"name": "n", "sweep": {"random": {"samples": 20, "seed": 7, "params": {
+      "learning.lwpr.init_D": {"loguniform": [1, 100]},
+      "control.gain_scale": {"uniform": [0.5, 2]},
+      "trajectory.kind": {"choice": ["figure8", "circle"]}}}}})";
+  const ExpandedSweep a = expand_text(text), b = expand_text(text);
+  ASSERT_EQ(a.jobs.size(), 20u);
+  EXPECT_EQ(keys_of(a), keys_of(b));
+  std::set<std::string> kinds;
+  double log_sum = 0.0;
+  for (const ExpandedJob& job : a.jobs) {
+    const double d = job.params["learning.lwpr.init_D"].get<double>();
+    const double g = job.params["control.gain_scale"].get<double>();
+    EXPECT_GE(d, 1.0);
+    EXPECT_LE(d, 100.0);
+    EXPECT_GE(g, 0.5);
+    EXPECT_LE(g, 2.0);
+    log_sum += std::log10(d);
+    kinds.insert(job.params["trajectory.kind"].get<std::string>());
+  }
+  EXPECT_EQ(kinds.size(), 2u);
+  EXPECT_NEAR(log_sum / 20.0, 1.0, 0.35);  // loguniform on [1, 100]: mean of log10 is 1, sd 0.58/sqrt(20)
+  std::string other = text;
+  other.replace(other.find("\"seed\": 7"), 9, "\"seed\": 8");
+  EXPECT_NE(keys_of(expand_text(other)), keys_of(a));
+}
+
+TEST(SweepExpansion, KeysDoNotDependOnKeyOrderOrNumberFormatting) {
+  const ExpandedSweep a = expand_text(R"({"name": "n", "base": {"control": {"kp": [100, 50]}},
+      "sweep": {"grid": {"control.gain_scale": [1, 2.5], "learning.lwpr.init_D": [1e1, 25]}}})");
+  const ExpandedSweep b = expand_text(R"({"sweep": {"grid": {"learning.lwpr.init_D": [25.0, 10], "control.gain_scale": [2.50, 1.0]}},
+      "base": {"control": {"kp": [1e2, 50.0]}}, "name": "renamed"})");
+  const std::set<std::string> ka = key_set_of(a), kb = key_set_of(b);
+  EXPECT_EQ(ka.size(), 4u);
+  EXPECT_EQ(ka, kb);
+  EXPECT_EQ(a.spec_hash, b.spec_hash);
+}
+
+TEST(SweepExpansion, ChangingOneValueChangesOnlyTheJobsItTouches) {
+  const ExpandedSweep a = expand_text(R"({"name": "n", "sweep": {"grid": {"control.gain_scale": [1, 2, 3]}, "repeat": 2}})");
+  const ExpandedSweep b = expand_text(R"({"name": "n", "sweep": {"grid": {"control.gain_scale": [1, 2, 4]}, "repeat": 2}})");
+  const std::set<std::string> ka = key_set_of(a);
+  int shared = 0;
+  for (const std::string& key : keys_of(b)) shared += static_cast<int>(ka.count(key));
+  EXPECT_EQ(shared, 4);
+  EXPECT_NE(a.spec_hash, b.spec_hash);
+}
+
+TEST(SweepExpansion, ArrayElementsCanBeSwept) {
+  const ExpandedSweep sweep = expand_text(R"({"name": "n", "sweep": {"grid": {"control.kp[1]": [5, 6, 7]}}})");
+  ASSERT_EQ(sweep.jobs.size(), 3u);
+  EXPECT_EQ(sweep.jobs[2].config["control"]["kp"], nlohmann::json({100.0, 7.0}));
+}
+
+}  // namespace
+}  // namespace armfarm
