@@ -229,6 +229,9 @@ class DcgParser {
         tag.text = read_until(']', "tag " + tag.name);
         tag.has_text = true;
       }
+      if ((tag.name == "B" || tag.name == "J") && !tag.has_numbers && !tag.has_text) {
+        fail(tag.line, "entry '" + entry.name + "' (line " + std::to_string(entry.line) + ") is missing its ';'");
+      }
       if (tag.name == "l") tag.name = "I";  // appendix C's listing writes the inertia tag I as l
       if (!entry.tags.emplace(tag.name, tag).second) fail(tag.line, "tag " + tag.name + " given twice in '" + entry.name + "'");
     }

@@ -113,8 +113,10 @@ MeshMassProperties calc_mesh_mass_properties(const TriangleMesh& mesh) {
     throw ModelError(file + ": degenerate mesh: it encloses zero volume");
   }
   if (volume < 0.0) {
-    throw ModelError(file + ": faces are wound clockwise seen from outside (inward-facing normals, volume " +
-                     std::to_string(volume) + "); reverse the corner order of every face");
+    // Wound clockwise throughout (the thesis's table 5.1 box is): the same solid, integrals negated.
+    volume = -volume;
+    first_moment = -first_moment;
+    second_moment = -second_moment;
   }
 
   MeshMassProperties properties;

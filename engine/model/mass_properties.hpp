@@ -26,10 +26,10 @@ struct MeshMassProperties {
   Eigen::Matrix3d unit_density_inertia = Eigen::Matrix3d::Zero();  ///< about the COM, density 1
 };
 
-/// Checks that the mesh is a closed, consistently outward-oriented surface without degenerate
-/// triangles and integrates it. Throws ModelError naming the mesh file and the offending
-/// triangle (its `f` line) or edge: "open mesh", "inconsistent orientation", "degenerate ...",
-/// "inward-facing ...".
+/// Checks that the mesh is a closed, consistently oriented surface without degenerate triangles
+/// and integrates it. A mesh wound clockwise throughout (normals inward) describes the same
+/// solid and gives the same result. Throws ModelError naming the mesh file and the offending
+/// triangle (its `f` line) or edge: "open mesh", "inconsistent orientation", "degenerate ...".
 MeshMassProperties calc_mesh_mass_properties(const TriangleMesh& mesh);
 
 /// The Inertial of a uniform solid of the given mass with the mesh's shape.

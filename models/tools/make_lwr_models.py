@@ -282,3 +282,28 @@ if __name__ == "__main__":
     reach = 0.4 + 0.39 + 0.06 + EE_OFFSET
     print(f"total mass {total:.4f} kg (links 0-7), moving links 1-7 {total - links[0][0]:.4f} kg")
     print(f"end-effector offset {EE_OFFSET:.4f} m, reach from J1 {reach:.4f} m")
+
+def report_inertia_differences():
+    """Relative Frobenius difference |I_dcg - I_urdf| / |I_urdf| per link (both about the COM, world-aligned frames)."""
+    for k in range(0, 8):
+        m, com, i6 = links[k]
+        full = [[i6[0], i6[1], i6[2]], [i6[1], i6[3], i6[4]], [i6[2], i6[4], i6[5]]]
+        if k == 0:
+            approx = (i6[0], i6[3], i6[5])
+        elif k == 6:
+            mean = (i6[0] + i6[3] + i6[5]) / 3.0
+            approx = (mean, mean, mean)
+        elif k == 7:
+            axial = 0.3 * m * CONE_R ** 2
+            perp = m * (3.0 / 20.0 * CONE_R ** 2 + 3.0 / 80.0 * CONE_H ** 2)
+            approx = (perp, perp, axial)
+        else:
+            r, l = fit_capsule(m, (i6[0] + i6[3]) / 2.0, i6[5])
+            t, a = capsule(m, r, l)
+            approx = (t, t, a)
+        diff = sum((full[i][j] - (approx[i] if i == j else 0.0)) ** 2 for i in range(3) for j in range(3))
+        norm = sum(full[i][j] ** 2 for i in range(3) for j in range(3))
+        print(f"link {k}: mass {m:.4f} kg, inertia difference {100 * math.sqrt(diff / norm):.1f} %")
+
+if __name__ == "__main__":
+    report_inertia_differences()
