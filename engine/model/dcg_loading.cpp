@@ -285,7 +285,7 @@ class DcgBuilder {
     for (const Entry& e : entries) {
       if (e.kind == 'J') read_joint(e);
     }
-    order_joints(entries);
+    order_joints();
     choose_end_effector();
     validate_arm_model(model_, lines_);
     return model_;
@@ -490,8 +490,7 @@ class DcgBuilder {
 
   // Tree order: from the synthetic world, fixed bodies in file order, then depth first along
   // the file's joints. Cycles and bodies hanging in the air are reported here.
-  void order_joints(const std::vector<Entry>& entries) {
-    (void)entries;
+  void order_joints() {
     std::map<int, std::vector<int>> children;  // parent link -> indices into joints_
     for (int j = 0; j < static_cast<int>(joints_.size()); ++j) children[joints_[j].parent_link].push_back(j);
     std::set<int> placed;

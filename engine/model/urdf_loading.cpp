@@ -62,6 +62,11 @@ class UrdfScanner {
         const Eigen::Vector3d xyz = vector_attribute(axis, "xyz");
         if (xyz.norm() < 1e-12) fail(axis, "joint '" + name + "': zero axis");
       }
+      const char* type = e->Attribute("type");
+      if (type != nullptr && (std::string(type) == "revolute" || std::string(type) == "prismatic") &&
+          e->FirstChildElement("limit") == nullptr) {
+        fail(e, "joint '" + name + "': a " + type + " joint needs <limit lower upper effort velocity>");
+      }
       if (e->FirstChildElement("mimic") != nullptr) fail(e, "joint '" + name + "': mimic joints are not supported");
       check_numbers(e);
       const std::string parent = e->FirstChildElement("parent")->Attribute("link");
@@ -276,6 +281,8 @@ ArmModel load_urdf_model(const std::string& path) {
     model.links.push_back(link);
   }
   model.root_link = model.find_link(urdf->getRoot()->name);
+  // Only the root is fixed to the world: a mounted base welded to it by a fixed joint still
+  // counts in total_mass(), as in a data sheet's robot mass.
   model.links[model.root_link].fixed_to_world = true;
 
   // Joints in tree order: depth first from the root, children in document order.
@@ -331,9 +338,6 @@ ArmModel load_urdf_model(const std::string& path) {
   };
   add_children(model.links[model.root_link].name);
 
-  // Links welded to the world through fixed joints never move: mark them fixed to the world
-  // only when they are the root (a mounted base attached by a fixed joint still counts in
-  // total_mass(), as in a data sheet's robot mass).
   if (!extras.end_effector_link.empty()) {
     model.end_effector.link = model.find_link(extras.end_effector_link);
     model.end_effector.offset = extras.end_effector_offset;

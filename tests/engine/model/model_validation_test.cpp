@@ -33,6 +33,7 @@ const std::vector<BadModel> kCorpus = {
     {"unknown_extension.urdf", {"unknown_extension.urdf:", "unknown element <armfarm:gripper>"}},
     {"transmission_unknown_joint.urdf", {"transmission_unknown_joint.urdf:", "unknown joint 'knee'"}},
     {"floating_joint.urdf", {"floating_joint.urdf:", "joint 'shoulder'", "only revolute, continuous, prismatic and fixed"}},
+    {"missing_limit.urdf", {"missing_limit.urdf:", "joint 'elbow': a revolute joint needs <limit"}},
     {"malformed.urdf", {"malformed.urdf:", "XML error"}},
     {"unknown_tag.dcg", {"unknown_tag.dcg:3:", "body 'arm'", "unknown tag 'q'"}},
     {"unknown_body.dcg", {"unknown_body.dcg:4:", "joint 'ground-hand'", "two defined bodies"}},
