@@ -14,6 +14,7 @@ RunFunction setup_report(CLI::App& parent);
 RunFunction setup_merge(CLI::App& parent);
 RunFunction setup_lwpr(CLI::App& parent);
 RunFunction setup_version(CLI::App& parent);
+RunFunction setup_model(CLI::App& parent);
 
 const std::vector<SubcommandEntry>& all_subcommands() {
   static const std::vector<SubcommandEntry> entries = {
@@ -28,6 +29,7 @@ const std::vector<SubcommandEntry>& all_subcommands() {
       {"merge", setup_merge},
       {"lwpr", setup_lwpr},
       {"version", setup_version},
+      {"model", setup_model},
   };
   return entries;
 }

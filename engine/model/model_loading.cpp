@@ -1,0 +1,20 @@
+#include "engine/model/model_loading.hpp"
+
+#include "engine/model/model_loaders.hpp"
+
+#include <algorithm>
+#include <cctype>
+
+namespace armfarm {
+
+ArmModel load_arm_model(const std::string& path) {
+  const std::size_t dot = path.find_last_of('.');
+  std::string extension = dot == std::string::npos ? "" : path.substr(dot + 1);
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == "urdf") return load_urdf_model(path);
+  if (extension == "dcg") return load_dcg_model(path);
+  throw ModelError(path + ": unknown model format '." + extension + "' (expected .urdf or .dcg)");
+}
+
+}  // namespace armfarm

@@ -1,0 +1,361 @@
+// URDF → ArmModel. urdfdom reads the standard elements; a tinyxml2 pass over the same text
+// first checks names, references and numbers (so messages carry line numbers, which urdfdom's
+// console messages do not) and reads what urdfdom skips: transmissions and armfarm extensions.
+#include "engine/model/model_loaders.hpp"
+#include "engine/model/model_loading.hpp"
+#include "engine/model/model_validation.hpp"
+
+#include <tinyxml2.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace armfarm {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// What the tinyxml2 pass learns besides the checks.
+struct UrdfExtras {
+  ModelSourceLines lines;
+  std::vector<std::string> link_order;              // document order
+  std::map<std::string, double> armature;           // joint name -> kg·m²
+  std::map<std::string, double> start_position;     // joint name -> rad or m
+  std::string end_effector_link;                    // empty: default
+  Eigen::Vector3d end_effector_offset = Eigen::Vector3d::Zero();
+  int end_effector_line = 0;
+};
+
+class UrdfScanner {
+ public:
+  explicit UrdfScanner(std::string path) : path_(std::move(path)) {}
+
+  UrdfExtras scan(const tinyxml2::XMLDocument& document) {
+    const tinyxml2::XMLElement* robot = document.FirstChildElement("robot");
+    if (robot == nullptr) fail(1, "the root element must be <robot>");
+    for (const auto* e = robot->FirstChildElement("link"); e != nullptr; e = e->NextSiblingElement("link")) {
+      const std::string name = required_attribute(e, "name");
+      if (!extras_.lines.links.emplace(name, e->GetLineNum()).second) fail(e, "duplicate link name '" + name + "'");
+      extras_.link_order.push_back(name);
+      check_numbers(e);
+    }
+    for (const auto* e = robot->FirstChildElement("joint"); e != nullptr; e = e->NextSiblingElement("joint")) {
+      const std::string name = required_attribute(e, "name");
+      if (!extras_.lines.joints.emplace(name, e->GetLineNum()).second) fail(e, "duplicate joint name '" + name + "'");
+      for (const char* side : {"parent", "child"}) {
+        const auto* ref = e->FirstChildElement(side);
+        if (ref == nullptr) fail(e, "joint '" + name + "' has no <" + side + ">");
+        const std::string link = required_attribute(ref, "link");
+        if (extras_.lines.links.count(link) == 0) {
+          fail(ref, "joint '" + name + "': unknown " + side + " link '" + link + "'");
+        }
+      }
+      if (const auto* axis = e->FirstChildElement("axis")) {
+        const Eigen::Vector3d xyz = vector_attribute(axis, "xyz");
+        if (xyz.norm() < 1e-12) fail(axis, "joint '" + name + "': zero axis");
+      }
+      const char* type = e->Attribute("type");
+      if (type != nullptr && (std::string(type) == "revolute" || std::string(type) == "prismatic") &&
+          e->FirstChildElement("limit") == nullptr) {
+        fail(e, "joint '" + name + "': a " + type + " joint needs <limit lower upper effort velocity>");
+      }
+      if (e->FirstChildElement("mimic") != nullptr) fail(e, "joint '" + name + "': mimic joints are not supported");
+      check_numbers(e);
+      const std::string parent = e->FirstChildElement("parent")->Attribute("link");
+      const std::string child = e->FirstChildElement("child")->Attribute("link");
+      if (parent == child) fail(e, "joint '" + name + "' connects link '" + child + "' to itself");
+      if (const auto it = parent_of_.find(child); it != parent_of_.end()) {
+        fail(e, "link '" + child + "' has several parents (joint '" + name + "' and joint '" + it->second.joint + "')");
+      }
+      parent_of_.emplace(child, ParentRef{parent, name, e->GetLineNum()});
+    }
+    check_tree(robot);
+    for (const auto* e = robot->FirstChildElement("transmission"); e != nullptr;
+         e = e->NextSiblingElement("transmission")) {
+      scan_transmission(e);
+    }
+    for (const auto* e = robot->FirstChildElement(); e != nullptr; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      if (tag.rfind("armfarm:", 0) != 0) continue;
+      if (tag == "armfarm:end_effector") {
+        if (!extras_.end_effector_link.empty()) fail(e, "second <armfarm:end_effector>");
+        extras_.end_effector_link = required_attribute(e, "link");
+        if (extras_.lines.links.count(extras_.end_effector_link) == 0) {
+          fail(e, "<armfarm:end_effector>: unknown link '" + extras_.end_effector_link + "'");
+        }
+        if (e->Attribute("offset") != nullptr) extras_.end_effector_offset = vector_attribute(e, "offset");
+        extras_.end_effector_line = e->GetLineNum();
+      } else if (tag == "armfarm:start_position") {
+        const std::string joint = required_attribute(e, "joint");
+        if (extras_.lines.joints.count(joint) == 0) fail(e, "<armfarm:start_position>: unknown joint '" + joint + "'");
+        if (!extras_.start_position.emplace(joint, number_attribute(e, "value")).second) {
+          fail(e, "second start position for joint '" + joint + "'");
+        }
+      } else {
+        fail(e, "unknown element <" + tag + "> (armfarm extensions: <armfarm:end_effector>, <armfarm:start_position>)");
+      }
+    }
+    return extras_;
+  }
+
+ private:
+  [[noreturn]] void fail(int line, const std::string& what) const {
+    throw ModelError(path_ + ":" + std::to_string(line) + ": " + what);
+  }
+  [[noreturn]] void fail(const tinyxml2::XMLElement* e, const std::string& what) const { fail(e->GetLineNum(), what); }
+
+  std::string required_attribute(const tinyxml2::XMLElement* e, const char* name) const {
+    const char* value = e->Attribute(name);
+    if (value == nullptr || *value == '\0') fail(e, "<" + std::string(e->Name()) + "> needs a '" + name + "' attribute");
+    return value;
+  }
+
+  std::vector<double> numbers(const tinyxml2::XMLElement* e, const char* attribute, const std::string& text) const {
+    std::vector<double> values;
+    std::istringstream tokens(text);
+    std::string token;
+    while (tokens >> token) {
+      char* end = nullptr;
+      errno = 0;
+      const double value = std::strtod(token.c_str(), &end);
+      if (end == token.c_str() || *end != '\0' || errno == ERANGE || !std::isfinite(value)) {
+        fail(e, "<" + std::string(e->Name()) + "> attribute " + attribute + ": '" + token + "' is not a finite number");
+      }
+      values.push_back(value);
+    }
+    return values;
+  }
+
+  double number_attribute(const tinyxml2::XMLElement* e, const char* attribute) const {
+    const std::vector<double> values = numbers(e, attribute, required_attribute(e, attribute));
+    if (values.size() != 1) fail(e, "<" + std::string(e->Name()) + "> attribute " + attribute + " needs one number");
+    return values[0];
+  }
+
+  Eigen::Vector3d vector_attribute(const tinyxml2::XMLElement* e, const char* attribute) const {
+    const std::vector<double> values = numbers(e, attribute, required_attribute(e, attribute));
+    if (values.size() != 3) fail(e, "<" + std::string(e->Name()) + "> attribute " + attribute + " needs three numbers");
+    return Eigen::Vector3d(values[0], values[1], values[2]);
+  }
+
+  double element_number(const tinyxml2::XMLElement* e) const {
+    const char* text = e->GetText();
+    const std::vector<double> values = numbers(e, "text", text == nullptr ? "" : text);
+    if (values.size() != 1) fail(e, "<" + std::string(e->Name()) + "> needs one number");
+    return values[0];
+  }
+
+  // Every numeric attribute of the elements urdfdom reads must be a finite number.
+  void check_numbers(const tinyxml2::XMLElement* element) const {
+    static const std::map<std::string, std::set<std::string>> numeric = {
+        {"origin", {"xyz", "rpy"}},
+        {"axis", {"xyz"}},
+        {"limit", {"lower", "upper", "effort", "velocity"}},
+        {"dynamics", {"damping", "friction"}},
+        {"mass", {"value"}},
+        {"inertia", {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}},
+    };
+    std::function<void(const tinyxml2::XMLElement*)> visit = [&](const tinyxml2::XMLElement* e) {
+      const auto it = numeric.find(e->Name());
+      if (it != numeric.end()) {
+        for (const auto* a = e->FirstAttribute(); a != nullptr; a = a->Next()) {
+          if (it->second.count(a->Name()) != 0) numbers(e, a->Name(), a->Value());
+        }
+      }
+      for (const auto* child = e->FirstChildElement(); child != nullptr; child = child->NextSiblingElement()) visit(child);
+    };
+    visit(element);
+  }
+
+  // ROS-style <transmission>: one <joint name=..>, one <actuator> with <mechanicalReduction>
+  // and armfarm's <rotorInertia> (kg·m² about the motor shaft).
+  void scan_transmission(const tinyxml2::XMLElement* e) {
+    const auto* joint = e->FirstChildElement("joint");
+    if (joint == nullptr) fail(e, "<transmission> without a <joint>");
+    if (joint->NextSiblingElement("joint") != nullptr) {
+      fail(e, "<transmission> with several joints (only simple one-joint transmissions are supported)");
+    }
+    const std::string name = required_attribute(joint, "name");
+    if (extras_.lines.joints.count(name) == 0) fail(joint, "<transmission>: unknown joint '" + name + "'");
+    const auto* actuator = e->FirstChildElement("actuator");
+    if (actuator == nullptr) fail(e, "<transmission> for joint '" + name + "' has no <actuator>");
+    double reduction = 1.0;
+    if (const auto* r = actuator->FirstChildElement("mechanicalReduction")) reduction = element_number(r);
+    if (const auto* r = e->FirstChildElement("mechanicalReduction")) reduction = element_number(r);  // old ROS style
+    if (reduction == 0.0) fail(actuator, "<mechanicalReduction> of joint '" + name + "' is zero");
+    double rotor_inertia = 0.0;
+    if (const auto* r = actuator->FirstChildElement("rotorInertia")) {
+      rotor_inertia = element_number(r);
+      if (rotor_inertia < 0.0) fail(r, "<rotorInertia> of joint '" + name + "' is negative");
+    }
+    if (!extras_.armature.emplace(name, rotor_inertia * reduction * reduction).second) {
+      fail(e, "second <transmission> for joint '" + name + "'");
+    }
+  }
+
+  // The links must form one tree: exactly one link without a parent, and no cycles.
+  void check_tree(const tinyxml2::XMLElement* robot) const {
+    std::vector<std::string> roots;
+    for (const std::string& link : extras_.link_order) {
+      if (parent_of_.count(link) == 0) roots.push_back(link);
+    }
+    for (const std::string& link : extras_.link_order) {
+      std::set<std::string> seen{link};
+      for (auto it = parent_of_.find(link); it != parent_of_.end(); it = parent_of_.find(it->second.link)) {
+        if (!seen.insert(it->second.link).second) {
+          fail(it->second.line, "cycle: joint '" + it->second.joint + "' closes a loop through link '" + it->second.link + "'");
+        }
+      }
+    }
+    if (roots.empty()) fail(robot, "no links");
+    if (roots.size() > 1) {
+      fail(extras_.lines.links.at(roots[1]), "link '" + roots[1] + "' is disconnected: no joint connects it to the tree of '" +
+                                                 roots[0] + "'");
+    }
+  }
+
+  struct ParentRef {
+    std::string link;
+    std::string joint;
+    int line = 0;
+  };
+  std::string path_;
+  UrdfExtras extras_;
+  std::map<std::string, ParentRef> parent_of_;  // child link -> its parent joint
+};
+
+Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
+  double x = 0.0, y = 0.0, z = 0.0, w = 1.0;
+  pose.rotation.getQuaternion(x, y, z, w);
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
+  transform.linear() = Eigen::Quaterniond(w, x, y, z).normalized().toRotationMatrix();
+  transform.translation() = Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z);
+  return transform;
+}
+
+}  // namespace
+
+ArmModel load_urdf_model(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ModelError(path + ": cannot open model file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string xml = buffer.str();
+
+  tinyxml2::XMLDocument document;
+  if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
+    throw ModelError(path + ":" + std::to_string(document.ErrorLineNum()) + ": XML error: " + document.ErrorName());
+  }
+  const UrdfExtras extras = UrdfScanner(path).scan(document);
+
+  const urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDF(xml);
+  if (!urdf) {
+    throw ModelError(path + ": not a valid URDF: urdfdom rejected it (a cycle, a link with several parents, several "
+                            "root links, or a missing required element; urdfdom printed its reason above)");
+  }
+
+  ArmModel model;
+  model.name = urdf->getName();
+  model.source_file = path;
+  for (const std::string& name : extras.link_order) {
+    const urdf::LinkConstSharedPtr source = urdf->getLink(name);
+    Link link;
+    link.name = name;
+    if (source->inertial) {
+      const urdf::Inertial& in = *source->inertial;
+      Eigen::Matrix3d inertia;
+      inertia << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+      const Eigen::Isometry3d frame = to_isometry(in.origin);  // inertial frame in the link frame
+      link.inertial.mass = in.mass;
+      link.inertial.com = frame.translation();
+      link.inertial.inertia = frame.linear() * inertia * frame.linear().transpose();
+    }
+    model.links.push_back(link);
+  }
+  model.root_link = model.find_link(urdf->getRoot()->name);
+  // Only the root is fixed to the world: a mounted base welded to it by a fixed joint still
+  // counts in total_mass(), as in a data sheet's robot mass.
+  model.links[model.root_link].fixed_to_world = true;
+
+  // Joints in tree order: depth first from the root, children in document order.
+  std::map<std::string, std::vector<std::string>> child_joints;  // parent link -> joint names
+  std::vector<std::string> joint_document_order;
+  for (const tinyxml2::XMLElement* e = document.FirstChildElement("robot")->FirstChildElement("joint"); e != nullptr;
+       e = e->NextSiblingElement("joint")) {
+    joint_document_order.push_back(e->Attribute("name"));
+  }
+  for (const std::string& name : joint_document_order) child_joints[urdf->getJoint(name)->parent_link_name].push_back(name);
+
+  std::function<void(const std::string&)> add_children = [&](const std::string& parent) {
+    for (const std::string& name : child_joints[parent]) {
+      const urdf::JointConstSharedPtr source = urdf->getJoint(name);
+      const auto where = [&] { return path + ":" + std::to_string(extras.lines.joints.at(name)) + ": joint '" + name + "': "; };
+      Joint joint;
+      joint.name = name;
+      joint.parent_link = model.find_link(source->parent_link_name);
+      joint.child_link = model.find_link(source->child_link_name);
+      joint.origin = to_isometry(source->parent_to_joint_origin_transform);
+      joint.axis = Eigen::Vector3d(source->axis.x, source->axis.y, source->axis.z);
+      if (joint.axis.norm() > 0.0) joint.axis.normalize();
+      switch (source->type) {
+        case urdf::Joint::REVOLUTE: joint.type = JointType::revolute; break;
+        case urdf::Joint::CONTINUOUS: joint.type = JointType::continuous; break;
+        case urdf::Joint::PRISMATIC: joint.type = JointType::prismatic; break;
+        case urdf::Joint::FIXED: joint.type = JointType::fixed; break;
+        default: throw ModelError(where() + "only revolute, continuous, prismatic and fixed joints are supported");
+      }
+      joint.effort_limit = kInfinity;
+      joint.velocity_limit = kInfinity;
+      if (source->limits) {
+        // URDF writes 0 (or nothing) for "no limit given"; negative values are kept and rejected.
+        if (source->limits->effort != 0.0) joint.effort_limit = source->limits->effort;
+        if (source->limits->velocity != 0.0) joint.velocity_limit = source->limits->velocity;
+        if (joint.type == JointType::revolute || joint.type == JointType::prismatic) {
+          joint.has_position_limits = true;
+          joint.lower = source->limits->lower;
+          joint.upper = source->limits->upper;
+        }
+      }
+      if (source->dynamics) {
+        joint.damping = source->dynamics->damping;
+        joint.friction = source->dynamics->friction;
+      }
+      if (const auto it = extras.armature.find(name); it != extras.armature.end()) joint.armature = it->second;
+      if (const auto it = extras.start_position.find(name); it != extras.start_position.end()) {
+        joint.start_position = it->second;
+      }
+      model.joints.push_back(joint);
+      add_children(source->child_link_name);
+    }
+  };
+  add_children(model.links[model.root_link].name);
+
+  if (!extras.end_effector_link.empty()) {
+    model.end_effector.link = model.find_link(extras.end_effector_link);
+    model.end_effector.offset = extras.end_effector_offset;
+  } else {
+    // Default: the single leaf link (the tip of a serial chain), offset zero.
+    std::vector<int> leaves;
+    for (int l = 0; l < static_cast<int>(model.links.size()); ++l) {
+      if (child_joints[model.links[l].name].empty() && l != model.root_link) leaves.push_back(l);
+    }
+    if (leaves.size() != 1) {
+      throw ModelError(path + ": " + std::to_string(leaves.size()) +
+                       " leaf links: name the end effector with <armfarm:end_effector link=\"..\" offset=\"x y z\"/>");
+    }
+    model.end_effector.link = leaves[0];
+  }
+
+  validate_arm_model(model, extras.lines);
+  return model;
+}
+
+}  // namespace armfarm

@@ -1,0 +1,149 @@
+// `armfarm model info FILE [--json]`: what a model file describes — the link tree, the joints
+// with their limits and drive figures, link masses, total mass and reach. Bad files exit 2
+// with the loader's one-line message.
+#include "engine/model/arm_reach.hpp"
+#include "engine/model/model_loading.hpp"
+#include "runner/cli/subcommand.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+namespace armfarm::cli {
+namespace {
+
+constexpr double kDegreesPerRadian = 180.0 / 3.14159265358979323846;
+
+const char* type_name(JointType type) {
+  switch (type) {
+    case JointType::revolute: return "revolute";
+    case JointType::continuous: return "continuous";
+    case JointType::prismatic: return "prismatic";
+    case JointType::fixed: return "fixed";
+  }
+  return "?";
+}
+
+nlohmann::json vector_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+// JSON has no infinity: unlimited figures are null.
+nlohmann::json limit_json(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr); }
+
+std::string number(double value, int precision = 4) {
+  if (!std::isfinite(value)) return "-";
+  std::ostringstream out;
+  out << std::setprecision(precision) << value;
+  return out.str();
+}
+
+nlohmann::json make_json(const ArmModel& model) {
+  nlohmann::json out;
+  out["name"] = model.name;
+  out["file"] = model.source_file;
+  out["root_link"] = model.links[model.root_link].name;
+  out["links"] = nlohmann::json::array();
+  for (const Link& link : model.links) {
+    out["links"].push_back({{"name", link.name},
+                            {"mass", link.inertial.mass},
+                            {"com", vector_json(link.inertial.com)},
+                            {"fixed_to_world", link.fixed_to_world}});
+  }
+  const std::vector<int> movable = model.movable_joints();
+  out["joints"] = nlohmann::json::array();
+  for (int j = 0; j < static_cast<int>(model.joints.size()); ++j) {
+    const Joint& joint = model.joints[j];
+    nlohmann::json entry = {{"name", joint.name},
+                            {"type", type_name(joint.type)},
+                            {"parent", model.links[joint.parent_link].name},
+                            {"child", model.links[joint.child_link].name},
+                            {"axis", vector_json(joint.axis)},
+                            {"effort_limit", limit_json(joint.effort_limit)},
+                            {"velocity_limit", limit_json(joint.velocity_limit)},
+                            {"damping", joint.damping},
+                            {"friction", joint.friction},
+                            {"armature", joint.armature},
+                            {"start_position", joint.start_position}};
+    const auto index = std::find(movable.begin(), movable.end(), j);
+    entry["number"] = index == movable.end() ? nlohmann::json(nullptr) : nlohmann::json(index - movable.begin());
+    if (joint.has_position_limits) {
+      entry["lower"] = joint.lower;
+      entry["upper"] = joint.upper;
+    } else {
+      entry["lower"] = nullptr;
+      entry["upper"] = nullptr;
+    }
+    out["joints"].push_back(entry);
+  }
+  out["degrees_of_freedom"] = movable.size();
+  out["total_mass"] = model.total_mass();
+  out["reach"] = calc_reach(model);
+  out["end_effector"] = {{"link", model.links[model.end_effector.link].name},
+                         {"offset", vector_json(model.end_effector.offset)}};
+  return out;
+}
+
+void print_text(const ArmModel& model, std::ostream& out) {
+  out << "model " << model.name << " (" << model.source_file << ")\n\ntree (parent -> child):\n";
+  for (const Joint& joint : model.joints) {
+    out << "  " << model.links[joint.parent_link].name << " -> " << model.links[joint.child_link].name << "  ["
+        << joint.name << ", " << type_name(joint.type) << "]\n";
+  }
+  out << "\njoints (numbers index the movable joints in tree order):\n";
+  out << "  #  name             type        axis               lower..upper deg      lower..upper rad    "
+         "effort  velocity  armature  damping  start\n";
+  const std::vector<int> movable = model.movable_joints();
+  for (std::size_t n = 0; n < movable.size(); ++n) {
+    const Joint& joint = model.joints[movable[n]];
+    std::ostringstream axis, deg, rad;
+    axis << number(joint.axis.x(), 3) << " " << number(joint.axis.y(), 3) << " " << number(joint.axis.z(), 3);
+    const bool angular = joint.type != JointType::prismatic;
+    if (joint.has_position_limits) {
+      deg << (angular ? number(joint.lower * kDegreesPerRadian) + " .. " + number(joint.upper * kDegreesPerRadian) : "(m)");
+      rad << number(joint.lower) << " .. " << number(joint.upper);
+    } else {
+      deg << "unlimited";
+      rad << "unlimited";
+    }
+    out << "  " << std::left << std::setw(3) << n << std::setw(17) << joint.name << std::setw(12) << type_name(joint.type)
+        << std::setw(19) << axis.str() << std::setw(22) << deg.str() << std::setw(20) << rad.str() << std::setw(8)
+        << number(joint.effort_limit) << std::setw(10) << number(joint.velocity_limit) << std::setw(10)
+        << number(joint.armature) << std::setw(9) << number(joint.damping) << number(joint.start_position) << "\n";
+  }
+  out << "  (effort N·m or N, velocity rad/s or m/s, armature kg·m², damping N·m·s/rad, start rad or m; - = unlimited)\n";
+  out << "\nlinks:\n";
+  for (const Link& link : model.links) {
+    out << "  " << std::left << std::setw(12) << link.name << std::right << std::setw(9) << std::fixed << std::setprecision(4)
+        << link.inertial.mass << " kg" << std::defaultfloat << (link.fixed_to_world ? "  (fixed to the world)" : "") << "\n";
+  }
+  const Link& tip = model.links[model.end_effector.link];
+  out << std::fixed << std::setprecision(4) << "\ndegrees of freedom: " << movable.size()
+      << "\ntotal mass: " << model.total_mass() << " kg (links not fixed to the world)"
+      << "\nreach: " << calc_reach(model) << " m (joint-origin path from the first joint to the end effector)"
+      << "\nend effector: " << tip.name << " + (" << model.end_effector.offset.transpose() << ") m\n"
+      << std::defaultfloat;
+}
+
+}  // namespace
+
+RunFunction setup_model_info(CLI::App& model) {
+  CLI::App* info = model.add_subcommand("info", "Show a model's tree, joints, limits, masses, total mass and reach");
+  auto file = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  info->add_option("FILE", *file, "Model file (.urdf or .dcg)")->required();
+  info->add_flag("--json", *json, "Print JSON (stable keys) instead of text");
+  return [file, json] {
+    const ArmModel arm = load_arm_model(*file);
+    if (*json) {
+      std::cout << make_json(arm).dump(2) << "\n";
+    } else {
+      print_text(arm, std::cout);
+    }
+    return 0;
+  };
+}
+
+}  // namespace armfarm::cli

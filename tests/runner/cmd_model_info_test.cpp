@@ -1,0 +1,70 @@
+// `armfarm model info`: the shipped models print their summary and exit 0; a bad file exits 2
+// with the loader's one-line message.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+struct CommandResult {
+  int exit_code;
+  std::string output;
+};
+
+CommandResult run_armfarm(const std::string& arguments) {
+  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string output;
+  std::array<char, 4096> buffer{};
+  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
+  const int status = pclose(pipe);
+  return {WEXITSTATUS(status), output};
+}
+
+const std::string kModels = std::string(ARMFARM_SOURCE_DIR) + "/models/";
+
+TEST(CmdModelInfo, ShippedModelsShowTotalMass) {
+  for (const char* file : {"dlr_lwr3.urdf", "dlr_lwr3.dcg", "planar2.urdf"}) {
+    const CommandResult result = run_armfarm("model info " + kModels + file);
+    EXPECT_EQ(result.exit_code, 0) << file << ": " << result.output;
+    EXPECT_NE(result.output.find("total mass: "), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("reach: "), std::string::npos) << result.output;
+  }
+  const CommandResult planar = run_armfarm("model info " + kModels + "planar2.urdf");
+  EXPECT_NE(planar.output.find("total mass: 3.5000 kg"), std::string::npos) << planar.output;
+}
+
+TEST(CmdModelInfo, JsonHasStableKeys) {
+  const CommandResult result = run_armfarm("model info --json " + kModels + "dlr_lwr3.urdf");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const nlohmann::json info = nlohmann::json::parse(result.output);
+  EXPECT_EQ(info.at("degrees_of_freedom"), 7);
+  EXPECT_NEAR(info.at("total_mass").get<double>(), 13.5, 0.5);
+  EXPECT_NEAR(info.at("reach").get<double>(), 1.0, 0.05);
+  EXPECT_EQ(info.at("end_effector").at("link"), "link_7");
+  const nlohmann::json& joint = info.at("joints").at(1);
+  EXPECT_EQ(joint.at("name"), "joint_1");
+  EXPECT_EQ(joint.at("number"), 0);
+  EXPECT_EQ(joint.at("type"), "revolute");
+  for (const char* key : {"axis", "lower", "upper", "effort_limit", "velocity_limit", "armature", "damping", "friction",
+                          "start_position", "parent", "child"}) {
+    EXPECT_TRUE(joint.contains(key)) << key;
+  }
+}
+
+TEST(CmdModelInfo, BadFileExitsTwoWithOneLine) {
+  const std::string bad = std::string(ARMFARM_TEST_DATA_DIR) + "/models/bad/zero_mass.urdf";
+  const CommandResult result = run_armfarm("model info " + bad);
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.output.find("zero_mass.urdf:4: link 'upper': zero mass"), std::string::npos) << result.output;
+  EXPECT_EQ(result.output.find('\n'), result.output.size() - 1) << result.output;
+  EXPECT_EQ(run_armfarm("model info " + kModels + "no_such_file.urdf").exit_code, 2);
+  EXPECT_EQ(run_armfarm("model").exit_code, 2);  // the group needs a subcommand
+}
+
+}  // namespace
