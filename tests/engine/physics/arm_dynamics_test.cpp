@@ -1,0 +1,127 @@
+// Exact rigid-body calculations checked against independent computations: the textbook
+// closed form of a planar 2-link arm, forward/inverse dynamics round trips, finite
+// differences of forward kinematics, and mass-matrix identities.
+#include "engine/physics/arm_simulation.hpp"
+#include "test_arms.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <cmath>
+#include <random>
+
+namespace armfarm {
+namespace {
+
+constexpr double kGravity = 9.81;
+
+// τ = M(q)q̈ + C(q,q̇)q̇ + g(q) of the planar arm, derived by hand (Lagrange).
+Eigen::Vector2d calc_planar_inverse_dynamics(const testing::PlanarArmParameters& p, const Eigen::Vector2d& q,
+                                             const Eigen::Vector2d& qd, const Eigen::Vector2d& qdd) {
+  const double c2 = std::cos(q[1]);
+  const double h = p.mass2 * p.length1 * p.com2 * std::sin(q[1]);
+  const double m11 = p.mass1 * p.com1 * p.com1 + p.inertia1 +
+                     p.mass2 * (p.length1 * p.length1 + p.com2 * p.com2 + 2 * p.length1 * p.com2 * c2) + p.inertia2 +
+                     p.armature1;
+  const double m12 = p.mass2 * (p.com2 * p.com2 + p.length1 * p.com2 * c2) + p.inertia2;
+  const double m22 = p.mass2 * p.com2 * p.com2 + p.inertia2 + p.armature2;
+  const double g1 = (p.mass1 * p.com1 + p.mass2 * p.length1) * kGravity * std::cos(q[0]) +
+                    p.mass2 * p.com2 * kGravity * std::cos(q[0] + q[1]);
+  const double g2 = p.mass2 * p.com2 * kGravity * std::cos(q[0] + q[1]);
+  return {m11 * qdd[0] + m12 * qdd[1] - h * (2 * qd[0] * qd[1] + qd[1] * qd[1]) + g1,
+          m12 * qdd[0] + m22 * qdd[1] + h * qd[0] * qd[0] + g2};
+}
+
+TEST(ArmDynamics, PlanarArmMatchesTheClosedFormAtRandomStates) {
+  for (double armature : {0.0, 0.7}) {
+    testing::PlanarArmParameters parameters;
+    parameters.armature1 = armature;
+    parameters.armature2 = 0.5 * armature;
+    const ArmModel model = testing::make_planar_arm(parameters);
+    ArmDynamics dynamics(model);
+    std::mt19937 generator(7);
+    std::uniform_real_distribution<double> angle(-M_PI, M_PI), rate(-3, 3), acceleration(-10, 10);
+    for (int trial = 0; trial < 150; ++trial) {
+      const Eigen::Vector2d q(angle(generator), angle(generator)), qd(rate(generator), rate(generator)),
+          qdd(acceleration(generator), acceleration(generator));
+      const Eigen::Vector2d expected = calc_planar_inverse_dynamics(parameters, q, qd, qdd);
+      const Eigen::VectorXd tau = dynamics.calc_inverse_dynamics(q, qd, qdd);
+      EXPECT_LE((tau - expected).norm(), 1e-9 * std::max(1.0, expected.norm())) << "trial " << trial;
+    }
+  }
+}
+
+TEST(ArmDynamics, InverseAndForwardDynamicsAreInversesOnTheLwr) {
+  const ArmModel model = testing::load_lwr3();
+  ArmDynamics dynamics(model);
+  ASSERT_EQ(dynamics.dof(), 7);
+  std::mt19937 generator(3);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::VectorXd q(7), qd(7), qdd(7);
+    for (int j = 0; j < 7; ++j) {
+      q[j] = 1.5 * unit(generator);
+      qd[j] = 2 * unit(generator);
+      qdd[j] = 5 * unit(generator);
+    }
+    const Eigen::VectorXd tau = dynamics.calc_inverse_dynamics(q, qd, qdd);
+    const Eigen::VectorXd recovered = dynamics.calc_forward_dynamics(q, qd, tau);
+    EXPECT_LE((recovered - qdd).norm(), 1e-9 * qdd.norm()) << "trial " << trial;
+  }
+}
+
+TEST(ArmDynamics, MassMatrixIsSymmetricPositiveDefiniteWithArmatureOnTheDiagonal) {
+  const ArmModel model = testing::load_lwr3();
+  ArmDynamics dynamics(model);
+  const Eigen::VectorXd q = (Eigen::VectorXd(7) << 0.3, -0.5, 1.0, 1.2, -0.4, 0.6, 0.1).finished();
+  const Eigen::MatrixXd mass = dynamics.calc_mass_matrix(q);
+  EXPECT_LE((mass - mass.transpose()).norm(), 1e-12);
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(mass).eigenvalues().minCoeff(), 0.0);
+  // Column j of M is the inverse dynamics of a unit acceleration of joint j minus the gravity
+  // torques (no velocity, so no Coriolis terms).
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(7);
+  const Eigen::VectorXd gravity = dynamics.calc_inverse_dynamics(q, zero, zero);
+  for (int j = 0; j < 7; ++j) {
+    const Eigen::VectorXd column = dynamics.calc_inverse_dynamics(q, zero, Eigen::VectorXd::Unit(7, j)) - gravity;
+    EXPECT_LE((column - mass.col(j)).norm(), 1e-10) << "column " << j;
+  }
+  // The last joint turns only the light tip: its diagonal entry is dominated by the armature.
+  EXPECT_GE(mass(6, 6), model.joints[model.movable_joints()[6]].armature);
+}
+
+TEST(ArmDynamics, JacobianEqualsFiniteDifferencesOfForwardKinematics) {
+  const ArmModel model = testing::load_lwr3();
+  ArmDynamics dynamics(model);
+  const Eigen::VectorXd q = (Eigen::VectorXd(7) << 0.2, -0.7, 0.9, 1.3, -0.3, 0.5, 0.4).finished();
+  const Eigen::Matrix3Xd jacobian = dynamics.calc_end_effector_jacobian(q);
+  const double step = 1e-6;
+  for (int j = 0; j < 7; ++j) {
+    Eigen::VectorXd plus = q, minus = q;
+    plus[j] += step;
+    minus[j] -= step;
+    const Eigen::Vector3d difference =
+        (dynamics.calc_end_effector_position(plus) - dynamics.calc_end_effector_position(minus)) / (2 * step);
+    EXPECT_LE((difference - jacobian.col(j)).norm(), 1e-8) << "joint " << j;
+  }
+}
+
+TEST(ArmDynamics, LockedJointsBehaveAsFixedJointsAtTheirStartAngles) {
+  const ArmModel model = testing::load_lwr3();
+  ArmDynamics subset(model, {1, 3});
+  ASSERT_EQ(subset.dof(), 2);
+  ArmModel fixed = model;
+  const std::vector<int> movable = model.movable_joints();
+  for (int index : {0, 2, 4, 5, 6}) fixed.joints[movable[index]].type = JointType::fixed;
+  for (int index : {0, 2, 4, 5, 6}) fixed.joints[movable[index]].origin =
+      fixed.joints[movable[index]].origin *
+      Eigen::Isometry3d(Eigen::AngleAxisd(model.joints[movable[index]].start_position, model.joints[movable[index]].axis));
+  ArmDynamics reference(fixed);
+  ASSERT_EQ(reference.dof(), 2);
+  const Eigen::Vector2d q(-0.4, 1.1), qd(0.5, -0.8), qdd(2.0, -1.0);
+  EXPECT_LE((subset.calc_inverse_dynamics(q, qd, qdd) - reference.calc_inverse_dynamics(q, qd, qdd)).norm(), 1e-10);
+  EXPECT_LE((subset.calc_end_effector_position(q) - reference.calc_end_effector_position(q)).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace armfarm
