@@ -1,0 +1,32 @@
+#pragma once
+// Inverse kinematics of the end-effector point: damped least squares on the 3×n position
+// Jacobian with a null-space term pulling towards a rest posture and joint-limit avoidance.
+// Units: SI and radians; targets in the world frame.
+#include <Eigen/Core>
+
+namespace armfarm {
+
+class ArmDynamics;
+
+struct InverseKinematicsOptions {
+  double damping = 1e-3;           ///< λ of (J Jᵀ + λ² I)⁻¹, m
+  double null_space_gain = 0.1;    ///< pull towards rest_posture per iteration (dimensionless)
+  double tolerance = 1e-5;         ///< m, stop when |x − target| is below
+  int max_iterations = 100;
+  double limit_margin = 0.05;      ///< rad kept away from each joint limit
+};
+
+struct InverseKinematicsResult {
+  Eigen::VectorXd q;
+  double error = 0.0;     ///< m, final |x(q) − target|
+  int iterations = 0;
+  bool converged = false;
+};
+
+/// Solves x(q) = target starting from `initial` (n_active), with the null space pulling
+/// towards `rest_posture`. Deterministic; the same inputs give the same q.
+InverseKinematicsResult solve_inverse_kinematics(ArmDynamics& dynamics, const Eigen::Vector3d& target,
+                                                 const Eigen::VectorXd& initial, const Eigen::VectorXd& rest_posture,
+                                                 const InverseKinematicsOptions& options = {});
+
+}  // namespace armfarm
