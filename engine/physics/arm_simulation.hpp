@@ -84,11 +84,12 @@ class ArmSimulation {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Exact rigid-body calculations on the *nominal* model (no payload, no friction override),
-/// for any active-joint subset. Holds scratch state; one instance per job and thread.
+/// Exact rigid-body calculations on the *nominal* model (no friction override; a payload
+/// only when given, e.g. to score learners against the true plant), for any active-joint
+/// subset. Holds scratch state; one instance per job and thread.
 class ArmDynamics {
  public:
-  ArmDynamics(const ArmModel& model, std::vector<int> active_joints = {});
+  ArmDynamics(const ArmModel& model, std::vector<int> active_joints = {}, const Payload& payload = {});
   ~ArmDynamics();
   ArmDynamics(ArmDynamics&&) noexcept;
   ArmDynamics& operator=(ArmDynamics&&) noexcept;
@@ -115,6 +116,8 @@ class ArmDynamics {
   Eigen::VectorXd upper_limits() const;   ///< +inf where unlimited
   Eigen::VectorXd effort_limits() const;
   Eigen::VectorXd velocity_limits() const;
+  Eigen::VectorXd viscous_damping() const;   ///< the model's joint damping, N·m·s/rad
+  Eigen::VectorXd coulomb_friction() const;  ///< the model's joint friction, N·m
 
  private:
   struct Impl;

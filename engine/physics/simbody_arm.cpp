@@ -448,9 +448,11 @@ struct ArmDynamics::Impl {
   }
 };
 
-ArmDynamics::ArmDynamics(const ArmModel& model, std::vector<int> active_joints) : impl_(std::make_unique<Impl>()) {
+ArmDynamics::ArmDynamics(const ArmModel& model, std::vector<int> active_joints, const Payload& payload)
+    : impl_(std::make_unique<Impl>()) {
   impl_->model = &model;
   impl_->options.active_joints = std::move(active_joints);
+  impl_->options.payload = payload;
   impl_->options.soft_joint_limits = false;
   impl_->arm = make_arm_system(model, impl_->options);
   impl_->state = impl_->arm->system.getDefaultState();
@@ -537,5 +539,7 @@ Eigen::VectorXd ArmDynamics::effort_limits() const {
 Eigen::VectorXd ArmDynamics::velocity_limits() const {
   return collect(*impl_->model, impl_->arm->active_joint_indices, &Joint::velocity_limit);
 }
+Eigen::VectorXd ArmDynamics::viscous_damping() const { return impl_->arm->parameters.viscous; }
+Eigen::VectorXd ArmDynamics::coulomb_friction() const { return impl_->arm->parameters.coulomb; }
 
 }  // namespace armfarm

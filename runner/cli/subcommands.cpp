@@ -4,6 +4,7 @@
 namespace armfarm::cli {
 
 RunFunction setup_run(CLI::App& parent);
+RunFunction setup_job(CLI::App& parent);
 RunFunction setup_expand(CLI::App& parent);
 RunFunction setup_status(CLI::App& parent);
 RunFunction setup_table(CLI::App& parent);
@@ -19,6 +20,7 @@ RunFunction setup_model(CLI::App& parent);
 const std::vector<SubcommandEntry>& all_subcommands() {
   static const std::vector<SubcommandEntry> entries = {
       {"run", setup_run},
+      {"job", setup_job},
       {"expand", setup_expand},
       {"status", setup_status},
       {"table", setup_table},

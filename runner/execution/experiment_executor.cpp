@@ -1,42 +1,71 @@
-// TEMPORARY placeholder until the experiment job lands (the experiment helper's branch owns this
-// file; the lead replaces it at merge). The schema is a plausible experiment configuration so
-// that sweeps/quickstart.json can be parsed, validated and expanded; running a job reports that
-// experiment jobs are not built yet.
+// The experiment job as the runner sees it: JSON configuration → engine JobConfig → one
+// run_experiment() call. Arm models are loaded once per file and shared (read-only) by the
+// jobs of a sweep.
+#include "engine/experiment/run_experiment.hpp"
+#include "engine/model/model_loading.hpp"
+#include "runner/config/job_config_json.hpp"
 #include "runner/execution/job_executor.hpp"
 
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
 namespace armfarm {
+namespace {
+
+/// Arm models by file path, loaded on first use. Thread-safe; models are immutable once loaded.
+class ModelCache {
+ public:
+  std::shared_ptr<const ArmModel> get(const std::string& path) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto found = models_.find(path);
+    if (found != models_.end()) return found->second;
+    std::shared_ptr<const ArmModel> model;
+    try {
+      model = std::make_shared<const ArmModel>(load_arm_model(path));
+    } catch (const std::exception& error) {
+      throw ConfigError("model", error.what());
+    }
+    models_.emplace(path, model);
+    return model;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<const ArmModel>> models_;
+};
+
+int count_movable_joints(const ArmModel& model) { return static_cast<int>(model.movable_joints().size()); }
+
+}  // namespace
 
 JobConfigSchema make_experiment_config_schema() {
+  auto models = std::make_shared<ModelCache>();
   JobConfigSchema schema;
-  schema.defaults = nlohmann::json::parse(R"json({
-    "model": "models/dlr_lwr3.urdf",
-    "seed": 0,
-    "active_joints": [2, 4],
-    "control": {"kp": [200.0, 100.0], "kd": [20.0, 10.0], "gain_scale": 1.0, "period": 0.001},
-    "trajectory": {"kind": "figure8", "period": 4.0, "amplitude": [0.3, 0.3], "center": [0.0, 0.0]},
-    "learning": {"mode": "online",
-                 "lwpr": {"init_D": 25.0, "init_alpha": 250.0, "w_gen": 0.2, "w_prune": 1.0,
-                          "penalty": 1e-6, "meta": false}},
-    "recording": {"series": ["POS", "POS_D", "TOR", "FF"], "period": 0.01},
-    "simulation": {"duration": 20.0, "test_duration": 4.0, "divergence_limit": 100.0}
-  })json");
-  schema.validate = [](const nlohmann::json& config) {
-    if (config.at("control").at("gain_scale").get<double>() <= 0.0) {
-      throw ConfigError("control.gain_scale", "must be positive");
-    }
-    if (config.at("learning").at("lwpr").at("init_D").get<double>() <= 0.0) {
-      throw ConfigError("learning.lwpr.init_D", "must be positive");
-    }
-    if (config.at("simulation").at("duration").get<double>() <= 0.0) {
-      throw ConfigError("simulation.duration", "must be positive");
-    }
+  schema.defaults = make_job_config_defaults();
+  schema.validate = [models](const nlohmann::json& config) {
+    const auto model = models->get(config.at("model").get<std::string>());
+    parse_job_config(config, count_movable_joints(*model));
   };
   return schema;
 }
 
 JobExecutor make_experiment_executor() {
-  return [](const nlohmann::json&, const JobControl&) -> JobOutcome {
-    throw ConfigError("", "experiment jobs are not built yet");
+  auto models = std::make_shared<ModelCache>();
+  return [models](const nlohmann::json& config, const JobControl& control) -> JobOutcome {
+    const auto model = models->get(config.at("model").get<std::string>());
+    const JobConfig job = parse_job_config(config, count_movable_joints(*model));
+    JobOutcome outcome;
+    try {
+      outcome = run_experiment(*model, job, control.should_stop);
+    } catch (const std::invalid_argument& error) {
+      throw ConfigError("", error.what());
+    } catch (const std::exception& error) {
+      outcome.status = JobStatus::failed;
+      outcome.message = error.what();
+    }
+    return outcome;
   };
 }
 

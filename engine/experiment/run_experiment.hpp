@@ -1,0 +1,27 @@
+#pragma once
+// One experiment job of the thesis's simulator (chapters 5–6, appendix A): follow a desired
+// trajectory with the composite controller while a learner (LWPR) learns the inverse dynamics
+// online, or collect samples under feedback, train in batch and then control with the learned
+// model; measure tracking, feed-forward share and model accuracy.
+//
+// Phases: [batch only] collect `collect_repeats` passes of the trajectory under feedback at
+// `collect_gain_scale`, split train/test, train `epochs` epochs, score test nMSE; then one
+// evaluation pass with the configured controller. Every pass starts at the trajectory's first
+// sample at rest-consistent velocity. Metrics are those of the evaluation pass.
+#include "engine/experiment/job_config.hpp"
+#include "engine/experiment/job_outcome.hpp"
+#include "engine/model/arm_model.hpp"
+
+#include <functional>
+
+namespace armfarm {
+
+/// Runs one job. Never throws for the job's own failures: a NaN/Inf state, a tracking error
+/// above the bound for too long, a velocity above the limit or an integrator failure end the job
+/// with status diverged, the time and the reason; `should_stop` returning true (polled every
+/// tick) ends it with status timeout. Throws std::invalid_argument naming the configuration field
+/// for an unusable configuration. Deterministic: the same model, config and seed give the same
+/// metrics (timing metrics learner_us_* and sim_seconds_per_wall_second excepted).
+JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const std::function<bool()>& should_stop = {});
+
+}  // namespace armfarm
