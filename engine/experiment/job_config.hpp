@@ -89,7 +89,7 @@ struct RecordingConfig {
 struct DivergenceConfig {
   double max_tracking_error = 1.0;     ///< rad, on any joint ...
   double max_error_duration = 0.5;     ///< s, ... for longer than this
-  double velocity_limit_factor = 1.0;  ///< |q̇| above this × the model's velocity limit
+  double velocity_limit_factor = 1.5;  ///< |q̇| above this × the model's velocity limit (a runaway, not a fast move)
 };
 
 struct JobConfig {

@@ -449,6 +449,11 @@ class ExperimentRun {
     add_metric("n_segments", static_cast<double>(segments_.size()));
     add_metric("fb_abs_avg_first_segment", segment_feedback(segments_.front()));
     add_metric("fb_abs_avg_last_segment", segment_feedback(segments_.back()));
+    const auto segment_rmse = [this](const SegmentStatistics& stats) {
+      return stats.ticks ? std::sqrt(stats.squared_error_sum / static_cast<double>(stats.ticks * n_)) : std::nan("");
+    };
+    add_metric("tracking_rmse_first_segment", segment_rmse(segments_.front()));
+    add_metric("tracking_rmse_last_segment", segment_rmse(segments_.back()));
     for (std::size_t s = 0; s < segments_.size(); ++s) {
       const SegmentStatistics& stats = segments_[s];
       const double ticks = static_cast<double>(std::max<long>(1, stats.ticks));

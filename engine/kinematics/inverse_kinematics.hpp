@@ -1,6 +1,10 @@
 #pragma once
 // Inverse kinematics of the end-effector point: damped least squares on the 3×n position
-// Jacobian with a null-space term pulling towards a rest posture and joint-limit avoidance.
+// Jacobian with a null-space term pulling towards a rest posture, within the joint limits.
+// Iterating until the null-space step vanishes too makes the solution the posture closest to
+// the rest posture on the target's self-motion manifold (locally), a function of the target
+// alone: a closed path gives a closed joint path (no jump on return, no drift from small
+// target oscillations, the two faults the thesis reports).
 // Units: SI and radians; targets in the world frame.
 #include <Eigen/Core>
 
@@ -10,9 +14,10 @@ class ArmDynamics;
 
 struct InverseKinematicsOptions {
   double damping = 1e-3;           ///< λ of (J Jᵀ + λ² I)⁻¹, m
-  double null_space_gain = 0.1;    ///< pull towards rest_posture per iteration (dimensionless)
-  double tolerance = 1e-5;         ///< m, stop when |x − target| is below
-  int max_iterations = 100;
+  double null_space_gain = 0.5;    ///< share of the way to rest_posture taken per iteration (in the null space)
+  double tolerance = 1e-6;         ///< m, required |x − target| ...
+  double null_space_tolerance = 1e-8;  ///< rad, ... and null-space step norm to stop
+  int max_iterations = 500;
   double limit_margin = 0.05;      ///< rad kept away from each joint limit
 };
 

@@ -59,12 +59,13 @@ struct ReachingConfig {
   int reaches = 20;
 };
 
-/// Samples from a CSV (header row, then one row per sample): either joint angles (one column
-/// per active joint) or task-space x, y, z, at sample_rate Hz, resampled to the control rate,
-/// smoothed with a Savitzky–Golay filter (window, polynomial order) or a first-order low-pass
-/// (cutoff) before differentiation.
+/// Recorded samples (read from a CSV by the runner: the engine does no file I/O): either joint
+/// angles (one column per active joint) or task-space x, y, z, at sample_rate Hz, resampled to
+/// the control rate, smoothed with a Savitzky–Golay filter (window, polynomial order) or a
+/// first-order low-pass (cutoff) before differentiation.
 struct RecordedTrajectoryConfig {
-  std::string file;            ///< path to the CSV
+  std::string file;            ///< where the samples came from (for messages)
+  Eigen::MatrixXd samples;     ///< n_rows × (3 or n_active)
   bool task_space = true;      ///< columns are x, y, z (m) rather than joint angles (rad)
   double sample_rate = 100.0;  ///< Hz of the file's rows
   std::string filter = "savitzky_golay";  ///< "savitzky_golay", "low_pass" or "none"
@@ -97,8 +98,10 @@ struct JointTrajectory {
 
 /// Builds the trajectory for the active joints of `dynamics` (which supplies start angles,
 /// limits, kinematics and the IK). `seed` draws the reaching targets. Throws
-/// std::invalid_argument naming the field for unusable settings, std::runtime_error naming
-/// the file and line for a bad CSV, and std::runtime_error when a target cannot be reached.
+/// std::invalid_argument naming the field for unusable settings and std::runtime_error when a
+/// target cannot be reached. Task-space kinds get their velocities and accelerations from the
+/// inverse-kinematics samples (analytic = central differences, which are exact to O(dt²) on
+/// the smooth joint path; smoothed = Savitzky–Golay derivatives; backward = the thesis's).
 JointTrajectory build_trajectory(const TrajectoryConfig& config, ArmDynamics& dynamics, double dt, std::uint64_t seed);
 
 }  // namespace armfarm

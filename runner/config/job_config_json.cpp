@@ -2,6 +2,7 @@
 
 #include "engine/experiment/series_recorder.hpp"
 #include "runner/execution/job_executor.hpp"
+#include "runner/io/csv_reader.hpp"
 #include "runner/lwpr_params_json.hpp"
 
 #include <algorithm>
@@ -135,8 +136,13 @@ TrajectoryConfig parse_trajectory(const json& t, int n) {
   config.recorded.polynomial_order = parse_int(recorded, "polynomial_order", cp);
   config.recorded.cutoff = parse_number(recorded, "cutoff", cp);
   config.recorded.loops = parse_int(recorded, "loops", cp);
-  if (config.kind == TrajectoryKind::recorded && config.recorded.file.empty()) {
-    throw ConfigError(cp + ".file", "is required when trajectory.kind is \"recorded\"");
+  if (config.kind == TrajectoryKind::recorded) {
+    if (config.recorded.file.empty()) throw ConfigError(cp + ".file", "is required when trajectory.kind is \"recorded\"");
+    try {
+      config.recorded.samples = io::load_csv(config.recorded.file).values;
+    } catch (const std::exception& error) {
+      throw ConfigError(cp + ".file", error.what());
+    }
   }
   require_positive(config.recorded.sample_rate, cp + ".sample_rate");
   return config;

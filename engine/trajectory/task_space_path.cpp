@@ -1,0 +1,154 @@
+#include "engine/trajectory/task_space_path.hpp"
+
+#include "engine/kinematics/inverse_kinematics.hpp"
+#include "engine/physics/arm_simulation.hpp"
+#include "engine/trajectory/trajectory_differentiation.hpp"
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+namespace armfarm {
+namespace {
+
+constexpr double kMaxTargetError = 1e-3;  // m; the bound on the end-effector error
+
+/// Position profile p(s), p'(s), p''(s) on s ∈ [0, 1], from 0 to 1.
+Eigen::Vector3d calc_profile(ReachProfile profile, double steepness, double s) {
+  if (profile == ReachProfile::minimum_jerk) {
+    return {s * s * s * (10.0 - 15.0 * s + 6.0 * s * s), 30.0 * s * s * (1.0 - 2.0 * s + s * s),
+            60.0 * s * (1.0 - 3.0 * s + 2.0 * s * s)};
+  }
+  auto sigma = [steepness](double u) { return 1.0 / (1.0 + std::exp(-steepness * (u - 0.5))); };
+  const double low = sigma(0.0), range = sigma(1.0) - low, value = sigma(s);
+  return {(value - low) / range, steepness * value * (1.0 - value) / range,
+          steepness * steepness * value * (1.0 - value) * (1.0 - 2.0 * value) / range};
+}
+
+}  // namespace
+
+Eigen::MatrixXd calc_joint_path(ArmDynamics& dynamics, const Eigen::MatrixXd& targets, const Eigen::VectorXd& initial,
+                                const char* what) {
+  const Eigen::VectorXd rest = dynamics.start_positions();
+  Eigen::MatrixXd path(targets.rows(), dynamics.dof());
+  Eigen::VectorXd q = initial;
+  for (Eigen::Index i = 0; i < targets.rows(); ++i) {
+    const InverseKinematicsResult solution = solve_inverse_kinematics(dynamics, targets.row(i).transpose(), q, rest);
+    if (!(solution.error <= kMaxTargetError)) {
+      throw std::runtime_error(std::string(what) + ": sample " + std::to_string(i) + " at (" + std::to_string(targets(i, 0)) +
+                               ", " + std::to_string(targets(i, 1)) + ", " + std::to_string(targets(i, 2)) +
+                               ") m is out of reach (inverse kinematics misses it by " + std::to_string(solution.error) + " m)");
+    }
+    q = solution.q;
+    path.row(i) = q.transpose();
+  }
+  return path;
+}
+
+JointTrajectory build_figure_eight(const FigureEightConfig& config, Differentiation method, ArmDynamics& dynamics, double dt) {
+  if (config.points_per_loop < 4) throw std::invalid_argument("trajectory.figure_eight.points_per_loop: must be at least 4");
+  if (config.loops < 1) throw std::invalid_argument("trajectory.figure_eight.loops: must be at least 1");
+  if (!(config.scale > 0.0)) throw std::invalid_argument("trajectory.figure_eight.scale: must be positive");
+  const int points = config.points_per_loop;
+  Eigen::MatrixXd loop_targets(points, 3);
+  for (int i = 0; i < points; ++i) {
+    const double s = 2.0 * i / points;  // one loop: s ∈ [0, 2)
+    loop_targets.row(i) << config.centre.x(), config.centre.y() + config.scale * config.a * std::sin(M_PI * s),
+        config.centre.z() + config.scale * config.b * std::sin(2.0 * M_PI * s);
+  }
+  // Start from the rest posture; repeat the loop until its joint path closes (the IK converges
+  // to a function of the target, so one repeat normally suffices).
+  Eigen::VectorXd start = dynamics.start_positions();
+  Eigen::MatrixXd loop;
+  for (int attempt = 0; attempt < 10; ++attempt) {
+    loop = calc_joint_path(dynamics, loop_targets, start, "trajectory.figure_eight");
+    const Eigen::MatrixXd next_start = calc_joint_path(dynamics, loop_targets.topRows(1), loop.bottomRows(1).transpose(),
+                                                       "trajectory.figure_eight");
+    const double gap = (next_start.row(0) - loop.row(0)).cwiseAbs().maxCoeff();
+    start = next_start.row(0).transpose();
+    if (gap < 1e-6) break;
+  }
+  JointTrajectory trajectory;
+  trajectory.dt = dt;
+  trajectory.q = loop.replicate(config.loops, 1);
+  trajectory.task_position = loop_targets.replicate(config.loops, 1);
+  for (int k = 0; k < config.loops; ++k) trajectory.segment_starts.push_back(k * points);
+  fill_derivatives(trajectory, method, /*periodic=*/true, 15, 3);
+  return trajectory;
+}
+
+JointTrajectory build_reaching(const ReachingConfig& config, Differentiation method, ArmDynamics& dynamics, double dt,
+                               std::uint64_t seed) {
+  if (config.points_per_reach < 2) throw std::invalid_argument("trajectory.reaching.points_per_reach: must be at least 2");
+  if (config.reaches < 1) throw std::invalid_argument("trajectory.reaching.reaches: must be at least 1");
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!(config.box_min[axis] < config.box_max[axis])) {
+      throw std::invalid_argument("trajectory.reaching.box_max[" + std::to_string(axis) + "]: must exceed box_min");
+    }
+  }
+  std::mt19937_64 generator(seed * 0x9E3779B97F4A7C15ULL + 0x7EAC);
+  auto draw_unit = [&generator] { return static_cast<double>(generator() >> 11) * 0x1.0p-53; };
+  const Eigen::VectorXd rest = dynamics.start_positions();
+  // A target counts when the IK reaches it from the rest posture.
+  auto draw_target = [&](int index) {
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      Eigen::Vector3d target;
+      for (int axis = 0; axis < 3; ++axis) {
+        target[axis] = config.box_min[axis] + draw_unit() * (config.box_max[axis] - config.box_min[axis]);
+      }
+      if (solve_inverse_kinematics(dynamics, target, rest, rest).error <= kMaxTargetError * 0.1) return target;
+    }
+    throw std::runtime_error("trajectory.reaching: no reachable target found in the box for reach " + std::to_string(index) +
+                             " after 100 draws");
+  };
+  const int points = config.points_per_reach;
+  Eigen::MatrixXd targets(config.reaches * points, 3);
+  Eigen::MatrixXd joints(config.reaches * points, dynamics.dof());
+  // A reach is kept only if its joint path stays within 80 % of the velocity limits (a path
+  // near a singularity or a limit would demand more than the motors give); otherwise its
+  // target is redrawn.
+  const Eigen::VectorXd speed_limit = 0.8 * dynamics.velocity_limits();
+  const double reach_time = points * dt;
+  Eigen::Vector3d from = draw_target(0);
+  Eigen::VectorXd q = solve_inverse_kinematics(dynamics, from, rest, rest).q;
+  JointTrajectory trajectory;
+  trajectory.dt = dt;
+  for (int reach = 0; reach < config.reaches; ++reach) {
+    Eigen::MatrixXd segment_targets(points + 1, 3), segment;
+    bool feasible = false;
+    for (int attempt = 0; attempt < 100 && !feasible; ++attempt) {
+      const Eigen::Vector3d to = draw_target(reach + 1);
+      for (int i = 0; i <= points; ++i) {
+        const double s = static_cast<double>(i) / points;
+        segment_targets.row(i) = (from + (to - from) * calc_profile(config.profile, config.sigmoid_steepness, s)[0]).transpose();
+      }
+      try {
+        segment = calc_joint_path(dynamics, segment_targets, q, "trajectory.reaching");
+      } catch (const std::runtime_error&) {
+        continue;
+      }
+      feasible = true;
+      for (int i = 0; i < points && feasible; ++i) {
+        const Eigen::VectorXd speed = (segment.row(i + 1) - segment.row(i)).transpose().cwiseAbs() / dt;
+        feasible = (speed.array() <= speed_limit.array()).all();
+      }
+      if (feasible) from = to;
+    }
+    if (!feasible) {
+      throw std::runtime_error("trajectory.reaching: no target for reach " + std::to_string(reach + 1) +
+                               " can be reached within the joint velocity limits in " + std::to_string(reach_time) +
+                               " s (raise points_per_reach or shrink the box)");
+    }
+    targets.middleRows(reach * points, points) = segment_targets.topRows(points);
+    joints.middleRows(reach * points, points) = segment.topRows(points);
+    q = segment.row(points).transpose();
+    trajectory.segment_starts.push_back(reach * points);
+  }
+  trajectory.q = joints;
+  trajectory.task_position = targets;
+  fill_derivatives(trajectory, method, /*periodic=*/false, 15, 3);
+  return trajectory;
+}
+
+}  // namespace armfarm

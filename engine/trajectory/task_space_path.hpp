@@ -1,0 +1,26 @@
+#pragma once
+// Task-space paths (figure-eight, reaches) turned into joint paths by inverse kinematics.
+// Units: m, rad; world frame.
+#include "engine/trajectory/trajectory.hpp"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+
+namespace armfarm {
+
+/// Solves the IK for every row of `targets` (n × 3), warm-starting each sample from the
+/// previous one, with the null space pulled towards the start posture. Throws
+/// std::runtime_error naming the sample when a target is missed by more than 1 mm.
+Eigen::MatrixXd calc_joint_path(ArmDynamics& dynamics, const Eigen::MatrixXd& targets, const Eigen::VectorXd& initial,
+                                const char* what);
+
+/// The figure-eight, its loop solved until the joint path closes on itself (< 1e-6 rad), then
+/// repeated `loops` times so that every loop starts where the previous one ended.
+JointTrajectory build_figure_eight(const FigureEightConfig& config, Differentiation method, ArmDynamics& dynamics, double dt);
+
+/// Reaches between random targets in the box (redrawn when unreachable), deterministic in `seed`.
+JointTrajectory build_reaching(const ReachingConfig& config, Differentiation method, ArmDynamics& dynamics, double dt,
+                               std::uint64_t seed);
+
+}  // namespace armfarm

@@ -1,0 +1,175 @@
+// The experiment job end to end on the LWR III (issue: "what must be shown"). Each comparison
+// is between two runs of the same plant, so it cannot pass by construction.
+#include "engine/experiment/run_experiment.hpp"
+#include "../physics/test_arms.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <map>
+
+namespace armfarm {
+namespace {
+
+std::map<std::string, double> job_metrics(const JobOutcome& outcome) {
+  std::map<std::string, double> metrics;
+  for (const Metric& metric : outcome.metrics) {
+    metrics[metric.joint ? metric.name + "_j" + std::to_string(*metric.joint) : metric.name] = metric.value;
+  }
+  return metrics;
+}
+
+JobConfig make_sine_config(double duration) {
+  JobConfig config;
+  config.trajectory.kind = TrajectoryKind::sine;
+  config.trajectory.sine.duration = duration;
+  return config;
+}
+
+JobConfig make_feedback_config(double gain_scale, double duration) {
+  JobConfig config = make_sine_config(duration);
+  config.control.mode = ControlMode::feedback;
+  config.control.feed_forward = FeedForwardSource::none;
+  config.learning.mode = LearningMode::none;
+  config.control.gain_scale = gain_scale;
+  return config;
+}
+
+TEST(RunExperiment, FeedbackTracksTheDefaultSinusoid) {
+  const ArmModel model = testing::load_lwr3();
+  const JobOutcome outcome = run_experiment(model, make_feedback_config(1.0, 8.0));
+  ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
+  auto metrics = job_metrics(outcome);
+  // The bound stated in sweeps/README.md: full-gain PD alone keeps every joint's tracking nMSE
+  // below 0.05 (the shoulder, which carries the arm's weight, sags most).
+  for (int joint = 1; joint <= 7; ++joint) EXPECT_LT(metrics["tracking_nmse_j" + std::to_string(joint)], 0.05) << joint;
+  EXPECT_LT(metrics["tracking_rmse"], 0.03);
+  EXPECT_NEAR(outcome.end_time, 8.0, 1e-9);
+  std::printf("feedback, gain 1: tracking nMSE %.4f, rmse %.4f rad, %.0f simulated s per wall s\n", metrics["tracking_nmse"],
+              metrics["tracking_rmse"], metrics["sim_seconds_per_wall_second"]);
+}
+
+TEST(RunExperiment, BatchLearnedFeedForwardBeatsLowGainFeedback) {
+  const ArmModel model = testing::load_lwr3();
+  const JobOutcome feedback = run_experiment(model, make_feedback_config(0.2, 8.0));
+  JobConfig composite = make_sine_config(8.0);
+  composite.control.gain_scale = 0.2;
+  composite.learning.mode = LearningMode::batch;
+  const JobOutcome learned = run_experiment(model, composite);
+  ASSERT_EQ(feedback.status, JobStatus::done) << feedback.message;
+  ASSERT_EQ(learned.status, JobStatus::done) << learned.message;
+  auto f = job_metrics(feedback), l = job_metrics(learned);
+  EXPECT_LT(5.0 * l["tracking_nmse"], f["tracking_nmse"]);
+  // The joints that carry the arm's weight (table 6.4 of the thesis: 0.80–0.96).
+  for (int joint : {2, 4}) EXPECT_GE(l["ff_fb_ratio_avg_j" + std::to_string(joint)], 0.8) << "joint " << joint;
+  EXPECT_LT(l["test_nmse"], 0.5);
+  EXPECT_GT(l["n_receptive_fields"], 0.0);
+  std::printf("gain 0.2: feedback tracking nMSE %.4f, batch LWPR composite %.5f (%.0fx); ff/fb j2 %.2f j4 %.2f; test nMSE %.3f\n",
+              f["tracking_nmse"], l["tracking_nmse"], f["tracking_nmse"] / l["tracking_nmse"], l["ff_fb_ratio_avg_j2"],
+              l["ff_fb_ratio_avg_j4"], l["test_nmse"]);
+}
+
+TEST(RunExperiment, OnlineLearningOverRepeatedReachingReducesFeedback) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config;
+  config.trajectory.kind = TrajectoryKind::reaching;
+  config.trajectory.reaching.reaches = 12;
+  config.control.gain_scale = 0.2;
+  config.learning.mode = LearningMode::online;
+  config.recording.series = {"TRIAL"};
+  const JobOutcome outcome = run_experiment(model, config);
+  ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
+  auto metrics = job_metrics(outcome);
+  ASSERT_EQ(metrics["n_segments"], 12.0);
+  // Mean |fb| over the first three reaches against the last three.
+  const Series* trials = nullptr;
+  for (const Series& series : outcome.series) if (series.name == "TRIAL") trials = &series;
+  ASSERT_NE(trials, nullptr);
+  ASSERT_EQ(trials->rows.rows(), 12);
+  const double first = trials->rows.col(2).head(3).mean(), last = trials->rows.col(2).tail(3).mean();
+  EXPECT_LT(last, 0.5 * first);
+  std::printf("online reaching, gain 0.2: avg|fb| first 3 reaches %.3f N·m, last 3 %.3f N·m, %g receptive fields\n", first, last,
+              metrics["n_receptive_fields"]);
+}
+
+TEST(RunExperiment, LearnedFeedForwardBeatsTheNominalModelUnderAPayload) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig analytic = make_sine_config(20.0);
+  analytic.control.gain_scale = 0.2;
+  analytic.control.feed_forward = FeedForwardSource::analytic;
+  analytic.learning.mode = LearningMode::none;
+  analytic.mismatch.payload.mass = 3.0;
+  JobConfig learned = analytic;
+  learned.control.feed_forward = FeedForwardSource::learner;
+  learned.learning.mode = LearningMode::online;
+  const JobOutcome a = run_experiment(model, analytic), l = run_experiment(model, learned);
+  ASSERT_EQ(a.status, JobStatus::done) << a.message;
+  ASSERT_EQ(l.status, JobStatus::done) << l.message;
+  auto am = job_metrics(a), lm = job_metrics(l);
+  EXPECT_LT(lm["tracking_rmse_last_segment"], am["tracking_rmse_last_segment"]);
+  std::printf("3 kg payload, gain 0.2, last period: nominal analytic ff rmse %.4f rad, online LWPR ff %.4f rad\n",
+              am["tracking_rmse_last_segment"], lm["tracking_rmse_last_segment"]);
+}
+
+TEST(RunExperiment, AbsurdGainsDiverge) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_feedback_config(1.0, 4.0);
+  config.control.kp = Eigen::VectorXd::Constant(1, 1e5);
+  config.control.kd = Eigen::VectorXd::Constant(1, 1e4);
+  config.control.limit_torque = false;
+  const JobOutcome outcome = run_experiment(model, config);
+  EXPECT_EQ(outcome.status, JobStatus::diverged);
+  EXPECT_FALSE(outcome.message.empty());
+  EXPECT_LT(outcome.end_time, 4.0);
+  std::printf("kp 1e5: %s at t = %.2f s: %s\n", to_string(outcome.status), outcome.end_time, outcome.message.c_str());
+}
+
+TEST(RunExperiment, SameConfigAndSeedGiveIdenticalMetrics) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_sine_config(4.0);
+  config.control.gain_scale = 0.2;
+  config.recording.series = {"TOR", "RF"};
+  const JobOutcome first = run_experiment(model, config), second = run_experiment(model, config);
+  ASSERT_EQ(first.metrics.size(), second.metrics.size());
+  const std::vector<std::string> timing = {"learner_us_per_update", "learner_us_per_predict", "sim_seconds_per_wall_second"};
+  for (std::size_t i = 0; i < first.metrics.size(); ++i) {
+    if (std::find(timing.begin(), timing.end(), first.metrics[i].name) != timing.end()) continue;
+    EXPECT_EQ(first.metrics[i].name, second.metrics[i].name);
+    if (std::isnan(first.metrics[i].value)) {
+      EXPECT_TRUE(std::isnan(second.metrics[i].value)) << first.metrics[i].name;
+    } else {
+      EXPECT_EQ(first.metrics[i].value, second.metrics[i].value) << first.metrics[i].name;
+    }
+  }
+  ASSERT_EQ(first.series.size(), 2u);
+  EXPECT_EQ(first.series[1].rows, second.series[1].rows);
+}
+
+TEST(RunExperiment, ConfigErrorsNameTheField) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_sine_config(1.0);
+  config.active_joints = {2, 9};
+  try {
+    run_experiment(model, config);
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("active_joints[1]"), std::string::npos) << error.what();
+  }
+}
+
+TEST(RunExperiment, SubsetOfJointsRunsWithTheOthersLocked) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_sine_config(4.0);
+  config.active_joints = {2, 4};
+  config.control.gain_scale = 0.2;
+  const JobOutcome outcome = run_experiment(model, config);
+  ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
+  std::vector<int> joints;
+  for (const Metric& metric : outcome.metrics) {
+    if (metric.name == "tracking_nmse" && metric.joint) joints.push_back(*metric.joint);
+  }
+  EXPECT_EQ(joints, (std::vector<int>{2, 4}));
+}
+
+}  // namespace
+}  // namespace armfarm

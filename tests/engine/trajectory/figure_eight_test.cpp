@@ -1,0 +1,53 @@
+// The figure-eight of section 5.5 through inverse kinematics: within 1 mm of the task-space
+// path at every sample, and each loop ends where it started (within 1e-3 rad).
+#include "engine/physics/arm_simulation.hpp"
+#include "engine/trajectory/trajectory.hpp"
+#include "../physics/test_arms.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace armfarm {
+namespace {
+
+TEST(FigureEight, FollowsThePathWithinOneMillimetreAndClosesEveryLoop) {
+  const ArmModel model = testing::load_lwr3();
+  ArmDynamics dynamics(model);
+  TrajectoryConfig config;
+  config.kind = TrajectoryKind::figure_eight;
+  config.figure_eight.points_per_loop = 750;
+  config.figure_eight.loops = 3;
+  const JointTrajectory trajectory = build_trajectory(config, dynamics, 0.01, 0);
+  ASSERT_EQ(trajectory.size(), 2250);
+  ASSERT_EQ(trajectory.segment_starts, (std::vector<int>{0, 750, 1500}));
+  double worst_error = 0.0;
+  for (int k = 0; k < trajectory.size(); ++k) {
+    // The path itself, from the closed form (not from the trajectory's own task_position).
+    const double s = 2.0 * (k % 750) / 750.0;
+    const FigureEightConfig& eight = config.figure_eight;
+    const Eigen::Vector3d expected(eight.centre.x(), eight.centre.y() + eight.a * std::sin(M_PI * s),
+                                   eight.centre.z() + eight.b * std::sin(2.0 * M_PI * s));
+    const Eigen::Vector3d reached = dynamics.calc_end_effector_position(trajectory.q.row(k).transpose());
+    worst_error = std::max(worst_error, (reached - expected).norm());
+  }
+  EXPECT_LE(worst_error, 1e-3);
+  // End of loop k (its last sample advanced by one step) vs its start: the joint path is periodic.
+  double worst_closure = 0.0;
+  for (int loop = 0; loop + 1 < 3; ++loop) {
+    worst_closure = std::max(worst_closure, (trajectory.q.row((loop + 1) * 750) - trajectory.q.row(loop * 750)).cwiseAbs().maxCoeff());
+  }
+  const double last_step = (trajectory.q.row(749) - trajectory.q.row(0)).cwiseAbs().maxCoeff();
+  const double typical_step = (trajectory.q.row(1) - trajectory.q.row(0)).cwiseAbs().maxCoeff();
+  EXPECT_LE(worst_closure, 1e-3);
+  EXPECT_LE(last_step, 3.0 * typical_step + 1e-9) << "no jump when the loop returns to its start";
+  // Velocities are consistent with the positions (central differences of a smooth path).
+  const Eigen::VectorXd finite = (trajectory.q.row(101) - trajectory.q.row(99)).transpose() / 0.02;
+  EXPECT_LT((finite - trajectory.qd.row(100).transpose()).norm(), 1e-9);
+  std::printf("figure-eight: worst end-effector error %.2e m, loop closure %.2e rad, return step %.2e rad\n", worst_error,
+              worst_closure, last_step);
+}
+
+}  // namespace
+}  // namespace armfarm
