@@ -6,6 +6,7 @@
 #include "runner/lwpr_params_json.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -252,13 +253,16 @@ JobConfig parse_job_config(const nlohmann::json& c, int movable_joints) {
   const json& active = c.at("active_joints");
   for (std::size_t i = 0; i < active.size(); ++i) {
     const std::string path = "active_joints[" + std::to_string(i) + "]";
-    if (!active[i].is_number_integer()) throw ConfigError(path, "expected a joint number, got " + active[i].dump());
-    const int joint = active[i].get<int>();
+    // The schema's empty default list normalizes its numbers to reals: accept integral values.
+    if (!active[i].is_number() || std::floor(active[i].get<double>()) != active[i].get<double>()) {
+      throw ConfigError(path, "expected a joint number, got " + active[i].dump());
+    }
+    const int joint = static_cast<int>(active[i].get<double>());
     if (joint < 1 || joint > movable_joints) {
       throw ConfigError(path, "joint " + std::to_string(joint) + " does not exist; the arm has joints 1.." + std::to_string(movable_joints));
     }
     for (std::size_t k = 0; k < i; ++k) {
-      if (active[k].get<int>() == joint) throw ConfigError(path, "joint " + std::to_string(joint) + " is listed twice");
+      if (static_cast<int>(active[k].get<double>()) == joint) throw ConfigError(path, "joint " + std::to_string(joint) + " is listed twice");
     }
     config.active_joints.push_back(joint);
   }
