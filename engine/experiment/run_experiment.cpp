@@ -6,6 +6,7 @@
 #include "engine/experiment/signal_statistics.hpp"
 #include "engine/lwpr/lwpr_model.hpp"
 #include "engine/physics/arm_simulation.hpp"
+#include "engine/random/random_stream.hpp"
 #include "engine/trajectory/trajectory.hpp"
 
 #include <algorithm>
@@ -13,7 +14,6 @@
 #include <cmath>
 #include <memory>
 #include <numeric>
-#include <random>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -378,15 +378,15 @@ class ExperimentRun {
   }
 
   void train_in_batch(std::vector<Sample>& samples) {
-    std::mt19937_64 generator(config_.seed * 0x9E3779B97F4A7C15ULL + 0x5EED);
+    RandomStream generator(config_.seed, "learning.batch.shuffle");
     std::vector<std::size_t> order(samples.size());
     std::iota(order.begin(), order.end(), 0);
-    std::shuffle(order.begin(), order.end(), generator);
+    generator.shuffle(order.begin(), order.end());
     const auto n_train = static_cast<std::size_t>(std::llround(config_.learning.train_fraction * static_cast<double>(samples.size())));
     std::vector<std::size_t> train(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n_train));
     const std::vector<std::size_t> test(order.begin() + static_cast<std::ptrdiff_t>(n_train), order.end());
     for (int epoch = 0; epoch < config_.learning.epochs; ++epoch) {
-      if (epoch > 0) std::shuffle(train.begin(), train.end(), generator);
+      if (epoch > 0) generator.shuffle(train.begin(), train.end());
       for (std::size_t index : train) update(samples[index].x, samples[index].y);
     }
     training_samples_ = static_cast<long>(n_train);

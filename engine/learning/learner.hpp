@@ -5,16 +5,19 @@
 
 #include <cstddef>
 #include <memory>
+#include <vector>
 
 namespace armfarm {
 
 /// One prediction, y (n_out × 1), with a per-output confidence half-width (same units as y),
-/// the largest kernel activation that contributed, and whether any local model was
-/// trustworthy enough to predict at x. When `trustworthy` is false, `value` is not a
-/// prediction (it is zero) and callers must not use it as one.
+/// the largest kernel activation that contributed, and per output whether a local model was
+/// trustworthy enough to predict it at x. Where `output_trusted[o]` is false, `value[o]` is not
+/// a prediction (it is zero, its confidence +inf) and callers must not use it as one; the other
+/// outputs are unaffected. `trustworthy` is true when every output is trusted.
 struct Prediction {
   Eigen::VectorXd value;
   Eigen::VectorXd confidence;
+  std::vector<bool> output_trusted;  ///< n_out
   double max_activation = 0.0;
   bool trustworthy = false;
 };

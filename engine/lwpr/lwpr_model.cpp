@@ -145,6 +145,7 @@ Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& wor
   prediction.value = Eigen::VectorXd::Zero(n_out_);
   prediction.confidence = Eigen::VectorXd::Constant(n_out_, std::numeric_limits<double>::infinity());
   prediction.trustworthy = true;
+  prediction.output_trusted.assign(n_out_, false);
   detail.max_activation = Eigen::VectorXd::Zero(n_out_);
   detail.trustworthy.assign(n_out_, false);
   double min_of_max = std::numeric_limits<double>::infinity();
@@ -178,6 +179,7 @@ Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& wor
       continue;
     }
     detail.trustworthy[o] = true;
+    prediction.output_trusted[o] = true;
     double mean = y_best;
     double variance = var_best;
     if (params_.blend) {

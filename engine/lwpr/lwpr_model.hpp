@@ -51,8 +51,8 @@ class LwprModel final : public Learner {
   std::unique_ptr<PredictionWorkspace> make_workspace() const override;
 
   /// Blended (or winner-take-all) prediction at x with a one-standard-deviation confidence per
-  /// output. `trustworthy` is false if any output has no trustworthy active field; that output's
-  /// value is 0 and its confidence +∞. max_activation is the smallest over outputs of each
+  /// output. An output with no trustworthy active field has output_trusted false, value 0 and
+  /// confidence +∞; `trustworthy` is false if any output is untrusted. max_activation is the smallest over outputs of each
   /// output's largest activation. Throws std::invalid_argument for a wrong size, a non-finite x,
   /// or a workspace not made by this class.
   Prediction predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace) const override;

@@ -2,10 +2,10 @@
 
 #include "engine/kinematics/inverse_kinematics.hpp"
 #include "engine/physics/arm_simulation.hpp"
+#include "engine/random/random_stream.hpp"
 #include "engine/trajectory/trajectory_differentiation.hpp"
 
 #include <cmath>
-#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -87,15 +87,14 @@ JointTrajectory build_reaching(const ReachingConfig& config, Differentiation met
       throw std::invalid_argument("trajectory.reaching.box_max[" + std::to_string(axis) + "]: must exceed box_min");
     }
   }
-  std::mt19937_64 generator(seed * 0x9E3779B97F4A7C15ULL + 0x7EAC);
-  auto draw_unit = [&generator] { return static_cast<double>(generator() >> 11) * 0x1.0p-53; };
+  RandomStream target_draws(seed, "trajectory.reaching.targets");
   const Eigen::VectorXd rest = dynamics.start_positions();
   // A target counts when the IK reaches it from the rest posture.
   auto draw_target = [&](int index) {
     for (int attempt = 0; attempt < 100; ++attempt) {
       Eigen::Vector3d target;
       for (int axis = 0; axis < 3; ++axis) {
-        target[axis] = config.box_min[axis] + draw_unit() * (config.box_max[axis] - config.box_min[axis]);
+        target[axis] = target_draws.uniform(config.box_min[axis], config.box_max[axis]);
       }
       if (solve_inverse_kinematics(dynamics, target, rest, rest).error <= kMaxTargetError * 0.1) return target;
     }

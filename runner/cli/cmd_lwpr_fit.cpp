@@ -2,6 +2,7 @@
 // and speed (the thesis's "creating LWPR models" phase).
 #include "engine/lwpr/lwpr_model.hpp"
 #include "engine/lwpr/lwpr_model_file.hpp"
+#include "engine/random/random_stream.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/io/csv_reader.hpp"
 #include "runner/lwpr_params_json.hpp"
@@ -15,7 +16,6 @@
 #include <iostream>
 #include <memory>
 #include <numeric>
-#include <random>
 #include <stdexcept>
 
 namespace armfarm::cli {
@@ -59,15 +59,11 @@ int run_fit(const FitOptions& opt) {
 
   std::vector<Eigen::Index> order(x_train.rows());
   std::iota(order.begin(), order.end(), 0);
-  std::mt19937_64 rng(opt.shuffle >= 0 ? static_cast<std::uint64_t>(opt.shuffle) : 0u);
+  RandomStream rng(opt.shuffle >= 0 ? static_cast<std::uint64_t>(opt.shuffle) : 0u, "lwpr_fit.shuffle");
   Eigen::VectorXd x(n_in), y(n_out);
   double update_seconds = 0.0;
   for (int epoch = 0; epoch < opt.epochs; ++epoch) {
-    if (opt.shuffle >= 0) {
-      for (std::size_t i = order.size(); i > 1; --i) {  // Fisher–Yates with our own draws: portable
-        std::swap(order[i - 1], order[rng() % i]);
-      }
-    }
+    if (opt.shuffle >= 0) rng.shuffle(order.begin(), order.end());
     const auto start = std::chrono::steady_clock::now();
     for (Eigen::Index i : order) {
       x = x_train.row(i).transpose();

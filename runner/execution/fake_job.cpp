@@ -1,16 +1,15 @@
 #include "runner/execution/fake_job.hpp"
 
+#include "engine/random/random_stream.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <random>
 #include <stdexcept>
 #include <thread>
 
 namespace armfarm {
 namespace {
-
-double draw_unit(std::mt19937_64& generator) { return static_cast<double>(generator() >> 11) * 0x1.0p-53; }
 
 // Sleeps `milliseconds` in 1 ms slices; false when asked to stop first.
 bool sleep_polling(double milliseconds, const JobControl& control) {
@@ -105,11 +104,11 @@ JobExecutor make_fake_job_executor() {
       }
     }
 
-    std::mt19937_64 generator(static_cast<std::uint64_t>(seed) * 0x9E3779B97F4A7C15ULL + 1);
+    RandomStream generator(static_cast<std::uint64_t>(seed), "fake_job.noise");
     double mean = 0.0;
     for (long j = 0; j < n_joints; ++j) {
       const double base = 0.01 * std::pow(init_D, 0.3) / (1.0 + kp[j].get<double>() * gain_scale / 100.0);
-      const double value = base * (1.0 + 0.1 * (draw_unit(generator) - 0.5));
+      const double value = base * (1.0 + 0.1 * (generator.uniform() - 0.5));
       outcome.metrics.push_back({"tracking_nmse", static_cast<int>(j + 1), value});
       mean += value / static_cast<double>(n_joints);
     }
@@ -127,8 +126,8 @@ JobExecutor make_fake_job_executor() {
       pos.rows(i, 0) = tor.rows(i, 0) = t;
       for (long j = 1; j <= n_joints; ++j) {
         const double phase = 2.0 * M_PI * t / period + static_cast<double>(j);
-        pos.rows(i, j) = amplitude * std::sin(phase) + 1e-4 * (draw_unit(generator) - 0.5);
-        tor.rows(i, j) = kp[j - 1].get<double>() * gain_scale * 0.01 * std::cos(phase) + 1e-3 * (draw_unit(generator) - 0.5);
+        pos.rows(i, j) = amplitude * std::sin(phase) + 1e-4 * (generator.uniform() - 0.5);
+        tor.rows(i, j) = kp[j - 1].get<double>() * gain_scale * 0.01 * std::cos(phase) + 1e-3 * (generator.uniform() - 0.5);
       }
     }
     outcome.series.push_back(std::move(pos));

@@ -3,9 +3,10 @@
 #include "runner/spec/canonical_json.hpp"
 #include "runner/spec/spec_error.hpp"
 
+#include "engine/random/random_stream.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <set>
 #include <unordered_set>
 
@@ -21,10 +22,6 @@ struct Assignment {
 };
 using FactorEntry = std::vector<Assignment>;
 using Factor = std::vector<FactorEntry>;
-
-// A real number in [0, 1) from 53 random bits: the same on every platform (unlike
-// std::uniform_real_distribution, whose algorithm the standard leaves open).
-double draw_unit(std::mt19937_64& generator) { return static_cast<double>(generator() >> 11) * 0x1.0p-53; }
 
 std::vector<Factor> make_factors(const SweepSpec& spec, const std::vector<PathSegment>& seed_segments) {
   std::vector<Factor> factors;
@@ -45,12 +42,12 @@ std::vector<Factor> make_factors(const SweepSpec& spec, const std::vector<PathSe
     factors.push_back(std::move(factor));
   }
   if (spec.random) {
-    std::mt19937_64 generator(spec.random->seed);
+    RandomStream generator(spec.random->seed, "sweep.random");
     Factor factor;
     for (int s = 0; s < spec.random->samples; ++s) {
       FactorEntry entry;
       for (const SpecRandomParam& param : spec.random->params) {
-        const double u = draw_unit(generator);
+        const double u = generator.uniform();
         nlohmann::json value;
         switch (param.distribution) {
           case RandomDistribution::uniform:

@@ -247,6 +247,7 @@ TEST(LwprModel, FlagsPredictionsWithoutTrustworthyFields) {
   auto workspace = model.make_workspace();
   Prediction empty = model.predict(Eigen::Vector2d(0.0, 0.0), *workspace);
   EXPECT_FALSE(empty.trustworthy);
+  EXPECT_EQ(empty.output_trusted, (std::vector<bool>{false, false}));
   EXPECT_TRUE(std::isinf(empty.confidence(0)));
   std::mt19937_64 rng(8);
   std::uniform_real_distribution<double> uniform(-0.2, 0.2);
@@ -257,6 +258,7 @@ TEST(LwprModel, FlagsPredictionsWithoutTrustworthyFields) {
   LwprPredictionDetail detail;
   const Prediction near = model.predict(Eigen::Vector2d(0.05, -0.05), *workspace, detail);
   EXPECT_TRUE(near.trustworthy);
+  EXPECT_EQ(near.output_trusted, (std::vector<bool>{true, true}));
   EXPECT_NEAR(near.value(0), 0.05 - 0.1, 5e-3);  // a plane, up to the lag of the forgetting PLS
   EXPECT_NEAR(near.value(1), 0.95, 5e-3);
   EXPECT_GT(near.max_activation, 0.5);
