@@ -144,10 +144,10 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   std::set<int> joints;
   for (const JobResult& job : data.jobs) {
     for (const auto& [id, value] : job.metrics) {
-      if (id.name == "test_nmse" && id.joint) joints.insert(*id.joint);
+      if (id.name == "same_run_test_nmse" && id.joint) joints.insert(*id.joint);
     }
   }
-  if (joints.empty()) throw AnalysisError("sweep '" + data.name + "' has no test_nmse metric (batch learning jobs)");
+  if (joints.empty()) throw AnalysisError("sweep '" + data.name + "' has no same_run_test_nmse metric (batch learning jobs)");
   Figure figure;
   figure.title = "Test nMSE and receptive fields against kernel width (sweep " + data.name + ")";
   const std::string prefix = last_segment(request.adaptation_param) + "=";
@@ -157,7 +157,7 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
     panel.x_label = request.kernel_param + " (kernel width, 1/input²)";
     panel.y_label = "test nMSE (dimensionless)";
     panel.log_x = true;
-    panel.curves = make_grouped_curves(data, request.kernel_param, request.adaptation_param, MetricId{"test_nmse", joint}, prefix);
+    panel.curves = make_grouped_curves(data, request.kernel_param, request.adaptation_param, MetricId{"same_run_test_nmse", joint}, prefix);
     if (panel.curves.empty()) throw AnalysisError("sweep '" + data.name + "': no numeric " + request.kernel_param + " values");
     figure.panels.push_back(std::move(panel));
   }
@@ -282,7 +282,7 @@ std::vector<PlotKind> find_available_plot_kinds(const ResultsStore& store, const
   std::vector<PlotKind> kinds;
   bool has_test_nmse = false;
   for (const JobResult& job : data.jobs) {
-    for (const auto& [id, value] : job.metrics) has_test_nmse = has_test_nmse || id.name == "test_nmse";
+    for (const auto& [id, value] : job.metrics) has_test_nmse = has_test_nmse || id.name == "same_run_test_nmse";
   }
   if (has_test_nmse) kinds.push_back(PlotKind::nmse_vs_kernel);
   std::set<std::string> series;

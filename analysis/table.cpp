@@ -196,7 +196,7 @@ std::vector<TableSpec> make_default_table_specs(const SweepData& data) {
   if (!tracking.empty()) {
     specs.push_back({"Tracking nMSE per task axis and joint (thesis tables 6.2-6.3)", swept, tracking, {}, {}});
   }
-  const auto learned = present({"test_nmse", "id_nmse", "n_receptive_fields"});
+  const auto learned = present({"same_run_test_nmse", "heldout_test_nmse", "id_nmse", "n_receptive_fields"});
   if (!learned.empty()) {
     specs.push_back({"Learned model: nMSE and receptive fields (thesis figures 6.1-6.2)", swept, learned, {}, {}});
   }

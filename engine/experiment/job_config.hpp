@@ -46,6 +46,11 @@ struct ControlConfig {
   bool limit_torque = true;    ///< clip the command to the model's effort limits
 };
 
+/// The learners the factory knows (a second one, e.g. SSGPR, is added here and in the factory).
+enum class LearnerKind {
+  lwpr,  ///< locally weighted projection regression (engine/lwpr/)
+};
+
 enum class LearningMode {
   none,    ///< no learner (feedback, or analytic feed-forward)
   online,  ///< learn every tick while controlling with the learner's prediction
@@ -70,6 +75,37 @@ struct LearningConfig {
   /// Replace lwpr.norm_in by each input's standard deviation along the desired trajectory
   /// (q, q̇, q̈ differ by orders of magnitude; one kernel width cannot suit all three raw).
   bool normalize_inputs = true;
+  /// Which learner the factory (engine/learning/learner_factory.hpp) builds.
+  LearnerKind learner = LearnerKind::lwpr;
+
+  /// Batch: every collection repeat after the first starts off the trajectory by a seeded
+  /// normal draw of this standard deviation per joint angle (rad; stream "collection.start_state"),
+  /// so a repeat is a different realisation of the run, never a copy. 0 = exact copies.
+  double collect_start_spread = 0.05;
+  /// Batch: standard deviation of the sensor noise added to the measured q (rad) and q̇ (rad/s)
+  /// that the collecting controller and the recorded samples see (stream "collection.sensor_noise").
+  double collect_noise_q = 0.0;
+  double collect_noise_qd = 0.0;
+
+  /// Held-out evaluation (online and batch): the learner, frozen, is scored on a different
+  /// realisation of the trajectory it never trained on (heldout_* metrics). See heldout_evaluation.hpp.
+  bool heldout = true;
+  /// When to evaluate: online, after this many completed segments of the learning pass (reaches
+  /// for reaching, periods of the slowest joint for sine, loops for figure-eight and recorded;
+  /// 0 = before learning); batch, after this many training epochs. Empty: once, at the end.
+  std::vector<int> heldout_checkpoints;
+  /// Segments of the held-out trajectory (reaches, periods, loops); 0: 9 reaches (the thesis's
+  /// 9 held-out transitions), otherwise 1 period or loop. Ignored for recorded motion.
+  int heldout_segments = 0;
+  /// Sine and figure-eight: the held-out variant's amplitude (figure-eight: scale) relative to the
+  /// training trajectory's.
+  double heldout_amplitude_scale = 0.8;
+  /// Sine: the held-out variant adds (i − 1)·this phase (rad) to the i-th active joint (relative
+  /// phases change, so the joint-space path differs, not just its start time).
+  double heldout_phase_step = 0.785398163397448;  // π/4
+  /// Recorded motion: the last fraction of the recording is held out and never trained on (the
+  /// learning pass replays the rest).
+  double heldout_recorded_fraction = 0.25;
 };
 
 /// Model mismatch: the plant differs from the nominal model the analytic feed-forward uses.

@@ -1,0 +1,65 @@
+#pragma once
+// What every phase of one experiment job shares: the active joints, the nominal model the
+// controller and the analytic feed-forward know, the PD gains, and the true plant (the nominal
+// model plus the configured mismatch) that the learners are scored against.
+#include "engine/control/pd_gains.hpp"
+#include "engine/experiment/job_config.hpp"
+#include "engine/model/arm_model.hpp"
+#include "engine/physics/arm_simulation.hpp"
+#include "engine/trajectory/trajectory.hpp"
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <vector>
+
+namespace armfarm {
+
+class JobSetup {
+ public:
+  /// Checks the configuration (std::invalid_argument naming the field) and resolves joints and gains.
+  JobSetup(const ArmModel& model, const JobConfig& config);
+
+  const ArmModel& model() const { return model_; }
+  const JobConfig& config() const { return config_; }
+  const std::vector<int>& joint_numbers() const { return joint_numbers_; }  ///< 1-based
+  int dof() const { return n_; }
+  ArmDynamics& nominal() { return nominal_; }  ///< scratch state inside: one per job
+  const PdGains& gains() const { return gains_; }
+
+  /// Whether the plant differs from the nominal model from the start of every pass
+  /// (mismatch.start_time ≤ 0) rather than from start_time into the evaluation passes.
+  bool mismatch_from_start() const { return config_.mismatch.start_time <= 0.0; }
+  /// Whether any mismatch (payload, friction) is configured at all.
+  bool has_mismatch() const {
+    return config_.mismatch.payload.mass > 0.0 || config_.mismatch.viscous.size() || config_.mismatch.coulomb.size();
+  }
+  /// A fresh plant at the nominal model, with the mismatch in place when mismatch_from_start().
+  ArmSimulation make_plant() const;
+  void apply_mismatch(ArmSimulation& plant) const;
+  void remove_mismatch(ArmSimulation& plant) const;
+
+  /// The torque (n) the true plant needs for (q, q̇, q̈): rigid body (with the payload once the
+  /// mismatch is present) plus its joint friction — the ground truth of id_nmse.
+  Eigen::VectorXd calc_true_torque(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                                   bool mismatch_present);
+
+ private:
+  void validate() const;
+
+  const ArmModel& model_;
+  const JobConfig& config_;
+  std::vector<int> joint_numbers_;
+  std::vector<int> active_indices_;
+  ArmDynamics nominal_;
+  int n_;
+  PdGains gains_;
+  std::unique_ptr<ArmDynamics> true_dynamics_;
+  Eigen::VectorXd true_viscous_, true_coulomb_, nominal_viscous_, nominal_coulomb_;
+};
+
+/// Per learner input (q, q̇, q̈ of each active joint, 3n): its standard deviation along the
+/// desired trajectory (1 where it does not vary), the scale LWPR normalises its inputs by.
+Eigen::VectorXd calc_trajectory_input_scale(const JointTrajectory& trajectory);
+
+}  // namespace armfarm
