@@ -63,11 +63,13 @@ RunFunction setup_job(CLI::App& parent) {
     std::map<int, nlohmann::json> per_joint;
     nlohmann::json metrics = nlohmann::json::object();
     for (const Metric& metric : outcome.metrics) {
+      // Held-out metrics are measured at checkpoints: "heldout_test_nmse@200".
+      const std::string name = metric.checkpoint ? metric.name + "@" + std::to_string(*metric.checkpoint) : metric.name;
       if (metric.joint) {
         per_joint[*metric.joint]["joint"] = *metric.joint;
-        per_joint[*metric.joint][metric.name] = number_or_null(metric.value);
+        per_joint[*metric.joint][name] = number_or_null(metric.value);
       } else {
-        metrics[metric.name] = number_or_null(metric.value);
+        metrics[name] = number_or_null(metric.value);
       }
     }
     if (*as_json) {

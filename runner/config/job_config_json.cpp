@@ -210,6 +210,16 @@ nlohmann::json make_job_config_defaults() {
         {"collect_repeats", l.collect_repeats},
         {"collect_gain_scale", l.collect_gain_scale},
         {"learn_during_evaluation", l.learn_during_evaluation},
+        {"learner", "lwpr"},
+        {"collect_start_spread", l.collect_start_spread},
+        {"collect_noise_q", l.collect_noise_q},
+        {"collect_noise_qd", l.collect_noise_qd},
+        {"heldout", l.heldout},
+        {"heldout_checkpoints", json::array()},
+        {"heldout_segments", l.heldout_segments},
+        {"heldout_amplitude_scale", l.heldout_amplitude_scale},
+        {"heldout_phase_step", l.heldout_phase_step},
+        {"heldout_recorded_fraction", l.heldout_recorded_fraction},
         {"lwpr",
          {{"init_D", nullptr},
           {"init_alpha", p.init_alpha},
@@ -326,6 +336,34 @@ JobConfig parse_job_config(const nlohmann::json& c, int movable_joints) {
   config.learning.collect_gain_scale = parse_number(learning, "collect_gain_scale", "learning");
   if (config.learning.collect_gain_scale < 0.0) throw ConfigError("learning.collect_gain_scale", "must not be negative");
   config.learning.learn_during_evaluation = parse_bool(learning, "learn_during_evaluation", "learning");
+  config.learning.learner = parse_choice<LearnerKind>(learning.at("learner"), "learning.learner", {{"lwpr", LearnerKind::lwpr}});
+  config.learning.collect_start_spread = parse_number(learning, "collect_start_spread", "learning");
+  if (config.learning.collect_start_spread < 0.0) throw ConfigError("learning.collect_start_spread", "must not be negative");
+  config.learning.collect_noise_q = parse_number(learning, "collect_noise_q", "learning");
+  if (config.learning.collect_noise_q < 0.0) throw ConfigError("learning.collect_noise_q", "must not be negative");
+  config.learning.collect_noise_qd = parse_number(learning, "collect_noise_qd", "learning");
+  if (config.learning.collect_noise_qd < 0.0) throw ConfigError("learning.collect_noise_qd", "must not be negative");
+  config.learning.heldout = parse_bool(learning, "heldout", "learning");
+  const json& checkpoints = learning.at("heldout_checkpoints");
+  if (!checkpoints.is_array()) throw ConfigError("learning.heldout_checkpoints", "expected a list of integers, got " + checkpoints.dump());
+  for (std::size_t i = 0; i < checkpoints.size(); ++i) {
+    const std::string path = "learning.heldout_checkpoints[" + std::to_string(i) + "]";
+    if (!checkpoints[i].is_number_integer()) throw ConfigError(path, "expected an integer, got " + checkpoints[i].dump());
+    const int checkpoint = checkpoints[i].get<int>();
+    if (checkpoint < 0 || (i > 0 && checkpoint <= config.learning.heldout_checkpoints.back())) {
+      throw ConfigError(path, "checkpoints must be non-negative and increasing");
+    }
+    config.learning.heldout_checkpoints.push_back(checkpoint);
+  }
+  config.learning.heldout_segments = parse_int(learning, "heldout_segments", "learning");
+  if (config.learning.heldout_segments < 0) throw ConfigError("learning.heldout_segments", "must not be negative");
+  config.learning.heldout_amplitude_scale = parse_number(learning, "heldout_amplitude_scale", "learning");
+  require_positive(config.learning.heldout_amplitude_scale, "learning.heldout_amplitude_scale");
+  config.learning.heldout_phase_step = parse_number(learning, "heldout_phase_step", "learning");
+  config.learning.heldout_recorded_fraction = parse_number(learning, "heldout_recorded_fraction", "learning");
+  if (!(config.learning.heldout_recorded_fraction > 0.0 && config.learning.heldout_recorded_fraction < 1.0)) {
+    throw ConfigError("learning.heldout_recorded_fraction", "must be in (0, 1)");
+  }
   json lwpr = json::object();
   for (const auto& [key, value] : learning.at("lwpr").items()) {
     if (!value.is_null()) lwpr[key] = value;
