@@ -22,7 +22,7 @@ std::string error_of(const nlohmann::json& config) {
 TEST(JobConfigJson, DefaultsParseToTheEngineDefaults) {
   const JobConfig parsed = parse_job_config(make_job_config_defaults(), 7);
   const JobConfig engine;
-  EXPECT_EQ(parsed.dt, engine.dt);
+  EXPECT_EQ(parsed.simulation.dt, engine.simulation.dt);
   EXPECT_EQ(parsed.control.gain_scale, engine.control.gain_scale);
   EXPECT_EQ(parsed.control.bandwidth, engine.control.bandwidth);
   EXPECT_EQ(parsed.learning.lwpr.init_D(0, 0), make_job_lwpr_defaults().init_D(0, 0));
@@ -64,7 +64,7 @@ TEST(JobConfigJson, BadValuesNameTheirPath) {
   EXPECT_NE(error_of(config).find("learning.lwpr"), std::string::npos) << error_of(config);
   config = make_job_config_defaults();
   config["recording"]["series"] = {"POS", "TORQUE"};
-  EXPECT_NE(error_of(config).find("recording.series[1]: unknown series"), std::string::npos) << error_of(config);
+  EXPECT_NE(error_of(config).find("recording.series[1]: unknown name"), std::string::npos) << error_of(config);
   config = make_job_config_defaults();
   config["learning"]["mode"] = "none";
   EXPECT_NE(error_of(config).find("learning.mode"), std::string::npos) << error_of(config);
