@@ -150,7 +150,11 @@ void check_lwpr(const JobConfig& config, int n, const std::vector<ConfigProblem>
 void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
   if (config.control.mode != ControlMode::feedback && config.control.feed_forward == FeedForwardSource::learner &&
       config.learning.mode == LearningMode::none) {
-    checker.add("learning.mode", "is \"none\" but control.feed_forward is \"learner\" (use \"analytic\" or \"none\")");
+    const auto name = [](const EnumNames& names, auto value) { return std::string("\"") + find_enum_name(names, static_cast<int>(value)) + "\""; };
+    checker.add("learning.mode", "is " + name(learning_mode_names(), LearningMode::none) + " but control.feed_forward is " +
+                                     name(feed_forward_source_names(), FeedForwardSource::learner) + " (use " +
+                                     name(feed_forward_source_names(), FeedForwardSource::analytic) + " or " +
+                                     name(feed_forward_source_names(), FeedForwardSource::none) + ")");
   }
   const ReachingConfig& reaching = config.trajectory.reaching;
   for (int axis = 0; axis < 3; ++axis) {
@@ -168,7 +172,8 @@ void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
   }
   if (config.trajectory.kind == TrajectoryKind::recorded) {
     if (recorded.file.empty() && recorded.samples.size() == 0) {
-      checker.add("trajectory.recorded.file", "is required when trajectory.kind is \"recorded\"");
+      checker.add("trajectory.recorded.file", std::string("is required when trajectory.kind is \"") +
+                                                  find_enum_name(trajectory_kind_names(), static_cast<int>(TrajectoryKind::recorded)) + "\"");
     } else {
       const int columns = recorded.task_space ? 3 : n;
       const std::string where = "trajectory.recorded.file";
