@@ -39,7 +39,7 @@ PassResult end_pass(JobStatus status, double time, std::string message, double s
 
 PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTrajectory& trajectory, const PassOptions& options) {
   const JobConfig& config = setup.config();
-  const double dt = config.dt;
+  const double dt = config.simulation.dt;
   const int n = setup.dof();
   const double pass_start = plant.time();
   bool mismatch_present = setup.mismatch_from_start();

@@ -61,13 +61,13 @@ JobTrajectories build_job_trajectories(const JobConfig& config, ArmDynamics& dyn
   const bool wants_heldout = config.learning.mode != LearningMode::none && config.learning.heldout;
   JobTrajectories result;
   if (!wants_heldout) {
-    result.training = build_trajectory(config.trajectory, dynamics, config.dt, config.seed);
+    result.training = build_trajectory(config.trajectory, dynamics, config.simulation.dt, config.seed);
     return result;
   }
   if (config.trajectory.kind == TrajectoryKind::recorded) {
     TrajectoryConfig once = config.trajectory;
     once.recorded.loops = 1;
-    const JointTrajectory whole = build_trajectory(once, dynamics, config.dt, config.seed);
+    const JointTrajectory whole = build_trajectory(once, dynamics, config.simulation.dt, config.seed);
     const int rows = whole.size();
     const int kept = static_cast<int>(std::lround((1.0 - config.learning.heldout_recorded_fraction) * rows));
     if (kept < 2 || rows - kept < 2) {
@@ -78,10 +78,10 @@ JobTrajectories build_job_trajectories(const JobConfig& config, ArmDynamics& dyn
     result.heldout = slice_rows(whole, kept, rows - kept, 1);
     return result;
   }
-  result.training = build_trajectory(config.trajectory, dynamics, config.dt, config.seed);
+  result.training = build_trajectory(config.trajectory, dynamics, config.simulation.dt, config.seed);
   // The reaching targets of the held-out set come from a stream of their own.
   const std::uint64_t heldout_seed = RandomStream(config.seed, "heldout.reaching").next_u64();
-  result.heldout = build_trajectory(make_heldout_config(config, dynamics), dynamics, config.dt, heldout_seed);
+  result.heldout = build_trajectory(make_heldout_config(config, dynamics), dynamics, config.simulation.dt, heldout_seed);
   return result;
 }
 

@@ -8,25 +8,11 @@
 namespace armfarm {
 namespace {
 
-/// 1-based joint numbers → 0-based indices into movable_joints(); empty = every movable joint.
+/// 1-based joint numbers (validate() checked them); every movable joint for an empty list.
 std::vector<int> resolve_joint_numbers(const ArmModel& model, const std::vector<int>& numbers) {
-  const int movable = static_cast<int>(model.movable_joints().size());
+  if (!numbers.empty()) return numbers;
   std::vector<int> result;
-  if (numbers.empty()) {
-    for (int i = 1; i <= movable; ++i) result.push_back(i);
-    return result;
-  }
-  for (std::size_t i = 0; i < numbers.size(); ++i) {
-    if (numbers[i] < 1 || numbers[i] > movable) {
-      throw std::invalid_argument("active_joints[" + std::to_string(i) + "]: joint " + std::to_string(numbers[i]) +
-                                  " does not exist; " + model.name + " has joints 1.." + std::to_string(movable));
-    }
-    if (std::count(numbers.begin(), numbers.end(), numbers[i]) > 1) {
-      throw std::invalid_argument("active_joints[" + std::to_string(i) + "]: joint " + std::to_string(numbers[i]) +
-                                  " is listed twice");
-    }
-    result.push_back(numbers[i]);
-  }
+  for (int i = 1; i <= static_cast<int>(model.movable_joints().size()); ++i) result.push_back(i);
   return result;
 }
 
@@ -45,7 +31,6 @@ JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
       active_indices_(make_indices(joint_numbers_)),
       nominal_(model, active_indices_),
       n_(nominal_.dof()) {
-  validate();
   gains_ = make_pd_gains(config.control, nominal_);
   if (config.mismatch.payload.mass > 0.0) {
     true_dynamics_ = std::make_unique<ArmDynamics>(model, active_indices_, config.mismatch.payload);
@@ -58,54 +43,11 @@ JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
                                                  : nominal_coulomb_;
 }
 
-void JobSetup::validate() const {
-  if (!(config_.dt > 0.0) || config_.dt > 1.0) throw std::invalid_argument("dt: must be in (0, 1] s");
-  if (!(config_.integrator_accuracy > 0.0) || config_.integrator_accuracy >= 1.0) {
-    throw std::invalid_argument("integrator_accuracy: must be in (0, 1)");
-  }
-  if (!(config_.control.gain_scale >= 0.0)) throw std::invalid_argument("control.gain_scale: must not be negative");
-  if (!(config_.control.bandwidth > 0.0)) throw std::invalid_argument("control.bandwidth: must be positive");
-  if (!(config_.control.damping_ratio >= 0.0)) throw std::invalid_argument("control.damping_ratio: must not be negative");
-  const LearningConfig& learning = config_.learning;
-  if (!(learning.train_fraction > 0.0 && learning.train_fraction <= 1.0)) {
-    throw std::invalid_argument("learning.train_fraction: must be in (0, 1]");
-  }
-  if (learning.epochs < 1) throw std::invalid_argument("learning.epochs: must be at least 1");
-  if (learning.collect_repeats < 1) throw std::invalid_argument("learning.collect_repeats: must be at least 1");
-  if (!(learning.collect_gain_scale >= 0.0)) throw std::invalid_argument("learning.collect_gain_scale: must not be negative");
-  if (!(learning.collect_start_spread >= 0.0)) throw std::invalid_argument("learning.collect_start_spread: must not be negative");
-  if (!(learning.collect_noise_q >= 0.0)) throw std::invalid_argument("learning.collect_noise_q: must not be negative");
-  if (!(learning.collect_noise_qd >= 0.0)) throw std::invalid_argument("learning.collect_noise_qd: must not be negative");
-  for (std::size_t i = 0; i < learning.heldout_checkpoints.size(); ++i) {
-    if (learning.heldout_checkpoints[i] < 0 ||
-        (i > 0 && learning.heldout_checkpoints[i] <= learning.heldout_checkpoints[i - 1])) {
-      throw std::invalid_argument("learning.heldout_checkpoints[" + std::to_string(i) +
-                                  "]: checkpoints must be non-negative and increasing");
-    }
-  }
-  if (learning.heldout_segments < 0) throw std::invalid_argument("learning.heldout_segments: must not be negative");
-  if (!(learning.heldout_amplitude_scale > 0.0)) throw std::invalid_argument("learning.heldout_amplitude_scale: must be positive");
-  if (!std::isfinite(learning.heldout_phase_step)) throw std::invalid_argument("learning.heldout_phase_step: must be finite");
-  if (!(learning.heldout_recorded_fraction > 0.0 && learning.heldout_recorded_fraction < 1.0)) {
-    throw std::invalid_argument("learning.heldout_recorded_fraction: must be in (0, 1)");
-  }
-  if (config_.control.feed_forward == FeedForwardSource::learner && config_.control.mode != ControlMode::feedback &&
-      learning.mode == LearningMode::none) {
-    throw std::invalid_argument("learning.mode: is \"none\" but control.feed_forward is \"learner\"");
-  }
-  if (config_.recording.every < 1) throw std::invalid_argument("recording.every: must be at least 1");
-  const DivergenceConfig& divergence = config_.divergence;
-  if (!(divergence.max_tracking_error > 0.0)) throw std::invalid_argument("divergence.max_tracking_error: must be positive");
-  if (!(divergence.max_error_duration >= 0.0)) throw std::invalid_argument("divergence.max_error_duration: must not be negative");
-  if (!(divergence.velocity_limit_factor > 0.0)) throw std::invalid_argument("divergence.velocity_limit_factor: must be positive");
-  if (config_.mismatch.payload.mass < 0.0) throw std::invalid_argument("mismatch.payload.mass: must not be negative");
-}
-
 ArmSimulation JobSetup::make_plant() const {
   ArmSimulationOptions options;
   options.active_joints = active_indices_;
-  options.integrator = config_.integrator;
-  options.accuracy = config_.integrator_accuracy;
+  options.integrator = config_.simulation.integrator;
+  options.accuracy = config_.simulation.integrator_accuracy;
   if (mismatch_from_start()) {
     options.payload = config_.mismatch.payload;
     if (config_.mismatch.viscous.size()) options.friction_override.viscous = true_viscous_;

@@ -17,7 +17,8 @@ namespace armfarm {
 
 class JobSetup {
  public:
-  /// Checks the configuration (std::invalid_argument naming the field) and resolves joints and gains.
+  /// Resolves joints and gains of a configuration that validate() (job_config_validation.hpp)
+  /// accepted; throws std::invalid_argument naming the field for what only the model can tell.
   JobSetup(const ArmModel& model, const JobConfig& config);
 
   const ArmModel& model() const { return model_; }
@@ -45,8 +46,6 @@ class JobSetup {
                                    bool mismatch_present);
 
  private:
-  void validate() const;
-
   const ArmModel& model_;
   const JobConfig& config_;
   std::vector<int> joint_numbers_;

@@ -1,4 +1,5 @@
 // One experiment job as a list of phases (each in its own file under engine/experiment/):
+//   validation       job_config_validation  the one validate() of the configuration
 //   setup            job_setup          joints, nominal model, gains, the true plant
 //   trajectories     heldout_evaluation the training trajectory and its held-out variant
 //   learner          learner_factory    one factory from the learning config (Learner interface)
@@ -19,6 +20,7 @@
 #include "engine/experiment/experiment_metrics.hpp"
 #include "engine/experiment/feed_forward_source.hpp"
 #include "engine/experiment/heldout_evaluation.hpp"
+#include "engine/experiment/job_config_validation.hpp"
 #include "engine/experiment/job_report.hpp"
 #include "engine/experiment/job_setup.hpp"
 #include "engine/experiment/pass_statistics.hpp"
@@ -60,7 +62,9 @@ JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const 
   double simulated_seconds = 0.0;
   LearnerClock learner_clock;
 
-  // Setup, trajectories, learner.
+  // Setup (the configuration checked once), trajectories, learner.
+  const std::vector<ConfigProblem> problems = validate(config, ModelFacts{static_cast<int>(model.movable_joints().size())});
+  if (!problems.empty()) throw std::invalid_argument(make_problems_text(problems));
   JobSetup setup(model, config);
   MetricWriter metrics(outcome.metrics, setup.joint_numbers());
   JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());

@@ -2,7 +2,7 @@
 // The one place a job's learner is made from its learning configuration. The experiment flow
 // sees only the Learner interface, so a second learner (an SSGPR is planned) is a new
 // LearnerKind and a new case here, with no change to the flow.
-#include "engine/experiment/job_config.hpp"
+#include "engine/learning/learning_config.hpp"
 #include "engine/learning/learner.hpp"
 
 #include <Eigen/Core>

@@ -3,6 +3,7 @@
 // learner is frozen while it is evaluated on the held-out set.
 #include "engine/experiment/collection_pass.hpp"
 #include "engine/experiment/heldout_evaluation.hpp"
+#include "engine/experiment/job_config_validation.hpp"
 #include "engine/experiment/job_setup.hpp"
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/learning/learner_factory.hpp"
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <set>
 
 namespace armfarm {
 namespace {
@@ -78,7 +80,7 @@ TEST(HeldoutEvaluation, RecordedMotionHoldsOutItsLastPart) {
   RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
   recorded.task_space = false;
   recorded.loops = 2;
-  recorded.filter = "none";
+  recorded.filter = RecordedFilter::none;
   recorded.samples.resize(400, 2);
   for (int i = 0; i < 400; ++i) recorded.samples.row(i) << 0.3 * std::sin(0.01 * i), 1.0 + 0.2 * (0.01 * i) * (0.01 * i);
   JobSetup setup(model, config);
@@ -231,6 +233,16 @@ TEST(HeldoutEvaluation, OnlineCheckpointsEvaluateWithLearningFrozen) {
               "held-out tracking nMSE %.4f -> %.4f\n",
               m["heldout_test_nmse@0"], m["heldout_test_nmse@2"], m["heldout_test_nmse@4"], m["heldout_tracking_nmse@0"],
               m["heldout_tracking_nmse@4"]);
+}
+
+TEST(HeldoutEvaluation, CheckpointsOutOfOrderNameTheField) {
+  JobConfig config = make_learning_config(TrajectoryKind::sine);
+  config.learning.heldout_checkpoints = {3, 2, -1};
+  const std::vector<ConfigProblem> problems = validate(config, ModelFacts{7});
+  std::set<std::string> paths;
+  for (const ConfigProblem& problem : problems) paths.insert(problem.path);
+  EXPECT_TRUE(paths.count("learning.heldout_checkpoints[1]")) << make_problems_text(problems);
+  EXPECT_TRUE(paths.count("learning.heldout_checkpoints[2]")) << make_problems_text(problems);
 }
 
 TEST(HeldoutEvaluation, CheckpointsBeyondTheRunNameTheField) {

@@ -1,0 +1,96 @@
+#pragma once
+// How a job learns its inverse dynamics: the learning mode, the batch schedule and the LWPR
+// parameters it starts from, with the only copy of the job's defaults, and the key tables
+// (engine/config/config_key.hpp) of LearningConfig and of LWPR's parameter block.
+//
+// Two defaults of init_D, on purpose, one home each:
+//  - lwpr::LwprParams{} (engine/lwpr/lwpr_params.hpp) keeps the published library's defaults
+//    (init_D = 25·I), what `armfarm lwpr fit` uses on raw, unnormalised data;
+//  - a job starts from make_job_lwpr_defaults() (init_D = 0.05·I on inputs normalised to unit
+//    standard deviation, trust_n_data = 5), the default of LearningConfig::lwpr; the JSON
+//    defaults and the documentation are written from it.
+#include "engine/config/config_key.hpp"
+#include "engine/lwpr/lwpr_params.hpp"
+
+#include <vector>
+
+namespace armfarm {
+
+enum class LearningMode {
+  none,    ///< no learner (feedback, or analytic feed-forward)
+  online,  ///< learn every tick while controlling with the learner's prediction
+  batch,   ///< collect under feedback, train offline, then control with the frozen model
+};
+const EnumNames& learning_mode_names();
+
+/// The learners the factory (engine/learning/learner_factory.hpp) knows; a second one (an SSGPR
+/// is planned) is a new enumerator, a spelling and a case in the factory.
+enum class LearnerKind {
+  lwpr,  ///< locally weighted projection regression (engine/lwpr/)
+};
+const EnumNames& learner_kind_names();
+
+/// The LWPR parameters a job starts from: the published defaults except init_D = 0.05·I (on
+/// inputs normalised to unit standard deviation, see normalize_inputs) and trust_n_data = 5,
+/// measured on the default sinusoid (sweeps/README.md gives the figures).
+lwpr::LwprParams make_job_lwpr_defaults();
+
+struct LearningConfig {
+  LearningMode mode = LearningMode::online;
+  lwpr::LwprParams lwpr = make_job_lwpr_defaults();  ///< inputs (q, q̇, q̈) of the active joints, outputs their torques
+  bool learn_during_evaluation = false;  ///< batch: keep updating the model while it controls
+  double train_fraction = 0.75;      ///< batch: share of the collected samples used for training
+  int epochs = 5;                    ///< batch: passes over the (shuffled) training samples
+  int collect_repeats = 2;           ///< batch: trajectory repeats collected under feedback
+  /// Batch: the gain scale of the feedback controller that collects the samples (the learned
+  /// model then drives the evaluation run at control.gain_scale).
+  double collect_gain_scale = 1.0;
+  /// Replace lwpr.norm_in by each input's standard deviation along the desired trajectory
+  /// (q, q̇, q̈ differ by orders of magnitude; one kernel width cannot suit all three raw).
+  bool normalize_inputs = true;
+  /// Which learner the factory builds.
+  LearnerKind learner = LearnerKind::lwpr;
+
+  /// Batch: every collection repeat after the first starts off the trajectory by a seeded
+  /// normal draw of this standard deviation per joint angle (rad; stream "collection.start_state"),
+  /// so a repeat is a different realisation of the run, never a copy. 0 = exact copies.
+  double collect_start_spread = 0.05;
+  /// Standard deviation of the sensor noise on the measured q (rad) and q̇ (rad/s) that the
+  /// collecting controller and the collected samples see (batch and held-out collections).
+  double collect_noise_q = 0.0;
+  double collect_noise_qd = 0.0;
+
+  /// Held-out evaluation (online and batch): the learner, frozen, is scored on a different
+  /// realisation of the trajectory it never trained on (heldout_* metrics;
+  /// engine/experiment/heldout_evaluation.hpp).
+  bool heldout = true;
+  /// When to evaluate: online, after this many completed segments of the learning pass (reaches
+  /// for reaching, periods of the slowest joint for sine, loops for figure-eight and recorded;
+  /// 0 = before learning); batch, after this many training epochs. Increasing. Empty: once, at the end.
+  std::vector<int> heldout_checkpoints;
+  /// Segments of the held-out trajectory (reaches, periods, loops); 0: 9 reaches (the thesis's
+  /// 9 held-out transitions), otherwise 1 period or loop. Ignored for recorded motion.
+  int heldout_segments = 0;
+  /// Sine and figure-eight: the held-out variant's amplitude (figure-eight: scale) relative to
+  /// the training trajectory's.
+  double heldout_amplitude_scale = 0.8;
+  /// Sine: the held-out variant adds (i − 1)·this phase (rad) to the i-th active joint (relative
+  /// phases change, so the joint-space path differs, not just its start time).
+  double heldout_phase_step = 0.785398163397448;  // π/4
+  /// Recorded motion: the last fraction of the recording is held out and never trained on (the
+  /// learning pass replays the rest).
+  double heldout_recorded_fraction = 0.25;
+};
+
+/// LearningConfig's own keys (mode, batch schedule); the LWPR block is lwpr_params_keys().
+const std::vector<ConfigKey<LearningConfig>>& learning_config_keys();
+
+/// lwpr::Kernel's spellings ("gaussian", "bisquare").
+const EnumNames& lwpr_kernel_names();
+
+/// LWPR's parameter block with the published library's key names, units "" (the parameters
+/// act on normalised inputs and outputs) and the ranges validate() checks; shapes of init_D,
+/// norm_in and norm_out are checked by lwpr::validate_lwpr_params.
+const std::vector<ConfigKey<lwpr::LwprParams>>& lwpr_params_keys();
+
+}  // namespace armfarm
