@@ -20,11 +20,11 @@ InverseKinematicsResult solve_inverse_kinematics(const SerialChain& chain, const
   InverseKinematicsResult result;
   result.q = initial.cwiseMax(lower).cwiseMin(upper);
   const double lambda_squared = options.damping * options.damping;
-  // Work space for the iterations, sized once.
+  // Work space for the iterations, sized once. J⁺ and the null projector I − J⁺J are never
+  // formed: with G = J Jᵀ + λ² I, J⁺e = Jᵀ G⁻¹ e and (I − J⁺J) d = d − Jᵀ G⁻¹ (J d), O(n) each.
   Eigen::Vector3d position;
   Eigen::Matrix3Xd jacobian(3, n);
-  Eigen::MatrixXd pseudo_inverse(n, 3), null_projector(n, n);
-  Eigen::VectorXd null_step(n), previous(n);
+  Eigen::VectorXd to_rest(n), null_step(n), previous(n);
   Eigen::Matrix3d gram;
   Eigen::LDLT<Eigen::Matrix3d> gram_factor;
   for (result.iterations = 0; result.iterations < options.max_iterations; ++result.iterations) {
@@ -35,16 +35,20 @@ InverseKinematicsResult solve_inverse_kinematics(const SerialChain& chain, const
     gram.noalias() = jacobian * jacobian.transpose();
     gram.diagonal().array() += lambda_squared;
     gram_factor.compute(gram);
-    pseudo_inverse.noalias() = jacobian.transpose() * gram_factor.solve(Eigen::Matrix3d::Identity());
-    null_projector.setIdentity();
-    null_projector.noalias() -= pseudo_inverse * jacobian;
-    null_step.noalias() = options.null_space_gain * null_projector * (rest_posture - result.q);
+    to_rest = rest_posture - result.q;
+    const Eigen::Vector3d task_rest = gram_factor.solve(jacobian * to_rest);
+    null_step = to_rest;
+    null_step.noalias() -= jacobian.transpose() * task_rest;
+    null_step *= options.null_space_gain;
     if (result.error < options.tolerance && null_step.norm() < options.null_space_tolerance) {
       result.converged = true;
       break;
     }
     previous = result.q;
-    result.q = (result.q + pseudo_inverse * error + null_step).cwiseMax(lower).cwiseMin(upper);
+    const Eigen::Vector3d task_error = gram_factor.solve(error);
+    result.q += null_step;
+    result.q.noalias() += jacobian.transpose() * task_error;
+    result.q = result.q.cwiseMax(lower).cwiseMin(upper);
     // At a joint limit the null-space pull can be blocked for good; stop once nothing moves.
     const double moved = (result.q - previous).norm();
     if (result.error < options.tolerance && moved < options.null_space_tolerance) {
