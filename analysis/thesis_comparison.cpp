@@ -208,8 +208,11 @@ std::string describe_where(const ThesisMapping& mapping) {
 std::optional<int> resolve_joint(const JobResult& job, int active_joint) {
   const json active = find_param_value(job, "active_joints");
   if (!active.is_array() || active.empty()) return active_joint;
-  if (active_joint > static_cast<int>(active.size()) || !active[active_joint - 1].is_number_integer()) return std::nullopt;
-  return active[active_joint - 1].get<int>();
+  if (active_joint > static_cast<int>(active.size()) || !active[active_joint - 1].is_number()) return std::nullopt;
+  // The stored configuration is normalized JSON: joint numbers may read back as 2.0.
+  const double joint = active[active_joint - 1].get<double>();
+  if (joint != std::floor(joint) || joint < 1.0) return std::nullopt;
+  return static_cast<int>(joint);
 }
 
 bool job_matches(const JobResult& job, const ThesisMapping& mapping) {
@@ -273,7 +276,7 @@ ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, Sw
   } else if (done == 0) {
     result.reason = "0 done, " + std::to_string(failed) + " failed, " + std::to_string(unfinished) + " unfinished";
   } else if (values.empty() && joint_missing == done) {
-    result.reason = "jobs have fewer than " + std::to_string(*mapping.active_joint) + " active joints";
+    result.reason = "no active joint " + std::to_string(*mapping.active_joint) + " (jobs move fewer joints)";
   } else if (values.empty() && mapping.checkpoint) {
     result.reason = "no checkpoint " + format_number(*mapping.checkpoint) + " of " + *mapping.metric + " in the database";
   } else if (values.empty()) {

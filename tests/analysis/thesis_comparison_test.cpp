@@ -105,7 +105,8 @@ JobResult make_job(int index, const std::string& mode, int seed, const std::stri
   job.status = status;
   job.seed = seed;
   job.params = {{"control.mode", mode}, {"seed", seed}};
-  job.config = {{"active_joints", {2, 3, 5}}, {"control", {{"mode", mode}, {"gain_scale", 0.2}}}};
+  // Joint numbers as the store's normalized configuration reads them back (2.0).
+  job.config = {{"active_joints", {2.0, 3.0, 5.0}}, {"control", {{"mode", mode}, {"gain_scale", 0.2}}}};
   job.metrics = std::move(metrics);
   return job;
 }
@@ -121,13 +122,15 @@ const char* kSmallThesis = R"json({"tables": [
             {"label": "J2", "armfarm": {"metric": "ff_fb_ratio_avg", "active_joint": 2}},
             {"label": "J3", "armfarm": {"metric": "ff_fb_ratio_avg", "active_joint": 3}},
             {"label": "W", "armfarm": {"metric": null}},
-            {"label": "H", "armfarm": {"metric": "heldout_ff_fb_ratio_avg", "checkpoint": 200}}],
+            {"label": "H", "armfarm": {"metric": "heldout_ff_fb_ratio_avg", "checkpoint": 200}},
+            {"label": "J4", "armfarm": {"metric": "ff_fb_ratio_avg", "active_joint": 4}}],
    "cells": [{"row": "Y", "column": "FB", "value": 2.0E-03, "printed": "2.0E-03"},
              {"row": "Y", "column": "CO", "value": 1.0E-03, "printed": "1.0E-03"},
              {"row": "J2", "column": "CO", "value": 0.5, "printed": "0.5"},
              {"row": "J3", "column": "CO", "value": 0.8, "printed": "0.8"},
              {"row": "W", "column": "CO", "value": 1, "printed": "1"},
-             {"row": "H", "column": "CO", "value": 0.4, "printed": "0.4"}]},
+             {"row": "H", "column": "CO", "value": 0.4, "printed": "0.4"},
+             {"row": "J4", "column": "CO", "value": 0.4, "printed": "0.4"}]},
   {"id": "t_absent", "number": null, "caption": "absent", "page": 57, "armfarm": {"sweep": "never_run"},
    "columns": [{"label": "avg(ff/fb)", "armfarm": {"metric": "ff_fb_ratio_avg"}}],
    "rows": [{"label": "Joint 1", "armfarm": {"active_joint": 1}}],
@@ -155,7 +158,7 @@ TEST(ThesisComparison, CellsAreTheAggregateOfMatchingDoneJobsAndTheirRatio) {
   const ThesisComparison comparison = make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::mean);
   ASSERT_EQ(comparison.tables.size(), 2u);
   const std::vector<ComparedCell>& cells = comparison.tables[0].cells;
-  ASSERT_EQ(cells.size(), 6u);
+  ASSERT_EQ(cells.size(), 7u);
   EXPECT_EQ(cells[0].state, CellState::compared);
   EXPECT_EQ(cells[0].armfarm.count, 2);
   EXPECT_NEAR(cells[0].armfarm_value, 4e-3, 1e-18);
@@ -171,6 +174,7 @@ TEST(ThesisComparison, CellsAreTheAggregateOfMatchingDoneJobsAndTheirRatio) {
   EXPECT_EQ(cells[4].state, CellState::no_metric);
   EXPECT_EQ(cells[5].state, CellState::not_run);
   EXPECT_NE(cells[5].reason.find("checkpoint 200"), std::string::npos) << cells[5].reason;
+  EXPECT_EQ(cells[6].reason, "no active joint 4 (jobs move fewer joints)");  // the jobs move 3
   // A sweep the database does not hold.
   EXPECT_EQ(comparison.tables[1].cells[0].state, CellState::not_run);
   EXPECT_EQ(comparison.tables[1].cells[0].reason, "sweep never_run absent");
