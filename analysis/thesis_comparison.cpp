@@ -360,6 +360,7 @@ ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::
     if (only_sweep && std::find(compared.sweeps.begin(), compared.sweeps.end(), *only_sweep) == compared.sweeps.end()) continue;
     comparison.tables.push_back(std::move(compared));
   }
+  if (only_sweep && comparison.tables.empty()) throw AnalysisError(thesis.path + ": no table maps to sweep '" + *only_sweep + "'");
   return comparison;
 }
 

@@ -92,7 +92,8 @@ struct ThesisComparison {
 };
 
 /// Compares every cell against `sweeps` (by name; an absent name gives "not run").
-/// `only_sweep`, when given, keeps the tables with a cell mapped to that sweep.
+/// `only_sweep`, when given, keeps the tables with a cell mapped to that sweep (AnalysisError
+/// when there is none). The result points into `thesis`, which must outlive it.
 ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::map<std::string, SweepData>& sweeps,
                                         Aggregate aggregate, const std::optional<std::string>& only_sweep = std::nullopt);
 

@@ -182,6 +182,7 @@ TEST(ThesisComparison, CellsAreTheAggregateOfMatchingDoneJobsAndTheirRatio) {
   const ThesisComparison only = make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::max, std::string("never_run"));
   ASSERT_EQ(only.tables.size(), 1u);
   EXPECT_EQ(only.tables[0].thesis->id, "t_absent");
+  EXPECT_THROW(make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::mean, std::string("other")), AnalysisError);
   const ThesisComparison maximum = make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::max);
   EXPECT_DOUBLE_EQ(maximum.tables[0].cells[0].armfarm_value, 5e-3);
 }
