@@ -276,7 +276,7 @@ ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, Sw
   } else if (done == 0) {
     result.reason = "0 done, " + std::to_string(failed) + " failed, " + std::to_string(unfinished) + " unfinished";
   } else if (values.empty() && joint_missing == done) {
-    result.reason = "no active joint " + std::to_string(*mapping.active_joint) + " (jobs move fewer joints)";
+    result.reason = "the jobs move fewer than " + std::to_string(*mapping.active_joint) + " joints";
   } else if (values.empty() && mapping.checkpoint) {
     result.reason = "no checkpoint " + format_number(*mapping.checkpoint) + " of " + *mapping.metric + " in the database";
   } else if (values.empty()) {

@@ -174,7 +174,7 @@ TEST(ThesisComparison, CellsAreTheAggregateOfMatchingDoneJobsAndTheirRatio) {
   EXPECT_EQ(cells[4].state, CellState::no_metric);
   EXPECT_EQ(cells[5].state, CellState::not_run);
   EXPECT_NE(cells[5].reason.find("checkpoint 200"), std::string::npos) << cells[5].reason;
-  EXPECT_EQ(cells[6].reason, "no active joint 4 (jobs move fewer joints)");  // the jobs move 3
+  EXPECT_EQ(cells[6].reason, "the jobs move fewer than 4 joints");  // the jobs move 3
   // A sweep the database does not hold.
   EXPECT_EQ(comparison.tables[1].cells[0].state, CellState::not_run);
   EXPECT_EQ(comparison.tables[1].cells[0].reason, "sweep never_run absent");
