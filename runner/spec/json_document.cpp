@@ -108,9 +108,12 @@ class TrackingSax : public nlohmann::json_sax<nlohmann::json> {
 
   std::string current_path() const {
     std::string path;
-    for (const Frame& frame : frames_) {
+    for (std::size_t f = 0; f < frames_.size(); ++f) {
+      const Frame& frame = frames_[f];
       if (frame.container->is_array()) {
-        path += "[" + std::to_string(frame.container->size()) + "]";
+        // The innermost array receives its next element; an outer one is filling its last.
+        const std::size_t size = frame.container->size();
+        path += "[" + std::to_string(f + 1 == frames_.size() || size == 0 ? size : size - 1) + "]";
       } else if (needs_quotes(frame.key)) {
         path += "[" + nlohmann::json(frame.key).dump() + "]";
       } else {
