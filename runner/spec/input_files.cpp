@@ -130,13 +130,4 @@ nlohmann::json make_job_key_document(const nlohmann::json& config) {
   return document;
 }
 
-nlohmann::json make_config_without_inputs(const nlohmann::json& config) {
-  nlohmann::json result = config;
-  visit_recorded_fields(config, [&](const std::vector<PathSegment>& segments, const nlohmann::json&) {
-    set_config_element(result, segments, "");
-  });
-  result.erase("inputs");
-  return result;
-}
-
 }  // namespace armfarm

@@ -66,8 +66,4 @@ nlohmann::json calc_config_with_resolved_inputs(const nlohmann::json& config);
 /// "xxh3-128:<hash>" and "inputs" reduced to {name: hash}; `config` itself when it records none.
 nlohmann::json make_job_key_document(const nlohmann::json& config);
 
-/// `config` without "inputs" and with every recorded input field blanked: equal for two jobs
-/// that differ only in their input files' paths or contents.
-nlohmann::json make_config_without_inputs(const nlohmann::json& config);
-
 }  // namespace armfarm

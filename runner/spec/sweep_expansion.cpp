@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <set>
 #include <unordered_set>
 
@@ -100,17 +99,11 @@ std::string locate_error(const std::string& error_path, const FactorEntry& assig
 
 // Where an input field's value was written, for messages: the axis or base location in the spec,
 // else the include, else the default.
-std::string locate_input(const std::string& field, const SweepSpec& spec, const std::string& spec_folder,
-                         const FactorEntry& assignments) {
+std::string locate_input(const std::string& field, const SweepSpec& spec, const FactorEntry& assignments) {
+  const auto writer = spec.input_writers.find(field);
+  if (writer != spec.input_writers.end()) return writer->second + ": " + field;
   const auto folder = spec.input_folders.find(field);
-  if (folder == spec.input_folders.end() || folder->second == spec_folder) {
-    return spec.file + ": " + locate_error(field, assignments);
-  }
-  for (auto include = spec.includes.rbegin(); include != spec.includes.rend(); ++include) {
-    if (std::filesystem::path(include->resolved).parent_path() == std::filesystem::path(calc_resolved_path(folder->second, "."))) {
-      return include->resolved + ": " + field;
-    }
-  }
+  if (folder == spec.input_folders.end() || folder->second == spec.folder) return spec.file + ": " + locate_error(field, assignments);
   return spec.file + ": " + field + " (the default, resolved against " + folder->second + ")";
 }
 
@@ -126,7 +119,6 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
   std::set<std::string> seen_errors;
   std::unordered_set<std::string> seen_keys;
   InputFileReader reader;
-  const std::string& spec_folder = spec.folder;
   for (bool more = true; more;) {
     FactorEntry assignments;
     for (std::size_t f = 0; f < factors.size(); ++f) {
@@ -156,7 +148,7 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
     nlohmann::json check_config = job.config;
     std::string stand_in_note;
     for (const InputProblem& problem : problems) {
-      const std::string line = locate_input(problem.field, spec, spec_folder, assignments) + ": " + problem.message;
+      const std::string line = locate_input(problem.field, spec, assignments) + ": " + problem.message;
       if (seen_errors.insert(line).second && errors.size() < 20) errors.push_back(line);
       std::string unused;
       const std::vector<PathSegment> segments = parse_config_path(problem.field);

@@ -118,12 +118,13 @@ class SpecParser {
     }
     if (!errors_.empty()) throw SpecError(errors_);
     spec.input_folders = calc_input_folders(root, spec);
+    spec.input_writers = writers_;
     return spec;
   }
 
  private:
   // Who wrote each input field: this spec (base or an axis), else the last include, else nobody.
-  std::map<std::string, std::string> calc_input_folders(const nlohmann::json& root, const SweepSpec& spec) const {
+  std::map<std::string, std::string> calc_input_folders(const nlohmann::json& root, const SweepSpec& spec) {
     std::map<std::string, std::string> folders;
     std::vector<std::vector<PathSegment>> axes;
     for (const SpecAxis& axis : spec.grid) axes.push_back(axis.segments);
@@ -140,6 +141,7 @@ class SpecParser {
       for (const auto& axis : axes) written_here = written_here || is_prefix_path(axis, segments) || is_prefix_path(segments, axis);
       const auto from_include = input_folders_.find(field.path);
       folders[field.path] = written_here ? folder_ : from_include != input_folders_.end() ? from_include->second : schema_.default_folder;
+      if (!written_here && from_include != input_folders_.end()) writers_[field.path] = input_writers_.at(field.path);
     }
     return folders;
   }
@@ -193,6 +195,7 @@ class SpecParser {
         std::string problem;
         if (find_config_element(checked, parse_config_path(field.path), problem) != nullptr) {
           input_folders_[field.path] = include_folder.empty() ? "." : include_folder;
+          input_writers_[field.path] = path;
         }
       }
       includes_.push_back({name, calc_resolved_path(path, "."), calc_text_hash(text)});
@@ -423,6 +426,8 @@ class SpecParser {
   nlohmann::json resolved_;
   std::vector<SpecInclude> includes_;
   std::map<std::string, std::string> input_folders_;  // field → folder of the include that set it
+  std::map<std::string, std::string> input_writers_;  // field → that include's file
+  std::map<std::string, std::string> writers_;        // the same, for fields this spec does not set
   std::vector<std::string> errors_;
   std::map<std::string, std::pair<std::vector<PathSegment>, std::string>> claimed_;
 };

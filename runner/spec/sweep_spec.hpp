@@ -70,6 +70,8 @@ struct SweepSpec {
   /// the file that wrote it (this spec for `base` and the axes, else the last include that sets
   /// it), or the schema's default folder when no file did.
   std::map<std::string, std::string> input_folders;
+  /// For input fields an include sets (and this spec does not): that include's file, for messages.
+  std::map<std::string, std::string> input_writers;
 };
 
 /// Reads and checks a spec file; include paths are relative to its folder, input paths to the

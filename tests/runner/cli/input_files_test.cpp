@@ -201,6 +201,31 @@ TEST_F(InputFilesTest, RecordedTrajectoryCsvIsAnInputRelativeToTheSpec) {
   EXPECT_EQ(run.exit_code, 0) << run.output;
 }
 
+TEST_F(InputFilesTest, IncludesResolveTheirPathsAgainstTheirOwnFolderAndAreInputs) {
+  write_file(root_ / "common/planar2.urdf", read_file(fs::path(ARMFARM_SOURCE_DIR) / "models/planar2.urdf"));
+  write_file(root_ / "common/arm.json", R"({"model": "planar2.urdf"})");
+  write_file(root_ / "common/bad.json", R"({"model": "missing.urdf"})");
+  write_file(root_ / "good.json", R"({"name": "i", "include": "common/arm.json"})");
+  write_file(root_ / "bad.json", R"({"name": "i", "include": ["common/bad.json"], "base": {"dt": 5}})");
+  fs::create_directories(root_ / "elsewhere");
+  const nlohmann::json expansion = expand(root_ / "elsewhere", "../good.json");
+  const nlohmann::json& inputs = expansion["jobs"][0]["config"]["inputs"];
+  EXPECT_EQ(fs::path(inputs["model"]["resolved"].get<std::string>()), fs::weakly_canonical(root_ / "common/planar2.urdf"));
+  EXPECT_EQ(inputs["include[0]"]["path"], "common/arm.json");
+  EXPECT_EQ(inputs["include[0]"]["kind"], "include");
+  // The include's bytes are in the key: even a whitespace-only edit gives new keys.
+  write_file(root_ / "common/arm.json", R"({"model":  "planar2.urdf"})");
+  EXPECT_NE(keys_of(expand(root_, "good.json")), keys_of(expansion));
+
+  const CommandResult bad = run_armfarm(root_ / "elsewhere", "expand ../bad.json");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("common/bad.json: model: 'missing.urdf' resolves to " +
+                            fs::weakly_canonical(root_ / "common").string() + "/missing.urdf: no such file"),
+            std::string::npos)
+      << bad.output;
+  EXPECT_NE(bad.output.find("bad.json: base.dt: must be in"), std::string::npos) << bad.output;
+}
+
 TEST_F(InputFilesTest, MissingModelDoesNotHideTheOtherErrors) {
   write_file(root_ / "spec.json", R"({"name": "x", "base": {"model": "nowhere/arm.urdf", "dt": -1}})");
   const CommandResult result = run_armfarm(root_, "run spec.json --db r.db");
