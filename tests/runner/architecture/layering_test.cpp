@@ -43,8 +43,6 @@ struct KnownException {
   std::string reason;
 };
 const std::vector<KnownException> kKnownExceptions = {
-    // cfg-a (issue 10) moves the controller's config beside its code and drops this include.
-    {"engine/control/", "engine/experiment/job_config.hpp", "control <-> experiment cycle, removed by cfg-a"},
     // cfg-a rewrites this file; it then includes runner/config/config_error.hpp.
     {"runner/config/job_config_json.cpp", "runner/execution/job_executor.hpp", "ConfigError, now in runner/config/"},
 };

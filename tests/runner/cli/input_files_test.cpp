@@ -223,15 +223,18 @@ TEST_F(InputFilesTest, IncludesResolveTheirPathsAgainstTheirOwnFolderAndAreInput
                             fs::weakly_canonical(root_ / "common").string() + "/missing.urdf: no such file"),
             std::string::npos)
       << bad.output;
-  EXPECT_NE(bad.output.find("bad.json: base.dt: must be in"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("bad.json: base.dt: 5 s is outside the allowed range"), std::string::npos) << bad.output;
 }
 
 TEST_F(InputFilesTest, MissingModelDoesNotHideTheOtherErrors) {
-  write_file(root_ / "spec.json", R"({"name": "x", "base": {"model": "nowhere/arm.urdf", "dt": -1}})");
+  write_file(root_ / "spec.json", R"({"name": "x", "base": {"model": "nowhere/arm.urdf", "dt": -1, "control": {"gain_scale": -2}}})");
   const CommandResult result = run_armfarm(root_, "run spec.json --db r.db");
   EXPECT_EQ(result.exit_code, 2) << result.output;
   EXPECT_NE(result.output.find("spec.json: base.model: 'nowhere/arm.urdf' resolves to"), std::string::npos) << result.output;
-  EXPECT_NE(result.output.find("spec.json: base.dt: must be in"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("spec.json: base.dt: -1 s is outside the allowed range"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("control.gain_scale: -2 is outside the allowed range"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("(checked with the default model, since the file cannot be read)"), std::string::npos)
+      << result.output;
   EXPECT_FALSE(fs::exists(root_ / "r.db"));
 }
 
