@@ -46,7 +46,7 @@ void set_value(json& root, const std::string& path, json value) {
 
 const std::vector<RunnerConfigKey>& runner_config_keys() {
   static const std::vector<RunnerConfigKey> keys = {
-      {"model", "models/dlr_lwr3.urdf", "arm description (URDF or DCG), path relative to the working directory"},
+      {"model", "models/dlr_lwr3.urdf", "arm description (URDF or DCG); a relative path resolves against the file that wrote it, the default against the data directory"},
   };
   return keys;
 }
