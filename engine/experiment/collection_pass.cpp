@@ -7,8 +7,10 @@ namespace armfarm {
 PassResult collect_samples(JobSetup& setup, ArmSimulation& plant, const CollectionPlan& plan, std::vector<Sample>& samples,
                            const std::function<bool()>& should_stop) {
   const LearningConfig& learning = setup.config().learning;
+  const ControlConfig& control = setup.config().control;
   const CompositeController collector(ControlMode::feedback, setup.gains(), learning.collect_gain_scale,
-                                      setup.nominal().effort_limits(), setup.config().control.limit_torque);
+                                      calc_kd_scale(learning.collect_gain_scale, control.keep_damping_ratio),
+                                      setup.nominal().effort_limits(), control.limit_torque);
   RandomStream start_draws(setup.config().seed, std::string(plan.purpose) + ".start_state");
   RandomStream noise(setup.config().seed, std::string(plan.purpose) + ".sensor_noise");
   PassOptions options;

@@ -117,8 +117,7 @@ PassResult HeldoutEvaluation::evaluate(const Learner& learner, int checkpoint, s
 
   // (2) The job's controller with the frozen learner's feed-forward on the held-out trajectory.
   const JobConfig& config = setup_.config();
-  const CompositeController controller(config.control.mode, setup_.gains(), config.control.gain_scale,
-                                       setup_.nominal().effort_limits(), config.control.limit_torque);
+  const CompositeController controller = setup_.make_controller();
   FeedForwardProvider feed_forward(config.control, setup_.nominal(), &learner, nullptr);
   PassStatistics statistics(setup_.dof(), plant_.time());
   PassOptions options;

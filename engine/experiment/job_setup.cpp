@@ -16,6 +16,12 @@ std::vector<int> resolve_joint_numbers(const ArmModel& model, const std::vector<
   return result;
 }
 
+ArmModel scale_armature(const ArmModel& model, double scale) {
+  ArmModel scaled = model;
+  for (Joint& joint : scaled.joints) joint.armature *= scale;
+  return scaled;
+}
+
 std::vector<int> make_indices(const std::vector<int>& numbers) {
   std::vector<int> indices;
   for (int number : numbers) indices.push_back(number - 1);
@@ -25,15 +31,15 @@ std::vector<int> make_indices(const std::vector<int>& numbers) {
 }  // namespace
 
 JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
-    : model_(model),
+    : model_(scale_armature(model, config.simulation.armature_scale)),
       config_(config),
-      joint_numbers_(resolve_joint_numbers(model, config.active_joints)),
+      joint_numbers_(resolve_joint_numbers(model_, config.active_joints)),
       active_indices_(make_indices(joint_numbers_)),
-      nominal_(model, active_indices_),
+      nominal_(model_, active_indices_),
       n_(nominal_.dof()) {
   gains_ = make_pd_gains(config.control, nominal_);
   if (config.mismatch.payload.mass > 0.0) {
-    true_dynamics_ = std::make_unique<ArmDynamics>(model, active_indices_, config.mismatch.payload);
+    true_dynamics_ = std::make_unique<ArmDynamics>(model_, active_indices_, config.mismatch.payload);
   }
   nominal_viscous_ = nominal_.viscous_damping();
   nominal_coulomb_ = nominal_.coulomb_friction();
@@ -41,6 +47,12 @@ JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
                                                  : nominal_viscous_;
   true_coulomb_ = config.mismatch.coulomb.size() ? expand_per_joint(config.mismatch.coulomb, n_, 0.0, "mismatch.coulomb")
                                                  : nominal_coulomb_;
+}
+
+CompositeController JobSetup::make_controller() {
+  const ControlConfig& control = config_.control;
+  return CompositeController(control.mode, gains_, control.gain_scale, calc_kd_scale(control.gain_scale, control.keep_damping_ratio),
+                             nominal_.effort_limits(), control.limit_torque);
 }
 
 ArmSimulation JobSetup::make_plant() const {

@@ -2,6 +2,7 @@
 // What every phase of one experiment job shares: the active joints, the nominal model the
 // controller and the analytic feed-forward know, the PD gains, and the true plant (the nominal
 // model plus the configured mismatch) that the learners are scored against.
+#include "engine/control/composite_controller.hpp"
 #include "engine/control/pd_gains.hpp"
 #include "engine/experiment/job_config.hpp"
 #include "engine/model/arm_model.hpp"
@@ -20,6 +21,8 @@ class JobSetup {
   /// Resolves joints and gains of a configuration that validate() (job_config_validation.hpp)
   /// accepted; throws std::invalid_argument naming the field for what only the model can tell.
   JobSetup(const ArmModel& model, const JobConfig& config);
+  JobSetup(const JobSetup&) = delete;  // the dynamics refer to the job's model copy
+  JobSetup& operator=(const JobSetup&) = delete;
 
   const ArmModel& model() const { return model_; }
   const JobConfig& config() const { return config_; }
@@ -27,6 +30,8 @@ class JobSetup {
   int dof() const { return n_; }
   ArmDynamics& nominal() { return nominal_; }  ///< scratch state inside: one per job
   const PdGains& gains() const { return gains_; }
+  /// The job's controller: control.mode with the gains at control.gain_scale (kd per keep_damping_ratio).
+  CompositeController make_controller();
 
   /// Whether the plant differs from the nominal model from the start of every pass
   /// (mismatch.start_time ≤ 0) rather than from start_time into the evaluation passes.
@@ -46,7 +51,7 @@ class JobSetup {
                                    bool mismatch_present);
 
  private:
-  const ArmModel& model_;
+  ArmModel model_;  ///< the job's copy: armature × simulation.armature_scale
   const JobConfig& config_;
   std::vector<int> joint_numbers_;
   std::vector<int> active_indices_;

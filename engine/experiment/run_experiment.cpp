@@ -121,8 +121,7 @@ JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const 
 
   // Evaluation pass over the training trajectory (online: the learning pass, held-out
   // checkpoints after chosen segments).
-  const CompositeController controller(config.control.mode, setup.gains(), config.control.gain_scale,
-                                       setup.nominal().effort_limits(), config.control.limit_torque);
+  const CompositeController controller = setup.make_controller();
   FeedForwardProvider feed_forward(config.control, setup.nominal(), learner.get(), &learner_clock);
   PassStatistics statistics(n, plant.time());
   PassOptions options;
