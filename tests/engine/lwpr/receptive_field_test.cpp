@@ -126,7 +126,7 @@ TEST(ReceptiveField, StatisticsAfterAKnownSequenceMatchHandComputedValues) {
     sxs = lambda * sxs + w * z * s;
     const double e = res - sys / ss2 * s;
     const double one_minus_h = std::max(1.0 - w * s * s / ss2, 1e-3);
-    // Leave-one-out sums start once the field has more than min(0.1/(1−λ), 4(R+1)) = 1 samples.
+    // Leave-one-out sums start once the field has more than min(0.1/(1−λ), 4(R+1)) samples (1, 1.8, 3.1).
     if (n_data > std::min(0.1 / (1.0 - lambda), 8.0)) e_cv2 = lambda * e_cv2 + w * (e / one_minus_h) * (e / one_minus_h);
   }
   EXPECT_NEAR(rf.sxy(0, 0), sxy, 1e-12);
