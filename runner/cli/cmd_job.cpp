@@ -54,7 +54,7 @@ nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& s
     overrides.erase("inputs");
   }
   std::vector<std::string> errors;
-  const nlohmann::json checked = calc_checked_value(overrides, schema.defaults, "", errors);
+  const nlohmann::json checked = calc_checked_value(overrides, schema.type_reference(), "", errors);
   if (!errors.empty()) {
     const std::string& line = errors.front();
     const std::string where = document.describe_position(line.substr(0, line.find(": ")));

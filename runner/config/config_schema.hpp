@@ -30,6 +30,11 @@ struct InputFileField {
 /// throwing ConfigError with the path.
 struct JobConfigSchema {
   nlohmann::json defaults;
+  /// The tree the structural check of specs compares values with: `defaults`, except that keys
+  /// taking several shapes (a number, a list or a matrix, e.g. learning.lwpr.init_D) are null,
+  /// i.e. free-form there and checked by `validate`. Null: use `defaults`.
+  nlohmann::json types;
+  const nlohmann::json& type_reference() const { return types.is_null() ? defaults : types; }
   std::function<void(const nlohmann::json& config)> validate;
   std::vector<InputFileField> input_files;
   /// Where input paths that no file wrote (the defaults) resolve: the armfarm data directory.

@@ -59,6 +59,16 @@ nlohmann::json make_job_config_defaults() {
   return tree;
 }
 
+nlohmann::json make_job_config_types() {
+  JobConfig defaults;
+  json tree = make_job_config_defaults();
+  for (const JobConfigKey& key : job_config_keys()) {
+    const ValueKind kind = key.field(defaults).kind;
+    if (kind == ValueKind::real_or_list || kind == ValueKind::real_matrix) set_value(tree, key.path, nullptr);
+  }
+  return tree;
+}
+
 JobConfig parse_job_config(const nlohmann::json& c, int movable_joints) {
   JobConfig config;
   for (const JobConfigKey& key : job_config_keys()) {

@@ -57,6 +57,7 @@ JobConfigSchema make_experiment_config_schema() {
   auto models = std::make_shared<ModelCache>();
   JobConfigSchema schema;
   schema.defaults = make_job_config_defaults();
+  schema.types = make_job_config_types();
   schema.validate = [models](const nlohmann::json& recorded) {
     const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
     const auto model = models->get(config.at("model").get<std::string>());

@@ -97,7 +97,7 @@ class SpecParser {
     if (root.contains("include")) read_includes(root["include"]);
     if (root.contains("base")) {
       std::vector<std::string> lines;
-      const nlohmann::json base = calc_checked_value(root["base"], schema_.defaults, "base", lines);
+      const nlohmann::json base = calc_checked_value(root["base"], schema_.type_reference(), "base", lines);
       for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line));
       if (lines.empty()) merge_config_into(resolved_, base);
     }
@@ -186,7 +186,7 @@ class SpecParser {
         continue;
       }
       std::vector<std::string> lines;
-      const nlohmann::json checked = calc_checked_value(document.value, schema_.defaults, "", lines);
+      const nlohmann::json checked = calc_checked_value(document.value, schema_.type_reference(), "", lines);
       for (const std::string& line : lines) errors_.push_back(locate_line(path, document, line));
       if (!lines.empty()) continue;
       merge_config_into(resolved_, checked);
@@ -216,7 +216,7 @@ class SpecParser {
       error(location, "'" + path + "' names nothing in the job configuration: " + problem);
       return false;
     }
-    reference = find_schema_reference(schema_.defaults, segments, problem);
+    reference = find_schema_reference(schema_.type_reference(), segments, problem);
     if (reference == nullptr) {
       error(location, "'" + path + "' names nothing in the job configuration: " + problem);
       return false;
