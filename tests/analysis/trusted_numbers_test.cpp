@@ -2,6 +2,8 @@
 // per-joint rows show per-joint values, unknown names are refused with a suggestion, repeats
 // pool only across seeds, undefined cells are footnoted, merges ignore timings, and sweeps
 // whose names sanitise alike get their own pages.
+#include "analysis/figure.hpp"
+#include "analysis/plots.hpp"
 #include "test_database.hpp"
 
 #include <gtest/gtest.h>
@@ -141,6 +143,73 @@ TEST(TrustedNumbers, SweepsNamedAlikeGetTwoPages) {
     if (name.rfind("sweep_a_b", 0) == 0 && entry.path().extension() == ".html") ++pages;
   }
   EXPECT_EQ(pages, 2) << report.output;
+}
+
+}  // namespace
+}  // namespace armfarm
+
+namespace armfarm {
+namespace {
+
+// Figures: nMSE over decades gets a log axis whose error bars stay above zero, and an unplotted
+// swept parameter splits the curves instead of being pooled into the error bars.
+TEST(TrustedFigures, LogAxesPositiveErrorBarsAndNoSilentPooling) {
+  testing::TemporaryDirectory directory;
+  const std::string db = directory.file("r.db");
+  std::vector<testing::TestJob> jobs;
+  for (const char* mode : {"online", "batch"}) {
+    for (double init_d : {0.01, 0.1, 1.0}) {
+      for (int seed = 1; seed <= 2; ++seed) {
+        testing::TestJob job;
+        job.params = {{"learning.mode", mode}, {"learning.lwpr.init_D", init_d}, {"seed", seed}};
+        // Spread over seeds larger than the mean's half: mean − std < 0 on a linear axis.
+        const double value = (std::string(mode) == "online" ? 1.0 : 100.0) * init_d * (seed == 1 ? 0.1 : 1.9);
+        job.metrics = {{0, "tracking_nmse", std::nullopt, std::nullopt, value, ""}};
+        jobs.push_back(job);
+      }
+    }
+  }
+  testing::write_test_sweep(db, "modes", jobs);
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  PlotRequest request;
+  request.kind = PlotKind::metric_vs_param;
+  request.metric = "tracking_nmse";
+  request.param = "learning.lwpr.init_D";
+  const Figure figure = make_plot_figure(store, request);
+  ASSERT_EQ(figure.panels.size(), 1u);
+  const Panel& panel = figure.panels[0];
+  EXPECT_TRUE(panel.log_x);
+  EXPECT_TRUE(panel.log_y);
+  EXPECT_EQ(panel.y_label, "tracking_nmse (dimensionless)");  // unit from metric_info
+  ASSERT_EQ(panel.curves.size(), 2u);                          // online and batch, not pooled
+  EXPECT_EQ(panel.curves[0].title, "mode=online");
+  for (const Curve& curve : panel.curves) {
+    ASSERT_EQ(curve.x.size(), 3u);
+    for (std::size_t i = 0; i < curve.y.size(); ++i) {
+      EXPECT_GT(curve.y_low[i], 0.0);
+      EXPECT_LT(curve.y_low[i], curve.y[i]);
+      EXPECT_GT(curve.y_high[i], curve.y[i]);
+      // Geometric mean of the two seeds.
+      const double init_d = curve.x[i] * (curve.title == "mode=online" ? 1.0 : 100.0);
+      EXPECT_NEAR(curve.y[i], init_d * std::sqrt(0.1 * 1.9), 1e-12 * init_d);
+    }
+  }
+  request.log_y = false;  // forced linear: mean ± std, honestly below zero
+  const Figure linear = make_plot_figure(store, request);
+  EXPECT_FALSE(linear.panels[0].log_y);
+  EXPECT_LT(linear.panels[0].curves[0].y_low[0], 0.0);
+  // Twelve colours before line styles repeat; one legend entry per title.
+  Figure many;
+  many.panels.resize(2);
+  for (Panel& p : many.panels) {
+    for (int c = 0; c < 13; ++c) p.curves.push_back(Curve{"curve " + std::to_string(c), {0, 1}, {0, 1}, {}, {}});
+  }
+  const std::string script = make_gnuplot_script(many, "set terminal svg", "out.svg", "/tmp");
+  EXPECT_NE(script.find("lc rgb '#332288' dt 2"), std::string::npos);  // the 13th curve: first colour, dashed
+  EXPECT_NE(script.find("notitle"), std::string::npos);                // second panel repeats no legend
+  std::size_t titled = 0;
+  for (auto at = script.find(" title \"curve "); at != std::string::npos; at = script.find(" title \"curve ", at + 1)) ++titled;
+  EXPECT_EQ(titled, 13u);
 }
 
 }  // namespace
