@@ -1,8 +1,10 @@
 #pragma once
-// LWPR parameters from JSON, with the published library's key names (init_D, init_alpha, w_gen,
-// w_prune, penalty, diag_only, update_D, meta, meta_rate, init_lambda, final_lambda, tau_lambda,
-// init_S2, add_threshold, kernel, norm_in, norm_out, blend, add_proj, init_n_reg) plus ours
-// (max_fields, cutoff, trust_n_data). Unknown keys are errors.
+// LWPR parameters from JSON (`armfarm lwpr fit --params`), read through LWPR's key table
+// (lwpr_params_keys() in engine/learning/learning_config.hpp, the same table as a job's
+// learning.lwpr block): the published library's key names plus ours (max_fields, cutoff,
+// trust_n_data). Library conventions are accepted too: flags as 0/1, "Gaussian"/"BiSquare".
+// Missing keys keep lwpr::LwprParams{}'s library defaults (init_D 25, for raw data). Unknown
+// keys are errors.
 #include "engine/lwpr/lwpr_params.hpp"
 
 #include <Eigen/Core>

@@ -3,7 +3,7 @@
 // three modes, with the command clipped to the joints' effort limits.
 // Units: SI and radians; vectors are n_active × 1.
 #include "engine/control/pd_gains.hpp"
-#include "engine/experiment/job_config.hpp"
+#include "engine/control/control_config.hpp"
 
 #include <Eigen/Core>
 

@@ -1,7 +1,8 @@
 #pragma once
 // The PD gains of a job: given per joint, or placed by a rule that keeps sample-and-hold
 // control stable at the control period (see ControlConfig). Units: N·m/rad, N·m·s/rad.
-#include "engine/experiment/job_config.hpp"
+#include "engine/control/control_config.hpp"
+#include "engine/physics/arm_simulation.hpp"
 
 #include <Eigen/Core>
 

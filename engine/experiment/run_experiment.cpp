@@ -2,6 +2,7 @@
 
 #include "engine/control/composite_controller.hpp"
 #include "engine/control/pd_gains.hpp"
+#include "engine/experiment/job_config_validation.hpp"
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/experiment/nominal_inverse_dynamics.hpp"
 #include "engine/experiment/series_recorder.hpp"
@@ -28,25 +29,12 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-/// 1-based joint numbers → 0-based indices into movable_joints(); empty = every movable joint.
+/// 1-based joint numbers → the same numbers, every movable joint for an empty list (validate()
+/// checked them).
 std::vector<int> resolve_joint_numbers(const ArmModel& model, const std::vector<int>& numbers) {
-  const int movable = static_cast<int>(model.movable_joints().size());
+  if (!numbers.empty()) return numbers;
   std::vector<int> result;
-  if (numbers.empty()) {
-    for (int i = 1; i <= movable; ++i) result.push_back(i);
-    return result;
-  }
-  for (std::size_t i = 0; i < numbers.size(); ++i) {
-    if (numbers[i] < 1 || numbers[i] > movable) {
-      throw std::invalid_argument("active_joints[" + std::to_string(i) + "]: joint " + std::to_string(numbers[i]) +
-                                  " does not exist; " + model.name + " has joints 1.." + std::to_string(movable));
-    }
-    if (std::count(numbers.begin(), numbers.end(), numbers[i]) > 1) {
-      throw std::invalid_argument("active_joints[" + std::to_string(i) + "]: joint " + std::to_string(numbers[i]) +
-                                  " is listed twice");
-    }
-    result.push_back(numbers[i]);
-  }
+  for (int i = 1; i <= static_cast<int>(model.movable_joints().size()); ++i) result.push_back(i);
   return result;
 }
 
@@ -83,8 +71,7 @@ class ExperimentRun {
         active_indices_(make_indices(joint_numbers_)),
         nominal_(model, active_indices_),
         n_(nominal_.dof()) {
-    validate();
-    trajectory_ = build_trajectory(config.trajectory, nominal_, config.dt, config.seed);
+    trajectory_ = build_trajectory(config.trajectory, nominal_, config.simulation.dt, config.seed);
     if (trajectory_.size() < 2) throw std::invalid_argument("trajectory: needs at least 2 samples");
     gains_ = make_pd_gains(config.control, nominal_);
     if (config.mismatch.payload.mass > 0.0) {
@@ -105,8 +92,8 @@ class ExperimentRun {
     wall_start_ = Clock::now();
     ArmSimulationOptions options;
     options.active_joints = active_indices_;
-    options.integrator = config_.integrator;
-    options.accuracy = config_.integrator_accuracy;
+    options.integrator = config_.simulation.integrator;
+    options.accuracy = config_.simulation.integrator_accuracy;
     const bool mismatch_from_start = config_.mismatch.start_time <= 0.0;
     if (mismatch_from_start) apply_mismatch(options);
     ArmSimulation plant(model_, options);
@@ -138,33 +125,6 @@ class ExperimentRun {
   bool uses_learner() const {
     return config_.learning.mode != LearningMode::none ||
            (config_.control.feed_forward == FeedForwardSource::learner && config_.control.mode != ControlMode::feedback);
-  }
-
-  void validate() const {
-    if (!(config_.dt > 0.0) || config_.dt > 1.0) throw std::invalid_argument("dt: must be in (0, 1] s");
-    if (!(config_.integrator_accuracy > 0.0) || config_.integrator_accuracy >= 1.0) {
-      throw std::invalid_argument("integrator_accuracy: must be in (0, 1)");
-    }
-    if (!(config_.control.gain_scale >= 0.0)) throw std::invalid_argument("control.gain_scale: must not be negative");
-    if (!(config_.control.bandwidth > 0.0)) throw std::invalid_argument("control.bandwidth: must be positive");
-    if (!(config_.control.damping_ratio >= 0.0)) throw std::invalid_argument("control.damping_ratio: must not be negative");
-    const LearningConfig& learning = config_.learning;
-    if (!(learning.train_fraction > 0.0 && learning.train_fraction <= 1.0)) {
-      throw std::invalid_argument("learning.train_fraction: must be in (0, 1]");
-    }
-    if (learning.epochs < 1) throw std::invalid_argument("learning.epochs: must be at least 1");
-    if (learning.collect_repeats < 1) throw std::invalid_argument("learning.collect_repeats: must be at least 1");
-    if (!(learning.collect_gain_scale >= 0.0)) throw std::invalid_argument("learning.collect_gain_scale: must not be negative");
-    if (config_.control.feed_forward == FeedForwardSource::learner && config_.control.mode != ControlMode::feedback &&
-        learning.mode == LearningMode::none) {
-      throw std::invalid_argument("learning.mode: is \"none\" but control.feed_forward is \"learner\"");
-    }
-    if (config_.recording.every < 1) throw std::invalid_argument("recording.every: must be at least 1");
-    const DivergenceConfig& divergence = config_.divergence;
-    if (!(divergence.max_tracking_error > 0.0)) throw std::invalid_argument("divergence.max_tracking_error: must be positive");
-    if (!(divergence.max_error_duration >= 0.0)) throw std::invalid_argument("divergence.max_error_duration: must not be negative");
-    if (!(divergence.velocity_limit_factor > 0.0)) throw std::invalid_argument("divergence.velocity_limit_factor: must be positive");
-    if (config_.mismatch.payload.mass < 0.0) throw std::invalid_argument("mismatch.payload.mass: must not be negative");
   }
 
   void make_learner() {
@@ -252,7 +212,7 @@ class ExperimentRun {
   /// One pass over the trajectory. Returns false when the job ended (diverged or stopped).
   bool run_pass(ArmSimulation& plant, const CompositeController& controller, PassKind kind, std::vector<Sample>* collected) {
     const bool evaluate = kind == PassKind::evaluate;
-    const double dt = config_.dt;
+    const double dt = config_.simulation.dt;
     const double pass_start = plant.time();
     plant.set_state(pass_start, trajectory_.q.row(0).transpose(), trajectory_.qd.row(0).transpose());
     const bool mismatch_later = config_.mismatch.start_time > 0.0;
@@ -566,6 +526,8 @@ class ExperimentRun {
 }  // namespace
 
 JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const std::function<bool()>& should_stop) {
+  const std::vector<ConfigProblem> problems = validate(config, ModelFacts{static_cast<int>(model.movable_joints().size())});
+  if (!problems.empty()) throw std::invalid_argument(make_problems_text(problems));
   ExperimentRun run(model, config, should_stop);
   return run.run();
 }

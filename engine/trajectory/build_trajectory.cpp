@@ -86,18 +86,16 @@ JointTrajectory build_recorded(const TrajectoryConfig& config, ArmDynamics& dyna
     const double fraction = position - static_cast<double>(row);
     resampled.row(k) = (1.0 - fraction) * recorded.samples.row(row) + fraction * recorded.samples.row(row + 1);
   }
-  if (recorded.filter == "savitzky_golay") {
+  if (recorded.filter == RecordedFilter::savitzky_golay) {
     if (recorded.window < 3 || recorded.window % 2 == 0) throw std::invalid_argument("trajectory.recorded.window: must be odd and at least 3");
     if (recorded.polynomial_order < 2 || recorded.polynomial_order >= recorded.window) {
       throw std::invalid_argument("trajectory.recorded.polynomial_order: must be at least 2 and below the window");
     }
     if (samples < recorded.window) throw std::invalid_argument(where + ": shorter than the smoothing window");
     resampled = calc_savitzky_golay(resampled, recorded.window, recorded.polynomial_order, 0, dt);
-  } else if (recorded.filter == "low_pass") {
+  } else if (recorded.filter == RecordedFilter::low_pass) {
     if (!(recorded.cutoff > 0.0)) throw std::invalid_argument("trajectory.recorded.cutoff: must be positive");
     resampled = calc_zero_phase_low_pass(resampled, recorded.cutoff, dt);
-  } else if (recorded.filter != "none") {
-    throw std::invalid_argument("trajectory.recorded.filter: unknown filter \"" + recorded.filter + "\"");
   }
   JointTrajectory trajectory;
   trajectory.dt = dt;

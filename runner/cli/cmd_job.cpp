@@ -1,12 +1,16 @@
 // `armfarm job CONFIG.json [--json]`: runs one experiment job outside any sweep and prints its
-// metrics. The file holds any subset of a job configuration; the rest takes the defaults.
+// metrics. The file holds any subset of a job configuration; the rest takes the defaults. The
+// configuration is validated first (the same checks as `expand` and `run`); the job then runs
+// under a wall-time limit (--timeout, default one hour) and stops on Ctrl-C.
 #include "engine/experiment/job_outcome.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/job_executor.hpp"
+#include "runner/execution/stop_signal.hpp"
 #include "runner/spec/config_check.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -49,16 +53,35 @@ RunFunction setup_job(CLI::App& parent) {
   CLI::App* command = parent.add_subcommand("job", "Run one experiment job from a configuration file and print its metrics");
   auto path = std::make_shared<std::string>();
   auto as_json = std::make_shared<bool>(false);
+  auto timeout = std::make_shared<double>(3600.0);
   command->add_option("config", *path, "Job configuration (JSON; missing keys take their defaults)")->required();
   command->add_flag("--json", *as_json, "Print {status, message, end_time, metrics, per_joint} as JSON");
-  return [path, as_json] {
+  command->add_option("--timeout", *timeout, "Stop the job after this many seconds of wall clock (0: none)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  return [path, as_json, timeout] {
     const JobConfigSchema schema = make_experiment_config_schema();
     const nlohmann::json config = load_job_config(*path, schema);
     JobOutcome outcome;
+    StopSignalScope signals;
+    const std::atomic<bool>& interrupted = signals.stop_requested();
+    const auto start = std::chrono::steady_clock::now();
+    const double limit = *timeout;
+    bool timed_out = false;
+    JobControl control;
+    control.should_stop = [&] {
+      if (limit > 0.0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > limit) timed_out = true;
+      return timed_out || interrupted.load();
+    };
     try {
-      outcome = make_experiment_executor()(config, JobControl{});
+      outcome = make_experiment_executor()(config, control);
     } catch (const ConfigError& error) {
       throw std::runtime_error(*path + ": " + error.what());
+    }
+    if (timed_out && outcome.status == JobStatus::timeout) {
+      char text[96];
+      std::snprintf(text, sizeof text, "stopped after the timeout of %g s (--timeout)", limit);
+      outcome.message = text;
     }
     std::map<int, nlohmann::json> per_joint;
     nlohmann::json metrics = nlohmann::json::object();

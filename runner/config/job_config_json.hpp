@@ -1,21 +1,34 @@
 #pragma once
-// The experiment job's configuration as JSON: the default tree (every key, its default and
-// so its type; sweeps/README.md documents each) and the parser from a fully resolved
-// configuration (defaults merged) to the engine's JobConfig.
+// The experiment job's configuration as JSON, driven by the engine's key table
+// (engine/experiment/job_config.hpp): the defaults tree is written from a default-constructed
+// JobConfig (so every default has one home, its component's struct), and the parser reads every
+// key through the same table, then runs the engine's validate() (job_config_validation.hpp).
+// sweeps/README.md documents every key; a test keeps the two in step.
 #include "engine/experiment/job_config.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 namespace armfarm {
 
-/// Every key of a job configuration with its default. `null` marks keys whose default is the
-/// engine's rule (e.g. learning.lwpr.init_D, norm_in) and that accept a number or a list.
+/// The keys the runner adds to the engine's (the model file, which the engine receives loaded).
+struct RunnerConfigKey {
+  const char* path;
+  const char* default_value;
+  const char* doc;
+};
+const std::vector<RunnerConfigKey>& runner_config_keys();
+
+/// Every key of a job configuration with its default (the JSON types are the expected types;
+/// an empty array is a list of numbers).
 nlohmann::json make_job_config_defaults();
 
-/// Parses a resolved configuration for an arm with `movable_joints` movable joints. Throws
-/// ConfigError (runner/execution/job_executor.hpp) with the JSON path of the offending value.
+/// Parses a resolved configuration (defaults merged) for an arm with `movable_joints` movable
+/// joints and validates it. Throws ConfigError (runner/execution/job_executor.hpp) naming the
+/// JSON path of the first problem; its message lists every problem ("path: what; path: what").
+/// `null` at a key means its default (configurations stored before the defaults were written out).
 JobConfig parse_job_config(const nlohmann::json& config, int movable_joints);
 
 }  // namespace armfarm

@@ -1,6 +1,7 @@
 #include "runner/execution/fake_job.hpp"
 
 #include "engine/experiment/metric_catalog.hpp"
+#include "engine/learning/learning_config.hpp"
 #include "engine/random/random_stream.hpp"
 
 #include <algorithm>
@@ -31,11 +32,14 @@ JobConfigSchema make_fake_job_config_schema() {
     "model": "models/fake_arm.urdf",
     "seed": 0,
     "control": {"kp": [100.0, 50.0], "kd": [10.0, 5.0], "gain_scale": 1.0},
-    "learning": {"lwpr": {"init_D": 25.0, "init_alpha": 250.0}},
+    "learning": {"lwpr": {}},
     "trajectory": {"kind": "figure8", "period": 2.0, "amplitude": 0.5},
     "simulation": {"duration": 4.0, "samples": 200},
     "fake": {"sleep_ms": 2.0, "work": 0, "fail": false, "throw": false, "diverge": false, "hang": false}
   })json");
+  // The LWPR defaults are the experiment job's (engine/learning/learning_config.hpp), not a copy.
+  const lwpr::LwprParams lwpr_defaults = make_job_lwpr_defaults();
+  schema.defaults["learning"]["lwpr"] = {{"init_D", lwpr_defaults.init_D(0, 0)}, {"init_alpha", lwpr_defaults.init_alpha}};
   schema.validate = [](const nlohmann::json& config) {
     const auto& control = config.at("control");
     if (control.at("kp").empty()) throw ConfigError("control.kp", "needs one gain per active joint");

@@ -1,6 +1,8 @@
 // LWPR params JSON: library names, init_D shapes, "std" normalisation, unknown keys.
 #include "runner/lwpr_params_json.hpp"
 
+#include "engine/learning/learning_config.hpp"
+
 #include <gtest/gtest.h>
 
 namespace armfarm {
@@ -31,6 +33,29 @@ TEST(LwprParamsJson, UnknownKeyIsAnErrorWithASuggestion) {
   }
   EXPECT_THROW(parse_lwpr_params(nlohmann::json::parse(R"({"init_alpha": "big"})"), "p.json", 2, {}), std::runtime_error);
   EXPECT_THROW(parse_lwpr_params(nlohmann::json::parse(R"({"norm_in": "max"})"), "p.json", 2, {}), std::runtime_error);
+}
+
+TEST(LwprParamsJson, ReadsThroughTheJobsTableKeepingTheLibraryDefaults) {
+  const auto message = [](const char* text) {
+    try {
+      parse_lwpr_params(nlohmann::json::parse(text), "p.json", 2, {});
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(message(R"({"max_fields": -1})"), "p.json: max_fields: expected an integer in [0, 1e+06], got -1");
+  EXPECT_EQ(message(R"({"init_D": [[1, 0], [0]]})"), "p.json: init_D[1]: rows of different lengths");
+  EXPECT_EQ(message(R"({"kernel": "triangle"})"), "p.json: kernel: must be one of \"gaussian\" or \"bisquare\", not \"triangle\"");
+  // One table serves the file format and the job's learning.lwpr block: 20 library keys + 3 of ours.
+  nlohmann::json all = nlohmann::json::object();
+  for (const auto& key : lwpr_params_keys()) all[key.name] = nullptr;
+  EXPECT_EQ(all.size(), 23u);
+  // Keys left out keep the library's defaults (init_D 25 on raw data), not the job's 0.05.
+  const lwpr::LwprParams p = parse_lwpr_params(nlohmann::json::parse(R"({"kernel": "BiSquare", "meta": 1})"), "p.json", 2, {});
+  EXPECT_EQ(p.init_D(0, 0), 25.0);
+  EXPECT_EQ(p.kernel, lwpr::Kernel::kBisquare);
+  EXPECT_TRUE(p.meta);
 }
 
 }  // namespace

@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -60,6 +62,37 @@ TEST(CmdJob, BadConfigurationIsOneLineNamingFileAndPath) {
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_NE(result.output.find(path + ": control.gain_scal: unknown key"), std::string::npos) << result.output;
   EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+}
+
+TEST(CmdJob, NonsenseValuesAreRefusedBeforeTheJobStarts) {
+  // Each of these used to run: dt 1e-300 ended done with NULL metrics, duration 1e300 overflowed
+  // the tick count, integrator_accuracy 1e-300 hung.
+  const std::pair<const char*, const char*> cases[] = {
+      {R"({"dt": 1e-300})", "dt: 1e-300 s is outside the allowed range [0.0001, 0.1] s"},
+      {R"({"trajectory": {"sine": {"duration": 1e300}}})", "trajectory.sine.duration: 1e+300 s is outside the allowed range"},
+      {R"({"integrator_accuracy": 1e-300})", "integrator_accuracy: 1e-300 is outside the allowed range [1e-12, 0.1]"},
+      {R"({"trajectory": {"sine": {"duration": 60000}}})", "trajectory.sine.duration: the job would take 6e+06 control ticks"},
+  };
+  for (const auto& [text, expected] : cases) {
+    const std::string path = write_config("nonsense", text);
+    const CommandResult result = run_job(path);
+    EXPECT_EQ(result.exit_code, 2) << text << "\n" << result.output;
+    EXPECT_NE(result.output.find(path + ": " + expected), std::string::npos) << result.output;
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
+  }
+}
+
+TEST(CmdJob, WallTimeLimitStopsTheJob) {
+  const std::string path = write_config("slow", R"({"trajectory": {"sine": {"duration": 600.0}}})");
+  const auto start = std::chrono::steady_clock::now();
+  const CommandResult result = run_job(path + " --timeout 0.3 --json");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_EQ(result.exit_code, 1) << result.output;
+  const nlohmann::json out = nlohmann::json::parse(result.output);
+  EXPECT_EQ(out["status"], "timeout");
+  EXPECT_EQ(out["message"], "stopped after the timeout of 0.3 s (--timeout)");
+  EXPECT_LT(out["end_time"].get<double>(), 600.0);
+  EXPECT_LT(seconds, 30.0);  // 600 simulated seconds take about 13 s of wall time uninterrupted
 }
 
 }  // namespace

@@ -1,10 +1,14 @@
 // The experiment job's JSON configuration: defaults parse into the engine's defaults, values
 // land in the right fields, and bad values name their JSON path.
 #include "runner/config/job_config_json.hpp"
+#include "runner/config/config_value_json.hpp"
 #include "runner/execution/job_executor.hpp"
 
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <set>
+#include <sstream>
 #include <string>
 
 namespace armfarm {
@@ -22,7 +26,7 @@ std::string error_of(const nlohmann::json& config) {
 TEST(JobConfigJson, DefaultsParseToTheEngineDefaults) {
   const JobConfig parsed = parse_job_config(make_job_config_defaults(), 7);
   const JobConfig engine;
-  EXPECT_EQ(parsed.dt, engine.dt);
+  EXPECT_EQ(parsed.simulation.dt, engine.simulation.dt);
   EXPECT_EQ(parsed.control.gain_scale, engine.control.gain_scale);
   EXPECT_EQ(parsed.control.bandwidth, engine.control.bandwidth);
   EXPECT_EQ(parsed.learning.lwpr.init_D(0, 0), make_job_lwpr_defaults().init_D(0, 0));
@@ -64,7 +68,7 @@ TEST(JobConfigJson, BadValuesNameTheirPath) {
   EXPECT_NE(error_of(config).find("learning.lwpr"), std::string::npos) << error_of(config);
   config = make_job_config_defaults();
   config["recording"]["series"] = {"POS", "TORQUE"};
-  EXPECT_NE(error_of(config).find("recording.series[1]: unknown series"), std::string::npos) << error_of(config);
+  EXPECT_NE(error_of(config).find("recording.series[1]: unknown name"), std::string::npos) << error_of(config);
   config = make_job_config_defaults();
   config["learning"]["mode"] = "none";
   EXPECT_NE(error_of(config).find("learning.mode"), std::string::npos) << error_of(config);
@@ -72,6 +76,95 @@ TEST(JobConfigJson, BadValuesNameTheirPath) {
   config["trajectory"]["kind"] = "recorded";
   config["trajectory"]["recorded"]["file"] = "/nonexistent/motion.csv";
   EXPECT_NE(error_of(config).find("trajectory.recorded.file: /nonexistent/motion.csv"), std::string::npos) << error_of(config);
+}
+
+TEST(JobConfigJson, DefaultsTreeHoldsExactlyTheTableKeysWithTheStructDefaults) {
+  const nlohmann::json defaults = make_job_config_defaults();
+  // Every leaf of the tree is a table key (or the runner's model), and the other way round.
+  std::set<std::string> leaves;
+  const std::function<void(const nlohmann::json&, const std::string&)> walk = [&](const nlohmann::json& node,
+                                                                                 const std::string& path) {
+    if (!node.is_object()) {
+      leaves.insert(path);
+      return;
+    }
+    for (const auto& [key, value] : node.items()) walk(value, path.empty() ? key : path + "." + key);
+  };
+  walk(defaults, "");
+  std::set<std::string> keys;
+  for (const RunnerConfigKey& key : runner_config_keys()) keys.insert(key.path);
+  for (const JobConfigKey& key : job_config_keys()) keys.insert(key.path);
+  EXPECT_EQ(leaves, keys);
+  // Values: the literal numbers of the structs, and the job's LWPR defaults rather than the library's.
+  EXPECT_EQ(defaults["dt"], 0.01);
+  EXPECT_EQ(defaults["integrator"], "runge_kutta_merson");
+  EXPECT_EQ(defaults["learning"]["lwpr"]["init_D"], 0.05);
+  EXPECT_NE(defaults["learning"]["lwpr"]["init_D"], lwpr::LwprParams{}.init_D(0, 0));
+  EXPECT_EQ(defaults["learning"]["lwpr"]["trust_n_data"], 5.0);
+  EXPECT_EQ(defaults["recording"]["series"], nlohmann::json::array({"TRIAL"}));
+  EXPECT_EQ(defaults["trajectory"]["figure_eight"]["centre"], nlohmann::json::array({0.45, 0.0, 0.6}));
+}
+
+TEST(JobConfigJson, EveryFieldRoundTripsThroughTheTable) {
+  // Change keys of every value kind from their defaults, write every key, parse: each field reads back what was written.
+  JobConfig changed;
+  changed.active_joints = {1, 3};
+  changed.seed = 7;
+  changed.simulation.dt = 0.005;
+  changed.simulation.integrator = IntegratorKind::verlet;
+  changed.control.kp = Eigen::Vector2d(10.0, 20.0);
+  changed.control.mode = ControlMode::feedback;
+  changed.control.feed_forward = FeedForwardSource::analytic;
+  changed.trajectory.kind = TrajectoryKind::reaching;
+  changed.trajectory.recorded.filter = RecordedFilter::low_pass;
+  changed.trajectory.reaching.profile = ReachProfile::sigmoid;
+  changed.learning.mode = LearningMode::batch;
+  changed.learning.lwpr.kernel = lwpr::Kernel::kBisquare;
+  changed.learning.lwpr.init_D = Eigen::MatrixXd::Constant(6, 1, 0.3);
+  changed.learning.lwpr.max_fields = 40;
+  changed.mismatch.payload.offset = Eigen::Vector3d(0.0, 0.0, 0.1);
+  changed.recording.series = {"PHI", "TOR"};
+  changed.divergence.max_error_duration = 0.25;
+  nlohmann::json written = make_job_config_defaults();
+  for (const JobConfigKey& key : job_config_keys()) {
+    nlohmann::json* node = &written;
+    std::stringstream path(key.path);
+    for (std::string part; std::getline(path, part, '.');) node = &(*node)[part];
+    *node = make_field_json(key.field(changed));
+  }
+  JobConfig parsed = parse_job_config(written, 7);
+  for (const JobConfigKey& key : job_config_keys()) {
+    EXPECT_EQ(make_field_json(key.field(parsed)), make_field_json(key.field(changed))) << key.path;
+  }
+  EXPECT_EQ(parsed.simulation.integrator, IntegratorKind::verlet);
+  EXPECT_EQ(parsed.trajectory.recorded.filter, RecordedFilter::low_pass);
+  EXPECT_EQ(parsed.learning.lwpr.max_fields, 40u);
+}
+
+TEST(JobConfigJson, NullMeansTheDefaultAsInConfigurationsStoredBefore) {
+  nlohmann::json config = make_job_config_defaults();
+  config["learning"]["lwpr"]["init_D"] = nullptr;
+  config["learning"]["lwpr"]["norm_in"] = nullptr;
+  const JobConfig parsed = parse_job_config(config, 7);
+  EXPECT_EQ(parsed.learning.lwpr.init_D(0, 0), 0.05);
+  EXPECT_EQ(parsed.learning.lwpr.norm_in.size(), 1);
+}
+
+TEST(JobConfigJson, EveryProblemIsInTheOneMessageTheFirstPathLeads) {
+  nlohmann::json config = make_job_config_defaults();
+  config["dt"] = 1e-300;
+  config["trajectory"]["sine"]["duration"] = 1e300;
+  config["integrator_accuracy"] = 1e-300;
+  try {
+    parse_job_config(config, 7);
+    FAIL() << "accepted";
+  } catch (const ConfigError& error) {
+    EXPECT_EQ(error.json_path(), "dt");
+    const std::string text = error.what();
+    EXPECT_NE(text.find("dt: 1e-300 s is outside the allowed range [0.0001, 0.1] s"), std::string::npos) << text;
+    EXPECT_NE(text.find("; integrator_accuracy: 1e-300 is outside"), std::string::npos) << text;
+    EXPECT_NE(text.find("; trajectory.sine.duration: 1e+300 s is outside"), std::string::npos) << text;
+  }
 }
 
 }  // namespace

@@ -1,0 +1,48 @@
+#include "engine/control/control_config.hpp"
+
+namespace armfarm {
+
+const EnumNames& control_mode_names() {
+  static const EnumNames names = {
+      {"open_loop", static_cast<int>(ControlMode::open_loop), "feed-forward only"},
+      {"feedback", static_cast<int>(ControlMode::feedback), "PD only"},
+      {"composite", static_cast<int>(ControlMode::composite), "PD + feed-forward (appendix A)"},
+  };
+  return names;
+}
+
+const EnumNames& feed_forward_source_names() {
+  static const EnumNames names = {
+      {"learner", static_cast<int>(FeedForwardSource::learner), "LWPR at the desired q, q̇, q̈"},
+      {"analytic", static_cast<int>(FeedForwardSource::analytic), "exact rigid-body inverse dynamics of the nominal model"},
+      {"none", static_cast<int>(FeedForwardSource::none), "no feed-forward"},
+  };
+  return names;
+}
+
+const std::vector<ConfigKey<ControlConfig>>& control_config_keys() {
+  using C = ControlConfig;
+  static const std::vector<ConfigKey<C>> keys = {
+      {"mode", "", {}, ListSize::any, "open_loop (feed-forward only), feedback (PD only) or composite (PD + feed-forward), appendix A",
+       [](C& c) { return make_choice_field(c.mode, control_mode_names()); }},
+      {"feed_forward", "", {}, ListSize::any,
+       "learner (LWPR at the desired q, q̇, q̈), analytic (exact rigid-body inverse dynamics of the nominal model) or none",
+       [](C& c) { return make_choice_field(c.feed_forward, feed_forward_source_names()); }},
+      {"kp", "N·m/rad", closed(0.0, 1e6), ListSize::per_joint,
+       "proportional gains; [] = M_jj·bandwidth², M_jj the mass-matrix diagonal (armature included) at the start posture",
+       [](C& c) { return make_field(c.kp); }},
+      {"kd", "N·m·s/rad", closed(0.0, 1e5), ListSize::per_joint, "derivative gains; [] = 2·damping_ratio·M_jj·bandwidth",
+       [](C& c) { return make_field(c.kd); }},
+      {"bandwidth", "rad/s", left_open(0.0, 1000.0), ListSize::any, "closed-loop bandwidth of the default gains",
+       [](C& c) { return make_field(c.bandwidth); }},
+      {"damping_ratio", "", closed(0.0, 10.0), ListSize::any, "damping ratio of the default gains",
+       [](C& c) { return make_field(c.damping_ratio); }},
+      {"gain_scale", "", closed(0.0, 100.0), ListSize::any, "multiplies kp and kd; 0.2 is the thesis's low-gain controller",
+       [](C& c) { return make_field(c.gain_scale); }},
+      {"limit_torque", "", {}, ListSize::any, "clip commands to the model's effort limits (counted in torque_saturation_fraction)",
+       [](C& c) { return make_field(c.limit_torque); }},
+  };
+  return keys;
+}
+
+}  // namespace armfarm

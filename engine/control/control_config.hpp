@@ -1,0 +1,45 @@
+#pragma once
+// The controller's configuration: mode, feed-forward source and PD gains, with the only copy
+// of their defaults, and its key table (engine/config/config_key.hpp).
+// Units: SI and radians; per-joint vectors have one entry per active joint or one for all.
+#include "engine/config/config_key.hpp"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace armfarm {
+
+/// The thesis's three control modes (appendix A).
+enum class ControlMode {
+  open_loop,  ///< feed-forward only
+  feedback,   ///< PD only
+  composite,  ///< PD + feed-forward
+};
+const EnumNames& control_mode_names();
+
+/// Where the feed-forward torque comes from.
+enum class FeedForwardSource {
+  learner,   ///< the learned inverse dynamics (LWPR) at the desired state
+  analytic,  ///< the exact rigid-body inverse dynamics of the nominal model (section 3.1)
+  none,
+};
+const EnumNames& feed_forward_source_names();
+
+struct ControlConfig {
+  ControlMode mode = ControlMode::composite;
+  FeedForwardSource feed_forward = FeedForwardSource::learner;
+  /// PD gains, N·m/rad and N·m·s/rad. Empty: kp = M_jj·bandwidth², kd = 2·damping_ratio·M_jj·bandwidth
+  /// with M_jj the diagonal of the mass matrix (armature included) at the start posture.
+  Eigen::VectorXd kp;
+  Eigen::VectorXd kd;
+  double bandwidth = 20.0;     ///< rad/s, for the default gains (stable under a 10 ms hold)
+  double damping_ratio = 1.0;  ///< for the default gains
+  /// Multiplies both gains; the thesis's low-gain controller is 0.2 (gains reduced by 80 %).
+  double gain_scale = 1.0;
+  bool limit_torque = true;    ///< clip the command to the model's effort limits
+};
+
+const std::vector<ConfigKey<ControlConfig>>& control_config_keys();
+
+}  // namespace armfarm

@@ -1,0 +1,279 @@
+#include "engine/experiment/job_config_validation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace armfarm {
+namespace {
+
+std::string format_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
+
+std::string with_unit(const std::string& text, const char* unit) { return *unit ? text + " " + unit : text; }
+
+class Checker {
+ public:
+  Checker(std::vector<ConfigProblem>& problems) : problems_(problems) {}
+
+  void add(const std::string& path, const std::string& message) { problems_.push_back({path, message}); }
+
+  void check_number(const JobConfigKey& key, const std::string& path, double value) {
+    if (key.range.contains(value)) return;
+    add(path, with_unit(format_number(value), key.unit) + " is outside the allowed range " + with_unit(key.range.describe(), key.unit));
+  }
+
+  void check_integer(const JobConfigKey& key, const std::string& path, long long value) {
+    if (key.range.contains(static_cast<double>(value))) return;
+    add(path, std::to_string(value) + " is outside the allowed range " + key.range.describe() + " (integers)");
+  }
+
+  void check_elements(const JobConfigKey& key, const Eigen::Ref<const Eigen::VectorXd>& values) {
+    for (Eigen::Index i = 0; i < values.size(); ++i) check_number(key, key.path + "[" + std::to_string(i) + "]", values[i]);
+  }
+
+  void check_size(const JobConfigKey& key, Eigen::Index size, int n) {
+    const auto plural = [](long count) { return std::to_string(count) + (count == 1 ? " value" : " values"); };
+    switch (key.size) {
+      case ListSize::per_joint:
+        if (size > 1 && size != n) {
+          add(key.path, "has " + plural(size) + "; give none (the stated rule), 1 (all joints) or one per active joint (" +
+                            std::to_string(n) + ")");
+        }
+        break;
+      case ListSize::lwpr_inputs:
+        if (size != 1 && size != 3 * n) {
+          add(key.path, "has " + plural(size) + "; give 1 or one per input (3 × " + std::to_string(n) + " active joints = " +
+                            std::to_string(3 * n) + ")");
+        }
+        break;
+      case ListSize::lwpr_outputs:
+        if (size != 1 && size != n) add(key.path, "has " + plural(size) + "; give 1 or one per active joint (" + std::to_string(n) + ")");
+        break;
+      default:
+        break;
+    }
+  }
+
+ private:
+  std::vector<ConfigProblem>& problems_;
+};
+
+bool has_problem_under(const std::vector<ConfigProblem>& problems, const std::string& prefix) {
+  return std::any_of(problems.begin(), problems.end(), [&](const ConfigProblem& p) { return p.path.rfind(prefix, 0) == 0; });
+}
+
+void check_joints(const JobConfig& config, const ModelFacts& facts, Checker& checker) {
+  const std::vector<int>& joints = config.active_joints;
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const std::string path = "active_joints[" + std::to_string(i) + "]";
+    if (joints[i] < 1 || joints[i] > facts.movable_joints) {
+      checker.add(path, "joint " + std::to_string(joints[i]) + " does not exist; the arm has joints 1.." + std::to_string(facts.movable_joints));
+    } else if (std::find(joints.begin(), joints.begin() + static_cast<std::ptrdiff_t>(i), joints[i]) != joints.begin() + static_cast<std::ptrdiff_t>(i)) {
+      checker.add(path, "joint " + std::to_string(joints[i]) + " is listed twice");
+    }
+  }
+}
+
+void check_key(const JobConfigKey& key, JobConfig& config, int n, Checker& checker) {
+  const FieldRef field = key.field(config);
+  switch (field.kind) {
+    case ValueKind::real:
+      checker.check_number(key, key.path, field.real());
+      break;
+    case ValueKind::integer:
+      checker.check_integer(key, key.path, field.get_integer(field.field));
+      break;
+    case ValueKind::choice: {
+      const int value = static_cast<int>(field.get_integer(field.field));
+      if (std::string(find_enum_name(*field.choices, value)) == "?") {
+        checker.add(key.path, "must be " + make_enum_choice_text(*field.choices));
+      }
+      break;
+    }
+    case ValueKind::real_list:
+    case ValueKind::real_or_list:
+      checker.check_size(key, field.vector().size(), n);
+      checker.check_elements(key, field.vector());
+      break;
+    case ValueKind::point:
+      checker.check_elements(key, field.point());
+      break;
+    case ValueKind::real_matrix:
+      // Scalar and diagonal metrics element-wise; a full metric must be SPD (checked by LWPR).
+      if (field.matrix().cols() == 1) checker.check_elements(key, field.matrix().col(0));
+      break;
+    case ValueKind::name_list: {
+      const std::vector<std::string>& known = field.names();
+      const std::vector<std::string>& names = field.texts();
+      for (std::size_t i = 0; i < names.size(); ++i) {
+        if (std::find(known.begin(), known.end(), names[i]) == known.end()) {
+          std::string list;
+          for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+          checker.add(key.path + "[" + std::to_string(i) + "]", "unknown name \"" + names[i] + "\" (known: " + list + ")");
+        }
+      }
+      break;
+    }
+    case ValueKind::integer_list:  // active_joints: check_joints
+    case ValueKind::boolean:
+    case ValueKind::text:
+      break;
+  }
+}
+
+void check_lwpr(const JobConfig& config, int n, const std::vector<ConfigProblem>& problems, Checker& checker) {
+  if (has_problem_under(problems, "learning.lwpr.")) return;  // one report per cause
+  try {
+    lwpr::validate_lwpr_params(config.learning.lwpr, 3 * n, n);
+  } catch (const std::invalid_argument& error) {
+    // "LWPR parameter init_D must be symmetric" → learning.lwpr.init_D: must be symmetric
+    std::string message = error.what();
+    const std::string prefix = "LWPR parameter ";
+    if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
+    const auto space = message.find(' ');
+    const std::string name = message.substr(0, space);
+    const auto& keys = lwpr_params_keys();
+    const bool known = std::any_of(keys.begin(), keys.end(), [&](const auto& key) { return name == key.name; });
+    if (known && space != std::string::npos) {
+      checker.add("learning.lwpr." + name, message.substr(space + 1));
+    } else {
+      checker.add("learning.lwpr", message);
+    }
+  }
+}
+
+void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
+  if (config.control.mode != ControlMode::feedback && config.control.feed_forward == FeedForwardSource::learner &&
+      config.learning.mode == LearningMode::none) {
+    const auto name = [](const EnumNames& names, auto value) { return std::string("\"") + find_enum_name(names, static_cast<int>(value)) + "\""; };
+    checker.add("learning.mode", "is " + name(learning_mode_names(), LearningMode::none) + " but control.feed_forward is " +
+                                     name(feed_forward_source_names(), FeedForwardSource::learner) + " (use " +
+                                     name(feed_forward_source_names(), FeedForwardSource::analytic) + " or " +
+                                     name(feed_forward_source_names(), FeedForwardSource::none) + ")");
+  }
+  const ReachingConfig& reaching = config.trajectory.reaching;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!(reaching.box_min[axis] < reaching.box_max[axis])) {
+      checker.add("trajectory.reaching.box_max[" + std::to_string(axis) + "]",
+                  format_number(reaching.box_max[axis]) + " m must exceed box_min[" + std::to_string(axis) + "] = " +
+                      format_number(reaching.box_min[axis]) + " m");
+    }
+  }
+  const RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
+  if (recorded.window % 2 == 0) checker.add("trajectory.recorded.window", std::to_string(recorded.window) + " must be odd");
+  if (recorded.polynomial_order >= recorded.window) {
+    checker.add("trajectory.recorded.polynomial_order",
+                std::to_string(recorded.polynomial_order) + " must be below the window (" + std::to_string(recorded.window) + ")");
+  }
+  if (config.trajectory.kind == TrajectoryKind::recorded) {
+    if (recorded.file.empty() && recorded.samples.size() == 0) {
+      checker.add("trajectory.recorded.file", std::string("is required when trajectory.kind is \"") +
+                                                  find_enum_name(trajectory_kind_names(), static_cast<int>(TrajectoryKind::recorded)) + "\"");
+    } else {
+      const int columns = recorded.task_space ? 3 : n;
+      const std::string where = "trajectory.recorded.file";
+      if (recorded.samples.cols() != columns) {
+        checker.add(where, (recorded.file.empty() ? std::string("the samples") : recorded.file) + " has " +
+                               std::to_string(recorded.samples.cols()) + " columns, expected " + std::to_string(columns) +
+                               (recorded.task_space ? " (x, y, z)" : " (one per active joint)"));
+      } else if (recorded.samples.rows() < 2) {
+        checker.add(where, (recorded.file.empty() ? std::string("the samples") : recorded.file) + " needs at least 2 rows");
+      } else if (!recorded.samples.allFinite()) {
+        checker.add(where, recorded.file + " holds a NaN or Inf value");
+      }
+    }
+  }
+}
+
+/// The key whose value sets the trajectory's length, blamed when a job would be too long.
+const char* length_key(TrajectoryKind kind) {
+  switch (kind) {
+    case TrajectoryKind::sine: return "trajectory.sine.duration";
+    case TrajectoryKind::figure_eight: return "trajectory.figure_eight.loops";
+    case TrajectoryKind::reaching: return "trajectory.reaching.reaches";
+    case TrajectoryKind::recorded: return "trajectory.recorded.loops";
+  }
+  return "trajectory";
+}
+
+void check_cost(const JobConfig& config, const JobCostLimits& limits, Checker& checker) {
+  const double ticks = calc_ticks_per_pass(config);
+  const LearningConfig& learning = config.learning;
+  const bool batch = learning.mode == LearningMode::batch;
+  const double passes = 1.0 + (batch ? learning.collect_repeats : 0);
+  const double total = passes * ticks;
+  const double wall_minutes = total / 4500.0 / 60.0;  // 45 simulated s per wall s at dt = 0.01 s
+  if (!(total <= limits.max_control_ticks)) {
+    checker.add(length_key(config.trajectory.kind),
+                "the job would take " + format_number(total) + " control ticks (" + format_number(ticks) + " per pass × " +
+                    format_number(passes) + (passes == 1.0 ? " pass" : " passes") + " at dt = " + format_number(config.simulation.dt) +
+                    " s, about " + format_number(std::round(wall_minutes)) + " min of wall time); a job may take at most " +
+                    format_number(limits.max_control_ticks) + " ticks: shorten the trajectory or split it into jobs");
+  }
+  double updates = 0.0;
+  if (learning.mode == LearningMode::online) updates = ticks;
+  if (batch) {
+    updates = learning.epochs * std::round(learning.train_fraction * learning.collect_repeats * ticks) +
+              (learning.learn_during_evaluation ? ticks : 0.0);
+  }
+  if (total <= limits.max_control_ticks && !(updates <= limits.max_learner_updates)) {
+    checker.add(batch ? "learning.epochs" : length_key(config.trajectory.kind),
+                "the learner would be updated " + format_number(updates) + " times (" +
+                    (batch ? format_number(learning.epochs) + " epochs × " +
+                                 format_number(std::round(learning.train_fraction * learning.collect_repeats * ticks)) +
+                                 " training samples"
+                           : std::string("one per tick")) +
+                    "); a job may make at most " + format_number(limits.max_learner_updates) + " updates");
+  }
+}
+
+}  // namespace
+
+double calc_ticks_per_pass(const JobConfig& config) {
+  const TrajectoryConfig& t = config.trajectory;
+  const double dt = config.simulation.dt;
+  switch (t.kind) {
+    case TrajectoryKind::sine: return std::max(2.0, std::round(t.sine.duration / dt));
+    case TrajectoryKind::figure_eight: return static_cast<double>(t.figure_eight.points_per_loop) * t.figure_eight.loops;
+    case TrajectoryKind::reaching: return static_cast<double>(t.reaching.points_per_reach) * t.reaching.reaches;
+    case TrajectoryKind::recorded: {
+      if (t.recorded.samples.rows() < 2) return 0.0;
+      const double duration = static_cast<double>(t.recorded.samples.rows() - 1) / t.recorded.sample_rate;
+      return (std::floor(duration / dt + 1e-9) + 1.0) * t.recorded.loops;
+    }
+  }
+  return 0.0;
+}
+
+std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& facts, const JobCostLimits& limits) {
+  std::vector<ConfigProblem> problems;
+  Checker checker(problems);
+  check_joints(config, facts, checker);
+  const int n = config.active_joints.empty() ? facts.movable_joints : static_cast<int>(config.active_joints.size());
+  // The key table hands out references to non-const fields; this function only reads them.
+  JobConfig& fields = const_cast<JobConfig&>(config);
+  for (const JobConfigKey& key : job_config_keys()) check_key(key, fields, n, checker);
+  if (n >= 1) check_lwpr(config, n, problems, checker);
+  check_cross_fields(config, n, checker);
+  // The cost needs sane counts and a sane dt; a range problem there is reported already.
+  if (!has_problem_under(problems, "dt") && !has_problem_under(problems, "trajectory.") && !has_problem_under(problems, "learning.")) {
+    check_cost(config, limits, checker);
+  }
+  return problems;
+}
+
+std::string make_problems_text(const std::vector<ConfigProblem>& problems) {
+  std::string text;
+  for (const ConfigProblem& problem : problems) {
+    if (!text.empty()) text += "; ";
+    text += problem.path.empty() ? problem.message : problem.path + ": " + problem.message;
+  }
+  return text;
+}
+
+}  // namespace armfarm

@@ -1,0 +1,45 @@
+#pragma once
+// The one validation of a job configuration, run before anything is built or stored: every
+// key's range from the key tables (job_config.hpp), list sizes against the model's joints,
+// the cross-field rules, LWPR's parameter shapes, and the job's cost bound. The runner calls it
+// (through parse_job_config) for every job of a sweep before the database is opened; the
+// engine's run_experiment() calls it again so that no unchecked configuration runs.
+#include "engine/experiment/job_config.hpp"
+
+#include <string>
+#include <vector>
+
+namespace armfarm {
+
+/// One problem: the key path ("trajectory.figure_eight.scale", "control.kp[2]") and what is
+/// wrong, with the value, its unit and the allowed range.
+struct ConfigProblem {
+  std::string path;
+  std::string message;
+};
+
+/// What the configuration is checked against, from the model it will run on.
+struct ModelFacts {
+  int movable_joints = 0;
+};
+
+/// Bounds on a job's cost, so that a typo cannot occupy a core for days. At the measured
+/// 45 simulated seconds per wall second of the default job (dt = 0.01 s, 7 joints, online LWPR;
+/// sweeps/README.md), 5e6 control ticks take about 20 minutes of wall time.
+struct JobCostLimits {
+  double max_control_ticks = 5e6;    ///< over all passes (batch: collect_repeats + 1)
+  double max_learner_updates = 2e7;  ///< online ticks, or epochs × training samples (+ evaluation updates)
+};
+
+/// Control ticks of one pass over the configured trajectory at `config.simulation.dt`
+/// (sine: duration/dt; figure-eight: points × loops; reaching: points × reaches; recorded:
+/// length/dt × loops, 0 when no samples are loaded). Real-valued so that nothing overflows.
+double calc_ticks_per_pass(const JobConfig& config);
+
+/// Every problem of `config` (empty: valid).
+std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& facts, const JobCostLimits& limits = {});
+
+/// "path: message; path: message" (one line).
+std::string make_problems_text(const std::vector<ConfigProblem>& problems);
+
+}  // namespace armfarm

@@ -1,0 +1,31 @@
+#include "engine/physics/simulation_config.hpp"
+
+namespace armfarm {
+
+const EnumNames& integrator_kind_names() {
+  static const EnumNames names = {
+      {"runge_kutta_merson", static_cast<int>(IntegratorKind::runge_kutta_merson), "adaptive 4th/5th order (the default)"},
+      {"runge_kutta_3", static_cast<int>(IntegratorKind::runge_kutta_3), "adaptive 2nd/3rd order"},
+      {"runge_kutta_feldberg", static_cast<int>(IntegratorKind::runge_kutta_feldberg), "adaptive 4th/5th order"},
+      {"explicit_euler", static_cast<int>(IntegratorKind::explicit_euler), "adaptive 1st order"},
+      {"semi_explicit_euler2", static_cast<int>(IntegratorKind::semi_explicit_euler2), "semi-explicit Euler with error estimate"},
+      {"verlet", static_cast<int>(IntegratorKind::verlet), "adaptive Verlet"},
+      {"cpodes", static_cast<int>(IntegratorKind::cpodes), "implicit multistep (CPODES)"},
+  };
+  return names;
+}
+
+const std::vector<ConfigKey<SimulationConfig>>& simulation_config_keys() {
+  using C = SimulationConfig;
+  static const std::vector<ConfigKey<C>> keys = {
+      {"dt", "s", closed(1e-4, 0.1), ListSize::any, "control and learning period (the thesis's TAU); torques are held over a tick",
+       [](C& c) { return make_field(c.dt); }},
+      {"integrator", "", {}, ListSize::any, "Simbody integrator (engine/README.md: the measurements behind the default)",
+       [](C& c) { return make_choice_field(c.integrator, integrator_kind_names()); }},
+      {"integrator_accuracy", "", closed(1e-12, 0.1), ListSize::any, "relative accuracy of the adaptive integrators",
+       [](C& c) { return make_field(c.integrator_accuracy); }},
+  };
+  return keys;
+}
+
+}  // namespace armfarm

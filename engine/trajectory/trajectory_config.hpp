@@ -1,0 +1,100 @@
+#pragma once
+// The configuration of a job's desired motion: which kind (sinusoid, figure-eight, reaches,
+// recorded) with each kind's parameters, the only copy of their defaults, and one key table per
+// struct (engine/config/config_key.hpp). The motions themselves: trajectory.hpp.
+//
+// Units: SI and radians; task-space points in the world frame. Joint vectors have one entry
+// per active joint (in the order of the job's active joints) or one for all.
+#include "engine/config/config_key.hpp"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace armfarm {
+
+/// How desired velocities and accelerations are obtained from sampled positions.
+enum class Differentiation {
+  backward_difference,  ///< the thesis's: v_k = (q_k − q_{k−1})/dt, a_k likewise from v
+  smoothed,             ///< central differences of Savitzky–Golay smoothed samples
+  analytic,             ///< exact derivatives where the trajectory has a closed form (sine, reaching profiles)
+};
+const EnumNames& differentiation_names();
+
+enum class ReachProfile { sigmoid, minimum_jerk };
+const EnumNames& reach_profile_names();
+
+/// Smoothing of a recorded motion before differentiation.
+enum class RecordedFilter { savitzky_golay, low_pass, none };
+const EnumNames& recorded_filter_names();
+
+enum class TrajectoryKind { sine, figure_eight, reaching, recorded };
+const EnumNames& trajectory_kind_names();
+
+/// Per active joint: q_d = offset + amplitude·sin(2π·frequency·t + phase). Empty vectors take
+/// the defaults (offset = the joint's start angle, amplitude 0.3 rad, 0.25 Hz, phase 0);
+/// a 1-element vector applies to every joint.
+struct SineTrajectoryConfig {
+  Eigen::VectorXd amplitude;  ///< rad
+  Eigen::VectorXd frequency;  ///< Hz
+  Eigen::VectorXd phase;      ///< rad
+  Eigen::VectorXd offset;     ///< rad
+  double duration = 20.0;     ///< s
+};
+const std::vector<ConfigKey<SineTrajectoryConfig>>& sine_trajectory_config_keys();
+
+/// x = centre.x, y = centre.y + scale·a·sin(πs), z = centre.z + scale·b·sin(2πs) for s in
+/// [0, 2) per loop, sampled at points_per_loop points (one per control tick), loops times,
+/// converted to joint space by inverse kinematics.
+struct FigureEightConfig {
+  Eigen::Vector3d centre = Eigen::Vector3d(0.45, 0.0, 0.6);  ///< m, world frame
+  double a = 0.15;                ///< m, half-width along y
+  double b = 0.10;                ///< m, half-height along z
+  double scale = 1.0;             ///< the thesis's trajScaling
+  int points_per_loop = 750;
+  int loops = 3;
+};
+const std::vector<ConfigKey<FigureEightConfig>>& figure_eight_config_keys();
+
+/// N reaches between random targets drawn uniformly in a task-space box, each sampled at
+/// points_per_reach points with the chosen profile, converted by inverse kinematics.
+struct ReachingConfig {
+  Eigen::Vector3d box_min = Eigen::Vector3d(0.20, 0.20, 0.00);  ///< m (the thesis's region)
+  Eigen::Vector3d box_max = Eigen::Vector3d(0.70, 0.70, 0.50);  ///< m
+  ReachProfile profile = ReachProfile::minimum_jerk;
+  double sigmoid_steepness = 12.0;  ///< the sigmoid 1/(1+exp(−k(s−½))) rescaled to [0,1], s ∈ [0,1]
+  int points_per_reach = 100;
+  int reaches = 20;
+};
+const std::vector<ConfigKey<ReachingConfig>>& reaching_config_keys();
+
+/// Recorded samples (read from a CSV by the runner: the engine does no file I/O): either joint
+/// angles (one column per active joint) or task-space x, y, z, at sample_rate Hz, resampled to
+/// the control rate, smoothed with a Savitzky–Golay filter (window, polynomial order) or a
+/// first-order low-pass (cutoff) before differentiation.
+struct RecordedTrajectoryConfig {
+  std::string file;            ///< where the samples came from (for messages)
+  Eigen::MatrixXd samples;     ///< n_rows × (3 or n_active); not a key: the runner reads `file`
+  bool task_space = true;      ///< columns are x, y, z (m) rather than joint angles (rad)
+  double sample_rate = 100.0;  ///< Hz of the file's rows
+  RecordedFilter filter = RecordedFilter::savitzky_golay;
+  int window = 15;             ///< Savitzky–Golay window (odd, samples at the control rate)
+  int polynomial_order = 3;
+  double cutoff = 5.0;         ///< Hz, low-pass
+  int loops = 1;               ///< how many times the recording is replayed
+};
+const std::vector<ConfigKey<RecordedTrajectoryConfig>>& recorded_trajectory_config_keys();
+
+struct TrajectoryConfig {
+  TrajectoryKind kind = TrajectoryKind::sine;
+  Differentiation differentiation = Differentiation::analytic;
+  SineTrajectoryConfig sine;
+  FigureEightConfig figure_eight;
+  ReachingConfig reaching;
+  RecordedTrajectoryConfig recorded;
+};
+/// kind and differentiation; the kinds' tables are composed under sine., figure_eight., ...
+const std::vector<ConfigKey<TrajectoryConfig>>& trajectory_config_keys();
+
+}  // namespace armfarm

@@ -1,0 +1,190 @@
+#include "runner/config/config_value_json.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+namespace armfarm {
+namespace {
+
+using nlohmann::json;
+
+json make_vector_json(const Eigen::Ref<const Eigen::VectorXd>& values) {
+  json out = json::array();
+  for (Eigen::Index i = 0; i < values.size(); ++i) out.push_back(values[i]);
+  return out;
+}
+
+std::string show(const json& value) {
+  std::string text = value.dump();
+  return text.size() > 40 ? text.substr(0, 37) + "..." : text;
+}
+
+bool is_integral(const json& value) {
+  if (value.is_number_integer()) return true;
+  if (!value.is_number_float()) return false;
+  const double x = value.get<double>();
+  return std::isfinite(x) && x == std::floor(x) && std::fabs(x) < 9.0e15;
+}
+
+long long get_integral(const json& value) {
+  if (value.is_number_unsigned()) return static_cast<long long>(value.get<unsigned long long>());
+  if (value.is_number_integer()) return value.get<long long>();
+  return static_cast<long long>(value.get<double>());
+}
+
+/// A number or a list of numbers → vector; "" or the problem.
+std::string read_vector(const json& value, Eigen::VectorXd& out, std::string& suffix) {
+  if (value.is_number()) {
+    out = Eigen::VectorXd::Constant(1, value.get<double>());
+    return "";
+  }
+  if (!value.is_array()) return "expected a number or a list of numbers, got " + show(value);
+  Eigen::VectorXd result(static_cast<Eigen::Index>(value.size()));
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    if (!value[i].is_number()) {
+      suffix = "[" + std::to_string(i) + "]";
+      return "expected a number, got " + show(value[i]);
+    }
+    result[static_cast<Eigen::Index>(i)] = value[i].get<double>();
+  }
+  out = result;
+  return "";
+}
+
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+}  // namespace
+
+json make_field_json(const FieldRef& field) {
+  switch (field.kind) {
+    case ValueKind::real: return field.real();
+    case ValueKind::integer: return field.get_integer(field.field);
+    case ValueKind::boolean: return field.boolean();
+    case ValueKind::text: return field.text();
+    case ValueKind::choice: return find_enum_name(*field.choices, static_cast<int>(field.get_integer(field.field)));
+    case ValueKind::real_list: return make_vector_json(field.vector());
+    case ValueKind::real_or_list:
+      return field.vector().size() == 1 ? json(field.vector()[0]) : make_vector_json(field.vector());
+    case ValueKind::point: return make_vector_json(field.point());
+    case ValueKind::integer_list: return json(field.integers());
+    case ValueKind::name_list: return json(field.texts());
+    case ValueKind::real_matrix: {
+      const Eigen::MatrixXd& m = field.matrix();
+      if (m.rows() == 1 && m.cols() == 1) return m(0, 0);
+      if (m.cols() == 1) return make_vector_json(m.col(0));
+      json rows = json::array();
+      for (Eigen::Index i = 0; i < m.rows(); ++i) rows.push_back(make_vector_json(m.row(i).transpose()));
+      return rows;
+    }
+  }
+  return nullptr;
+}
+
+std::string read_field_json(const json& value, const FieldRef& field, std::string& suffix, const FieldReadOptions& options) {
+  suffix.clear();
+  switch (field.kind) {
+    case ValueKind::real:
+      if (!value.is_number()) return "expected a number, got " + show(value);
+      field.real() = value.get<double>();
+      return "";
+    case ValueKind::integer:
+      if (!is_integral(value)) return "expected an integer, got " + show(value);
+      // Negative values stored into unsigned fields wrap back to negative in get_integer, where
+      // validate()'s range check refuses them.
+      field.set_integer(field.field, get_integral(value));
+      return "";
+    case ValueKind::boolean:
+      if (value.is_boolean()) {
+        field.boolean() = value.get<bool>();
+        return "";
+      }
+      if (options.flags_as_numbers && is_integral(value) && (get_integral(value) == 0 || get_integral(value) == 1)) {
+        field.boolean() = get_integral(value) == 1;
+        return "";
+      }
+      return std::string("expected true or false") + (options.flags_as_numbers ? " (or 0/1)" : "") + ", got " + show(value);
+    case ValueKind::text:
+      if (!value.is_string()) return "expected a string, got " + show(value);
+      field.text() = value.get<std::string>();
+      return "";
+    case ValueKind::choice: {
+      int choice = 0;
+      const std::string text = value.is_string() ? value.get<std::string>() : "";
+      if (value.is_string() && find_enum_value(*field.choices, options.case_insensitive_names ? lower(text) : text, choice)) {
+        field.set_integer(field.field, choice);
+        return "";
+      }
+      return "must be one of " + make_enum_choice_text(*field.choices) + ", not " + show(value);
+    }
+    case ValueKind::real_list:
+    case ValueKind::real_or_list:
+      return read_vector(value, field.vector(), suffix);
+    case ValueKind::point: {
+      Eigen::VectorXd v;
+      const std::string problem = read_vector(value, v, suffix);
+      if (!problem.empty()) return problem;
+      if (v.size() != 3) return "expected 3 numbers [x, y, z], got " + show(value);
+      field.point() = v;
+      return "";
+    }
+    case ValueKind::integer_list: {
+      if (!value.is_array()) return "expected a list of integers, got " + show(value);
+      std::vector<int> result;
+      for (std::size_t i = 0; i < value.size(); ++i) {
+        if (!is_integral(value[i]) || std::fabs(static_cast<double>(get_integral(value[i]))) > 1e9) {
+          suffix = "[" + std::to_string(i) + "]";
+          return "expected an integer, got " + show(value[i]);
+        }
+        result.push_back(static_cast<int>(get_integral(value[i])));
+      }
+      field.integers() = result;
+      return "";
+    }
+    case ValueKind::name_list: {
+      if (!value.is_array()) return "expected a list of names, got " + show(value);
+      std::vector<std::string> result;
+      for (std::size_t i = 0; i < value.size(); ++i) {
+        if (!value[i].is_string()) {
+          suffix = "[" + std::to_string(i) + "]";
+          return "expected a name, got " + show(value[i]);
+        }
+        result.push_back(value[i].get<std::string>());
+      }
+      field.texts() = result;
+      return "";
+    }
+    case ValueKind::real_matrix: {
+      if (value.is_array() && !value.empty() && value[0].is_array()) {
+        Eigen::MatrixXd m(value.size(), value[0].size());
+        for (std::size_t i = 0; i < value.size(); ++i) {
+          if (!value[i].is_array() || value[i].size() != value[0].size()) {
+            suffix = "[" + std::to_string(i) + "]";
+            return "rows of different lengths";
+          }
+          for (std::size_t j = 0; j < value[i].size(); ++j) {
+            if (!value[i][j].is_number()) {
+              suffix = "[" + std::to_string(i) + "][" + std::to_string(j) + "]";
+              return "expected a number, got " + show(value[i][j]);
+            }
+            m(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = value[i][j].get<double>();
+          }
+        }
+        field.matrix() = m;
+        return "";
+      }
+      if (value.is_array() && value.empty()) return "expected a number, a list or a list of lists, got []";
+      Eigen::VectorXd v;
+      const std::string problem = read_vector(value, v, suffix);
+      if (!problem.empty()) return "expected a number, a list or a list of lists, got " + show(value);
+      field.matrix() = v;
+      return "";
+    }
+  }
+  return "unsupported field";
+}
+
+}  // namespace armfarm

@@ -1,0 +1,146 @@
+// The one validation of a job configuration: every problem at once with its key path, unit and
+// range; the cost bound computed from the same tick count the trajectory builder produces.
+#include "engine/experiment/job_config_validation.hpp"
+#include "engine/trajectory/trajectory.hpp"
+#include "../physics/test_arms.hpp"
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+namespace armfarm {
+namespace {
+
+const ModelFacts kLwr3{7};
+
+std::string problems_of(const JobConfig& config) { return make_problems_text(validate(config, kLwr3)); }
+
+std::set<std::string> paths_of(const JobConfig& config) {
+  std::set<std::string> paths;
+  for (const ConfigProblem& problem : validate(config, kLwr3)) paths.insert(problem.path);
+  return paths;
+}
+
+TEST(JobConfigValidation, DefaultsAreValid) {
+  EXPECT_EQ(problems_of(JobConfig{}), "");
+  JobConfig config;
+  config.active_joints = {2, 4};
+  EXPECT_EQ(problems_of(config), "");
+}
+
+TEST(JobConfigValidation, EveryDefaultLiesInItsRange) {
+  // The same check per key: a default outside its own range would make the defaults invalid.
+  JobConfig config;
+  for (const JobConfigKey& key : job_config_keys()) {
+    const FieldRef field = key.field(config);
+    if (field.kind == ValueKind::real) EXPECT_TRUE(key.range.contains(field.real())) << key.path;
+    if (field.kind == ValueKind::integer) EXPECT_TRUE(key.range.contains(static_cast<double>(field.get_integer(field.field)))) << key.path;
+  }
+}
+
+TEST(JobConfigValidation, NegativeFigureEightScaleNamesPathAndRange) {
+  JobConfig config;
+  config.trajectory.kind = TrajectoryKind::figure_eight;
+  config.trajectory.figure_eight.scale = -1.0;
+  EXPECT_EQ(problems_of(config), "trajectory.figure_eight.scale: -1 is outside the allowed range (0, 10]");
+}
+
+TEST(JobConfigValidation, ReturnsEveryProblemAtOnceWithUnits) {
+  JobConfig config;
+  config.simulation.dt = 1e-300;
+  config.simulation.integrator_accuracy = 1e-300;
+  config.trajectory.sine.duration = 1e300;
+  config.trajectory.sine.frequency = Eigen::VectorXd::Constant(1, -1.0);
+  config.control.kp = Eigen::VectorXd::Constant(3, 10.0);
+  const std::string text = problems_of(config);
+  EXPECT_EQ(paths_of(config), (std::set<std::string>{"dt", "integrator_accuracy", "trajectory.sine.duration",
+                                                     "trajectory.sine.frequency[0]", "control.kp"}))
+      << text;
+  EXPECT_NE(text.find("dt: 1e-300 s is outside the allowed range [0.0001, 0.1] s"), std::string::npos) << text;
+  EXPECT_NE(text.find("integrator_accuracy: 1e-300 is outside the allowed range [1e-12, 0.1]"), std::string::npos) << text;
+  EXPECT_NE(text.find("trajectory.sine.duration: 1e+300 s is outside the allowed range (0, 86400] s"), std::string::npos) << text;
+  EXPECT_NE(text.find("control.kp: has 3 values; give none (the stated rule), 1 (all joints) or one per active joint (7)"),
+            std::string::npos)
+      << text;
+}
+
+TEST(JobConfigValidation, RefusesJobsAboveTheCostBoundSayingWhy) {
+  JobConfig config;
+  config.trajectory.sine.duration = 60000.0;  // in range, but 6e6 ticks at dt = 0.01 s
+  const std::vector<ConfigProblem> problems = validate(config, kLwr3);
+  ASSERT_EQ(problems.size(), 1u) << make_problems_text(problems);
+  EXPECT_EQ(problems[0].path, "trajectory.sine.duration");
+  EXPECT_NE(problems[0].message.find("6e+06 control ticks"), std::string::npos) << problems[0].message;
+  EXPECT_NE(problems[0].message.find("at most 5e+06 ticks"), std::string::npos) << problems[0].message;
+  // Batch: collect passes count too (2 repeats + evaluation = 3 passes of 2e6 ticks).
+  config.trajectory.sine.duration = 20000.0;
+  EXPECT_EQ(paths_of(config), std::set<std::string>{});
+  config.learning.mode = LearningMode::batch;
+  EXPECT_EQ(paths_of(config), std::set<std::string>{"trajectory.sine.duration"});
+  // Figure-eight: points × loops.
+  config = JobConfig{};
+  config.trajectory.kind = TrajectoryKind::figure_eight;
+  config.trajectory.figure_eight.loops = 10000;
+  EXPECT_EQ(paths_of(config), std::set<std::string>{"trajectory.figure_eight.loops"});
+  // Epochs × samples: 1000 epochs over 0.75 × 2 × 2000 samples = 3e6 updates is fine, × 10 is not.
+  config = JobConfig{};
+  config.learning.mode = LearningMode::batch;
+  config.learning.epochs = 1000;
+  EXPECT_EQ(paths_of(config), std::set<std::string>{});
+  config.trajectory.sine.duration = 200.0;
+  EXPECT_EQ(paths_of(config), std::set<std::string>{"learning.epochs"});
+  JobCostLimits generous;
+  generous.max_learner_updates = 1e8;
+  EXPECT_TRUE(validate(config, kLwr3, generous).empty());
+}
+
+TEST(JobConfigValidation, TickCountMatchesTheBuiltTrajectory) {
+  const ArmModel model = testing::load_lwr3();
+  ArmDynamics dynamics(model, {1, 2});
+  JobConfig config;
+  config.active_joints = {2, 3};
+  for (const double duration : {0.5, 2.345, 3.0}) {
+    config.trajectory.sine.duration = duration;
+    const JointTrajectory trajectory = build_trajectory(config.trajectory, dynamics, config.simulation.dt, config.seed);
+    EXPECT_EQ(calc_ticks_per_pass(config), static_cast<double>(trajectory.size())) << duration;
+  }
+  config.trajectory.kind = TrajectoryKind::recorded;
+  config.trajectory.recorded.task_space = false;
+  config.trajectory.recorded.filter = RecordedFilter::none;
+  config.trajectory.recorded.sample_rate = 30.0;
+  config.trajectory.recorded.loops = 2;
+  config.trajectory.recorded.samples = Eigen::MatrixXd::Zero(40, 2);
+  config.trajectory.recorded.samples.col(0) = Eigen::VectorXd::LinSpaced(40, 0.0, 0.3);
+  const JointTrajectory recorded = build_trajectory(config.trajectory, dynamics, config.simulation.dt, config.seed);
+  EXPECT_EQ(calc_ticks_per_pass(config), static_cast<double>(recorded.size()));
+}
+
+TEST(JobConfigValidation, CrossFieldAndShapeRules) {
+  JobConfig config;
+  config.active_joints = {2, 9, 2};
+  config.learning.mode = LearningMode::none;  // while feed_forward is the learner
+  config.trajectory.reaching.box_min.x() = 0.8;
+  config.learning.lwpr.init_D = Eigen::MatrixXd::Constant(2, 1, 1.0);  // neither 1 nor 3n elements
+  config.recording.series = {"PHI", "TORQUE"};
+  config.recording.every = 0;
+  EXPECT_EQ(paths_of(config), (std::set<std::string>{"active_joints[1]", "active_joints[2]", "learning.mode",
+                                                     "trajectory.reaching.box_max[0]", "learning.lwpr.init_D",
+                                                     "recording.series[1]", "recording.every"}))
+      << problems_of(config);
+}
+
+TEST(JobConfigValidation, EnumTablesSpellEveryEnumeratorOnce) {
+  for (const EnumNames* names : {&control_mode_names(), &feed_forward_source_names(), &trajectory_kind_names(),
+                                 &differentiation_names(), &reach_profile_names(), &recorded_filter_names(),
+                                 &learning_mode_names(), &lwpr_kernel_names(), &integrator_kind_names()}) {
+    std::set<std::string> spellings;
+    for (std::size_t i = 0; i < names->size(); ++i) {
+      EXPECT_EQ((*names)[i].value, static_cast<int>(i)) << (*names)[i].name;  // declaration order, no gaps
+      EXPECT_TRUE(spellings.insert((*names)[i].name).second) << (*names)[i].name;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace armfarm

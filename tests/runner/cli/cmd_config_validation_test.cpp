@@ -1,0 +1,74 @@
+// `expand` and `run` of the experiment job refuse a configuration that validate() refuses for
+// any job of the sweep, naming the spec file and the JSON path, before a database exists.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandResult {
+  int exit_code;
+  std::string output;
+};
+
+CommandResult run_armfarm(const std::string& arguments) {
+  // The experiment job (no ARMFARM_FAKE_JOBS), from the source tree so the model path resolves.
+  const std::string command =
+      "cd " + std::string(ARMFARM_SOURCE_DIR) + " && env -u ARMFARM_FAKE_JOBS " + ARMFARM_BINARY + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string output;
+  std::array<char, 4096> buffer{};
+  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
+  return {WEXITSTATUS(pclose(pipe)), output};
+}
+
+fs::path make_dir() {
+  const fs::path dir = fs::temp_directory_path() / "armfarm_cmd_config_validation";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+const char* kNegativeScale = R"({"name": "bad_scale", "base": {"trajectory": {"kind": "figure_eight"}},
+  "sweep": {"grid": {"trajectory.figure_eight.scale": [1.0, -1.0]}}})";
+
+TEST(CmdConfigValidation, ExpandRefusesANegativeFigureEightScaleWithItsPath) {
+  const fs::path spec = make_dir() / "bad_scale.json";
+  std::ofstream(spec) << kNegativeScale;
+  const CommandResult result = run_armfarm("expand " + spec.string());
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find(spec.string() + ": sweep.grid[\"trajectory.figure_eight.scale\"][1]: "
+                                               "trajectory.figure_eight.scale: -1 is outside the allowed range (0, 10]"),
+            std::string::npos)
+      << result.output;
+}
+
+TEST(CmdConfigValidation, RunRefusesItBeforeCreatingTheDatabase) {
+  const fs::path dir = make_dir();
+  const fs::path spec = dir / "bad_scale.json";
+  const fs::path db = dir / "results.db";
+  std::ofstream(spec) << kNegativeScale;
+  const CommandResult result = run_armfarm("run " + spec.string() + " --db " + db.string());
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("trajectory.figure_eight.scale: -1 is outside the allowed range (0, 10]"), std::string::npos)
+      << result.output;
+  EXPECT_FALSE(fs::exists(db));
+}
+
+TEST(CmdConfigValidation, SineFrequencyAndDurationRefusedByExpand) {
+  const fs::path spec = make_dir() / "bad_sine.json";
+  std::ofstream(spec) << R"({"name": "bad_sine", "base": {"trajectory": {"sine": {"frequency": [-1], "duration": 1e300}}}})";
+  const CommandResult result = run_armfarm("expand " + spec.string());
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("trajectory.sine.frequency[0]: -1 Hz is outside the allowed range (0, 10] Hz"), std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("trajectory.sine.duration: 1e+300 s is outside"), std::string::npos) << result.output;
+}
+
+}  // namespace
