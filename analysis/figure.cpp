@@ -50,7 +50,8 @@ std::string make_gnuplot_script(const Figure& figure, const std::string& termina
          << "set grid\nset key outside bottom center horizontal\n"
          << "set datafile missing 'nan'\n";
   if (n_panels > 1 || !figure.title.empty()) {
-    script << "set multiplot layout " << rows << "," << columns << " margins 0.07,0.98,0.12,0.86 spacing 0.08,0.12";
+    script << "set multiplot layout " << rows << "," << columns;
+    if (n_panels > 1) script << " margins 0.07,0.98,0.12,0.86 spacing 0.08,0.12";
     if (!figure.title.empty()) script << " title " << quote_gnuplot(figure.title);
     script << "\n";
   }
@@ -58,8 +59,14 @@ std::string make_gnuplot_script(const Figure& figure, const std::string& termina
   static const char* const kColours[12] = {"#332288", "#88CCEE", "#44AA99", "#117733", "#999933", "#DDCC77",
                                            "#CC6677", "#882255", "#AA4499", "#4477AA", "#EE6677", "#000000"};
   std::vector<std::string> titles_shown;
+  // With empty grid cells (7 joints on 3 × 3) the legend goes into them, bottom right.
+  const bool spare_cells = n_panels > 1 && rows * columns > n_panels;
+  if (spare_cells) {
+    script << "set key at screen 0.97, screen 0.06 right bottom vertical Left reverse\n";
+  }
   for (std::size_t p = 0; p < n_panels; ++p) {
     const Panel& panel = figure.panels[p];
+    if (!spare_cells && panel.curves.size() > 6) script << "set key outside right top vertical\n";
     script << "set title " << quote_gnuplot(panel.title) << "\n"
            << "set xlabel " << quote_gnuplot(panel.x_label) << "\n"
            << "set ylabel " << quote_gnuplot(panel.y_label) << "\n"

@@ -279,8 +279,19 @@ Figure make_metric_vs_param(const SweepData& data, const PlotRequest& request) {
 }
 
 Figure make_rf_growth(const ResultsStore& store, const SweepData& data, const PlotRequest& request) {
-  const auto jobs = choose_jobs(store, data, request.job_keys, {"RF"});
+  auto jobs = choose_jobs(store, data, request.job_keys, {"RF"});
   if (jobs.empty()) throw AnalysisError("sweep '" + data.name + "': no done job recorded the RF series");
+  if (request.job_keys.empty()) {
+    // By default only the jobs whose receptive fields grow while recorded (online learning; a
+    // batch model is trained before the recorded pass and stays flat).
+    std::vector<const JobResult*> growing;
+    for (const JobResult* job : jobs) {
+      const SeriesRecord series = require_series(store, *job, "RF");
+      const Eigen::Index last = series.rows.cols() - 1;
+      if (series.rows.rows() > 1 && series.rows(series.rows.rows() - 1, last) != series.rows(0, last)) growing.push_back(job);
+    }
+    if (!growing.empty()) jobs = growing;
+  }
   Panel panel;
   panel.title = "receptive fields during learning";
   for (const JobResult* job : jobs) {
@@ -321,7 +332,17 @@ Figure make_signals(const ResultsStore& store, const SweepData& data, const Plot
     const SeriesRecord feedback = require_series(store, *job, "F");
     const SeriesRecord feedforward = require_series(store, *job, "FF");
     const auto composite = store.find_series(job->id, "TOR");
-    const std::string prefix = jobs.size() == 1 ? "" : make_job_label(*job) + ": ";
+    std::string prefix;
+    if (jobs.size() > 1) {
+      // Name each job by the parameters that tell the chosen jobs apart.
+      for (const auto& item : job->params.items()) {
+        const bool differs = std::any_of(jobs.begin(), jobs.end(), [&](const JobResult* other) {
+          return find_param_value(*other, item.key()) != item.value();
+        });
+        if (differs) prefix += (prefix.empty() ? "" : ", ") + last_segment_of(item.key()) + "=" + format_param_value(item.value());
+      }
+      prefix = (prefix.empty() ? job->key.substr(0, 8) : prefix) + ": ";
+    }
     for (Eigen::Index c = 1; c < feedback.rows.cols(); ++c) {
       const std::size_t p = static_cast<std::size_t>(c - 1);
       if (figure.panels.size() <= p) {
