@@ -1,60 +1,84 @@
 #include "engine/kinematics/inverse_kinematics.hpp"
 
-#include "engine/physics/arm_simulation.hpp"
-
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace armfarm {
 
-InverseKinematicsResult solve_inverse_kinematics(ArmDynamics& dynamics, const Eigen::Vector3d& target,
+InverseKinematicsResult solve_inverse_kinematics(const SerialChain& chain, const Eigen::Vector3d& target,
                                                  const Eigen::VectorXd& initial, const Eigen::VectorXd& rest_posture,
                                                  const InverseKinematicsOptions& options) {
-  const int n = dynamics.dof();
-  const Eigen::VectorXd lower = dynamics.lower_limits().array() + options.limit_margin;
-  const Eigen::VectorXd upper = dynamics.upper_limits().array() - options.limit_margin;
+  const int n = chain.dof();
+  if (initial.size() != n || rest_posture.size() != n) {
+    throw std::invalid_argument("inverse kinematics: expected " + std::to_string(n) + " joint angles in the start and rest postures");
+  }
+  const Eigen::VectorXd lower = chain.lower_limits().array() + options.limit_margin;
+  const Eigen::VectorXd upper = chain.upper_limits().array() - options.limit_margin;
   InverseKinematicsResult result;
   result.q = initial.cwiseMax(lower).cwiseMin(upper);
   const double lambda_squared = options.damping * options.damping;
+  // Work space for the iterations, sized once. J⁺ and the null projector I − J⁺J are never
+  // formed: with G = J Jᵀ + λ² I, J⁺e = Jᵀ G⁻¹ e and (I − J⁺J) d = d − Jᵀ G⁻¹ (J d), O(n) each.
+  Eigen::Vector3d position;
+  Eigen::Matrix3Xd jacobian(3, n);
+  Eigen::VectorXd to_rest(n), null_step(n), previous(n);
+  Eigen::Matrix3d gram;
+  Eigen::LDLT<Eigen::Matrix3d> gram_factor;
   for (result.iterations = 0; result.iterations < options.max_iterations; ++result.iterations) {
-    const Eigen::Vector3d error = target - dynamics.calc_end_effector_position(result.q);
+    chain.calc_position_and_jacobian(result.q, position, jacobian);
+    const Eigen::Vector3d error = target - position;
     result.error = error.norm();
-    const Eigen::Matrix3Xd jacobian = dynamics.calc_end_effector_jacobian(result.q);
     // Damped least squares: J⁺ = Jᵀ (J Jᵀ + λ² I)⁻¹ stays bounded near singular postures.
-    const Eigen::Matrix3d gram = jacobian * jacobian.transpose() + lambda_squared * Eigen::Matrix3d::Identity();
-    const Eigen::MatrixXd pseudo_inverse = jacobian.transpose() * gram.ldlt().solve(Eigen::Matrix3d::Identity());
-    const Eigen::MatrixXd null_projector = Eigen::MatrixXd::Identity(n, n) - pseudo_inverse * jacobian;
-    const Eigen::VectorXd null_step = options.null_space_gain * null_projector * (rest_posture - result.q);
+    gram.noalias() = jacobian * jacobian.transpose();
+    gram.diagonal().array() += lambda_squared;
+    gram_factor.compute(gram);
+    to_rest = rest_posture - result.q;
+    const Eigen::Vector3d task_rest = gram_factor.solve(jacobian * to_rest);
+    null_step = to_rest;
+    null_step.noalias() -= jacobian.transpose() * task_rest;
+    null_step *= options.null_space_gain;
     if (result.error < options.tolerance && null_step.norm() < options.null_space_tolerance) {
       result.converged = true;
       break;
     }
-    const Eigen::VectorXd previous = result.q;
-    result.q = (result.q + pseudo_inverse * error + null_step).cwiseMax(lower).cwiseMin(upper);
+    previous = result.q;
+    const Eigen::Vector3d task_error = gram_factor.solve(error);
+    result.q += null_step;
+    result.q.noalias() += jacobian.transpose() * task_error;
+    result.q = result.q.cwiseMax(lower).cwiseMin(upper);
     // At a joint limit the null-space pull can be blocked for good; stop once nothing moves.
-    if (result.error < options.tolerance && (result.q - previous).norm() < options.null_space_tolerance) {
+    const double moved = (result.q - previous).norm();
+    if (result.error < options.tolerance && moved < options.null_space_tolerance) {
       result.converged = true;
       break;
     }
+    if (moved < options.stall_step) break;  // stalled away from the target
   }
   if (!result.converged) {
     // The null space did not settle (e.g. pulled against a limit): finish on position alone.
-    InverseKinematicsOptions position_only = options;
-    position_only.null_space_gain = 0.0;
-    position_only.max_iterations = 50;
-    for (int i = 0; i < position_only.max_iterations; ++i) {
-      const Eigen::Vector3d error = target - dynamics.calc_end_effector_position(result.q);
+    const int position_only_iterations = 50;
+    for (int i = 0; i < position_only_iterations; ++i) {
+      chain.calc_position_and_jacobian(result.q, position, jacobian);
+      const Eigen::Vector3d error = target - position;
       result.error = error.norm();
       if (result.error < options.tolerance) break;
-      const Eigen::Matrix3Xd jacobian = dynamics.calc_end_effector_jacobian(result.q);
-      const Eigen::Matrix3d gram = jacobian * jacobian.transpose() + lambda_squared * Eigen::Matrix3d::Identity();
+      gram.noalias() = jacobian * jacobian.transpose();
+      gram.diagonal().array() += lambda_squared;
       result.q = (result.q + jacobian.transpose() * gram.ldlt().solve(error)).cwiseMax(lower).cwiseMin(upper);
     }
-    result.error = (target - dynamics.calc_end_effector_position(result.q)).norm();
+    result.error = (target - chain.calc_position(result.q)).norm();
     result.converged = result.error < options.tolerance;
   }
   return result;
+}
+
+InverseKinematicsResult solve_inverse_kinematics(const ArmDynamics& dynamics, const Eigen::Vector3d& target,
+                                                 const Eigen::VectorXd& initial, const Eigen::VectorXd& rest_posture,
+                                                 const InverseKinematicsOptions& options) {
+  return solve_inverse_kinematics(make_end_effector_chain(dynamics), target, initial, rest_posture, options);
 }
 
 }  // namespace armfarm

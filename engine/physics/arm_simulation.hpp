@@ -95,6 +95,8 @@ class ArmDynamics {
   ArmDynamics& operator=(ArmDynamics&&) noexcept;
 
   int dof() const;
+  const ArmModel& model() const;                         ///< the model it was built from
+  const std::vector<int>& active_joint_indices() const;  ///< indices into ArmModel::joints, one per active joint
 
   /// τ = (M(q) + diag(armature)) q̈ + C(q, q̇) q̇ + g(q): the torques (n × 1) that produce q̈
   /// at (q, q̇) with no friction, damping or limit forces.

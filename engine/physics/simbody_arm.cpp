@@ -463,6 +463,8 @@ ArmDynamics::ArmDynamics(ArmDynamics&&) noexcept = default;
 ArmDynamics& ArmDynamics::operator=(ArmDynamics&&) noexcept = default;
 
 int ArmDynamics::dof() const { return static_cast<int>(impl_->arm->active_bodies.size()); }
+const ArmModel& ArmDynamics::model() const { return *impl_->model; }
+const std::vector<int>& ArmDynamics::active_joint_indices() const { return impl_->arm->active_joint_indices; }
 
 Eigen::VectorXd ArmDynamics::calc_inverse_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                                    const Eigen::VectorXd& qdd) {

@@ -1,3 +1,4 @@
+#include "engine/kinematics/serial_chain.hpp"
 #include "engine/physics/arm_simulation.hpp"
 #include "engine/trajectory/savitzky_golay.hpp"
 #include "engine/trajectory/task_space_path.hpp"
@@ -22,9 +23,10 @@ Eigen::VectorXd expand(const Eigen::VectorXd& values, int n, const Eigen::Vector
 }
 
 void fill_task_positions(JointTrajectory& trajectory, ArmDynamics& dynamics) {
+  const SerialChain chain = make_end_effector_chain(dynamics);
   trajectory.task_position.resize(trajectory.q.rows(), 3);
   for (Eigen::Index k = 0; k < trajectory.q.rows(); ++k) {
-    trajectory.task_position.row(k) = dynamics.calc_end_effector_position(trajectory.q.row(k).transpose()).transpose();
+    trajectory.task_position.row(k) = chain.calc_position(trajectory.q.row(k).transpose()).transpose();
   }
 }
 

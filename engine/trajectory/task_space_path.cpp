@@ -1,6 +1,7 @@
 #include "engine/trajectory/task_space_path.hpp"
 
 #include "engine/kinematics/inverse_kinematics.hpp"
+#include "engine/kinematics/serial_chain.hpp"
 #include "engine/physics/arm_simulation.hpp"
 #include "engine/random/random_stream.hpp"
 #include "engine/trajectory/trajectory_differentiation.hpp"
@@ -28,13 +29,13 @@ Eigen::Vector3d calc_profile(ReachProfile profile, double steepness, double s) {
 
 }  // namespace
 
-Eigen::MatrixXd calc_joint_path(ArmDynamics& dynamics, const Eigen::MatrixXd& targets, const Eigen::VectorXd& initial,
+Eigen::MatrixXd calc_joint_path(const SerialChain& chain, const Eigen::MatrixXd& targets, const Eigen::VectorXd& initial,
                                 const char* what) {
-  const Eigen::VectorXd rest = dynamics.start_positions();
-  Eigen::MatrixXd path(targets.rows(), dynamics.dof());
+  const Eigen::VectorXd& rest = chain.start_positions();
+  Eigen::MatrixXd path(targets.rows(), chain.dof());
   Eigen::VectorXd q = initial;
   for (Eigen::Index i = 0; i < targets.rows(); ++i) {
-    const InverseKinematicsResult solution = solve_inverse_kinematics(dynamics, targets.row(i).transpose(), q, rest);
+    const InverseKinematicsResult solution = solve_inverse_kinematics(chain, targets.row(i).transpose(), q, rest);
     if (!(solution.error <= kMaxTargetError)) {
       throw std::runtime_error(std::string(what) + ": sample " + std::to_string(i) + " at (" + std::to_string(targets(i, 0)) +
                                ", " + std::to_string(targets(i, 1)) + ", " + std::to_string(targets(i, 2)) +
@@ -44,6 +45,11 @@ Eigen::MatrixXd calc_joint_path(ArmDynamics& dynamics, const Eigen::MatrixXd& ta
     path.row(i) = q.transpose();
   }
   return path;
+}
+
+Eigen::MatrixXd calc_joint_path(const ArmDynamics& dynamics, const Eigen::MatrixXd& targets, const Eigen::VectorXd& initial,
+                                const char* what) {
+  return calc_joint_path(make_end_effector_chain(dynamics), targets, initial, what);
 }
 
 JointTrajectory build_figure_eight(const FigureEightConfig& config, Differentiation method, ArmDynamics& dynamics, double dt) {
@@ -57,13 +63,14 @@ JointTrajectory build_figure_eight(const FigureEightConfig& config, Differentiat
     loop_targets.row(i) << config.centre.x(), config.centre.y() + config.scale * config.a * std::sin(M_PI * s),
         config.centre.z() + config.scale * config.b * std::sin(2.0 * M_PI * s);
   }
+  const SerialChain chain = make_end_effector_chain(dynamics);
   // Start from the rest posture; repeat the loop until its joint path closes (the IK converges
   // to a function of the target, so one repeat normally suffices).
-  Eigen::VectorXd start = dynamics.start_positions();
+  Eigen::VectorXd start = chain.start_positions();
   Eigen::MatrixXd loop;
   for (int attempt = 0; attempt < 10; ++attempt) {
-    loop = calc_joint_path(dynamics, loop_targets, start, "trajectory.figure_eight");
-    const Eigen::MatrixXd next_start = calc_joint_path(dynamics, loop_targets.topRows(1), loop.bottomRows(1).transpose(),
+    loop = calc_joint_path(chain, loop_targets, start, "trajectory.figure_eight");
+    const Eigen::MatrixXd next_start = calc_joint_path(chain, loop_targets.topRows(1), loop.bottomRows(1).transpose(),
                                                        "trajectory.figure_eight");
     const double gap = (next_start.row(0) - loop.row(0)).cwiseAbs().maxCoeff();
     start = next_start.row(0).transpose();
@@ -88,7 +95,8 @@ JointTrajectory build_reaching(const ReachingConfig& config, Differentiation met
     }
   }
   RandomStream target_draws(seed, "trajectory.reaching.targets");
-  const Eigen::VectorXd rest = dynamics.start_positions();
+  const SerialChain chain = make_end_effector_chain(dynamics);
+  const Eigen::VectorXd& rest = chain.start_positions();
   // A target counts when the IK reaches it from the rest posture.
   auto draw_target = [&](int index) {
     for (int attempt = 0; attempt < 100; ++attempt) {
@@ -96,7 +104,7 @@ JointTrajectory build_reaching(const ReachingConfig& config, Differentiation met
       for (int axis = 0; axis < 3; ++axis) {
         target[axis] = target_draws.uniform(config.box_min[axis], config.box_max[axis]);
       }
-      if (solve_inverse_kinematics(dynamics, target, rest, rest).error <= kMaxTargetError * 0.1) return target;
+      if (solve_inverse_kinematics(chain, target, rest, rest).error <= kMaxTargetError * 0.1) return target;
     }
     throw std::runtime_error("trajectory.reaching: no reachable target found in the box for reach " + std::to_string(index) +
                              " after 100 draws");
@@ -110,7 +118,7 @@ JointTrajectory build_reaching(const ReachingConfig& config, Differentiation met
   const Eigen::VectorXd speed_limit = 0.8 * dynamics.velocity_limits();
   const double reach_time = points * dt;
   Eigen::Vector3d from = draw_target(0);
-  Eigen::VectorXd q = solve_inverse_kinematics(dynamics, from, rest, rest).q;
+  Eigen::VectorXd q = solve_inverse_kinematics(chain, from, rest, rest).q;
   JointTrajectory trajectory;
   trajectory.dt = dt;
   for (int reach = 0; reach < config.reaches; ++reach) {
@@ -123,7 +131,7 @@ JointTrajectory build_reaching(const ReachingConfig& config, Differentiation met
         segment_targets.row(i) = (from + (to - from) * calc_profile(config.profile, config.sigmoid_steepness, s)[0]).transpose();
       }
       try {
-        segment = calc_joint_path(dynamics, segment_targets, q, "trajectory.reaching");
+        segment = calc_joint_path(chain, segment_targets, q, "trajectory.reaching");
       } catch (const std::runtime_error&) {
         continue;
       }

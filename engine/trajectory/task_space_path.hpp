@@ -9,10 +9,15 @@
 
 namespace armfarm {
 
-/// Solves the IK for every row of `targets` (n × 3), warm-starting each sample from the
-/// previous one, with the null space pulled towards the start posture. Throws
-/// std::runtime_error naming the sample when a target is missed by more than 1 mm.
-Eigen::MatrixXd calc_joint_path(ArmDynamics& dynamics, const Eigen::MatrixXd& targets, const Eigen::VectorXd& initial,
+class SerialChain;
+
+/// Solves the IK of `chain`'s point for every row of `targets` (n × 3), warm-starting each
+/// sample from the previous one, with the null space pulled towards the chain's start posture.
+/// Throws std::runtime_error naming the sample when a target is missed by more than 1 mm.
+Eigen::MatrixXd calc_joint_path(const SerialChain& chain, const Eigen::MatrixXd& targets, const Eigen::VectorXd& initial,
+                                const char* what);
+/// The same for the end effector of `dynamics`'s model and active joints.
+Eigen::MatrixXd calc_joint_path(const ArmDynamics& dynamics, const Eigen::MatrixXd& targets, const Eigen::VectorXd& initial,
                                 const char* what);
 
 /// The figure-eight, its loop solved until the joint path closes on itself (< 1e-6 rad), then

@@ -3,6 +3,7 @@
 // by default the thesis's (analysis/table.hpp).
 #include "analysis/analysis_error.hpp"
 #include "analysis/table.hpp"
+#include "analysis/thesis_comparison.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -45,10 +46,18 @@ RunFunction setup_table(CLI::App& parent) {
   sub->add_option("--agg", options->aggregate, "Aggregate over repeats: mean (± std), median, min, max")
       ->check(CLI::IsMember({"mean", "median", "min", "max"}));
   sub->add_option("--format", options->format, "md, csv, latex or json")->check(CLI::IsMember({"md", "csv", "latex", "json"}));
-  return [options] {
+  auto against = std::make_shared<std::string>();  // analysis/thesis_comparison.hpp
+  sub->add_option("--against", *against, "Thesis results JSON (sweeps/thesis/thesis_results.json): thesis value, armfarm value, ratio per cell");
+  return [options, against] {
     const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
     const Aggregate aggregate = parse_aggregate(options->aggregate);
     const TableFormat format = parse_table_format(options->format);
+    if (!against->empty()) {
+      const ThesisResults thesis = load_thesis_results(*against);
+      const auto only = options->sweep.empty() ? std::nullopt : std::optional<std::string>(options->sweep);
+      std::cout << format_thesis_comparison(make_thesis_comparison(thesis, store, aggregate, only), format, aggregate);
+      return 0;
+    }
     std::vector<std::pair<std::string, std::string>> where;
     for (const std::string& text : options->where) where.push_back(parse_where(text));
 

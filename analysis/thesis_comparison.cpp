@@ -1,0 +1,438 @@
+#include "analysis/thesis_comparison.hpp"
+
+#include "analysis/analysis_error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace armfarm {
+namespace {
+
+using nlohmann::json;
+
+// Reads one JSON file, naming the line and column of a syntax error.
+json read_json_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw AnalysisError(path + ": cannot read the file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  try {
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    std::size_t line = 1, column = 1;
+    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+      if (text[i] == '\n') {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    std::string message = e.what();
+    const std::size_t colon = message.find(": ", message.find("column"));
+    if (colon != std::string::npos) message = message.substr(colon + 2);
+    throw AnalysisError(path + ": line " + std::to_string(line) + ", column " + std::to_string(column) +
+                        ": not valid JSON: " + message);
+  }
+}
+
+// Walks the document, every error naming the file and the JSON path ("tables[2].cells[3].value").
+class Reader {
+ public:
+  explicit Reader(std::string path) : path_(std::move(path)) {}
+
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw AnalysisError(path_ + ": " + where + ": " + what);
+  }
+
+  const json& member(const json& object, const std::string& where, const std::string& key) const {
+    auto it = object.find(key);
+    if (it == object.end()) fail(where, "missing key '" + key + "'");
+    return *it;
+  }
+
+  std::string string(const json& object, const std::string& where, const std::string& key) const {
+    const json& value = member(object, where, key);
+    if (!value.is_string()) fail(where + "." + key, "expected a string");
+    return value.get<std::string>();
+  }
+
+  std::optional<std::string> optional_string(const json& object, const std::string& where, const std::string& key) const {
+    auto it = object.find(key);
+    if (it == object.end() || it->is_null()) return std::nullopt;
+    if (!it->is_string()) fail(where + "." + key, "expected a string or null");
+    return it->get<std::string>();
+  }
+
+  std::optional<int> optional_positive_int(const json& object, const std::string& where, const std::string& key) const {
+    auto it = object.find(key);
+    if (it == object.end() || it->is_null()) return std::nullopt;
+    if (!it->is_number_integer() || it->get<long long>() < 1) fail(where + "." + key, "expected a positive integer or null");
+    return static_cast<int>(it->get<long long>());
+  }
+
+  ThesisMapping mapping(const json& owner, const std::string& owner_where) const {
+    ThesisMapping result;
+    auto it = owner.find("armfarm");
+    if (it == owner.end() || it->is_null()) return result;
+    const std::string where = owner_where + ".armfarm";
+    if (!it->is_object()) fail(where, "expected an object");
+    static const std::set<std::string> known = {"sweep", "where", "metric", "active_joint", "checkpoint", "note"};
+    for (const auto& item : it->items()) {
+      if (!known.count(item.key())) {
+        fail(where + "." + item.key(), "unknown key (expected sweep, where, metric, active_joint, checkpoint, note)");
+      }
+    }
+    result.sweep = optional_string(*it, where, "sweep");
+    if (auto filter = it->find("where"); filter != it->end() && !filter->is_null()) {
+      if (!filter->is_object()) fail(where + ".where", "expected an object {\"dotted.path\": value}");
+      for (const auto& item : filter->items()) {
+        if (item.value().is_object() || item.value().is_array()) {
+          fail(where + ".where[\"" + item.key() + "\"]", "expected a number, string or boolean");
+        }
+        result.where.emplace_back(item.key(), item.value());
+      }
+    }
+    if (auto metric = it->find("metric"); metric != it->end()) {
+      result.metric_given = true;
+      if (!metric->is_null() && !metric->is_string()) fail(where + ".metric", "expected a metric name or null");
+      if (metric->is_string()) result.metric = metric->get<std::string>();
+    }
+    result.active_joint = optional_positive_int(*it, where, "active_joint");
+    if (auto checkpoint = it->find("checkpoint"); checkpoint != it->end() && !checkpoint->is_null()) {
+      if (!checkpoint->is_number() || !(checkpoint->get<double>() > 0.0)) {
+        fail(where + ".checkpoint", "expected a positive number (trials or periods) or null");
+      }
+      result.checkpoint = checkpoint->get<double>();
+    }
+    return result;
+  }
+
+  // Label → mapping of a table's "rows" or "columns".
+  std::map<std::string, ThesisMapping> labelled(const json& table, const std::string& where, const std::string& key) const {
+    std::map<std::string, ThesisMapping> result;
+    const json& list = member(table, where, key);
+    if (!list.is_array()) fail(where + "." + key, "expected an array");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string item_where = where + "." + key + "[" + std::to_string(i) + "]";
+      if (!list[i].is_object()) fail(item_where, "expected an object");
+      const std::string label = string(list[i], item_where, "label");
+      if (result.count(label)) fail(item_where + ".label", "'" + label + "' appears twice");
+      result[label] = mapping(list[i], item_where);
+    }
+    return result;
+  }
+
+ private:
+  std::string path_;
+};
+
+// Later levels replace fields and add to `where`.
+void merge_into(ThesisMapping& merged, const ThesisMapping& level) {
+  if (level.sweep) merged.sweep = level.sweep;
+  for (const auto& [path, value] : level.where) {
+    auto it = std::find_if(merged.where.begin(), merged.where.end(), [&](const auto& entry) { return entry.first == path; });
+    if (it != merged.where.end()) it->second = value;
+    else merged.where.emplace_back(path, value);
+  }
+  if (level.metric_given) {
+    merged.metric_given = true;
+    merged.metric = level.metric;
+  }
+  if (level.active_joint) merged.active_joint = level.active_joint;
+  if (level.checkpoint) merged.checkpoint = level.checkpoint;
+}
+
+ThesisTable parse_table(const Reader& reader, const json& node, const std::string& where) {
+  if (!node.is_object()) reader.fail(where, "expected an object");
+  ThesisTable table;
+  table.id = reader.string(node, where, "id");
+  table.number = reader.optional_string(node, where, "number");
+  table.caption = reader.string(node, where, "caption");
+  reader.member(node, where, "page");  // required, null where the thesis text gives no page
+  table.page = reader.optional_positive_int(node, where, "page");
+  table.heading = reader.optional_string(node, where, "heading").value_or("");
+  const ThesisMapping table_mapping = reader.mapping(node, where);
+  const auto columns = reader.labelled(node, where, "columns");
+  const auto rows = reader.labelled(node, where, "rows");
+  const json& cells = reader.member(node, where, "cells");
+  if (!cells.is_array()) reader.fail(where + ".cells", "expected an array");
+  std::set<std::pair<std::string, std::string>> seen;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const std::string cell_where = where + ".cells[" + std::to_string(i) + "]";
+    const json& cell_node = cells[i];
+    if (!cell_node.is_object()) reader.fail(cell_where, "expected an object");
+    ThesisCell cell;
+    cell.row = reader.string(cell_node, cell_where, "row");
+    cell.column = reader.string(cell_node, cell_where, "column");
+    auto row = rows.find(cell.row);
+    if (row == rows.end()) reader.fail(cell_where + ".row", "'" + cell.row + "' is not a label of " + where + ".rows");
+    auto column = columns.find(cell.column);
+    if (column == columns.end()) {
+      reader.fail(cell_where + ".column", "'" + cell.column + "' is not a label of " + where + ".columns");
+    }
+    if (!seen.insert({cell.row, cell.column}).second) reader.fail(cell_where, "a second cell for this row and column");
+    const json& value = reader.member(cell_node, cell_where, "value");
+    if (!value.is_number()) reader.fail(cell_where + ".value", "expected a number");
+    cell.value = value.get<double>();
+    cell.printed = reader.string(cell_node, cell_where, "printed");
+    // The printed text is the published figure; the number must be the same figure.
+    char* end = nullptr;
+    const double printed_value = std::strtod(cell.printed.c_str(), &end);
+    if (cell.printed.empty() || *end != '\0' || printed_value != cell.value) {
+      reader.fail(cell_where + ".printed", "'" + cell.printed + "' is not the value " + format_number(cell.value, 6));
+    }
+    merge_into(cell.mapping, table_mapping);
+    merge_into(cell.mapping, column->second);
+    merge_into(cell.mapping, row->second);
+    merge_into(cell.mapping, reader.mapping(cell_node, cell_where));
+    table.cells.push_back(std::move(cell));
+  }
+  return table;
+}
+
+std::string describe_where(const ThesisMapping& mapping) {
+  std::string text;
+  for (const auto& [path, value] : mapping.where) {
+    text += (text.empty() ? "" : ", ") + path + "=" + (value.is_string() ? value.get<std::string>() : value.dump());
+  }
+  return text;
+}
+
+// The physical (1-based) joint of the thesis's "Joint k" in `job`: the k-th of its active joints.
+std::optional<int> resolve_joint(const JobResult& job, int active_joint) {
+  const json active = find_param_value(job, "active_joints");
+  if (!active.is_array() || active.empty()) return active_joint;
+  if (active_joint > static_cast<int>(active.size()) || !active[active_joint - 1].is_number()) return std::nullopt;
+  // The stored configuration is normalized JSON: joint numbers may read back as 2.0.
+  const double joint = active[active_joint - 1].get<double>();
+  if (joint != std::floor(joint) || joint < 1.0) return std::nullopt;
+  return static_cast<int>(joint);
+}
+
+bool job_matches(const JobResult& job, const ThesisMapping& mapping) {
+  for (const auto& [path, value] : mapping.where) {
+    if (find_param_value(job, path) != value) return false;
+  }
+  return true;
+}
+
+ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, SweepData>& sweeps, Aggregate aggregate) {
+  ComparedCell result;
+  result.thesis = &cell;
+  const ThesisMapping& mapping = cell.mapping;
+  if (!mapping.sweep) {
+    result.state = CellState::unmapped;
+    result.reason = "no sweep mapped";
+    return result;
+  }
+  if (mapping.metric_given && !mapping.metric) {
+    result.state = CellState::no_metric;
+    result.reason = "armfarm has no metric for this cell";
+    return result;
+  }
+  if (!mapping.metric) {
+    result.state = CellState::unmapped;
+    result.reason = "no metric mapped";
+    return result;
+  }
+  auto sweep = sweeps.find(*mapping.sweep);
+  if (sweep == sweeps.end()) {
+    result.reason = "sweep " + *mapping.sweep + " absent";
+    return result;
+  }
+  int matching = 0, done = 0, failed = 0, unfinished = 0, joint_missing = 0;
+  std::vector<double> values;
+  for (const JobResult& job : sweep->second.jobs) {
+    if (!job_matches(job, mapping)) continue;
+    ++matching;
+    if (job.status != "done") {
+      (job.status == "pending" || job.status == "running" ? unfinished : failed) += 1;
+      continue;
+    }
+    ++done;
+    MetricId id{*mapping.metric, std::nullopt};
+    if (mapping.active_joint) {
+      id.joint = resolve_joint(job, *mapping.active_joint);
+      if (!id.joint) {
+        ++joint_missing;
+        continue;
+      }
+    }
+    // The store has no checkpoint dimension yet: a checkpointed cell finds no value until the
+    // held-out metrics carry one (issue 12), and says so.
+    if (mapping.checkpoint) continue;
+    auto metric = job.metrics.find(id);
+    if (metric != job.metrics.end()) values.push_back(metric->second);
+  }
+  const std::string filter = describe_where(mapping);
+  if (matching == 0) {
+    result.reason = "no job of " + *mapping.sweep + (filter.empty() ? "" : " with " + filter);
+  } else if (done == 0) {
+    result.reason = "0 done, " + std::to_string(failed) + " failed, " + std::to_string(unfinished) + " unfinished";
+  } else if (values.empty() && joint_missing == done) {
+    result.reason = "the jobs move fewer than " + std::to_string(*mapping.active_joint) + " joints";
+  } else if (values.empty() && mapping.checkpoint) {
+    result.reason = "no checkpoint " + format_number(*mapping.checkpoint) + " of " + *mapping.metric + " in the database";
+  } else if (values.empty()) {
+    result.reason = "metric " + make_metric_label(MetricId{*mapping.metric, mapping.active_joint}) + " absent";
+  }
+  if (values.empty()) return result;
+  result.state = CellState::compared;
+  result.armfarm = calc_summary_statistics(values);
+  result.armfarm_value = result.armfarm.value(aggregate);
+  if (cell.value != 0.0) result.ratio = result.armfarm_value / cell.value;
+  return result;
+}
+
+std::string table_title(const ThesisTable& table) {
+  std::string title = table.number ? "Table " + *table.number + ": " + table.caption : table.caption;
+  if (!table.heading.empty()) title += " [" + table.heading + "]";
+  if (table.page) title += " (page " + std::to_string(*table.page) + ")";
+  return title;
+}
+
+std::string format_armfarm(const ComparedCell& cell, Aggregate aggregate) {
+  if (cell.state == CellState::compared) {
+    std::string text = format_number(cell.armfarm_value);
+    if (aggregate == Aggregate::mean && cell.armfarm.count > 1) text += " ± " + format_number(cell.armfarm.std_dev);
+    return text;
+  }
+  if (cell.state == CellState::not_run) return "not run (" + cell.reason + ")";
+  if (cell.state == CellState::no_metric) return "no metric";
+  return "not mapped (" + cell.reason + ")";
+}
+
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+const char* to_string(CellState state) {
+  switch (state) {
+    case CellState::compared: return "compared";
+    case CellState::not_run: return "not_run";
+    case CellState::no_metric: return "no_metric";
+    case CellState::unmapped: return "unmapped";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+ThesisResults parse_thesis_results(const nlohmann::json& document, const std::string& path) {
+  const Reader reader(path);
+  if (!document.is_object()) reader.fail("(top level)", "expected an object with a 'tables' array");
+  const json& tables = reader.member(document, "(top level)", "tables");
+  if (!tables.is_array()) reader.fail("tables", "expected an array");
+  ThesisResults results;
+  results.path = path;
+  std::set<std::string> ids;
+  for (std::size_t i = 0; i < tables.size(); ++i) {
+    const std::string where = "tables[" + std::to_string(i) + "]";
+    results.tables.push_back(parse_table(reader, tables[i], where));
+    if (!ids.insert(results.tables.back().id).second) reader.fail(where + ".id", "'" + results.tables.back().id + "' appears twice");
+  }
+  return results;
+}
+
+ThesisResults load_thesis_results(const std::string& path) { return parse_thesis_results(read_json_file(path), path); }
+
+ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::map<std::string, SweepData>& sweeps,
+                                        Aggregate aggregate, const std::optional<std::string>& only_sweep) {
+  ThesisComparison comparison;
+  for (const ThesisTable& table : thesis.tables) {
+    ComparedTable compared;
+    compared.thesis = &table;
+    for (const ThesisCell& cell : table.cells) {
+      if (cell.mapping.sweep && std::find(compared.sweeps.begin(), compared.sweeps.end(), *cell.mapping.sweep) == compared.sweeps.end()) {
+        compared.sweeps.push_back(*cell.mapping.sweep);
+      }
+      compared.cells.push_back(compare_cell(cell, sweeps, aggregate));
+    }
+    if (only_sweep && std::find(compared.sweeps.begin(), compared.sweeps.end(), *only_sweep) == compared.sweeps.end()) continue;
+    comparison.tables.push_back(std::move(compared));
+  }
+  if (only_sweep && comparison.tables.empty()) throw AnalysisError(thesis.path + ": no table maps to sweep '" + *only_sweep + "'");
+  return comparison;
+}
+
+ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const ResultsStore& store, Aggregate aggregate,
+                                        const std::optional<std::string>& only_sweep) {
+  std::set<std::string> wanted;
+  for (const ThesisTable& table : thesis.tables) {
+    for (const ThesisCell& cell : table.cells) {
+      if (cell.mapping.sweep) wanted.insert(*cell.mapping.sweep);
+    }
+  }
+  std::map<std::string, SweepData> sweeps;
+  for (const SweepRecord& record : store.find_sweeps()) {
+    if (wanted.count(record.name)) sweeps[record.name] = load_sweep_data(store, record.name);
+  }
+  return make_thesis_comparison(thesis, sweeps, aggregate, only_sweep);
+}
+
+std::string format_thesis_comparison(const ThesisComparison& comparison, TableFormat format, Aggregate aggregate) {
+  std::ostringstream out;
+  if (format == TableFormat::latex) throw AnalysisError("--against prints md, csv or json, not latex");
+  if (format == TableFormat::json) {
+    json tables = json::array();
+    for (const ComparedTable& table : comparison.tables) {
+      json cells = json::array();
+      for (const ComparedCell& cell : table.cells) {
+        json entry = {{"row", cell.thesis->row}, {"column", cell.thesis->column}, {"thesis", cell.thesis->value},
+                      {"printed", cell.thesis->printed}, {"state", to_string(cell.state)}};
+        entry["armfarm"] = cell.state == CellState::compared ? json(cell.armfarm_value) : json(nullptr);
+        entry["ratio"] = cell.ratio ? json(*cell.ratio) : json(nullptr);
+        entry["n"] = cell.armfarm.count;
+        if (cell.state == CellState::compared && aggregate == Aggregate::mean) entry["std"] = cell.armfarm.std_dev;
+        if (!cell.reason.empty()) entry["reason"] = cell.reason;
+        cells.push_back(entry);
+      }
+      tables.push_back({{"id", table.thesis->id},
+                        {"number", table.thesis->number ? json(*table.thesis->number) : json(nullptr)},
+                        {"caption", table.thesis->caption},
+                        {"page", table.thesis->page ? json(*table.thesis->page) : json(nullptr)},
+                        {"sweeps", table.sweeps},
+                        {"aggregate", to_string(aggregate)},
+                        {"cells", cells}});
+    }
+    out << tables.dump(2) << "\n";
+    return out.str();
+  }
+  if (format == TableFormat::csv) out << "table,row,column,thesis,armfarm,ratio,n,state,reason\n";
+  for (const ComparedTable& table : comparison.tables) {
+    std::string sweeps;
+    for (const std::string& sweep : table.sweeps) sweeps += (sweeps.empty() ? "" : ", ") + sweep;
+    if (format == TableFormat::markdown) {
+      out << "### " << table_title(*table.thesis) << "\n\n"
+          << "armfarm: sweep " << (sweeps.empty() ? "(none mapped)" : sweeps) << ", " << to_string(aggregate)
+          << " over done jobs\n\n"
+          << "| row | column | thesis | armfarm | armfarm/thesis | n |\n|---|---|---|---|---|---|\n";
+    }
+    for (const ComparedCell& cell : table.cells) {
+      const std::string ratio = cell.ratio ? format_number(*cell.ratio) : "—";
+      if (format == TableFormat::markdown) {
+        out << "| " << cell.thesis->row << " | " << cell.thesis->column << " | " << cell.thesis->printed << " | "
+            << format_armfarm(cell, aggregate) << " | " << ratio << " | " << cell.armfarm.count << " |\n";
+      } else {
+        out << csv_field(table.thesis->id) << "," << csv_field(cell.thesis->row) << "," << csv_field(cell.thesis->column) << ","
+            << cell.thesis->printed << ","
+            << (cell.state == CellState::compared ? format_number(cell.armfarm_value, 6) : "") << ","
+            << (cell.ratio ? format_number(*cell.ratio, 6) : "") << "," << cell.armfarm.count << "," << to_string(cell.state)
+            << "," << csv_field(cell.reason) << "\n";
+      }
+    }
+    if (format == TableFormat::markdown) out << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace armfarm

@@ -1,0 +1,108 @@
+#pragma once
+// The thesis's published tables (sweeps/thesis/thesis_results.json) beside a results database:
+// per thesis cell the printed value, the armfarm value over the matching done jobs and their
+// ratio (armfarm / thesis). The JSON file says, per table, column, row or cell, which sweep,
+// parameter filter, metric, joint and checkpoint reproduce the cell (`armfarm` objects):
+//
+//   {"sweep": "table6_4_sine", "where": {"control.mode": "composite"}, "metric": "ff_fb_ratio_avg",
+//    "active_joint": 2, "checkpoint": 200}
+//
+// Levels merge table ← column ← row ← cell: `where` entries are added (a later level replaces a
+// path an earlier one set), every other field is replaced. `"metric": null` says that armfarm has
+// no counterpart for the cell. `active_joint` k is the thesis's "Joint k", the k-th entry of the
+// job's `active_joints` (k itself when the job moves every joint); job-level metrics take none.
+#include "analysis/summary_statistics.hpp"
+#include "analysis/sweep_data.hpp"
+#include "analysis/table.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace armfarm {
+
+/// Which armfarm result reproduces a thesis cell (one level of the file, or the merged result).
+struct ThesisMapping {
+  std::optional<std::string> sweep;
+  std::vector<std::pair<std::string, nlohmann::json>> where;  ///< dotted parameter path, value
+  bool metric_given = false;          ///< the level names a metric (possibly null = none)
+  std::optional<std::string> metric;  ///< empty with metric_given: no armfarm counterpart
+  std::optional<int> active_joint;    ///< 1-based position in the job's active_joints
+  std::optional<double> checkpoint;   ///< trials or periods of a held-out metric
+};
+
+/// One printed cell of a thesis table with its merged mapping.
+struct ThesisCell {
+  std::string row;
+  std::string column;
+  double value = 0.0;
+  std::string printed;  ///< exactly as the thesis prints it ("1.95E-03", "0.013400")
+  ThesisMapping mapping;
+};
+
+struct ThesisTable {
+  std::string id;                     ///< "table6_1", "fig6_12_numerical"
+  std::optional<std::string> number;  ///< "6.1"; empty for the unnumbered tables
+  std::string caption;
+  std::optional<int> page;            ///< only where the thesis text states it
+  std::string heading;                ///< the line printed above the columns, if any
+  std::vector<ThesisCell> cells;      ///< in the file's order
+};
+
+struct ThesisResults {
+  std::string path;
+  std::vector<ThesisTable> tables;
+};
+
+/// Reads the thesis results file. Throws AnalysisError "path: line L, column C: not valid JSON: …"
+/// or "path: tables[2].cells[3].value: expected a number" (the JSON path of the first problem).
+ThesisResults load_thesis_results(const std::string& path);
+
+/// Parses an already-read document; `path` names it in messages.
+ThesisResults parse_thesis_results(const nlohmann::json& document, const std::string& path);
+
+enum class CellState {
+  compared,   ///< at least one done job has the metric
+  not_run,    ///< the sweep, a matching done job or the metric is absent (reason says which)
+  no_metric,  ///< the mapping says armfarm has no counterpart
+  unmapped,   ///< no sweep named for the cell
+};
+
+struct ComparedCell {
+  const ThesisCell* thesis = nullptr;
+  CellState state = CellState::not_run;
+  std::string reason;           ///< why not compared; empty when compared
+  SummaryStatistics armfarm;    ///< over the matching done jobs that have the metric
+  double armfarm_value = 0.0;   ///< the chosen aggregate
+  std::optional<double> ratio;  ///< armfarm_value / thesis value (empty for a thesis 0)
+};
+
+struct ComparedTable {
+  const ThesisTable* thesis = nullptr;
+  std::vector<std::string> sweeps;  ///< the sweeps its cells read, in first-seen order
+  std::vector<ComparedCell> cells;
+};
+
+struct ThesisComparison {
+  std::vector<ComparedTable> tables;
+};
+
+/// Compares every cell against `sweeps` (by name; an absent name gives "not run").
+/// `only_sweep`, when given, keeps the tables with a cell mapped to that sweep (AnalysisError
+/// when there is none). The result points into `thesis`, which must outlive it.
+ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::map<std::string, SweepData>& sweeps,
+                                        Aggregate aggregate, const std::optional<std::string>& only_sweep = std::nullopt);
+
+/// Loads the sweeps the file names that the database holds, then compares.
+ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const ResultsStore& store, Aggregate aggregate,
+                                        const std::optional<std::string>& only_sweep = std::nullopt);
+
+/// One table per thesis table: row, column, thesis value (as printed), armfarm value, ratio, n.
+/// md, csv or json; throws AnalysisError for latex.
+std::string format_thesis_comparison(const ThesisComparison& comparison, TableFormat format, Aggregate aggregate);
+
+}  // namespace armfarm
