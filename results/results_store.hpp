@@ -69,9 +69,10 @@ struct MetricRecord {
   std::int64_t job_id = 0;
   std::string name;
   std::optional<int> joint;                ///< 1-based joint number; empty for a job-level metric
-  std::optional<std::int64_t> checkpoint;  ///< held-out evaluation checkpoint; empty otherwise
   std::optional<double> value;             ///< empty = undefined (NULL), see `reason`
   std::string reason;                      ///< why undefined, or a note on the value; empty = NULL
+  std::optional<std::int64_t> checkpoint;  ///< held-out evaluation checkpoint; empty otherwise (last, so
+                                           ///< that {job_id, name, joint, value} still means what it says)
 };
 
 /// One row of `metric_info`: what a metric name means (the runner writes its catalog).

@@ -26,10 +26,16 @@ const char* to_string(JobStatus status);
 /// One recorded value. An undefined value (e.g. an nMSE whose target did not vary) has no
 /// `value` and says why in `reason`; a defined one may carry a note there too (a mean that
 /// left out joints says which).
+/// A held-out evaluation checkpoint (a type of its own, so that {name, joint, value} written
+/// in the old three-field form does not compile into a checkpoint).
+struct MetricCheckpoint {
+  std::int64_t number = 0;  ///< orders the checkpoints of a job; the catalog entry says what it counts
+};
+
 struct Metric {
   std::string name;                      ///< a metric_catalog() name
   std::optional<int> joint;              ///< 1-based joint number; empty for job-level metrics
-  std::optional<std::int64_t> checkpoint;  ///< held-out evaluation checkpoint; empty otherwise
+  std::optional<MetricCheckpoint> checkpoint;  ///< held-out evaluation checkpoint; empty otherwise
   std::optional<double> value;           ///< empty = undefined (stored as NULL)
   std::string reason;                    ///< why undefined, or what a mean left out; may be empty
 };

@@ -15,8 +15,9 @@ JobResultRecord make_job_result_record(const std::string& key, JobOutcome outcom
   record.started_at = started_at;
   record.finished_at = finished_at;
   for (Metric& metric : outcome.metrics) {
-    record.metrics.push_back({0, std::move(metric.name), metric.joint, metric.checkpoint, metric.value,
-                              std::move(metric.reason)});
+    std::optional<std::int64_t> checkpoint;
+    if (metric.checkpoint) checkpoint = metric.checkpoint->number;
+    record.metrics.push_back({0, std::move(metric.name), metric.joint, metric.value, std::move(metric.reason), checkpoint});
   }
   for (Series& series : outcome.series) {
     record.series.push_back({0, std::move(series.name), std::move(series.columns), std::move(series.rows)});

@@ -108,7 +108,7 @@ TEST(CompareCommand, TripledTorqueSaturationFailsTheCheck) {
   auto make_jobs = [](double saturation) {
     testing::TestJob job;
     job.params = {{"control.gain_scale", 0.2}};
-    job.metrics = {{0, "torque_saturation_fraction", 1, std::nullopt, saturation, ""}};
+    job.metrics = {{0, "torque_saturation_fraction", 1, saturation, ""}};
     return std::vector<testing::TestJob>{job};
   };
   testing::write_test_sweep(directory.file("base.db"), "s", make_jobs(0.01));
@@ -124,8 +124,8 @@ TEST(CompareCommand, ExitCodesZeroOneTwo) {
   auto make_jobs = [](double nmse) {
     testing::TestJob job;
     job.params = {{"control.gain_scale", 0.2}};
-    job.metrics = {{0, "tracking_nmse", 1, std::nullopt, nmse, ""},
-                   {0, "sim_seconds_per_wall_second", std::nullopt, std::nullopt, nmse * 1000, ""}};
+    job.metrics = {{0, "tracking_nmse", 1, nmse, ""},
+                   {0, "sim_seconds_per_wall_second", std::nullopt, nmse * 1000, ""}};
     return std::vector<testing::TestJob>{job};
   };
   testing::write_test_sweep(directory.file("base.db"), "s", make_jobs(0.010));

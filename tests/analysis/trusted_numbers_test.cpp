@@ -38,10 +38,10 @@ std::vector<testing::TestJob> make_gain_jobs(bool with_timing_of = false, double
       for (int joint = 1; joint <= 3; ++joint) {
         const double value = 0.01 * joint / gain + 0.001 * seed;
         sum += value;
-        job.metrics.push_back({0, "tracking_nmse", joint, std::nullopt, value, ""});
+        job.metrics.push_back({0, "tracking_nmse", joint, value, ""});
       }
-      job.metrics.push_back({0, "tracking_nmse", std::nullopt, std::nullopt, sum / 3.0, "mean over 3 of 3 joints"});
-      if (with_timing_of) job.metrics.push_back({0, "learner_us_per_update", std::nullopt, std::nullopt, microseconds, ""});
+      job.metrics.push_back({0, "tracking_nmse", std::nullopt, sum / 3.0, "mean over 3 of 3 joints"});
+      if (with_timing_of) job.metrics.push_back({0, "learner_us_per_update", std::nullopt, microseconds, ""});
       jobs.push_back(job);
     }
   }
@@ -101,9 +101,9 @@ TEST(TrustedNumbers, UndefinedCellsPrintADashWithTheirReason) {
   const std::string db = directory.file("r.db");
   testing::TestJob job;
   job.params = {{"control.gain_scale", 0.2}};
-  job.metrics = {{0, "tracking_nmse", 1, std::nullopt, 0.02, ""},
-                 {0, "tracking_nmse", 2, std::nullopt, std::nullopt, "target std 1e-15 rad is below the nMSE floor 0.006 rad"},
-                 {0, "tracking_nmse", std::nullopt, std::nullopt, 0.02, "mean over 1 of 2 joints; left out: joint 2"}};
+  job.metrics = {{0, "tracking_nmse", 1, 0.02, ""},
+                 {0, "tracking_nmse", 2, std::nullopt, "target std 1e-15 rad is below the nMSE floor 0.006 rad"},
+                 {0, "tracking_nmse", std::nullopt, 0.02, "mean over 1 of 2 joints; left out: joint 2"}};
   testing::write_test_sweep(db, "still", {job});
   const auto joints = testing::run_armfarm("table " + db + " --rows joint --cols tracking_nmse");
   ASSERT_EQ(joints.exit_code, 0) << joints.output;
@@ -164,7 +164,7 @@ TEST(TrustedFigures, LogAxesPositiveErrorBarsAndNoSilentPooling) {
         job.params = {{"learning.mode", mode}, {"learning.lwpr.init_D", init_d}, {"seed", seed}};
         // Spread over seeds larger than the mean's half: mean − std < 0 on a linear axis.
         const double value = (std::string(mode) == "online" ? 1.0 : 100.0) * init_d * (seed == 1 ? 0.1 : 1.9);
-        job.metrics = {{0, "tracking_nmse", std::nullopt, std::nullopt, value, ""}};
+        job.metrics = {{0, "tracking_nmse", std::nullopt, value, ""}};
         jobs.push_back(job);
       }
     }

@@ -81,7 +81,7 @@ JobResultRecord make_result(const std::string& key, double scale) {
   result.end_time = 20.0;
   result.wall_seconds = 1.5;
   result.started_at = result.finished_at = make_utc_timestamp();
-  result.metrics = {{0, "tracking_nmse", 1, std::nullopt, 0.1 * scale, ""}, {0, "tracking_nmse", 2, std::nullopt, 0.2 * scale, ""}, {0, "test_nmse", {}, std::nullopt, 0.3 * scale, ""}};
+  result.metrics = {{0, "tracking_nmse", 1, 0.1 * scale, ""}, {0, "tracking_nmse", 2, 0.2 * scale, ""}, {0, "test_nmse", {}, 0.3 * scale, ""}};
   Eigen::MatrixXd rows(3, 2);
   rows << 0.0, scale, 0.1, 2 * scale, 0.2, 3 * scale;
   result.series = {{0, "POS", {"t", "q1"}, rows}};

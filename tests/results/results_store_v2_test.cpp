@@ -71,11 +71,11 @@ JobResultRecord make_result(const std::string& key, double nmse, double microsec
   result.key = key;
   result.status = "done";
   result.started_at = result.finished_at = make_utc_timestamp();
-  result.metrics = {{0, "tracking_nmse", 1, std::nullopt, nmse, ""},
-                    {0, "tracking_nmse", 7, std::nullopt, std::nullopt, "target std 1e-15 rad is below the nMSE floor"},
-                    {0, "tracking_nmse", {}, std::nullopt, nmse, "mean over 1 of 2 joints; left out: joint 7"},
-                    {0, "learner_us_per_update", {}, std::nullopt, microseconds, ""},
-                    {0, "sim_seconds_per_wall_second", {}, std::nullopt, 1000.0 / microseconds, ""}};
+  result.metrics = {{0, "tracking_nmse", 1, nmse, ""},
+                    {0, "tracking_nmse", 7, std::nullopt, "target std 1e-15 rad is below the nMSE floor"},
+                    {0, "tracking_nmse", {}, nmse, "mean over 1 of 2 joints; left out: joint 7"},
+                    {0, "learner_us_per_update", {}, microseconds, ""},
+                    {0, "sim_seconds_per_wall_second", {}, 1000.0 / microseconds, ""}};
   return result;
 }
 
