@@ -51,9 +51,9 @@ PassResult train_in_batch(Learner& learner, const std::vector<Sample>& samples, 
     const auto start = std::chrono::steady_clock::now();
     const Prediction prediction = learner.predict(samples[index].x, *workspace);
     if (clock) clock->predict_seconds += seconds_since(start), ++clock->predictions;
-    accuracy.add(samples[index].y, prediction.trustworthy ? prediction.value : Eigen::VectorXd::Zero(n_out));
+    accuracy.add(samples[index].y, calc_trusted_part(prediction));
   }
-  result.same_run_test_nmse = accuracy.calc_nmse();
+  result.same_run_test = accuracy;
   return PassResult{};
 }
 

@@ -6,6 +6,7 @@
 // samples (the thesis's 75/25 split), not held-out data — see heldout_evaluation.hpp for that.
 #include "engine/experiment/control_pass.hpp"
 #include "engine/experiment/feed_forward_source.hpp"
+#include "engine/experiment/signal_statistics.hpp"
 #include "engine/learning/learner.hpp"
 
 #include <Eigen/Core>
@@ -17,7 +18,7 @@
 namespace armfarm {
 
 struct BatchTrainingResult {
-  Eigen::VectorXd same_run_test_nmse;  ///< per output; empty when nothing was withheld
+  NmseAccumulator same_run_test;  ///< prediction against torque on the withheld samples (count 0: none)
   long training_samples = 0;
 };
 

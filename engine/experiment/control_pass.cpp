@@ -89,7 +89,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
       options.statistics->add_tick(q_desired, q, position_desired, position, command);
       if (feed_forward.from_learner) {
         options.statistics->add_model_accuracy(setup.calc_true_torque(q_desired, qd_desired, qdd_desired, mismatch_present),
-                                               feed_forward.torque, feed_forward.trusted);
+                                               feed_forward.torque, feed_forward.output_trusted);
       }
       if (options.recorder && k % options.record_every == 0) {
         record_tick(*options.recorder, TickRecord{t, q, qd, last_acceleration, q_desired, qd_desired, qdd_desired, position,

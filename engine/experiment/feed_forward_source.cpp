@@ -1,5 +1,7 @@
 #include "engine/experiment/feed_forward_source.hpp"
 
+#include "engine/experiment/nominal_inverse_dynamics.hpp"
+
 #include <chrono>
 #include <stdexcept>
 
@@ -13,6 +15,19 @@ Eigen::VectorXd concat(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const
 }
 
 }  // namespace
+
+bool is_output_trusted(const Prediction& prediction, int output) {
+  return static_cast<std::size_t>(output) < prediction.output_trusted.size() ? prediction.output_trusted[static_cast<std::size_t>(output)]
+                                                                               : prediction.trustworthy;
+}
+
+Eigen::VectorXd calc_trusted_part(const Prediction& prediction) {
+  Eigen::VectorXd value = Eigen::VectorXd::Zero(prediction.value.size());
+  for (Eigen::Index j = 0; j < value.size(); ++j) {
+    if (is_output_trusted(prediction, static_cast<int>(j))) value[j] = prediction.value[j];
+  }
+  return value;
+}
 
 FeedForwardProvider::FeedForwardProvider(const ControlConfig& control, ArmDynamics& nominal, const Learner* learner,
                                      LearnerClock* clock)
@@ -33,7 +48,7 @@ FeedForwardTerm FeedForwardProvider::calc(const Eigen::VectorXd& q_desired, cons
   term.torque = Eigen::VectorXd::Zero(q_desired.size());
   if (!active_) return term;
   if (control_.feed_forward == FeedForwardSource::analytic) {
-    term.torque = nominal_.calc_inverse_dynamics(q_desired, qd_desired, qdd_desired);
+    term.torque = calc_nominal_inverse_dynamics(nominal_, q_desired, qd_desired, qdd_desired, ArmSimulationOptions{}.coulomb_velocity_scale);
     return term;
   }
   const auto start = std::chrono::steady_clock::now();
@@ -43,8 +58,8 @@ FeedForwardTerm FeedForwardProvider::calc(const Eigen::VectorXd& q_desired, cons
     ++clock_->predictions;
   }
   term.from_learner = true;
-  term.trusted = prediction.trustworthy;
-  if (prediction.trustworthy) term.torque = prediction.value;
+  term.torque = calc_trusted_part(prediction);
+  for (Eigen::Index j = 0; j < term.torque.size(); ++j) term.output_trusted.push_back(is_output_trusted(prediction, static_cast<int>(j)));
   return term;
 }
 

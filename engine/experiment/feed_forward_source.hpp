@@ -1,7 +1,8 @@
 #pragma once
 // The feed-forward torque of the composite controller, at the desired state: the learner's
-// prediction (a frozen, const learner: predicting never changes it), the nominal model's exact
-// rigid-body inverse dynamics, or none.
+// prediction (a const learner: predicting never changes it; an untrusted output zeroes only its
+// own joint), the nominal model's full inverse dynamics (rigid body plus its joint damping and
+// friction, nominal_inverse_dynamics.hpp), or none.
 #include "engine/experiment/job_config.hpp"
 #include "engine/learning/learner.hpp"
 #include "engine/physics/arm_simulation.hpp"
@@ -9,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <memory>
+#include <vector>
 
 namespace armfarm {
 
@@ -19,10 +21,16 @@ struct LearnerClock {
 };
 
 struct FeedForwardTerm {
-  Eigen::VectorXd torque;     ///< N·m, n; zero where nothing trustworthy predicts
+  Eigen::VectorXd torque;     ///< N·m, n; zero on a joint whose output no trustworthy local model predicts
   bool from_learner = false;  ///< the term is the learner's prediction (scored by id_nmse)
-  bool trusted = true;        ///< learner: every output was trusted (else the term is zero)
+  std::vector<bool> output_trusted;  ///< learner: per joint, whether its output was trusted
 };
+
+/// The prediction with each untrusted output replaced by 0: an untrusted output zeroes only
+/// its own joint's feed-forward.
+Eigen::VectorXd calc_trusted_part(const Prediction& prediction);
+/// Whether output `output` of the prediction was trusted.
+bool is_output_trusted(const Prediction& prediction, int output);
 
 class FeedForwardProvider {
  public:

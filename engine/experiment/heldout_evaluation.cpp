@@ -97,6 +97,7 @@ PassResult HeldoutEvaluation::collect_test_samples() {
 
 PassResult HeldoutEvaluation::evaluate(const Learner& learner, int checkpoint, std::vector<Metric>& metrics) {
   namespace names = metric_names;
+  const ErrorFloors floors = setup_.make_error_floors();
   MetricWriter plain(metrics, setup_.joint_numbers(), {}, checkpoint);
   MetricWriter prefixed(metrics, setup_.joint_numbers(), names::heldout_prefix, checkpoint);
   plain.add(names::heldout_learner_updates, static_cast<double>(learner.n_updates()));
@@ -109,9 +110,9 @@ PassResult HeldoutEvaluation::evaluate(const Learner& learner, int checkpoint, s
     const std::unique_ptr<PredictionWorkspace> workspace = learner.make_workspace();
     for (const Sample& sample : samples_) {
       const Prediction prediction = learner.predict(sample.x, *workspace);
-      accuracy.add(sample.y, prediction.trustworthy ? prediction.value : Eigen::VectorXd::Zero(n_out));
+      accuracy.add(sample.y, calc_trusted_part(prediction));
     }
-    plain.add_joints_and_mean(names::heldout_test_nmse, accuracy.calc_nmse());
+    plain.add_error_metrics(names::heldout_test_nmse, names::heldout_test_rmse, accuracy, floors.torque, "N·m");
     plain.add(names::heldout_n_test_samples, static_cast<double>(samples_.size()));
   }
 
@@ -131,7 +132,7 @@ PassResult HeldoutEvaluation::evaluate(const Learner& learner, int checkpoint, s
   simulated_seconds_ += pass.simulated_seconds;
   if (pass.status == JobStatus::timeout) return pass;
   plain.add(names::heldout_diverged, pass.status == JobStatus::diverged ? 1.0 : 0.0);
-  if (statistics.ticks() > 0) statistics.write_metrics(prefixed);
+  if (statistics.ticks() > 0) statistics.write_metrics(prefixed, floors);
   return PassResult{JobStatus::done, pass.end_time, {}, pass.simulated_seconds};
 }
 

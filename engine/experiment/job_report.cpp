@@ -7,8 +7,9 @@ namespace armfarm {
 
 namespace names = metric_names;
 
-void write_evaluation_report(MetricWriter& writer, const PassStatistics& statistics, SeriesRecorder& recorder) {
-  statistics.write_metrics(writer);
+void write_evaluation_report(MetricWriter& writer, const PassStatistics& statistics, const ErrorFloors& floors,
+                             SeriesRecorder& recorder) {
+  statistics.write_metrics(writer, floors);
   statistics.write_segment_metrics(writer);
   const std::vector<SegmentStatistics>& segments = statistics.segments();
   for (std::size_t s = 0; s < segments.size(); ++s) {
@@ -22,9 +23,11 @@ void write_evaluation_report(MetricWriter& writer, const PassStatistics& statist
   }
 }
 
-void write_batch_training_report(MetricWriter& writer, const BatchTrainingResult& training) {
-  if (training.same_run_test_nmse.size()) writer.add_joints_and_mean(names::same_run_test_nmse, training.same_run_test_nmse);
-  writer.add(names::n_training_samples, static_cast<double>(training.training_samples));
+void write_batch_training_report(MetricWriter& writer, const BatchTrainingResult& training, const ErrorFloors& floors) {
+  if (training.same_run_test.count() > 0) {
+    writer.add_error_metrics(names::same_run_test_nmse, names::same_run_test_rmse, training.same_run_test, floors.torque, "N·m");
+  }
+  if (training.training_samples > 0) writer.add(names::n_training_samples, static_cast<double>(training.training_samples));
 }
 
 void write_learner_report(MetricWriter& writer, const Learner& learner, const LearnerClock& clock) {

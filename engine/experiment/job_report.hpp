@@ -12,10 +12,11 @@ namespace armfarm {
 
 /// The evaluation pass's metrics (un-prefixed names: the pass on the training trajectory) and
 /// one TRIAL row per segment.
-void write_evaluation_report(MetricWriter& writer, const PassStatistics& statistics, SeriesRecorder& recorder);
+void write_evaluation_report(MetricWriter& writer, const PassStatistics& statistics, const ErrorFloors& floors,
+                             SeriesRecorder& recorder);
 
-/// same_run_test_nmse (per joint and mean) and n_training_samples.
-void write_batch_training_report(MetricWriter& writer, const BatchTrainingResult& training);
+/// same_run_test_nmse/_rmse (per joint and job) and n_training_samples.
+void write_batch_training_report(MetricWriter& writer, const BatchTrainingResult& training, const ErrorFloors& floors);
 
 /// n_receptive_fields, learner_us_per_update, learner_us_per_predict.
 void write_learner_report(MetricWriter& writer, const Learner& learner, const LearnerClock& clock);

@@ -1,5 +1,9 @@
 #include "engine/experiment/job_setup.hpp"
 
+#include "engine/experiment/metric_catalog.hpp"
+#include "engine/experiment/nominal_inverse_dynamics.hpp"
+#include "engine/model/arm_reach.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -38,6 +42,7 @@ JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
       nominal_(model_, active_indices_),
       n_(nominal_.dof()) {
   gains_ = make_pd_gains(config.control, nominal_);
+  reach_ = calc_reach(model_);
   if (config.mismatch.payload.mass > 0.0) {
     true_dynamics_ = std::make_unique<ArmDynamics>(model_, active_indices_, config.mismatch.payload);
   }
@@ -53,6 +58,21 @@ CompositeController JobSetup::make_controller() {
   const ControlConfig& control = config_.control;
   return CompositeController(control.mode, gains_, control.gain_scale, calc_kd_scale(control.gain_scale, control.keep_damping_ratio),
                              nominal_.effort_limits(), control.limit_torque);
+}
+
+ErrorFloors JobSetup::make_error_floors() const {
+  ErrorFloors floors;
+  floors.angle.resize(n_);
+  floors.torque.resize(n_);
+  const Eigen::VectorXd lower = nominal_.lower_limits(), upper = nominal_.upper_limits(), limits = nominal_.effort_limits();
+  for (int j = 0; j < n_; ++j) {
+    const double range = std::isfinite(upper[j] - lower[j]) ? upper[j] - lower[j] : 2.0 * M_PI;
+    floors.angle[j] = kNmseStdFloorFraction * range;
+    // Without an effort limit only exact constancy (numerical noise) is undefined.
+    floors.torque[j] = std::isfinite(limits[j]) && limits[j] > 0.0 ? kNmseStdFloorFraction * 2.0 * limits[j] : 1e-12;
+  }
+  floors.task = Eigen::Vector3d::Constant(kNmseStdFloorFraction * 2.0 * reach_);
+  return floors;
 }
 
 ArmSimulation JobSetup::make_plant() const {
@@ -83,13 +103,10 @@ void JobSetup::remove_mismatch(ArmSimulation& plant) const {
 
 Eigen::VectorXd JobSetup::calc_true_torque(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
                                            bool mismatch_present) {
-  Eigen::VectorXd torque = (mismatch_present && true_dynamics_) ? true_dynamics_->calc_inverse_dynamics(q, qd, qdd)
-                                                                : nominal_.calc_inverse_dynamics(q, qd, qdd);
-  const Eigen::VectorXd& viscous = mismatch_present ? true_viscous_ : nominal_viscous_;
-  const Eigen::VectorXd& coulomb = mismatch_present ? true_coulomb_ : nominal_coulomb_;
-  const double velocity_scale = ArmSimulationOptions{}.coulomb_velocity_scale;
-  for (int j = 0; j < n_; ++j) torque[j] += viscous[j] * qd[j] + coulomb[j] * std::tanh(qd[j] / velocity_scale);
-  return torque;
+  ArmDynamics& dynamics = (mismatch_present && true_dynamics_) ? *true_dynamics_ : nominal_;
+  return calc_inverse_dynamics_with_friction(dynamics, q, qd, qdd, mismatch_present ? true_viscous_ : nominal_viscous_,
+                                             mismatch_present ? true_coulomb_ : nominal_coulomb_,
+                                             ArmSimulationOptions{}.coulomb_velocity_scale);
 }
 
 Eigen::VectorXd calc_trajectory_input_scale(const JointTrajectory& trajectory) {

@@ -5,6 +5,7 @@
 #include "engine/control/composite_controller.hpp"
 #include "engine/control/pd_gains.hpp"
 #include "engine/experiment/job_config.hpp"
+#include "engine/experiment/pass_statistics.hpp"
 #include "engine/model/arm_model.hpp"
 #include "engine/physics/arm_simulation.hpp"
 #include "engine/trajectory/trajectory.hpp"
@@ -32,6 +33,9 @@ class JobSetup {
   const PdGains& gains() const { return gains_; }
   /// The job's controller: control.mode with the gains at control.gain_scale (kd per keep_damping_ratio).
   CompositeController make_controller();
+  /// The nMSE floors (kNmseStdFloorFraction of each joint's position range, 2π when unlimited;
+  /// of its torque range 2·effort limit; of the end effector's 2·reach).
+  ErrorFloors make_error_floors() const;
 
   /// Whether the plant differs from the nominal model from the start of every pass
   /// (mismatch.start_time ≤ 0) rather than from start_time into the evaluation passes.
@@ -60,6 +64,7 @@ class JobSetup {
   PdGains gains_;
   std::unique_ptr<ArmDynamics> true_dynamics_;
   Eigen::VectorXd true_viscous_, true_coulomb_, nominal_viscous_, nominal_coulomb_;
+  double reach_ = 0.0;  ///< m, the arm's reach
 };
 
 /// Per learner input (q, q̇, q̈ of each active joint, 3n): its standard deviation along the

@@ -24,14 +24,22 @@ struct SegmentStatistics {
   std::size_t receptive_fields = 0;   ///< the learner's size at the segment's end
 };
 
+/// Where each normalised error is defined (kNmseStdFloorFraction of the target's range).
+struct ErrorFloors {
+  Eigen::VectorXd angle;   ///< rad, per joint
+  Eigen::VectorXd torque;  ///< N·m, per joint
+  Eigen::Vector3d task;    ///< m, per axis
+};
+
 class PassStatistics {
  public:
   PassStatistics(int joints, double start_time);
 
   void add_tick(const Eigen::VectorXd& q_desired, const Eigen::VectorXd& q, const Eigen::Vector3d& position_desired,
                 const Eigen::Vector3d& position, const ControlCommand& command);
-  /// The learner's feed-forward (zero where untrusted) against the true plant's torque.
-  void add_model_accuracy(const Eigen::VectorXd& true_torque, const Eigen::VectorXd& feed_forward, bool trusted);
+  /// The learner's feed-forward (zero on untrusted outputs) against the true plant's torque.
+  void add_model_accuracy(const Eigen::VectorXd& true_torque, const Eigen::VectorXd& feed_forward,
+                          const std::vector<bool>& output_trusted);
   /// Closes the current segment (with the learner's size then) and opens one at time t.
   void start_segment(double t, std::size_t receptive_fields);
   void end(std::size_t receptive_fields) { segments_.back().receptive_fields = receptive_fields; }
@@ -40,10 +48,10 @@ class PassStatistics {
   int joints() const { return n_; }
   const std::vector<SegmentStatistics>& segments() const { return segments_; }
 
-  /// tracking_nmse (per joint, mean), tracking_nmse_x/_y/_z, tracking_rmse, task_rmse,
+  /// tracking_nmse/_rmse (per joint, job), tracking_nmse/_rmse_x/_y/_z, task_rmse,
   /// ff_fb_ratio_avg/_var, ff_abs_avg, fb_abs_avg, torque_saturation_fraction and, when the
-  /// learner fed forward, id_nmse (per joint, mean) and ff_untrusted_fraction.
-  void write_metrics(MetricWriter& writer) const;
+  /// learner fed forward, id_nmse/_rmse and ff_untrusted_fraction (per joint, job).
+  void write_metrics(MetricWriter& writer, const ErrorFloors& floors) const;
   /// n_segments and the first and last segment's fb_abs_avg and tracking_rmse.
   void write_segment_metrics(MetricWriter& writer) const;
   /// Mean |fb| (N·m) and RMS joint error (rad) of one segment; NaN when it has no ticks.
@@ -55,7 +63,7 @@ class PassStatistics {
   NmseAccumulator tracking_, task_tracking_, model_accuracy_;
   FeedForwardShareAccumulator share_;
   Eigen::VectorXd saturated_ticks_;
-  long untrusted_predictions_ = 0;
+  Eigen::VectorXd untrusted_ticks_;  ///< per joint, ticks whose output was not trusted
   std::vector<SegmentStatistics> segments_;
 };
 

@@ -147,8 +147,9 @@ JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const 
   if (!evaluated.ok()) return finish(evaluated);
 
   // Recording.
-  write_evaluation_report(metrics, statistics, recorder);
-  if (config.learning.mode == LearningMode::batch) write_batch_training_report(metrics, batch);
+  const ErrorFloors floors = setup.make_error_floors();
+  write_evaluation_report(metrics, statistics, floors, recorder);
+  if (config.learning.mode == LearningMode::batch) write_batch_training_report(metrics, batch, floors);
   if (learner) write_learner_report(metrics, *learner, learner_clock);
   return finish(evaluated);
 }

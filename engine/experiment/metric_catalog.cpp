@@ -1,0 +1,169 @@
+#include "engine/experiment/metric_catalog.hpp"
+
+#include <stdexcept>
+
+namespace armfarm {
+
+const char* to_string(MetricDirection direction) {
+  switch (direction) {
+    case MetricDirection::lower: return "lower";
+    case MetricDirection::higher: return "higher";
+    case MetricDirection::none: return "none";
+  }
+  return "none";
+}
+
+const char* to_string(MetricScope scope) {
+  switch (scope) {
+    case MetricScope::job: return "job";
+    case MetricScope::joint: return "joint";
+    case MetricScope::task_axis: return "task_axis";
+    case MetricScope::segment: return "segment";
+    case MetricScope::checkpoint: return "checkpoint";
+  }
+  return "job";
+}
+
+const char* to_string(MetricKind kind) {
+  switch (kind) {
+    case MetricKind::result: return "result";
+    case MetricKind::timing: return "timing";
+    case MetricKind::diagnostic: return "diagnostic";
+  }
+  return "result";
+}
+
+namespace {
+
+/// Everything but the held-out evaluation.
+std::vector<MetricInfo> make_job_entries() {
+  namespace n = metric_names;
+  using D = MetricDirection;
+  using S = MetricScope;
+  using K = MetricKind;
+  return {
+      {n::tracking_nmse, "1",
+       "joint angle error: mean (q_d - q)^2 over var(q_d); NULL where q_d's std < 0.1 % of the joint's range",
+       D::lower, S::joint, K::result},
+      {n::tracking_rmse, "rad", "root mean squared joint angle error (job row: over all joints' ticks)", D::lower,
+       S::joint, K::result},
+      {n::tracking_nmse_x, "1", "end-effector x error: MSE over var(x_d); NULL where x_d's std < 0.1 % of 2 x reach",
+       D::lower, S::task_axis, K::result},
+      {n::tracking_nmse_y, "1", "end-effector y error: MSE over var(y_d); NULL where y_d's std < 0.1 % of 2 x reach",
+       D::lower, S::task_axis, K::result},
+      {n::tracking_nmse_z, "1", "end-effector z error: MSE over var(z_d); NULL where z_d's std < 0.1 % of 2 x reach",
+       D::lower, S::task_axis, K::result},
+      {n::tracking_rmse_x, "m", "root mean squared end-effector x error", D::lower, S::task_axis, K::result},
+      {n::tracking_rmse_y, "m", "root mean squared end-effector y error", D::lower, S::task_axis, K::result},
+      {n::tracking_rmse_z, "m", "root mean squared end-effector z error", D::lower, S::task_axis, K::result},
+      {n::task_rmse, "m", "root mean squared end-effector distance from the desired point", D::lower, S::job,
+       K::result},
+      {n::ff_fb_ratio_avg, "1", "mean of |ff|/(|ff|+|fb|), the feed-forward share of the torque (thesis tables 6.1-6.7)",
+       D::higher, S::joint, K::result},
+      {n::ff_fb_ratio_var, "1", "variance of |ff|/(|ff|+|fb|) over the ticks", D::lower, S::joint, K::result},
+      {n::ff_abs_avg, "N·m", "mean absolute feed-forward torque", D::none, S::joint, K::result},
+      {n::fb_abs_avg, "N·m", "mean absolute feedback torque", D::lower, S::joint, K::result},
+      {n::torque_saturation_fraction, "1", "fraction of ticks whose commanded torque hit the effort limit", D::lower,
+       S::joint, K::result},
+      {n::same_run_test_nmse, "1",
+       "batch learner on the collected samples withheld from training (a random shuffle of 10 ms samples of the same "
+       "runs, not held-out data): torque MSE over var(torque); NULL where the torque's std < 0.1 % of 2 x effort limit",
+       D::lower, S::joint, K::result},
+      {n::same_run_test_rmse, "N·m", "batch learner on the withheld samples of the same runs: root mean squared torque error",
+       D::lower, S::joint, K::result},
+      {n::n_training_samples, "count", "samples the batch learner was trained on", D::none, S::job, K::result},
+      {n::id_nmse, "1",
+       "feed-forward used against the true plant's inverse dynamics at the desired state: MSE over var(true torque); "
+       "NULL where its std < 0.1 % of 2 x effort limit",
+       D::lower, S::joint, K::result},
+      {n::id_rmse, "N·m", "root mean squared error of the feed-forward used against the true inverse dynamics",
+       D::lower, S::joint, K::result},
+      {n::ff_untrusted_fraction, "1",
+       "fraction of ticks where the learner had no trustworthy local model for this joint's torque (its feed-forward "
+       "was 0)",
+       D::lower, S::joint, K::result},
+      {n::n_receptive_fields, "count", "receptive fields of the learner at the end (summed over outputs)", D::none,
+       S::job, K::result},
+      {n::learner_us_per_update, "µs", "wall-clock time per learner update", D::lower, S::job, K::timing},
+      {n::learner_us_per_predict, "µs", "wall-clock time per learner prediction", D::lower, S::job, K::timing},
+      {n::n_segments, "count", "loops or reaches of the evaluation pass", D::none, S::job, K::result},
+      {n::fb_abs_avg_first_segment, "N·m", "mean absolute feedback torque over the first loop or reach", D::lower,
+       S::segment, K::result},
+      {n::fb_abs_avg_last_segment, "N·m", "mean absolute feedback torque over the last loop or reach", D::lower,
+       S::segment, K::result},
+      {n::tracking_rmse_first_segment, "rad", "root mean squared joint error over the first loop or reach", D::lower,
+       S::segment, K::result},
+      {n::tracking_rmse_last_segment, "rad", "root mean squared joint error over the last loop or reach", D::lower,
+       S::segment, K::result},
+      {n::simulated_seconds, "s", "simulated time over all passes", D::none, S::job, K::result},
+      {n::sim_seconds_per_wall_second, "s/s", "simulated seconds per wall-clock second", D::higher, S::job, K::timing},
+      {n::work_checksum, "1", "fake job (runner tests): checksum of its busy-work loop", D::none, S::job,
+       K::diagnostic},
+  };
+}
+
+/// The held-out evaluation's entries (engine/experiment/heldout_evaluation.hpp): the frozen
+/// learner on a held-out realisation of the trajectory, one row per (joint,) checkpoint. The
+/// control-pass figures mirror the evaluation pass's entries under the heldout_ prefix.
+std::vector<MetricInfo> make_heldout_entries(const std::vector<MetricInfo>& job_entries) {
+  namespace n = metric_names;
+  using D = MetricDirection;
+  using S = MetricScope;
+  using K = MetricKind;
+  std::vector<MetricInfo> entries = {
+      {n::heldout_test_nmse, "1",
+       "frozen learner on the held-out samples (never trained on): torque MSE over var(torque); NULL below the floor",
+       D::lower, S::checkpoint, K::result},
+      {n::heldout_test_rmse, "N·m", "frozen learner on the held-out samples: root mean squared torque error", D::lower,
+       S::checkpoint, K::result},
+      {n::heldout_n_test_samples, "count", "held-out samples scored", D::none, S::checkpoint, K::result},
+      {n::heldout_learner_updates, "count", "samples the learner had learnt at the checkpoint", D::none, S::checkpoint,
+       K::result},
+      {n::heldout_n_receptive_fields, "count", "receptive fields of the learner at the checkpoint", D::none,
+       S::checkpoint, K::result},
+      {n::heldout_diverged, "1", "1 when the held-out control pass diverged (its figures cover the ticks run)", D::lower,
+       S::checkpoint, K::result},
+  };
+  for (const std::string& name : heldout_control_metric_names()) {
+    for (const MetricInfo& info : job_entries) {
+      if (info.name == name) {
+        entries.push_back({n::heldout_prefix + info.name, info.unit, "held-out control pass, frozen learner: " + info.meaning,
+                           info.direction, S::checkpoint, info.kind});
+      }
+    }
+  }
+  return entries;
+}
+
+std::vector<MetricInfo> make_catalog() {
+  std::vector<MetricInfo> catalog = make_job_entries();
+  const std::vector<MetricInfo> heldout = make_heldout_entries(catalog);
+  catalog.insert(catalog.end(), heldout.begin(), heldout.end());
+  return catalog;
+}
+
+}  // namespace
+
+const std::vector<std::string>& heldout_control_metric_names() {
+  namespace n = metric_names;
+  static const std::vector<std::string> names = {
+      n::tracking_nmse, n::tracking_rmse, n::tracking_nmse_x, n::tracking_nmse_y, n::tracking_nmse_z,
+      n::tracking_rmse_x, n::tracking_rmse_y, n::tracking_rmse_z, n::task_rmse, n::ff_fb_ratio_avg,
+      n::ff_fb_ratio_var, n::ff_abs_avg, n::fb_abs_avg, n::torque_saturation_fraction, n::id_nmse, n::id_rmse,
+      n::ff_untrusted_fraction};
+  return names;
+}
+
+const std::vector<MetricInfo>& metric_catalog() {
+  static const std::vector<MetricInfo> catalog = make_catalog();
+  return catalog;
+}
+
+const MetricInfo& find_metric_info(const std::string& name) {
+  for (const MetricInfo& info : metric_catalog()) {
+    if (info.name == name) return info;
+  }
+  throw std::out_of_range("no metric named '" + name + "' in the catalog");
+}
+
+}  // namespace armfarm
