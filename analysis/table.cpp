@@ -115,10 +115,21 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
   Table table;
   table.title = spec.title;
   const bool joint_rows = std::find(spec.rows.begin(), spec.rows.end(), "joint") != spec.rows.end();
+  const bool checkpoint_rows = std::find(spec.rows.begin(), spec.rows.end(), "checkpoint") != spec.rows.end();
+  auto is_dimension = [](const std::string& row) { return row == "joint" || row == "checkpoint"; };
 
   for (const auto& [path, wanted] : spec.where) check_param_known(data, path, "--where");
   for (const std::string& row : spec.rows) {
-    if (row != "joint") check_param_known(data, row, "--rows");
+    if (!is_dimension(row)) check_param_known(data, row, "--rows");
+  }
+  if (checkpoint_rows) {
+    const bool any_checkpoint = std::any_of(data.jobs.begin(), data.jobs.end(), [](const JobResult& job) {
+      return std::any_of(job.metrics.begin(), job.metrics.end(), [](const auto& item) { return item.first.checkpoint.has_value(); });
+    });
+    if (!any_checkpoint) {
+      throw AnalysisError("sweep '" + data.name + "': --rows checkpoint: the sweep has no checkpointed (heldout_*) metrics; " +
+                          "set learning.heldout_checkpoints to evaluate held-out checkpoints");
+    }
   }
   table.row_headers = spec.rows;
 
@@ -134,8 +145,12 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
 
   // Which metric ids exist: decide per metric between job-level and per-joint columns.
   std::map<std::string, std::set<std::optional<int>>> ids_by_name;
+  std::map<std::string, std::set<std::int64_t>> checkpoints_by_name;
   for (const JobResult* job : jobs) {
-    for (const auto& [id, value] : job->metrics) ids_by_name[id.name].insert(id.joint);
+    for (const auto& [id, value] : job->metrics) {
+      ids_by_name[id.name].insert(id.joint);
+      if (id.checkpoint) checkpoints_by_name[id.name].insert(*id.checkpoint);
+    }
   }
   std::vector<std::string> all_names;
   for (const JobResult& job : data.jobs) {
@@ -156,16 +171,31 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
     }
     const bool has_job_level = found->second.count(std::nullopt) > 0;
     const bool has_joints = found->second.size() > (has_job_level ? 1u : 0u);
-    if (joint_rows && has_joints) {
-      table.columns.push_back({name, MetricId{name, std::nullopt}, true, false});
-    } else if (joint_rows) {
-      table.columns.push_back({name, MetricId{name, std::nullopt}, false, true});
-    } else if (has_job_level) {
-      table.columns.push_back({name, MetricId{name, std::nullopt}, false, false});
-    } else {
-      for (const std::optional<int>& joint : found->second) {
-        if (joint && joint_wanted(*joint)) {
-          table.columns.push_back({name + " j" + std::to_string(*joint), MetricId{name, joint}, false, false});
+    // The checkpoint dimension: from the row, one column per checkpoint, or none.
+    std::vector<std::optional<std::int64_t>> checkpoint_columns{std::nullopt};
+    const auto checkpoints = checkpoints_by_name.find(name);
+    const bool checkpointed = checkpoints != checkpoints_by_name.end();
+    if (checkpointed && !checkpoint_rows) checkpoint_columns.assign(checkpoints->second.begin(), checkpoints->second.end());
+    for (const std::optional<std::int64_t>& checkpoint : checkpoint_columns) {
+      TableColumn column;
+      column.metric = MetricId{name, std::nullopt, checkpoint};
+      column.checkpoint_from_row = checkpoint_rows && checkpointed;
+      column.unchecked_on_checkpoint_rows = checkpoint_rows && !checkpointed;
+      if (joint_rows) {
+        column.joint_from_row = has_joints;
+        column.job_level_on_joint_rows = !has_joints;
+        column.header = make_metric_label(column.metric);
+        table.columns.push_back(column);
+      } else if (has_job_level) {
+        column.header = make_metric_label(column.metric);
+        table.columns.push_back(column);
+      } else {
+        for (const std::optional<int>& joint : found->second) {
+          if (joint && joint_wanted(*joint)) {
+            column.metric.joint = joint;
+            column.header = make_metric_label(column.metric);
+            table.columns.push_back(column);
+          }
         }
       }
     }
@@ -177,7 +207,7 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
   for (const JobResult* job : jobs) {
     std::vector<std::string> labels;
     for (const std::string& row : spec.rows) {
-      if (row != "joint") labels.push_back(format_param_value(find_param_value(*job, row)));
+      if (!is_dimension(row)) labels.push_back(format_param_value(find_param_value(*job, row)));
     }
     auto it = std::find(group_labels.begin(), group_labels.end(), labels);
     if (it == group_labels.end()) {
@@ -219,12 +249,15 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
   };
 
   auto make_row = [&](const std::vector<std::string>& labels, const std::vector<const JobResult*>& members,
-                      std::optional<int> joint) {
+                      std::optional<int> joint, std::optional<std::int64_t> checkpoint) {
     TableRow row;
     row.joint = joint;
+    row.checkpoint = checkpoint;
     std::size_t label_index = 0;
     for (const std::string& header : spec.rows) {
-      row.labels.push_back(header == "joint" ? std::to_string(joint.value_or(0)) : labels[label_index++]);
+      if (header == "joint") row.labels.push_back(std::to_string(joint.value_or(0)));
+      else if (header == "checkpoint") row.labels.push_back(std::to_string(checkpoint.value_or(0)));
+      else row.labels.push_back(labels[label_index++]);
     }
     for (const JobResult* job : members) {
       if (job->status == "done") ++row.jobs_done;
@@ -234,11 +267,13 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
     for (const TableColumn& column : table.columns) {
       MetricId id = column.metric;
       if (column.joint_from_row) id.joint = joint;
+      if (column.checkpoint_from_row) id.checkpoint = checkpoint;
+      const bool not_shown = column.job_level_on_joint_rows || column.unchecked_on_checkpoint_rows;
       std::vector<double> values;
       int present = 0, undefined = 0;
       std::string undefined_reason, partial_note;
       for (const JobResult* job : members) {
-        if (job->status != "done" || column.job_level_on_joint_rows) continue;
+        if (job->status != "done" || not_shown) continue;
         auto found = job->metrics.find(id);
         if (found == job->metrics.end()) continue;
         ++present;
@@ -249,7 +284,9 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
           bool joint_undefined = false;
           if (!id.joint) {
             for (const auto& [other, value] : job->metrics) {
-              if (other.name == id.name && other.joint && !std::isfinite(value)) joint_undefined = true;
+              if (other.name == id.name && other.checkpoint == id.checkpoint && other.joint && !std::isfinite(value)) {
+                joint_undefined = true;
+              }
             }
           }
           if (joint_undefined && reason != job->reasons.end() && partial_note.empty()) partial_note = reason->second;
@@ -259,10 +296,13 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
         }
       }
       row.cells.push_back(calc_summary_statistics(std::move(values)));
-      const std::string where = column.metric.name + (id.joint ? ", joint " + std::to_string(*id.joint) : std::string());
+      const std::string where = column.metric.name + (id.joint ? ", joint " + std::to_string(*id.joint) : std::string()) +
+                                (id.checkpoint ? ", checkpoint " + std::to_string(*id.checkpoint) : std::string());
       int footnote = 0;
       if (column.job_level_on_joint_rows) {
         footnote = add_footnote(column.metric.name + ": a job-level metric, no per-joint value");
+      } else if (column.unchecked_on_checkpoint_rows) {
+        footnote = add_footnote(column.metric.name + ": a training-run metric, not evaluated per checkpoint");
       } else if (undefined > 0) {
         footnote = add_footnote(where + ": undefined in " + std::to_string(undefined) + " of " + std::to_string(present) +
                                 " jobs: " + undefined_reason);
@@ -274,18 +314,30 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
     return row;
   };
 
+  // Each group expands over its joints and checkpoints, nested in the order of spec.rows.
+  const auto joint_at = std::find(spec.rows.begin(), spec.rows.end(), "joint");
+  const auto checkpoint_at = std::find(spec.rows.begin(), spec.rows.end(), "checkpoint");
+  const bool joint_outer = joint_at < checkpoint_at;
   for (std::size_t g = 0; g < group_labels.size(); ++g) {
-    if (!joint_rows) {
-      table.rows.push_back(make_row(group_labels[g], group_jobs[g], std::nullopt));
-      continue;
-    }
-    std::set<int> group_joints;
+    std::set<std::optional<int>> group_joints;
+    std::set<std::optional<std::int64_t>> group_checkpoints;
     for (const JobResult* job : group_jobs[g]) {
       for (const auto& [id, value] : job->metrics) {
-        if (id.joint && joint_wanted(*id.joint)) group_joints.insert(*id.joint);
+        if (id.joint && joint_wanted(*id.joint)) group_joints.insert(id.joint);
+        if (id.checkpoint) group_checkpoints.insert(id.checkpoint);
       }
     }
-    for (int joint : group_joints) table.rows.push_back(make_row(group_labels[g], group_jobs[g], joint));
+    if (!joint_rows) group_joints = {std::nullopt};
+    if (!checkpoint_rows) group_checkpoints = {std::nullopt};
+    if (joint_outer) {
+      for (const auto& joint : group_joints) {
+        for (const auto& checkpoint : group_checkpoints) table.rows.push_back(make_row(group_labels[g], group_jobs[g], joint, checkpoint));
+      }
+    } else {
+      for (const auto& checkpoint : group_checkpoints) {
+        for (const auto& joint : group_joints) table.rows.push_back(make_row(group_labels[g], group_jobs[g], joint, checkpoint));
+      }
+    }
   }
   return table;
 }
@@ -312,16 +364,34 @@ std::vector<TableSpec> make_default_table_specs(const SweepData& data) {
   if (!ff_fb.empty()) {
     std::vector<std::string> rows = swept;
     rows.push_back("joint");
-    specs.push_back({"Feed-forward to feedback ratio per joint (thesis tables 6.1, 6.4-6.7)", rows, ff_fb, {}, {}});
+    specs.push_back({"Training run: feed-forward to feedback ratio per joint (thesis tables 6.1, 6.4-6.7)", rows, ff_fb, {}, {}});
   }
   const auto tracking = present({"tracking_nmse_x", "tracking_nmse_y", "tracking_nmse_z", "tracking_nmse",
                                   "tracking_rmse_x", "tracking_rmse_y", "tracking_rmse_z", "tracking_rmse", "task_rmse"});
   if (!tracking.empty()) {
-    specs.push_back({"Tracking nMSE and RMSE per task axis, mean over joints (thesis tables 6.2-6.3)", swept, tracking, {}, {}});
+    specs.push_back({"Training run: tracking nMSE and RMSE per task axis, mean over joints (thesis tables 6.2-6.3)", swept, tracking, {}, {}});
   }
   const auto learned = present({"same_run_test_nmse", "same_run_test_rmse", "id_nmse", "id_rmse", "n_receptive_fields"});
   if (!learned.empty()) {
-    specs.push_back({"Learned model: nMSE, RMSE and receptive fields (thesis figures 6.1-6.2)", swept, learned, {}, {}});
+    specs.push_back({"Training run: learned model nMSE, RMSE and receptive fields (thesis figures 6.1-6.2)", swept, learned, {}, {}});
+  }
+  // Held-out evaluation (metrics heldout_*, one value per checkpoint): the frozen learner's
+  // figures per checkpoint, then its control pass's ff/fb statistics per checkpoint and joint.
+  std::vector<std::string> checkpoint_rows = swept;
+  checkpoint_rows.push_back("checkpoint");
+  const auto heldout = present({"heldout_test_nmse", "heldout_test_rmse", "heldout_tracking_nmse", "heldout_task_rmse",
+                                 "heldout_id_nmse", "heldout_n_receptive_fields", "heldout_learner_updates",
+                                 "heldout_diverged"});
+  if (!heldout.empty()) {
+    specs.push_back({"Held-out evaluation per checkpoint, frozen learner: nMSE, tracking and receptive fields",
+                     checkpoint_rows, heldout, {}, {}});
+  }
+  const auto heldout_ff_fb = present({"heldout_ff_fb_ratio_avg", "heldout_ff_fb_ratio_var", "heldout_ff_abs_avg",
+                                       "heldout_fb_abs_avg"});
+  if (!heldout_ff_fb.empty()) {
+    std::vector<std::string> rows = checkpoint_rows;
+    rows.push_back("joint");
+    specs.push_back({"Held-out evaluation per checkpoint and joint: feed-forward to feedback ratio", rows, heldout_ff_fb, {}, {}});
   }
   if (specs.empty()) {
     std::vector<std::string> job_level;

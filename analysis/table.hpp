@@ -8,6 +8,7 @@
 #include "analysis/summary_statistics.hpp"
 #include "analysis/sweep_data.hpp"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -18,10 +19,14 @@ namespace armfarm {
 /// What a table shows. The row parameter "joint" puts each joint on its own row (the thesis's
 /// per-joint tables) and per-joint metrics show that joint's value; otherwise a per-joint
 /// metric shows its job-level row (the mean over the joints) when it has one, else one column
-/// per joint.
+/// per joint. The row parameter "checkpoint" does the same for held-out metrics (stored per
+/// checkpoint): one row per checkpoint; without it a checkpointed metric gets one column per
+/// checkpoint ("heldout_test_nmse c2"). "joint" and "checkpoint" combine: rows group by the
+/// swept parameters first, then expand over joints and checkpoints nested in the order given.
+/// A metric without that dimension shows "–" on such rows, footnoted.
 struct TableSpec {
   std::string title;
-  std::vector<std::string> rows;     ///< dotted parameter paths, or "joint"
+  std::vector<std::string> rows;     ///< dotted parameter paths, "joint" or "checkpoint"
   std::vector<std::string> metrics;  ///< metric names
   std::vector<int> joints;           ///< 1-based; empty = every joint present
   std::vector<std::pair<std::string, std::string>> where;  ///< keep jobs whose param equals the value
@@ -32,11 +37,14 @@ struct TableColumn {
   MetricId metric;  ///< joint empty and `joint_from_row` true: the row's joint
   bool joint_from_row = false;
   bool job_level_on_joint_rows = false;  ///< a job-level-only metric in a per-joint table: not shown per joint
+  bool checkpoint_from_row = false;      ///< metric.checkpoint empty: the row's checkpoint
+  bool unchecked_on_checkpoint_rows = false;  ///< a metric without checkpoints in a per-checkpoint table
 };
 
 struct TableRow {
   std::vector<std::string> labels;  ///< one per TableSpec::rows entry
   std::optional<int> joint;         ///< when "joint" is a row parameter
+  std::optional<std::int64_t> checkpoint;  ///< when "checkpoint" is a row parameter
   int jobs_done = 0;
   int jobs_failed = 0;    ///< failed, diverged or timeout
   int jobs_unfinished = 0;  ///< pending or running
@@ -63,7 +71,9 @@ Table make_table(const SweepData& data, const TableSpec& spec);
 
 /// The thesis's default tables that the sweep has metrics for: ff/fb statistics per joint
 /// (tables 6.1, 6.4–6.7), tracking nMSE per task axis (6.2–6.3), test nMSE and receptive fields
-/// against the swept parameters (figures 6.1–6.2); a table of all job-level metrics otherwise.
+/// against the swept parameters (figures 6.1–6.2), all from the training run; when the sweep
+/// has held-out metrics, their tables with "checkpoint" (and for ff/fb "joint") as rows; a
+/// table of all job-level metrics otherwise.
 std::vector<TableSpec> make_default_table_specs(const SweepData& data);
 
 /// Renders a table as text in `format`, with cells as the chosen aggregate (mean adds ± std).

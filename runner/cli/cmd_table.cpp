@@ -39,7 +39,7 @@ RunFunction setup_table(CLI::App& parent) {
   CLI::App* sub = parent.add_subcommand("table", "Print experiment tables of a results database (thesis tables by default)");
   sub->add_option("database", options->database, "Results database (SQLite)")->required();
   sub->add_option("--sweep", options->sweep, "Sweep name (default: every sweep of the database)");
-  sub->add_option("--rows", options->rows, "Row parameters, dotted paths or 'joint' (default: the swept parameters)")->delimiter(',');
+  sub->add_option("--rows", options->rows, "Row parameters: dotted paths, 'joint' or 'checkpoint' (held-out metrics), e.g. learning.lwpr.init_D,checkpoint,joint (default: the swept parameters)")->delimiter(',');
   sub->add_option("--cols", options->cols, "Metrics as columns (default: the thesis's tables)")->delimiter(',');
   sub->add_option("--joints", options->joints, "Joints to show, 1-based (default: all)")->delimiter(',');
   sub->add_option("--where", options->where, "Keep jobs whose PARAM=VALUE (repeatable)");

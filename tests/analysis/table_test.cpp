@@ -133,6 +133,188 @@ TEST(Table, DefaultTablesFollowTheThesis) {
   EXPECT_EQ(specs[1].metrics, (std::vector<std::string>{"tracking_nmse_y", "tracking_nmse_z"}));
 }
 
+// Held-out metrics: per joint and as a job-level mean, at checkpoints 0 and 5, for two seeds
+// of two kernel widths; value = init_D + 0.1 × joint + 0.01 × checkpoint + 0.001 × seed, so
+// every cell names the (row, joint, checkpoint) it came from.
+double make_heldout_value(double init_d, std::optional<int> joint, std::int64_t checkpoint, int seed) {
+  return init_d + 0.1 * joint.value_or(0) + 0.01 * static_cast<double>(checkpoint) + 0.001 * seed;
+}
+
+SweepData make_heldout_data() {
+  SweepData data;
+  data.name = "heldout";
+  for (double init_d : {10.0, 100.0}) {
+    for (int seed = 1; seed <= 2; ++seed) {
+      std::map<MetricId, double> metrics = {{{"ff_fb_ratio_avg", 1}, 0.5}, {{"n_receptive_fields", {}}, 7}};
+      for (std::int64_t checkpoint : {0, 5}) {
+        metrics[{"heldout_test_nmse", std::nullopt, checkpoint}] = make_heldout_value(init_d, std::nullopt, checkpoint, seed);
+        for (int joint = 1; joint <= 2; ++joint) {
+          metrics[{"heldout_test_nmse", joint, checkpoint}] = make_heldout_value(init_d, joint, checkpoint, seed);
+          metrics[{"heldout_ff_fb_ratio_avg", joint, checkpoint}] = make_heldout_value(init_d, joint, checkpoint, seed);
+        }
+      }
+      data.jobs.push_back(make_job(init_d, seed, "done", metrics));
+    }
+  }
+  data.varying_params = calc_varying_params(data.jobs);
+  return data;
+}
+
+TEST(Table, CheckpointAsRowGivesOneRowPerCheckpoint) {
+  TableSpec spec;
+  spec.rows = {"learning.lwpr.init_D", "checkpoint"};
+  spec.metrics = {"heldout_test_nmse", "n_receptive_fields"};
+  const Table table = make_table(make_heldout_data(), spec);
+  ASSERT_EQ(table.rows.size(), 4u);
+  ASSERT_EQ(table.columns.size(), 2u);
+  EXPECT_EQ(table.columns[0].header, "heldout_test_nmse");
+  EXPECT_EQ(table.rows[1].labels, (std::vector<std::string>{"10", "5"}));
+  EXPECT_EQ(table.rows[1].checkpoint, 5);
+  // Job-level mean at checkpoint 5 over seeds 1 and 2.
+  EXPECT_NEAR(table.rows[1].cells[0].mean, 10.05 + 0.0015, 1e-12);
+  EXPECT_EQ(table.rows[1].cells[0].count, 2);
+  EXPECT_NEAR(table.rows[2].cells[0].mean, 100.0 + 0.0015, 1e-12);
+  // A training-run metric has no value per checkpoint: "–" with a footnote.
+  EXPECT_EQ(table.rows[1].cells[1].count, 0);
+  ASSERT_NE(table.rows[1].footnotes[1], 0);
+  EXPECT_NE(table.footnotes[static_cast<std::size_t>(table.rows[1].footnotes[1] - 1)].find("not evaluated per checkpoint"),
+            std::string::npos);
+}
+
+TEST(Table, CheckpointAndJointRowsNestInTheOrderGiven) {
+  const SweepData data = make_heldout_data();
+  for (const auto& rows : {std::vector<std::string>{"learning.lwpr.init_D", "checkpoint", "joint"},
+                           std::vector<std::string>{"joint", "checkpoint", "learning.lwpr.init_D"}}) {
+    TableSpec spec;
+    spec.rows = rows;
+    spec.metrics = {"heldout_ff_fb_ratio_avg", "heldout_test_nmse"};
+    const Table table = make_table(data, spec);
+    ASSERT_EQ(table.rows.size(), 8u);  // 2 kernel widths × 2 checkpoints × 2 joints
+    for (const TableRow& row : table.rows) {
+      ASSERT_TRUE(row.joint && row.checkpoint);
+      const double init_d = std::stod(row.labels[rows[0] == "joint" ? 2 : 0]);
+      const double expected = make_heldout_value(init_d, row.joint, *row.checkpoint, 1) + 0.0005;  // mean of seeds 1, 2
+      EXPECT_NEAR(row.cells[0].mean, expected, 1e-12) << row.labels[0] << " " << row.labels[1] << " " << row.labels[2];
+      EXPECT_NEAR(row.cells[1].mean, expected, 1e-12);
+    }
+  }
+  TableSpec spec;
+  spec.rows = {"learning.lwpr.init_D", "checkpoint", "joint"};
+  spec.metrics = {"heldout_ff_fb_ratio_avg"};
+  const Table table = make_table(data, spec);
+  EXPECT_EQ(table.rows[1].labels, (std::vector<std::string>{"10", "0", "2"}));
+  EXPECT_EQ(table.rows[2].labels, (std::vector<std::string>{"10", "5", "1"}));
+  // Swept parameters group first; joint and checkpoint expand inside a group, in the order given.
+  spec.rows = {"joint", "checkpoint", "learning.lwpr.init_D"};
+  EXPECT_EQ(make_table(data, spec).rows[1].labels, (std::vector<std::string>{"1", "5", "10"}));
+  EXPECT_EQ(make_table(data, spec).rows[2].labels, (std::vector<std::string>{"2", "0", "10"}));
+}
+
+TEST(Table, WithoutCheckpointRowsACheckpointedMetricGetsAColumnPerCheckpoint) {
+  const SweepData data = make_heldout_data();
+  TableSpec spec;
+  spec.rows = {"learning.lwpr.init_D"};
+  spec.metrics = {"heldout_test_nmse", "heldout_ff_fb_ratio_avg"};
+  spec.joints = {2};
+  const Table table = make_table(data, spec);
+  std::vector<std::string> headers;
+  for (const TableColumn& column : table.columns) headers.push_back(column.header);
+  EXPECT_EQ(headers, (std::vector<std::string>{"heldout_test_nmse c0", "heldout_test_nmse c5", "heldout_ff_fb_ratio_avg j2 c0",
+                                               "heldout_ff_fb_ratio_avg j2 c5"}));
+  ASSERT_EQ(table.rows.size(), 2u);
+  EXPECT_NEAR(table.rows[1].cells[1].mean, make_heldout_value(100, std::nullopt, 5, 1) + 0.0005, 1e-12);
+  EXPECT_NEAR(table.rows[1].cells[3].mean, make_heldout_value(100, 2, 5, 1) + 0.0005, 1e-12);
+
+  TableSpec joints;
+  joints.rows = {"learning.lwpr.init_D", "joint"};
+  joints.metrics = {"heldout_ff_fb_ratio_avg"};
+  const Table per_joint = make_table(data, joints);
+  ASSERT_EQ(per_joint.columns.size(), 2u);
+  EXPECT_EQ(per_joint.columns[1].header, "heldout_ff_fb_ratio_avg c5");
+  EXPECT_NEAR(per_joint.rows[1].cells[1].mean, make_heldout_value(10, 2, 5, 1) + 0.0005, 1e-12);
+}
+
+TEST(Table, CheckpointRowsNeedCheckpointedMetrics) {
+  TableSpec spec;
+  spec.rows = {"checkpoint"};
+  spec.metrics = {"n_receptive_fields"};
+  try {
+    make_table(make_data(), spec);
+    FAIL() << "expected an AnalysisError";
+  } catch (const AnalysisError& error) {
+    EXPECT_NE(std::string(error.what()).find("no checkpointed"), std::string::npos) << error.what();
+  }
+}
+
+TEST(Table, DefaultTablesAddTheHeldOutEvaluation) {
+  const auto specs = make_default_table_specs(make_heldout_data());
+  ASSERT_EQ(specs.size(), 4u);
+  EXPECT_EQ(specs[0].title.rfind("Training run", 0), 0u) << specs[0].title;
+  EXPECT_EQ(specs[1].title.rfind("Training run", 0), 0u) << specs[1].title;
+  EXPECT_EQ(specs[2].rows, (std::vector<std::string>{"learning.lwpr.init_D", "checkpoint"}));
+  EXPECT_EQ(specs[2].metrics, (std::vector<std::string>{"heldout_test_nmse"}));
+  EXPECT_EQ(specs[3].rows, (std::vector<std::string>{"learning.lwpr.init_D", "checkpoint", "joint"}));
+  EXPECT_EQ(specs[3].metrics, (std::vector<std::string>{"heldout_ff_fb_ratio_avg"}));
+  // Without held-out metrics there is no held-out table.
+  for (const TableSpec& spec : make_default_table_specs(make_data())) {
+    EXPECT_EQ(spec.title.find("Held-out"), std::string::npos) << spec.title;
+  }
+}
+
+TEST(TableCommand, CheckpointRowsMatchTheStoredRows) {
+  testing::TemporaryDirectory directory;
+  const std::string db = directory.file("results.db");
+  std::vector<testing::TestJob> jobs;
+  for (int seed = 1; seed <= 2; ++seed) {
+    testing::TestJob job;
+    job.params = {{"learning.lwpr.init_D", 10.0}, {"seed", seed}};
+    for (std::int64_t checkpoint : {0, 2, 4}) {
+      for (int joint = 1; joint <= 3; ++joint) {
+        job.metrics.push_back({0, "heldout_ff_fb_ratio_avg", joint, make_heldout_value(10, joint, checkpoint, seed), "", checkpoint});
+      }
+    }
+    job.metrics.push_back({0, "fb_abs_avg", 1, 0.01, "", std::nullopt});
+    jobs.push_back(job);
+  }
+  testing::write_test_sweep(db, "heldout", jobs);
+
+  // Expected cells straight from the stored rows: mean over seeds per (checkpoint, joint).
+  std::map<std::pair<std::int64_t, int>, std::vector<double>> stored;
+  {
+    const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+    const SweepData data = load_sweep_data(store, "heldout");
+    for (const JobResult& job : data.jobs) {
+      for (const auto& [id, value] : job.metrics) {
+        if (id.name == "heldout_ff_fb_ratio_avg") stored[{*id.checkpoint, *id.joint}].push_back(value);
+      }
+    }
+  }
+  ASSERT_EQ(stored.size(), 9u);
+
+  const auto result = testing::run_armfarm("table " + db + " --rows checkpoint,joint --cols heldout_ff_fb_ratio_avg --format json");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const auto json = nlohmann::json::parse(result.output);
+  ASSERT_EQ(json["rows"].size(), 9u);
+  for (const auto& row : json["rows"]) {
+    const std::int64_t checkpoint = std::stoll(row["params"]["checkpoint"].get<std::string>());
+    const int joint = std::stoi(row["params"]["joint"].get<std::string>());
+    const std::vector<double>& values = stored.at({checkpoint, joint});
+    ASSERT_EQ(values.size(), 2u);
+    EXPECT_NEAR(row["cells"]["heldout_ff_fb_ratio_avg"]["mean"].get<double>(), (values[0] + values[1]) / 2, 1e-12);
+    EXPECT_NEAR(row["cells"]["heldout_ff_fb_ratio_avg"]["mean"].get<double>(),
+                make_heldout_value(10, joint, checkpoint, 1) + 0.0005, 1e-12);
+  }
+  EXPECT_EQ(json["rows"][1]["params"]["checkpoint"], "0");
+  EXPECT_EQ(json["rows"][1]["params"]["joint"], "2");
+
+  const auto typo = testing::run_armfarm("table " + db + " --rows checkpoint --cols heldout_ff_fb_ratio_avgg");
+  EXPECT_EQ(typo.exit_code, 2);
+  EXPECT_NE(typo.output.find("did you mean 'heldout_ff_fb_ratio_avg'"), std::string::npos) << typo.output;
+  const auto row_typo = testing::run_armfarm("table " + db + " --rows checkpoint,learning.lwpr.init_DD");
+  EXPECT_EQ(row_typo.exit_code, 2);
+  EXPECT_NE(row_typo.output.find("did you mean 'learning.lwpr.init_D'"), std::string::npos) << row_typo.output;
+}
+
 TEST(TableCommand, ReadsADatabaseAndAggregatesRepeats) {
   testing::TemporaryDirectory directory;
   const std::string db = directory.file("results.db");

@@ -48,6 +48,8 @@ inline std::vector<MetricInfoRecord> make_test_metric_info() {
       {"learner_us_per_update", "µs", "update time", "lower", "job", "timing"},
       {"learner_us_per_predict", "µs", "prediction time", "lower", "job", "timing"},
       {"sim_seconds_per_wall_second", "s/s", "simulation speed", "higher", "job", "timing"},
+      {"heldout_test_nmse", "1", "frozen learner on held-out samples", "lower", "checkpoint", "result"},
+      {"heldout_ff_fb_ratio_avg", "1", "held-out control pass: feed-forward share", "higher", "checkpoint", "result"},
   };
 }
 
