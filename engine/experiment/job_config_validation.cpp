@@ -1,5 +1,7 @@
 #include "engine/experiment/job_config_validation.hpp"
 
+#include "engine/trajectory/trajectory.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -213,19 +215,30 @@ const char* length_key(TrajectoryKind kind) {
   return "trajectory";
 }
 
-void check_cost(const JobConfig& config, const JobCostLimits& limits, Checker& checker) {
+void check_cost(const JobConfig& config, int n, const JobCostLimits& limits, Checker& checker) {
   const double ticks = calc_ticks_per_pass(config);
   const LearningConfig& learning = config.learning;
   const bool batch = learning.mode == LearningMode::batch;
   const double passes = 1.0 + (batch ? learning.collect_repeats : 0);
-  const double total = passes * ticks;
+  // Held-out evaluation: one collection pass, then one control pass per checkpoint.
+  const double heldout_ticks = calc_heldout_ticks_per_pass(config, n);
+  const double heldout_passes =
+      heldout_ticks > 0.0 ? 1.0 + static_cast<double>(std::max<std::size_t>(1, learning.heldout_checkpoints.size())) : 0.0;
+  const double training_total = passes * ticks;
+  const double total = training_total + heldout_passes * heldout_ticks;
   const double wall_minutes = total / 4500.0 / 60.0;  // 45 simulated s per wall s at dt = 0.01 s
   if (!(total <= limits.max_control_ticks)) {
-    checker.add(length_key(config.trajectory.kind),
+    const bool heldout_to_blame = training_total <= limits.max_control_ticks;
+    checker.add(heldout_to_blame ? "learning.heldout_checkpoints" : length_key(config.trajectory.kind),
                 "the job would take " + format_number(total) + " control ticks (" + format_number(ticks) + " per pass × " +
-                    format_number(passes) + (passes == 1.0 ? " pass" : " passes") + " at dt = " + format_number(config.simulation.dt) +
-                    " s, about " + format_number(std::round(wall_minutes)) + " min of wall time); a job may take at most " +
-                    format_number(limits.max_control_ticks) + " ticks: shorten the trajectory or split it into jobs");
+                    format_number(passes) + (passes == 1.0 ? " pass" : " passes") +
+                    (heldout_passes > 0.0 ? " + held-out " + format_number(heldout_ticks) + " per pass × " + format_number(heldout_passes) +
+                                                " passes (collection + one per checkpoint)"
+                                          : std::string()) +
+                    " at dt = " + format_number(config.simulation.dt) + " s, about " + format_number(std::round(wall_minutes)) +
+                    " min of wall time); a job may take at most " + format_number(limits.max_control_ticks) + " ticks: " +
+                    (heldout_to_blame ? "fewer held-out checkpoints, a shorter learning.heldout_segments, or split it into jobs"
+                                      : "shorten the trajectory or split it into jobs"));
   }
   double updates = 0.0;
   if (learning.mode == LearningMode::online) updates = ticks;
@@ -245,6 +258,41 @@ void check_cost(const JobConfig& config, const JobCostLimits& limits, Checker& c
 }
 
 }  // namespace
+
+double calc_heldout_ticks_per_pass(const JobConfig& config, int n) {
+  const LearningConfig& learning = config.learning;
+  if (learning.mode == LearningMode::none || !learning.heldout) return 0.0;
+  // The same lengths as make_heldout_config (heldout_evaluation.cpp) picks.
+  JobConfig heldout = config;
+  TrajectoryConfig& t = heldout.trajectory;
+  const int segments = learning.heldout_segments;
+  switch (t.kind) {
+    case TrajectoryKind::sine: {
+      double slowest = 0.0;
+      try {
+        const SineTrajectoryConfig sine = resolve_sine_defaults(t.sine, n, Eigen::VectorXd::Zero(n));
+        for (int j = 0; j < n; ++j) {
+          if (sine.amplitude[j] != 0.0 && sine.frequency[j] > 0.0 && (slowest == 0.0 || sine.frequency[j] < slowest)) {
+            slowest = sine.frequency[j];
+          }
+        }
+      } catch (const std::invalid_argument&) {
+        // Mis-sized amplitude or frequency lists are reported by their keys; keep the duration.
+      }
+      if (slowest > 0.0) t.sine.duration = (segments > 0 ? segments : 1) / slowest;
+      return calc_ticks_per_pass(heldout);
+    }
+    case TrajectoryKind::figure_eight: t.figure_eight.loops = segments > 0 ? segments : 1; return calc_ticks_per_pass(heldout);
+    case TrajectoryKind::reaching: t.reaching.reaches = segments > 0 ? segments : 9; return calc_ticks_per_pass(heldout);
+    case TrajectoryKind::recorded: {
+      // The last heldout_recorded_fraction of one pass over the recording.
+      t.recorded.loops = 1;
+      const double rows = calc_ticks_per_pass(heldout);
+      return rows - std::round((1.0 - learning.heldout_recorded_fraction) * rows);
+    }
+  }
+  return 0.0;
+}
 
 double calc_ticks_per_pass(const JobConfig& config) {
   const TrajectoryConfig& t = config.trajectory;
@@ -274,7 +322,7 @@ std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& f
   check_cross_fields(config, n, checker);
   // The cost needs sane counts and a sane dt; a range problem there is reported already.
   if (!has_problem_under(problems, "dt") && !has_problem_under(problems, "trajectory.") && !has_problem_under(problems, "learning.")) {
-    check_cost(config, limits, checker);
+    check_cost(config, n, limits, checker);
   }
   return problems;
 }

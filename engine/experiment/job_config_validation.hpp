@@ -27,7 +27,7 @@ struct ModelFacts {
 /// 45 simulated seconds per wall second of the default job (dt = 0.01 s, 7 joints, online LWPR;
 /// sweeps/README.md), 5e6 control ticks take about 20 minutes of wall time.
 struct JobCostLimits {
-  double max_control_ticks = 5e6;    ///< over all passes (batch: collect_repeats + 1)
+  double max_control_ticks = 5e6;    ///< over all passes (batch: collect_repeats + 1; held-out: 1 + one per checkpoint)
   double max_learner_updates = 2e7;  ///< online ticks, or epochs × training samples (+ evaluation updates)
 };
 
@@ -35,6 +35,11 @@ struct JobCostLimits {
 /// (sine: duration/dt; figure-eight: points × loops; reaching: points × reaches; recorded:
 /// length/dt × loops, 0 when no samples are loaded). Real-valued so that nothing overflows.
 double calc_ticks_per_pass(const JobConfig& config);
+
+/// Control ticks of one held-out pass over the held-out trajectory of a job with `n` active
+/// joints (engine/experiment/heldout_evaluation.hpp; the job makes one collection pass and one
+/// control pass per checkpoint over it); 0 when the job has no held-out evaluation.
+double calc_heldout_ticks_per_pass(const JobConfig& config, int n);
 
 /// Every problem of `config` (empty: valid).
 std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& facts, const JobCostLimits& limits = {});

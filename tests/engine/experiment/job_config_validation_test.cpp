@@ -1,6 +1,7 @@
 // The one validation of a job configuration: every problem at once with its key path, unit and
 // range; the cost bound computed from the same tick count the trajectory builder produces.
 #include "engine/experiment/job_config_validation.hpp"
+#include "engine/experiment/heldout_evaluation.hpp"
 #include "engine/trajectory/trajectory.hpp"
 #include "../physics/test_arms.hpp"
 
@@ -71,7 +72,8 @@ TEST(JobConfigValidation, RefusesJobsAboveTheCostBoundSayingWhy) {
   const std::vector<ConfigProblem> problems = validate(config, kLwr3);
   ASSERT_EQ(problems.size(), 1u) << make_problems_text(problems);
   EXPECT_EQ(problems[0].path, "trajectory.sine.duration");
-  EXPECT_NE(problems[0].message.find("6e+06 control ticks"), std::string::npos) << problems[0].message;
+  // 6e6 training ticks + the default held-out pass (1 period of 0.25 Hz = 400 ticks), collected and run once.
+  EXPECT_NE(problems[0].message.find("6.0008e+06 control ticks"), std::string::npos) << problems[0].message;
   EXPECT_NE(problems[0].message.find("at most 5e+06 ticks"), std::string::npos) << problems[0].message;
   // Batch: collect passes count too (2 repeats + evaluation = 3 passes of 2e6 ticks).
   config.trajectory.sine.duration = 20000.0;
@@ -114,6 +116,68 @@ TEST(JobConfigValidation, TickCountMatchesTheBuiltTrajectory) {
   config.trajectory.recorded.samples.col(0) = Eigen::VectorXd::LinSpaced(40, 0.0, 0.3);
   const JointTrajectory recorded = build_trajectory(config.trajectory, dynamics, config.simulation.dt, config.seed);
   EXPECT_EQ(calc_ticks_per_pass(config), static_cast<double>(recorded.size()));
+}
+
+TEST(JobConfigValidation, HeldOutTickCountMatchesTheBuiltHeldOutTrajectory) {
+  const ArmModel model = testing::load_lwr3();
+  ArmDynamics dynamics(model, {1, 2});
+  JobConfig config;
+  config.active_joints = {2, 3};
+  config.trajectory.sine.frequency = (Eigen::VectorXd(2) << 0.5, 0.2).finished();  // slowest 0.2 Hz: 5 s a period
+  for (const int segments : {0, 3}) {
+    config.learning.heldout_segments = segments;
+    const JobTrajectories built = build_job_trajectories(config, dynamics);
+    ASSERT_TRUE(built.heldout.has_value());
+    EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), static_cast<double>(built.heldout->size())) << segments;
+  }
+  EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), 1500.0);  // 3 periods of 5 s at dt = 0.01 s
+  config.trajectory.kind = TrajectoryKind::figure_eight;
+  config.trajectory.figure_eight.loops = 5;
+  config.learning.heldout_segments = 2;
+  // (2 joints cannot reach the figure: its count is points × held-out loops.)
+  EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), 2.0 * config.trajectory.figure_eight.points_per_loop);
+  config.trajectory.kind = TrajectoryKind::recorded;
+  config.trajectory.recorded.task_space = false;
+  config.trajectory.recorded.filter = RecordedFilter::none;
+  config.trajectory.recorded.sample_rate = 30.0;
+  config.trajectory.recorded.loops = 2;
+  config.trajectory.recorded.samples = Eigen::MatrixXd::Zero(40, 2);
+  config.trajectory.recorded.samples.col(0) = Eigen::VectorXd::LinSpaced(40, 0.0, 0.3);
+  EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), static_cast<double>(build_job_trajectories(config, dynamics).heldout->size()));
+  config.learning.heldout = false;
+  EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), 0.0);
+  config.learning.heldout = true;
+  config.learning.mode = LearningMode::none;
+  config.control.feed_forward = FeedForwardSource::none;
+  EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), 0.0);
+}
+
+TEST(JobConfigValidation, CostBoundCountsHeldOutPasses) {
+  // Reaching, 100 points a reach: training 10 reaches = 1000 ticks; held-out 10000 reaches =
+  // 1e6 ticks a pass, collected once and run at 4 checkpoints = 5e6 + 1000 ticks > 5e6.
+  JobConfig config;
+  config.trajectory.kind = TrajectoryKind::reaching;
+  config.trajectory.reaching.reaches = 10;
+  config.learning.heldout_segments = 10000;
+  config.learning.heldout_checkpoints = {0, 2, 5, 10};
+  const std::vector<ConfigProblem> problems = validate(config, kLwr3);
+  ASSERT_EQ(problems.size(), 1u) << make_problems_text(problems);
+  EXPECT_EQ(problems[0].path, "learning.heldout_checkpoints");
+  EXPECT_NE(problems[0].message.find("5.001e+06 control ticks"), std::string::npos) << problems[0].message;
+  EXPECT_NE(problems[0].message.find("held-out 1e+06 per pass × 5 passes"), std::string::npos) << problems[0].message;
+  // Three checkpoints: 4e6 + 1000 ticks fit; so does the same job without held-out evaluation.
+  config.learning.heldout_checkpoints = {0, 5, 10};
+  EXPECT_EQ(problems_of(config), "");
+  config.learning.heldout_checkpoints = {0, 2, 5, 10};
+  config.learning.heldout = false;
+  EXPECT_EQ(problems_of(config), "");
+  // No checkpoints: one evaluation at the end (collection + 1 pass).
+  config.learning.heldout = true;
+  config.learning.heldout_checkpoints = {};
+  config.learning.heldout_segments = 24990;  // 2 × 2.499e6 + 1000 = 4.999e6 ticks fit, 25000 would not
+  EXPECT_EQ(problems_of(config), "");
+  config.learning.heldout_segments = 25000;
+  EXPECT_EQ(paths_of(config), std::set<std::string>{"learning.heldout_checkpoints"});
 }
 
 TEST(JobConfigValidation, CrossFieldAndShapeRules) {
