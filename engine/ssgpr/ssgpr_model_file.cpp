@@ -62,8 +62,10 @@ class Writer {
 class Reader {
  public:
   Reader(const std::string& bytes, std::size_t base) : bytes_(bytes), base_(base) {}
-  [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error("SSGPR model file: byte " + std::to_string(base_ + pos_) + ": " + what);
+  /// Fails naming the byte where the value being read starts (or the current position).
+  [[noreturn]] void fail(const std::string& what) const { fail_at(pos_, what); }
+  [[noreturn]] void fail_at(std::size_t pos, const std::string& what) const {
+    throw std::runtime_error("SSGPR model file: byte " + std::to_string(base_ + pos) + ": " + what);
   }
   std::uint64_t get_u64() {
     need(8);
@@ -86,8 +88,9 @@ class Reader {
     return v;
   }
   double get_finite(const char* name) {
+    const std::size_t at = pos_;
     const double v = get_f64();
-    if (!std::isfinite(v)) fail(std::string(name) + " is not finite");
+    if (!std::isfinite(v)) fail_at(at, std::string(name) + " is not finite");
     return v;
   }
   Eigen::MatrixXd get_matrix(Eigen::Index rows, Eigen::Index cols, const char* name) {
@@ -112,8 +115,9 @@ class Reader {
     return m;
   }
   std::uint32_t get_dimension(const char* name, std::uint32_t lo, std::uint32_t hi) {
+    const std::size_t at = pos_;
     const std::uint32_t v = get_u32();
-    if (v < lo || v > hi) fail(std::string(name) + " is " + std::to_string(v) + ", out of range");
+    if (v < lo || v > hi) fail_at(at, std::string(name) + " is " + std::to_string(v) + ", out of range");
     return v;
   }
   bool at_end() const { return pos_ == bytes_.size(); }
