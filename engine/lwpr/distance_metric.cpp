@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace armfarm::lwpr {
 
@@ -73,9 +74,69 @@ void calc_metric_from_factor(const Eigen::MatrixXd& M, Eigen::MatrixXd& D) {
   D.noalias() = M.transpose() * M;
 }
 
+namespace {
+
+// The diagonal metric without meta learning, the common case: the same gradient and step as the
+// general path below (same expressions, same order, so the same bits), in two passes over the n
+// elements instead of eight: (1) the gradient and max|M|, (2) step, safeguard and D = M².
+void update_diagonal_metric(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
+                            double dJ1_dw, double transient, ReceptiveField& rf, FieldScratch& scratch) {
+  const int n = rf.input_dim();
+  const double dw_dq = calc_kernel_dq(params.kernel, sample.q);
+  const double penalty = params.penalty / n;
+  const double penalty_weight = sample.w / sample.W;
+  double* M = rf.metric_factor.data();
+  double* grad = scratch.grad.data();
+  const double* d = diff.data();
+  double max_abs = 0.0;
+  bool finite = true;
+  for (int i = 0; i < n; ++i) {
+    const double m = M[i];
+    const double d2 = d[i] * d[i];
+    const double g = dJ1_dw * (dw_dq * (2.0 * m * d2)) + penalty_weight * (4.0 * penalty * m * m * m);
+    grad[i] = g;
+    finite = finite && std::isfinite(g);
+    max_abs = std::max(max_abs, std::abs(m));
+  }
+  if (!finite) return;  // a degenerate sample: keep the metric as it is
+  const double bound = 0.1 * max_abs;
+  const double log_half = std::log(0.5);
+  double* log_alpha = rf.log_alpha.data();
+  double* old = scratch.old_factor.data();
+  double* D_new = scratch.new_metric.data();
+  double last_log_alpha = std::numeric_limits<double>::quiet_NaN();
+  double last_alpha = 0.0;
+  for (int i = 0; i < n; ++i) {
+    if (!(log_alpha[i] == last_log_alpha)) {
+      last_log_alpha = log_alpha[i];
+      last_alpha = std::exp(log_alpha[i]);
+    }
+    const double step = last_alpha * transient * grad[i];
+    old[i] = M[i];
+    if (std::abs(step) > bound) {
+      log_alpha[i] += log_half;  // too large a step: halve the rate, skip this element
+    } else {
+      M[i] -= step;
+    }
+    D_new[i] = M[i] * M[i];
+    finite = finite && std::isfinite(D_new[i]);
+  }
+  if (!finite) {
+    std::copy(old, old + n, M);  // never leave a field with a NaN metric
+    return;
+  }
+  std::copy(D_new, D_new + n, rf.metric.data());
+}
+
+}  // namespace
+
 void update_distance_metric(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
                             double transient, ReceptiveField& rf, FieldScratch& scratch) {
   const double dJ1_dw = calc_press_dw(rf, sample);
+  if (rf.diagonal() && !params.meta) {
+    update_diagonal_metric(params, diff, sample, dJ1_dw, transient, rf, scratch);
+    return;
+  }
   const double d2J1_dw2 = 2.0 * sample.e_cv.head(rf.n_reg()).squaredNorm() / (sample.W * sample.W);
   calc_metric_gradient(params, rf, diff, sample, dJ1_dw, d2J1_dw2, scratch.grad,
                        params.meta ? &scratch.curvature : nullptr, scratch.md);
@@ -86,17 +147,25 @@ void update_distance_metric(const LwprParams& params, const Eigen::VectorXd& dif
   const double bound = 0.1 * M.cwiseAbs().maxCoeff();
   const bool full = !rf.diagonal();
   const double log_half = std::log(0.5);
+  // Without meta learning the rates only change when a step is too large, so neighbouring elements
+  // nearly always share one log-rate: exp() is evaluated only when the log-rate differs from the
+  // previous element's (the same value, bit for bit, as evaluating it every time).
+  double last_log_alpha = std::numeric_limits<double>::quiet_NaN();
+  double last_alpha = 0.0;
   for (Eigen::Index col = 0; col < M.cols(); ++col) {
-    const Eigen::Index first_row = full ? 0 : 0;
     const Eigen::Index last_row = full ? col : M.rows() - 1;
-    for (Eigen::Index row = first_row; row <= last_row; ++row) {
+    for (Eigen::Index row = 0; row <= last_row; ++row) {
       const double g = scratch.grad(row, col);
       double& log_alpha = rf.log_alpha(row, col);
       if (params.meta) {
         const double change = std::clamp(-params.meta_rate * g * rf.meta_trace(row, col), -0.1, 0.1);
         log_alpha = std::clamp(log_alpha + change, -10.0, 10.0);
       }
-      const double alpha = std::exp(log_alpha);
+      if (!(log_alpha == last_log_alpha)) {
+        last_log_alpha = log_alpha;
+        last_alpha = std::exp(log_alpha);
+      }
+      const double alpha = last_alpha;
       const double step = alpha * transient * g;
       double applied = 0.0;
       if (std::abs(step) > bound) {

@@ -1,7 +1,9 @@
 // LWPR model: per-output receptive field sets, creation, pruning, blended prediction.
 #include "engine/lwpr/lwpr_model.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -26,6 +28,37 @@ double calc_trace(const ReceptiveField& rf) {
   return rf.diagonal() ? rf.metric.sum() : rf.metric.trace();
 }
 
+constexpr int kScanBlock = 8;  // doubles per block of the distance scan (one AVX-512 / two AVX2 vectors)
+
+// Eight doubles operated on lane by lane (a GCC/Clang vector extension): the compiler maps it to
+// the vector units the build targets (4 SSE2 operations portably, one AVX-512 operation with
+// ARMFARM_NATIVE) with the same result in every lane.
+typedef double ScanBlock __attribute__((vector_size(kScanBlock * sizeof(double))));
+
+// q = Σ_i d_i (x_i − c_i)² over `stride` elements (a multiple of kScanBlock, zero-padded), or +∞
+// as soon as a block ends with q ≥ q_limit. Each block's eight products are added in a fixed tree
+// order, so q does not depend on the vector width.
+inline double calc_diagonal_distance(const double* x, const double* c, const double* d, int stride,
+                                     double q_limit) {
+  double q = 0.0;
+  for (int b = 0; b < stride; b += kScanBlock) {
+    ScanBlock xv, cv, dv;
+    std::memcpy(&xv, x + b, sizeof xv);
+    std::memcpy(&cv, c + b, sizeof cv);
+    std::memcpy(&dv, d + b, sizeof dv);
+    const ScanBlock diff = xv - cv;
+    const ScanBlock part = dv * diff * diff;
+    q += ((part[0] + part[1]) + (part[2] + part[3])) + ((part[4] + part[5]) + (part[6] + part[7]));
+    if (q >= q_limit) return std::numeric_limits<double>::infinity();
+  }
+  return q;
+}
+
+void copy_padded(const double* from, int n, double* to, int stride) {
+  std::copy(from, from + n, to);
+  std::fill(to + n, to + stride, 0.0);
+}
+
 }  // namespace
 
 LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
@@ -36,8 +69,38 @@ LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
   norm_out_ = calc_norm_vector(params_.norm_out, n_out);
   trust_n_data_ = params_.trust_n_data > 0.0 ? params_.trust_n_data : 2.0 * n_in;
   fields_.resize(n_out);
+  scan_.resize(n_out);
+  stride_ = (n_in + kScanBlock - 1) / kScanBlock * kScanBlock;
+  q_limit_ = calc_q_limit(params_.kernel, params_.cutoff);
   x_normalised_.resize(n_in);
+  x_padded_.assign(stride_, 0.0);
   scratch_.resize(n_in, params_.diag_only);
+}
+
+void LwprModel::append_to_scan(int output, const ReceptiveField& rf) {
+  ScanData& scan = scan_[output];
+  scan.centres.resize(scan.centres.size() + stride_);
+  copy_padded(rf.center.data(), n_in_, scan.centres.data() + scan.centres.size() - stride_, stride_);
+  if (rf.diagonal()) {
+    scan.metrics.resize(scan.metrics.size() + stride_);
+    copy_padded(rf.metric.data(), n_in_, scan.metrics.data() + scan.metrics.size() - stride_, stride_);
+  }
+  scan.trusted.push_back(rf.trustworthy ? 1 : 0);
+}
+
+inline double LwprModel::calc_field_activation(int output, std::size_t i, const Eigen::VectorXd& x, const double* x_padded,
+                                        FieldScratch& scratch) const {
+  double w;
+  if (params_.diag_only) {
+    const ScanData& scan = scan_[output];
+    const double q = calc_diagonal_distance(x_padded, scan.centres.data() + i * stride_,
+                                            scan.metrics.data() + i * stride_, stride_, q_limit_);
+    if (q >= q_limit_) return 0.0;
+    w = calc_kernel(params_.kernel, q);
+  } else {
+    w = calc_activation_within(fields_[output][i], params_.kernel, x, q_limit_, scratch);
+  }
+  return w <= params_.cutoff ? 0.0 : w;
 }
 
 LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params, std::vector<std::vector<ReceptiveField>> fields,
@@ -65,6 +128,9 @@ LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params, std::vector<
     }
   }
   fields_ = std::move(fields);
+  for (int o = 0; o < n_out; ++o) {
+    for (const ReceptiveField& rf : fields_[o]) append_to_scan(o, rf);
+  }
   n_updates_ = n_updates;
 }
 
@@ -72,6 +138,7 @@ void LwprModel::update(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
   require_vector(x, n_in_, "x");
   require_vector(y, n_out_, "y");
   x_normalised_ = x.cwiseQuotient(norm_in_);
+  std::copy(x_normalised_.data(), x_normalised_.data() + n_in_, x_padded_.begin());
   for (int o = 0; o < n_out_; ++o) update_output(o, y(o) / norm_out_(o));
   ++n_updates_;
 }
@@ -83,10 +150,11 @@ void LwprModel::update_output(int output, double y) {
   int i_max = -1;
   int prune_a = -1;
   int prune_b = -1;
+  ScanData& scan = scan_[output];
   for (std::size_t i = 0; i < fields.size(); ++i) {
+    const double w = calc_field_activation(output, i, x, x_padded_.data(), scratch_);
+    if (w <= 0.0) continue;
     ReceptiveField& rf = fields[i];
-    const double w = calc_activation(rf, params_.kernel, x, params_.cutoff, scratch_);
-    if (w <= params_.cutoff || w <= 0.0) continue;
     if (w > w_max) {
       w_max = w;
       i_max = static_cast<int>(i);
@@ -99,6 +167,8 @@ void LwprModel::update_output(int output, double y) {
       }
     }
     update_receptive_field(params_, trust_n_data_, x, y, w, rf, scratch_);
+    if (params_.update_D && rf.diagonal()) std::copy(rf.metric.data(), rf.metric.data() + n_in_, &scan.metrics[i * stride_]);
+    scan.trusted[i] = rf.trustworthy ? 1 : 0;
   }
 
   if (w_max <= params_.w_gen && (params_.max_fields == 0 || fields.size() < params_.max_fields)) {
@@ -113,17 +183,23 @@ void LwprModel::update_output(int output, double y) {
     }
     fields.push_back(make_receptive_field(params_, x, D));
     update_receptive_field(params_, trust_n_data_, x, y, 1.0, fields.back(), scratch_);
+    append_to_scan(output, fields.back());
   }
 
   if (prune_b >= 0) {
     const int victim = calc_trace(fields[prune_a]) >= calc_trace(fields[prune_b]) ? prune_a : prune_b;
     fields.erase(fields.begin() + victim);
+    const auto block = static_cast<std::ptrdiff_t>(victim) * stride_;
+    scan.centres.erase(scan.centres.begin() + block, scan.centres.begin() + block + stride_);
+    if (!scan.metrics.empty()) scan.metrics.erase(scan.metrics.begin() + block, scan.metrics.begin() + block + stride_);
+    scan.trusted.erase(scan.trusted.begin() + victim);
   }
 }
 
 std::unique_ptr<PredictionWorkspace> LwprModel::make_workspace() const {
   auto workspace = std::make_unique<LwprWorkspace>();
   workspace->x_normalised.resize(n_in_);
+  workspace->x_padded.assign(stride_, 0.0);
   workspace->scratch.resize(n_in_, params_.diag_only);
   return workspace;
 }
@@ -140,6 +216,8 @@ Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& wor
   if (ws == nullptr) throw std::invalid_argument("LWPR: predict() needs a workspace from make_workspace()");
   ws->x_normalised = x.cwiseQuotient(norm_in_);
   const Eigen::VectorXd& xn = ws->x_normalised;
+  ws->x_padded.resize(stride_, 0.0);
+  std::copy(xn.data(), xn.data() + n_in_, ws->x_padded.begin());
 
   Prediction prediction;
   prediction.value = Eigen::VectorXd::Zero(n_out_);
@@ -153,10 +231,12 @@ Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& wor
   for (int o = 0; o < n_out_; ++o) {
     double sum_w = 0.0, sum_wy = 0.0, sum_wyy = 0.0, sum_wvar = 0.0;
     double w_best = 0.0, y_best = 0.0, var_best = 0.0;
-    for (const ReceptiveField& rf : fields_[o]) {
-      if (!rf.trustworthy) continue;
-      const double w = calc_activation(rf, params_.kernel, xn, params_.cutoff, ws->scratch);
-      if (w <= params_.cutoff || w <= 0.0) continue;
+    const std::vector<unsigned char>& trusted = scan_[o].trusted;
+    for (std::size_t i = 0; i < trusted.size(); ++i) {
+      if (trusted[i] == 0) continue;
+      const double w = calc_field_activation(o, i, xn, ws->x_padded.data(), ws->scratch);
+      if (w <= 0.0) continue;
+      const ReceptiveField& rf = fields_[o][i];
       double leverage = 0.0;
       const double y = predict_receptive_field(rf, xn, leverage, ws->scratch);
       const double variance = calc_field_noise_variance(rf) * (1.0 + w * leverage);

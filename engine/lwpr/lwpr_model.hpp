@@ -19,6 +19,7 @@ namespace armfarm::lwpr {
 class LwprWorkspace final : public PredictionWorkspace {
  public:
   Eigen::VectorXd x_normalised;
+  std::vector<double> x_padded;  ///< x_normalised padded with zeros to the scan stride
   FieldScratch scratch;
 };
 
@@ -71,6 +72,22 @@ class LwprModel final : public Learner {
 
  private:
   void update_output(int output, double y);
+  // Appends field `i` of `output` to that output's scan data.
+  void append_to_scan(int output, const ReceptiveField& rf);
+  // The activation of field i of `output` at the normalised x (padded copy x_padded for the
+  // contiguous diagonal scan), 0 at or below the cutoff.
+  double calc_field_activation(int output, std::size_t i, const Eigen::VectorXd& x, const double* x_padded,
+                               FieldScratch& scratch) const;
+
+  // The activation scan's data of one output, in the order of fields_[o] and kept in step with it
+  // on every create, update and prune: centres and (diagonal metrics) the metric diagonals, one
+  // block of stride_ doubles per field, zero-padded; and the trust flags. Contiguous, so the scan
+  // over hundreds of fields streams through memory instead of chasing each field's heap blocks.
+  struct ScanData {
+    std::vector<double> centres;
+    std::vector<double> metrics;
+    std::vector<unsigned char> trusted;
+  };
 
   int n_in_;
   int n_out_;
@@ -80,9 +97,13 @@ class LwprModel final : public Learner {
   Eigen::VectorXd norm_out_;
   double trust_n_data_;
   std::vector<std::vector<ReceptiveField>> fields_;
+  std::vector<ScanData> scan_;
+  int stride_;       // n_in rounded up to a multiple of the scan block
+  double q_limit_;   // calc_q_limit(kernel, cutoff)
   std::uint64_t n_updates_ = 0;
   // Update scratch (update() is not const; predict() uses the caller's workspace instead).
   Eigen::VectorXd x_normalised_;
+  std::vector<double> x_padded_;
   FieldScratch scratch_;
 };
 

@@ -61,7 +61,8 @@ struct LwprParams {
   std::size_t max_fields = 0;
   /// Fields activated at most this much are neither updated (training) nor used (prediction).
   double cutoff = 1e-3;
-  /// Weighted number of samples after which a field may predict; 0 → 2·n_in (the library's rule).
+  /// Samples (counted whatever their activation, discounted by λ: n_data) after which a field may
+  /// predict; 0 → 2·n_in (the library's rule).
   double trust_n_data = 0.0;
 };
 

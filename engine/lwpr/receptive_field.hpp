@@ -23,7 +23,7 @@ struct ReceptiveField {
   Eigen::VectorXd mean_x;      ///< weighted mean x₀ of the inputs seen (n)
   double beta0 = 0.0;          ///< weighted mean of the outputs seen: the local model's offset
   Eigen::VectorXd sum_w;       ///< Σλw per projection (R)
-  Eigen::VectorXd n_data;      ///< Σλw per projection, restarted at 0 for an added projection (R)
+  Eigen::VectorXd n_data;      ///< Σλ·1 per projection: samples seen, forgetting-discounted; 0 for an added projection (R)
 
   Eigen::MatrixXd sxy;         ///< Σλw z res, per projection: the PLS direction u_r before normalising (n×R)
   Eigen::MatrixXd sxs;         ///< Σλw z s, per projection: the input loadings p_r·Σws² (n×R)
@@ -36,7 +36,7 @@ struct ReceptiveField {
   Eigen::VectorXd press_H;     ///< PRESS memory Σλ w s_r e_cv/(1−h) (R)
   Eigen::VectorXd press_R;     ///< PRESS memory Σλ w² s_r² e_cv²/(1−h) (R)
 
-  bool trustworthy = false;    ///< has seen enough data (n_data ≥ trust threshold) to predict
+  bool trustworthy = false;    ///< has seen enough samples (n_data ≥ trust threshold) to predict
 
   // Derived from the statistics above by refresh_receptive_field() (cached for prediction):
   Eigen::MatrixXd directions;  ///< u_r = sxy_r/|sxy_r|, zero while sxy_r = 0 (n×R)
@@ -74,10 +74,18 @@ double calc_kernel(Kernel kernel, double q);
 double calc_kernel_dq(Kernel kernel, double q);
 double calc_kernel_dq2(Kernel kernel, double q);
 
+/// Smallest q at which the activation is at most `cutoff` (+∞ when cutoff = 0): the distance
+/// scan stops a field's sum there. Depends only on the parameters; compute it once per model.
+double calc_q_limit(Kernel kernel, double cutoff);
+
 /// The field's activation at x (normalised). O(n) for diagonal metrics, O(n²) for full ones.
 /// Returns 0 without finishing the sum once q is past the point where w ≤ `cutoff`.
 double calc_activation(const ReceptiveField& rf, Kernel kernel, const Eigen::VectorXd& x, double cutoff,
                        FieldScratch& scratch);
+
+/// calc_activation() with the cutoff given as q_limit = calc_q_limit(kernel, cutoff).
+double calc_activation_within(const ReceptiveField& rf, Kernel kernel, const Eigen::VectorXd& x, double q_limit,
+                              FieldScratch& scratch);
 
 /// The local model's prediction at x (normalised). Also returns in `leverage` Σ_r s_r²/Σλws_r²,
 /// the field's uncertainty about its own fit at x.
@@ -90,7 +98,9 @@ double calc_field_noise_variance(const ReceptiveField& rf);
 /// Learns one sample (x, y) (normalised) seen with activation w > 0 (computed with the current
 /// metric): updates the means, the PLS projections and regressions, the leave-one-out error
 /// statistics, the distance metric (if params.update_D), adds a projection when the add_threshold
-/// rule says so, and anneals λ. `trust_n_data` is the weighted count after which the field predicts.
+/// rule says so, and anneals λ. n_data counts samples (forgetting-discounted, Σλ·1), whatever
+/// their activation; sum_w sums activations. `trust_n_data` is the sample count after which the
+/// field predicts.
 void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x,
                             double y, double w, ReceptiveField& rf, FieldScratch& scratch);
 

@@ -79,6 +79,9 @@ struct EndEffector {
 struct ArmModel {
   std::string name;
   std::string source_file;  ///< the file it was loaded from, for messages
+  /// Every file the loader read, as it opened them: `source_file` first, then referenced files
+  /// (meshes) in order of first use, each once. What a job's key hashes for its model.
+  std::vector<std::string> input_files;
   std::vector<Link> links;
   std::vector<Joint> joints;
   int root_link = 0;

@@ -17,6 +17,7 @@
 #include "engine/model/model_validation.hpp"
 #include "engine/model/triangle_mesh.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -268,6 +269,7 @@ class DcgBuilder {
 
   ArmModel build(const std::vector<Entry>& entries) {
     model_.source_file = path_;
+    model_.input_files.insert(model_.input_files.begin(), path_);
     const std::size_t slash = path_.find_last_of('/');
     directory_ = slash == std::string::npos ? "" : path_.substr(0, slash + 1);
     std::string stem = path_.substr(slash == std::string::npos ? 0 : slash + 1);
@@ -370,6 +372,9 @@ class DcgBuilder {
       shape.kind = LinkShape::Kind::mesh;
       shape.mesh_file = file->text.size() > 0 && file->text[0] == '/' ? file->text : directory_ + file->text;
       if (!std::ifstream(shape.mesh_file)) fail(file->line, what + ": mesh file '" + shape.mesh_file + "' not found");
+      if (std::find(model_.input_files.begin(), model_.input_files.end(), shape.mesh_file) == model_.input_files.end()) {
+        model_.input_files.push_back(shape.mesh_file);
+      }
       try {
         const MeshMassProperties mesh = calc_mesh_mass_properties(load_obj_mesh(shape.mesh_file));
         unit = calc_mesh_inertial_for_mass(mesh, mesh.volume);

@@ -265,6 +265,7 @@ ArmModel load_urdf_model(const std::string& path) {
   ArmModel model;
   model.name = urdf->getName();
   model.source_file = path;
+  model.input_files = {path};  // URDF geometry (meshes) is not read
   for (const std::string& name : extras.link_order) {
     const urdf::LinkConstSharedPtr source = urdf->getLink(name);
     Link link;

@@ -101,7 +101,7 @@ const std::vector<ConfigKey<ReachingConfig>>& reaching_config_keys() {
 const std::vector<ConfigKey<RecordedTrajectoryConfig>>& recorded_trajectory_config_keys() {
   using C = RecordedTrajectoryConfig;
   static const std::vector<ConfigKey<C>> keys = {
-      {"file", "", {}, ListSize::any, "CSV: header row, then x, y, z (m) or one angle per active joint (rad) per row",
+      {"file", "", {}, ListSize::any, "CSV (a relative path resolves against the file that wrote it): header row, then x, y, z (m) or one angle per active joint (rad) per row",
        [](C& c) { return make_field(c.file); }},
       {"task_space", "", {}, ListSize::any, "the columns are x, y, z rather than joint angles",
        [](C& c) { return make_field(c.task_space); }},

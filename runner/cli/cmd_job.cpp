@@ -6,37 +6,99 @@
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/execution/stop_signal.hpp"
+#include "runner/spec/canonical_json.hpp"
 #include "runner/spec/config_check.hpp"
+#include "runner/spec/config_path.hpp"
+#include "runner/spec/input_files.hpp"
+#include "runner/spec/json_document.hpp"
+#include "runner/spec/spec_error.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <stdexcept>
+#include <sstream>
 #include <string>
 
 namespace armfarm::cli {
 namespace {
 
+// Reads a job configuration file: any subset of the keys (the rest take their defaults), or a
+// stored configuration with its "inputs" (from `armfarm expand --json` or the results database).
+// Input paths written in the file resolve against its folder; an input whose recorded entry
+// still matches and whose resolved file exists is read from there; defaults resolve against the
+// data folder. Every problem is a std::runtime_error naming the file.
 nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& schema) {
-  std::ifstream file(path);
-  if (!file) throw std::runtime_error(path + ": cannot open the job configuration");
-  nlohmann::json overrides;
+  std::ifstream file(path, std::ios::binary);
+  if (!file || std::filesystem::is_directory(path)) throw std::runtime_error(path + ": cannot open the job configuration");
+  std::ostringstream text;
+  text << file.rdbuf();
+  JsonDocument document;
   try {
-    overrides = nlohmann::json::parse(file);
-  } catch (const nlohmann::json::parse_error& error) {
-    throw std::runtime_error(path + ": not valid JSON: " + error.what());
+    document = parse_json_document(text.str(), path);
+  } catch (const SpecError& error) {
+    throw std::runtime_error(error.what());
   }
+  nlohmann::json overrides = document.value;
   if (!overrides.is_object()) throw std::runtime_error(path + ": expected a JSON object");
+  nlohmann::json recorded = nlohmann::json::object();
+  if (overrides.contains("inputs")) {
+    recorded = overrides["inputs"];
+    if (!recorded.is_object()) throw std::runtime_error(path + ": inputs: expected an object (as `armfarm expand --json` writes it)");
+    overrides.erase("inputs");
+  }
   std::vector<std::string> errors;
-  const nlohmann::json checked = calc_checked_value(overrides, schema.defaults, "", errors);
-  if (!errors.empty()) throw std::runtime_error(path + ": " + errors.front());
+  const nlohmann::json checked = calc_checked_value(overrides, schema.type_reference(), "", errors);
+  if (!errors.empty()) {
+    const std::string& line = errors.front();
+    const std::string where = document.describe_position(line.substr(0, line.find(": ")));
+    throw std::runtime_error(path + ": " + line + (where.empty() ? "" : " (" + where + ")"));
+  }
   nlohmann::json config = schema.defaults;
   merge_config_into(config, checked);
+
+  // Recorded includes stay (the key covers them); fields are read again.
+  for (const auto& [name, entry] : recorded.items()) {
+    if (entry.is_object() && entry.value("kind", "file") == "include") config["inputs"][name] = entry;
+  }
+  std::string folder = std::filesystem::path(path).parent_path().string();
+  if (folder.empty()) folder = ".";
+  std::map<std::string, std::string> written;
+  for (const InputFileField& field : schema.input_files) {
+    std::string unused;
+    const std::vector<PathSegment> segments = parse_config_path(field.path);
+    const nlohmann::json* value = find_config_element(config, segments, unused);
+    const auto entry = recorded.find(field.path);
+    if (value == nullptr || entry == recorded.end() || !entry->is_object() || entry->value("path", "") != *value) continue;
+    const std::string resolved = entry->value("resolved", "");
+    if (resolved.empty() || !std::filesystem::exists(resolved)) continue;
+    written[field.path] = value->get<std::string>();
+    set_config_element(config, segments, resolved);
+  }
+  const auto folder_of = [&](const std::string& field) {
+    std::string unused;
+    return find_config_element(overrides, parse_config_path(field), unused) != nullptr ? folder : schema.default_folder;
+  };
+  InputFileReader reader;
+  const std::vector<InputProblem> problems = record_input_files(config, schema.input_files, folder_of, reader);
+  if (!problems.empty()) throw std::runtime_error(path + ": " + problems.front().field + ": " + problems.front().message);
+  for (const auto& [field, text_as_written] : written) {
+    set_config_element(config, parse_config_path(field), text_as_written);
+    if (config.contains("inputs") && config["inputs"].contains(field)) config["inputs"][field]["path"] = text_as_written;
+  }
+  for (const auto& [name, entry] : recorded.items()) {
+    if (!config.contains("inputs") || !config["inputs"].contains(name) || !entry.is_object() || !entry.contains("hash")) continue;
+    if (config["inputs"][name]["hash"] != entry["hash"]) {
+      std::cerr << "armfarm: note: " << path << ": inputs." << name << ": " << config["inputs"][name]["resolved"].get<std::string>()
+                << " changed since the configuration was recorded (the job key differs)\n";
+    }
+  }
   try {
     schema.validate(config);
   } catch (const ConfigError& error) {
@@ -55,7 +117,7 @@ RunFunction setup_job(CLI::App& parent) {
   auto as_json = std::make_shared<bool>(false);
   auto timeout = std::make_shared<double>(3600.0);
   command->add_option("config", *path, "Job configuration (JSON; missing keys take their defaults)")->required();
-  command->add_flag("--json", *as_json, "Print {status, message, end_time, metrics, per_joint} as JSON");
+  command->add_flag("--json", *as_json, "Print {key, status, message, end_time, metrics, per_joint} as JSON");
   command->add_option("--timeout", *timeout, "Stop the job after this many seconds of wall clock (0: none)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
@@ -94,7 +156,7 @@ RunFunction setup_job(CLI::App& parent) {
       }
     }
     if (*as_json) {
-      nlohmann::json out = {{"status", to_string(outcome.status)}, {"message", outcome.message}, {"end_time", outcome.end_time},
+      nlohmann::json out = {{"key", calc_job_key(config)}, {"status", to_string(outcome.status)}, {"message", outcome.message}, {"end_time", outcome.end_time},
                             {"metrics", metrics}, {"per_joint", nlohmann::json::array()}};
       for (auto& [joint, values] : per_joint) out["per_joint"].push_back(values);
       std::cout << out.dump(2) << "\n";

@@ -1,6 +1,7 @@
 // `armfarm run SPEC.json`: expands a sweep and runs the jobs not yet done, in parallel, into a
 // results database (resume is the default; --force runs everything again).
 #include "runner/cli/subcommand.hpp"
+#include "runner/execution/input_changes.hpp"
 #include "runner/execution/job_kind.hpp"
 #include "runner/execution/provenance.hpp"
 #include "runner/execution/stop_signal.hpp"
@@ -62,6 +63,8 @@ RunFunction setup_run(CLI::App& parent) {
               << (run.shard.count > 1 ? " (shard " + options->shard + ")" : "") << ", " << run.threads
               << " threads, database " << run.db_path << (kind.name == "fake" ? ", FAKE jobs (ARMFARM_FAKE_JOBS=1)" : "")
               << std::endl;
+    const std::string changes = make_input_change_text(find_input_changes(sweep, run.db_path));
+    if (!changes.empty()) std::cout << "sweep " << sweep.spec.name << ": " << changes << std::endl;
     StopSignalScope signals;
     const RunSummary summary = run_sweep(sweep, kind.executor, run, signals.stop_requested());
 

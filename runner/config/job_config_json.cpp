@@ -46,7 +46,7 @@ void set_value(json& root, const std::string& path, json value) {
 
 const std::vector<RunnerConfigKey>& runner_config_keys() {
   static const std::vector<RunnerConfigKey> keys = {
-      {"model", "models/dlr_lwr3.urdf", "arm description (URDF or DCG), path relative to the working directory"},
+      {"model", "models/dlr_lwr3.urdf", "arm description (URDF or DCG); a relative path resolves against the file that wrote it, the default against the data directory"},
   };
   return keys;
 }
@@ -56,6 +56,16 @@ nlohmann::json make_job_config_defaults() {
   json tree = json::object();
   for (const RunnerConfigKey& key : runner_config_keys()) set_value(tree, key.path, key.default_value);
   for (const JobConfigKey& key : job_config_keys()) set_value(tree, key.path, make_field_json(key.field(defaults)));
+  return tree;
+}
+
+nlohmann::json make_job_config_types() {
+  JobConfig defaults;
+  json tree = make_job_config_defaults();
+  for (const JobConfigKey& key : job_config_keys()) {
+    const ValueKind kind = key.field(defaults).kind;
+    if (kind == ValueKind::real_or_list || kind == ValueKind::real_matrix) set_value(tree, key.path, nullptr);
+  }
   return tree;
 }
 

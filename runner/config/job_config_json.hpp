@@ -25,6 +25,11 @@ const std::vector<RunnerConfigKey>& runner_config_keys();
 /// an empty array is a list of numbers).
 nlohmann::json make_job_config_defaults();
 
+/// make_job_config_defaults() with null at the keys whose value may be a number, a list or a
+/// matrix (ValueKind real_or_list, real_matrix): the spec layer's type reference
+/// (JobConfigSchema::types).
+nlohmann::json make_job_config_types();
+
 /// Parses a resolved configuration (defaults merged) for an arm with `movable_joints` movable
 /// joints and validates it. Throws ConfigError (runner/execution/job_executor.hpp) naming the
 /// JSON path of the first problem; its message lists every problem ("path: what; path: what").

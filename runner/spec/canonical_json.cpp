@@ -1,5 +1,7 @@
 #include "runner/spec/canonical_json.hpp"
 
+#include "runner/spec/input_files.hpp"
+
 #include <xxhash.h>
 
 #include <cmath>
@@ -64,6 +66,8 @@ std::string calc_text_hash(const std::string& text) {
   return hex;
 }
 
-std::string calc_job_key(const nlohmann::json& config) { return calc_text_hash(calc_canonical_json(config)); }
+std::string calc_job_key(const nlohmann::json& config) {
+  return calc_text_hash(calc_canonical_json(make_job_key_document(config)));
+}
 
 }  // namespace armfarm

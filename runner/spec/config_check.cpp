@@ -1,6 +1,7 @@
 #include "runner/spec/config_check.hpp"
 
 #include "runner/spec/did_you_mean.hpp"
+#include "runner/spec/json_document.hpp"
 
 #include <cmath>
 
@@ -38,11 +39,20 @@ nlohmann::json calc_checked_value(const nlohmann::json& value, const nlohmann::j
                                   std::vector<std::string>& errors) {
   const std::string where = path.empty() ? std::string("(configuration)") : path;
   auto wrong_type = [&] {
+    if (value.is_string() && reference.is_number() && is_non_finite_number_text(value.get<std::string>())) {
+      errors.push_back(where + ": expected a finite number, got " + show(value) +
+                       " (NaN and infinities are not numbers a job configuration can hold)");
+      return value;
+    }
     errors.push_back(where + ": expected " + describe_type(reference) + ", got " + show(value));
     return value;
   };
   switch (reference.type()) {
     case nlohmann::json::value_t::null:
+      if (value.is_string() && is_non_finite_number_text(value.get<std::string>())) {
+        errors.push_back(where + ": got " + show(value) + ", which is not a number a job configuration can hold" +
+                         " (NaN and infinities are refused)");
+      }
       return value;
     case nlohmann::json::value_t::object: {
       if (!value.is_object()) return wrong_type();

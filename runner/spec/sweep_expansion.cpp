@@ -1,6 +1,8 @@
 #include "runner/spec/sweep_expansion.hpp"
 
 #include "runner/spec/canonical_json.hpp"
+#include "runner/spec/config_check.hpp"
+#include "runner/spec/input_files.hpp"
 #include "runner/spec/spec_error.hpp"
 
 #include "engine/random/random_stream.hpp"
@@ -95,6 +97,16 @@ std::string locate_error(const std::string& error_path, const FactorEntry& assig
   return error_path.empty() ? std::string("base") : "base." + error_path;
 }
 
+// Where an input field's value was written, for messages: the axis or base location in the spec,
+// else the include, else the default.
+std::string locate_input(const std::string& field, const SweepSpec& spec, const FactorEntry& assignments) {
+  const auto writer = spec.input_writers.find(field);
+  if (writer != spec.input_writers.end()) return writer->second + ": " + field;
+  const auto folder = spec.input_folders.find(field);
+  if (folder == spec.input_folders.end() || folder->second == spec.folder) return spec.file + ": " + locate_error(field, assignments);
+  return spec.file + ": " + field + " (the default, resolved against " + folder->second + ")";
+}
+
 }  // namespace
 
 ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
@@ -106,6 +118,7 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
   std::vector<std::string> errors;
   std::set<std::string> seen_errors;
   std::unordered_set<std::string> seen_keys;
+  InputFileReader reader;
   for (bool more = true; more;) {
     FactorEntry assignments;
     for (std::size_t f = 0; f < factors.size(); ++f) {
@@ -119,21 +132,55 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
       set_config_element(job.config, *a.segments, a.value);
       job.params[a.path] = a.value;
     }
-    try {
-      if (schema.validate) schema.validate(job.config);
-      job.key = calc_job_key(job.config);
-      if (job.config.contains("seed") && job.config["seed"].is_number_integer()) {
-        job.seed = job.config["seed"].get<std::int64_t>();
+    // Input files: includes first, then every file field, resolved against the file that wrote it.
+    for (std::size_t i = 0; i < spec.includes.size(); ++i) {
+      const SpecInclude& include = spec.includes[i];
+      job.config["inputs"]["include[" + std::to_string(i) + "]"] = {
+          {"path", include.path}, {"resolved", include.resolved}, {"hash", include.hash}, {"kind", "include"}};
+    }
+    auto folder_of = [&](const std::string& field) {
+      const auto found = spec.input_folders.find(field);
+      return found == spec.input_folders.end() ? schema.default_folder : found->second;
+    };
+    const std::vector<InputProblem> problems = record_input_files(job.config, schema.input_files, folder_of, reader);
+    // A file that cannot be read must not hide the job's other problems: check the rest against
+    // the field's default (said so in the message), and keep the job out of the sweep.
+    nlohmann::json check_config = job.config;
+    std::string stand_in_note;
+    for (const InputProblem& problem : problems) {
+      const std::string line = locate_input(problem.field, spec, assignments) + ": " + problem.message;
+      if (seen_errors.insert(line).second && errors.size() < 20) errors.push_back(line);
+      std::string unused;
+      const std::vector<PathSegment> segments = parse_config_path(problem.field);
+      const nlohmann::json* fallback = find_config_element(schema.defaults, segments, unused);
+      if (fallback != nullptr) set_config_element(check_config, segments, *fallback);
+      stand_in_note += (stand_in_note.empty() ? " (checked with the default " : ", ") + problem.field;
+    }
+    if (!problems.empty()) {
+      stand_in_note += ", since the file cannot be read)";
+      if (!record_input_files(check_config, schema.input_files, [&](const std::string&) { return schema.default_folder; },
+                              reader).empty()) {
+        check_config = nlohmann::json();  // even the default cannot be read: nothing more to check
       }
-      if (seen_keys.insert(job.key).second) sweep.jobs.push_back(std::move(job));
+    }
+    try {
+      if (schema.validate && !check_config.is_null()) schema.validate(check_config);
     } catch (const ConfigError& e) {
       const std::string where = locate_error(e.json_path(), assignments);
       const std::string what = e.what();
       const std::string bare = e.json_path().empty() ? what : what.substr(e.json_path().size() + 2);
       const bool on_axis = where.rfind("base", 0) != 0;
-      const std::string line =
-          spec.file + ": " + where + ": " + (on_axis && !e.json_path().empty() ? e.json_path() + ": " : "") + bare;
+      const std::string line = spec.file + ": " + where + ": " + (on_axis && !e.json_path().empty() ? e.json_path() + ": " : "") +
+                               bare + stand_in_note;
       if (seen_errors.insert(line).second && errors.size() < 20) errors.push_back(line);
+      check_config = nlohmann::json();
+    }
+    if (problems.empty() && !check_config.is_null()) {
+      job.key = calc_job_key(job.config);
+      if (job.config.contains("seed") && job.config["seed"].is_number_integer()) {
+        job.seed = job.config["seed"].get<std::int64_t>();
+      }
+      if (seen_keys.insert(job.key).second) sweep.jobs.push_back(std::move(job));
     }
     // Odometer: the last factor varies fastest.
     more = false;

@@ -3,7 +3,7 @@
 // group, the random samples and the repeat seeds (the first axis varies slowest). Each job is
 // the base configuration with the axes' values set, checked by the schema, keyed by the hash of
 // its canonical text.
-#include "runner/execution/job_executor.hpp"
+#include "runner/config/config_schema.hpp"
 #include "runner/spec/sweep_spec.hpp"
 
 #include <nlohmann/json.hpp>

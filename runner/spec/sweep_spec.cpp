@@ -1,7 +1,10 @@
 #include "runner/spec/sweep_spec.hpp"
 
+#include "runner/spec/canonical_json.hpp"
 #include "runner/spec/config_check.hpp"
 #include "runner/spec/did_you_mean.hpp"
+#include "runner/spec/input_files.hpp"
+#include "runner/spec/json_document.hpp"
 #include "runner/spec/spec_error.hpp"
 
 #include <cmath>
@@ -23,25 +26,31 @@ std::string read_text_file(const std::string& path, const std::string& reference
   return text.str();
 }
 
-nlohmann::json parse_json_text(const std::string& text, const std::string& file) {
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    std::size_t line = 1, column = 1;
-    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
+// `["key"]` → `.key` where the key needs no quotes, so that spec locations and document paths compare.
+std::string normalize_location(const std::string& location) {
+  std::string out;
+  for (std::size_t i = 0; i < location.size();) {
+    if (location.compare(i, 2, "[\"") == 0) {
+      const std::size_t close = location.find("\"]", i + 2);
+      if (close != std::string::npos) {
+        const std::string key = location.substr(i + 2, close - i - 2);
+        if (!key.empty() && key.find_first_of(".[]\" \\") == std::string::npos) {
+          out += "." + key;
+          i = close + 2;
+          continue;
+        }
       }
     }
-    std::string message = e.what();
-    const std::size_t colon = message.find(": ", message.find("column"));
-    if (colon != std::string::npos) message = message.substr(colon + 2);
-    throw SpecError({file + ": line " + std::to_string(line) + ", column " + std::to_string(column) +
-                     ": not valid JSON: " + message});
+    out += location[i++];
   }
+  return out;
+}
+
+// "FILE: path: problem (line L, column C)" for a "path: problem" line of calc_checked_value.
+std::string locate_line(const std::string& file, const JsonDocument& document, const std::string& line) {
+  const std::size_t colon = line.find(": ");
+  std::string where = colon == std::string::npos ? std::string() : document.describe_position(normalize_location(line.substr(0, colon)));
+  return file + ": " + line + (where.empty() ? "" : " (" + where + ")");
 }
 
 std::string quoted(const std::string& parent, const std::string& key) { return parent + "[\"" + key + "\"]"; }
@@ -62,8 +71,10 @@ class SpecParser {
   SweepSpec parse(const std::string& text) {
     SweepSpec spec;
     spec.file = file_;
+    spec.folder = folder_;
     spec.text = text;
-    const nlohmann::json root = parse_json_text(text, file_);
+    document_ = parse_json_document(text, file_);
+    const nlohmann::json& root = document_.value;
     if (!root.is_object()) throw SpecError({file_ + ": (top level): a sweep spec is a JSON object"});
     check_keys(root, "", {"name", "description", "base", "include", "sweep", "comment"});
 
@@ -86,11 +97,12 @@ class SpecParser {
     if (root.contains("include")) read_includes(root["include"]);
     if (root.contains("base")) {
       std::vector<std::string> lines;
-      const nlohmann::json base = calc_checked_value(root["base"], schema_.defaults, "base", lines);
-      for (const std::string& line : lines) errors_.push_back(file_ + ": " + line);
+      const nlohmann::json base = calc_checked_value(root["base"], schema_.type_reference(), "base", lines);
+      for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line));
       if (lines.empty()) merge_config_into(resolved_, base);
     }
     spec.base = resolved_;
+    spec.includes = includes_;
 
     if (root.contains("sweep")) {
       const nlohmann::json& sweep = root["sweep"];
@@ -105,10 +117,35 @@ class SpecParser {
       }
     }
     if (!errors_.empty()) throw SpecError(errors_);
+    spec.input_folders = calc_input_folders(root, spec);
+    spec.input_writers = writers_;
     return spec;
   }
 
  private:
+  // Who wrote each input field: this spec (base or an axis), else the last include, else nobody.
+  std::map<std::string, std::string> calc_input_folders(const nlohmann::json& root, const SweepSpec& spec) {
+    std::map<std::string, std::string> folders;
+    std::vector<std::vector<PathSegment>> axes;
+    for (const SpecAxis& axis : spec.grid) axes.push_back(axis.segments);
+    for (const SpecZipGroup& group : spec.zip) {
+      for (const SpecAxis& axis : group.axes) axes.push_back(axis.segments);
+    }
+    if (spec.random) {
+      for (const SpecRandomParam& param : spec.random->params) axes.push_back(param.segments);
+    }
+    for (const InputFileField& field : schema_.input_files) {
+      const std::vector<PathSegment> segments = parse_config_path(field.path);
+      std::string problem;
+      bool written_here = root.contains("base") && find_config_element(root["base"], segments, problem) != nullptr;
+      for (const auto& axis : axes) written_here = written_here || is_prefix_path(axis, segments) || is_prefix_path(segments, axis);
+      const auto from_include = input_folders_.find(field.path);
+      folders[field.path] = written_here ? folder_ : from_include != input_folders_.end() ? from_include->second : schema_.default_folder;
+      if (!written_here && from_include != input_folders_.end()) writers_[field.path] = input_writers_.at(field.path);
+    }
+    return folders;
+  }
+
   void error(const std::string& path, const std::string& message) {
     errors_.push_back(file_ + ": " + (path.empty() ? "(top level)" : path) + ": " + message);
   }
@@ -139,17 +176,29 @@ class SpecParser {
     }
     for (const std::string& name : names) {
       const std::string path = (std::filesystem::path(folder_) / name).lexically_normal().string();
-      nlohmann::json config;
+      JsonDocument document;
+      std::string text;
       try {
-        config = parse_json_text(read_text_file(path, file_ + ": include"), path);
+        text = read_text_file(path, file_ + ": include");
+        document = parse_json_document(text, path);
       } catch (const SpecError& e) {
         errors_.insert(errors_.end(), e.lines().begin(), e.lines().end());
         continue;
       }
       std::vector<std::string> lines;
-      const nlohmann::json checked = calc_checked_value(config, schema_.defaults, "", lines);
-      for (const std::string& line : lines) errors_.push_back(path + ": " + line);
-      if (lines.empty()) merge_config_into(resolved_, checked);
+      const nlohmann::json checked = calc_checked_value(document.value, schema_.type_reference(), "", lines);
+      for (const std::string& line : lines) errors_.push_back(locate_line(path, document, line));
+      if (!lines.empty()) continue;
+      merge_config_into(resolved_, checked);
+      const std::string include_folder = std::filesystem::path(path).parent_path().string();
+      for (const InputFileField& field : schema_.input_files) {
+        std::string problem;
+        if (find_config_element(checked, parse_config_path(field.path), problem) != nullptr) {
+          input_folders_[field.path] = include_folder.empty() ? "." : include_folder;
+          input_writers_[field.path] = path;
+        }
+      }
+      includes_.push_back({name, calc_resolved_path(path, "."), calc_text_hash(text)});
     }
   }
 
@@ -167,7 +216,7 @@ class SpecParser {
       error(location, "'" + path + "' names nothing in the job configuration: " + problem);
       return false;
     }
-    reference = find_schema_reference(schema_.defaults, segments, problem);
+    reference = find_schema_reference(schema_.type_reference(), segments, problem);
     if (reference == nullptr) {
       error(location, "'" + path + "' names nothing in the job configuration: " + problem);
       return false;
@@ -196,7 +245,7 @@ class SpecParser {
     for (std::size_t i = 0; i < values.size(); ++i) {
       axis.values.push_back(calc_checked_value(values[i], *reference, location + "[" + std::to_string(i) + "]", lines));
     }
-    for (const std::string& line : lines) errors_.push_back(file_ + ": " + line);
+    for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line));
     if (!lines.empty()) return std::nullopt;
     return axis;
   }
@@ -301,7 +350,7 @@ class SpecParser {
           param.choices.push_back(
               calc_checked_value(arguments[i], *reference, location + ".choice[" + std::to_string(i) + "]", lines));
         }
-        for (const std::string& line : lines) errors_.push_back(file_ + ": " + line);
+        for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line));
         if (lines.empty()) result.params.push_back(std::move(param));
         continue;
       }
@@ -373,7 +422,12 @@ class SpecParser {
   const std::string& file_;
   const std::string& folder_;
   const JobConfigSchema& schema_;
+  JsonDocument document_;
   nlohmann::json resolved_;
+  std::vector<SpecInclude> includes_;
+  std::map<std::string, std::string> input_folders_;  // field → folder of the include that set it
+  std::map<std::string, std::string> input_writers_;  // field → that include's file
+  std::map<std::string, std::string> writers_;        // the same, for fields this spec does not set
   std::vector<std::string> errors_;
   std::map<std::string, std::pair<std::vector<PathSegment>, std::string>> claimed_;
 };

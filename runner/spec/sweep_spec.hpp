@@ -3,12 +3,13 @@
 // ← include files ← `base`) and the axes that vary it: grid, zip groups, random samples, repeat
 // seeds. Parsing checks everything that can be checked without running a job; errors name the
 // file and the JSON path.
-#include "runner/execution/job_executor.hpp"
+#include "runner/config/config_schema.hpp"
 #include "runner/spec/config_path.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,9 +47,17 @@ struct SpecRandom {
   std::vector<SpecRandomParam> params;  ///< drawn in this order (sorted by path)
 };
 
+/// A file the spec includes, as the job configurations record it under "inputs".
+struct SpecInclude {
+  std::string path;      ///< as written in `include`
+  std::string resolved;  ///< absolute
+  std::string hash;      ///< XXH3-128 of its bytes
+};
+
 struct SweepSpec {
   std::string file;         ///< as given, for messages
   std::string text;         ///< the file's text, stored with the sweep
+  std::string folder;       ///< the folder its relative paths resolve against
   std::string name;
   std::string description;
   nlohmann::json base;      ///< defaults ← includes ← base, type-checked and normalized
@@ -56,9 +65,17 @@ struct SweepSpec {
   std::vector<SpecZipGroup> zip;
   std::optional<SpecRandom> random;
   std::vector<std::int64_t> repeat_seeds;  ///< empty: no repeat axis
+  std::vector<SpecInclude> includes;       ///< in the order they are merged
+  /// For each input-file field of the schema, the folder its value resolves against: that of
+  /// the file that wrote it (this spec for `base` and the axes, else the last include that sets
+  /// it), or the schema's default folder when no file did.
+  std::map<std::string, std::string> input_folders;
+  /// For input fields an include sets (and this spec does not): that include's file, for messages.
+  std::map<std::string, std::string> input_writers;
 };
 
-/// Reads and checks a spec file; include paths are relative to its folder. Throws SpecError.
+/// Reads and checks a spec file; include paths are relative to its folder, input paths to the
+/// file that wrote them. Throws SpecError.
 SweepSpec load_sweep_spec(const std::string& path, const JobConfigSchema& schema);
 
 /// Checks a spec given as text (`file` names it in messages, `folder` resolves includes).

@@ -94,5 +94,47 @@ TEST(DistanceMetric, NeverLeavesANonFiniteMetric) {
   EXPECT_EQ(rf.metric, before);
 }
 
+
+// Without meta learning a diagonal step is M − α·transient·∂J/∂M element by element (the gradient
+// from calc_metric_gradient), except where the step exceeds 0.1·max|M|: that element keeps its
+// value and its rate halves.
+TEST(DistanceMetric, DiagonalStepIsTheGradientStepWithTheSafeguard) {
+  LwprParams params;
+  params.penalty = 1e-2;
+  ReceptiveField rf = make_receptive_field(params, Eigen::Vector3d::Zero(), Eigen::Vector3d(4.0, 1.0, 0.25).asDiagonal());
+  FieldScratch scratch;
+  scratch.resize(3, true);
+  const Eigen::Vector3d diff(0.02, 0.3, 2.0);
+  Eigen::VectorXd s = Eigen::Vector2d(0.5, 0.1), e = Eigen::Vector2d(0.3, 0.2), ecv = Eigen::Vector2d(0.4, 0.25);
+  MetricSample sample(s, e, ecv);
+  sample.q = rf.metric.col(0).dot(diff.cwiseAbs2());
+  sample.w = std::exp(-0.5 * sample.q);
+  sample.W = 5.0;
+  sample.E = 0.5;
+  const double transient = 0.7;
+  Eigen::MatrixXd grad;
+  Eigen::VectorXd md(3);
+  calc_metric_gradient(params, rf, diff, sample, calc_press_dw(rf, sample), 0.0, grad, nullptr, md);
+  const Eigen::VectorXd M0 = rf.metric_factor.col(0);
+  const double bound = 0.1 * M0.cwiseAbs().maxCoeff();
+  update_distance_metric(params, diff, sample, transient, rf, scratch);
+  int skipped = 0, applied = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double step = params.init_alpha * transient * grad(i, 0);
+    if (std::abs(step) > bound) {
+      ++skipped;
+      EXPECT_EQ(rf.metric_factor(i, 0), M0(i));
+      EXPECT_NEAR(rf.log_alpha(i, 0), std::log(params.init_alpha / 2.0), 1e-12);
+    } else {
+      ++applied;
+      EXPECT_NEAR(rf.metric_factor(i, 0), M0(i) - step, 1e-12);
+      EXPECT_NEAR(rf.log_alpha(i, 0), std::log(params.init_alpha), 1e-12);
+    }
+    EXPECT_DOUBLE_EQ(rf.metric(i, 0), rf.metric_factor(i, 0) * rf.metric_factor(i, 0));
+  }
+  EXPECT_GE(skipped, 1);
+  EXPECT_GE(applied, 1);
+}
+
 }  // namespace
 }  // namespace armfarm::lwpr

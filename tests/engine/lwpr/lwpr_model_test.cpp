@@ -242,6 +242,48 @@ TEST(LwprModel, FieldCapIsRespected) {
   EXPECT_EQ(model.size(), 20u);
 }
 
+// The contiguous scan data must follow every create, metric update and prune: the largest
+// activation a prediction reports equals the brute-force maximum of calc_activation over the
+// output's trustworthy fields, for diagonal metrics (scan data) and with pruning active.
+TEST(LwprModel, ScanDataFollowsFieldsThroughUpdatesAndPruning) {
+  std::mt19937_64 rng(9);
+  LwprParams params;
+  params.init_D = Eigen::MatrixXd::Constant(1, 1, 30.0);
+  params.w_prune = 0.15;
+  params.norm_in = Eigen::Vector3d(1.0, 2.0, 0.5);
+  LwprModel model(3, 2, params);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  int prunes = 0;  // an update prunes or creates in an output, never both (w_prune > w_gen)
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3d x(uniform(rng), uniform(rng), uniform(rng));
+    const std::size_t before[2] = {model.fields(0).size(), model.fields(1).size()};
+    model.update(x, Eigen::Vector2d(std::sin(3.0 * x(0)) * x(1), x(2) * x(2)));
+    for (int o = 0; o < 2; ++o) prunes += model.fields(o).size() < before[o] ? 1 : 0;
+  }
+  ASSERT_GT(prunes, 0) << "no field was pruned";
+  auto workspace = model.make_workspace();
+  FieldScratch scratch;
+  scratch.resize(3, true);
+  int active = 0;
+  for (int k = 0; k < 300; ++k) {
+    const Eigen::Vector3d x(uniform(rng), uniform(rng), uniform(rng));
+    const Eigen::VectorXd xn = x.cwiseQuotient(params.norm_in);
+    LwprPredictionDetail detail;
+    model.predict(x, *workspace, detail);
+    for (int o = 0; o < 2; ++o) {
+      double best = 0.0;
+      for (const ReceptiveField& rf : model.fields(o)) {
+        if (!rf.trustworthy) continue;
+        const double w = calc_activation(rf, params.kernel, xn, params.cutoff, scratch);
+        if (w > params.cutoff) best = std::max(best, w);
+      }
+      EXPECT_NEAR(detail.max_activation(o), best, 1e-12 * std::max(1.0, best)) << "output " << o;
+      active += best > 0.0 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(active, 300);
+}
+
 TEST(LwprModel, FlagsPredictionsWithoutTrustworthyFields) {
   LwprModel model(2, 2, cross_params(2));
   auto workspace = model.make_workspace();

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -75,6 +76,104 @@ TEST(ReceptiveField, AddProjectionGrowsEveryStatistic) {
   EXPECT_EQ(rf.n_reg(), 2);
   EXPECT_EQ(rf.sxy.cols(), 2);
   EXPECT_EQ(rf.ss2(1), params.init_S2);
+}
+
+
+// A known three-sample sequence into a 1-D field with one projection: every statistic equals the
+// value worked out by hand from the update equations (forgetting-weighted means, sample counts,
+// incremental PLS of table 2 of Vijayakumar et al. 2005, the leave-one-out error sum).
+TEST(ReceptiveField, StatisticsAfterAKnownSequenceMatchHandComputedValues) {
+  LwprParams params;
+  params.update_D = false;
+  params.init_n_reg = 1;
+  params.init_lambda = 0.9;  // λ: 0.9, 0.945, 0.9675 for the three samples
+  params.final_lambda = 0.99;
+  params.tau_lambda = 0.5;
+  ReceptiveField rf = make_receptive_field(params, Eigen::VectorXd::Zero(1), Eigen::MatrixXd::Ones(1, 1));
+  FieldScratch scratch;
+  scratch.resize(1, true);
+  const double xs[3] = {1.0, 3.0, 2.0}, ys[3] = {2.0, 1.0, 4.0}, ws[3] = {0.5, 0.25, 0.1};
+  const double lambdas[3] = {0.9, 0.945, 0.9675};
+  for (int k = 0; k < 3; ++k) {
+    update_receptive_field(params, 2.5, Eigen::VectorXd::Constant(1, xs[k]), ys[k], ws[k], rf, scratch);
+    EXPECT_EQ(rf.trustworthy, k == 2) << "sample " << k + 1;  // counts 1, 1.945, 2.88 against 2.5
+  }
+  // Each sample counts 1 whatever its activation; earlier ones are discounted by the later λ.
+  EXPECT_NEAR(rf.n_data(0), 1.0 + 0.9675 + 0.9675 * 0.945, 1e-9);  // 2.8817875; the weights sum to 0.799
+  EXPECT_NEAR(rf.sum_w(0), 0.1 + 0.9675 * 0.25 + 0.9675 * 0.945 * 0.5, 1e-9);
+  EXPECT_NEAR(rf.lambda, 0.5 * 0.9675 + 0.5 * 0.99, 1e-15);
+  // Means: Σλw x / Σλw with the discounted weights 0.45714375, 0.241875, 0.1.
+  const double dw[3] = {0.5 * 0.945 * 0.9675, 0.25 * 0.9675, 0.1};
+  const double W = dw[0] + dw[1] + dw[2];
+  EXPECT_NEAR(rf.mean_x(0), (dw[0] * 1.0 + dw[1] * 3.0 + dw[2] * 2.0) / W, 1e-9);
+  EXPECT_NEAR(rf.beta0, (dw[0] * 2.0 + dw[1] * 1.0 + dw[2] * 4.0) / W, 1e-9);
+
+  // PLS in 1-D by hand: u = sign(Σλ_slow w z res), s = u·z, then the regression sums.
+  double sw = 1e-10, mx = 0.0, b0 = 0.0, sxy = 0.0, ss2 = params.init_S2, sys = 0.0, sxs = 0.0, e_cv2 = 0.0;
+  double n_data = 1e-10;
+  for (int k = 0; k < 3; ++k) {
+    const double lambda = lambdas[k], w = ws[k];
+    const double w_old = lambda * sw;
+    sw = w_old + w;
+    n_data = lambda * n_data + 1.0;
+    mx = (w_old * mx + w * xs[k]) / sw;
+    b0 = (w_old * b0 + w * ys[k]) / sw;
+    const double z = xs[k] - mx, res = ys[k] - b0;
+    sxy = (1.0 - (1.0 - lambda) / 10.0) * sxy + w * z * res;
+    const double s = (sxy > 0 ? 1.0 : -1.0) * z;
+    ss2 = lambda * ss2 + w * s * s;
+    sys = lambda * sys + w * s * res;
+    sxs = lambda * sxs + w * z * s;
+    const double e = res - sys / ss2 * s;
+    const double one_minus_h = std::max(1.0 - w * s * s / ss2, 1e-3);
+    // Leave-one-out sums start once the field has more than min(0.1/(1−λ), 4(R+1)) samples (1, 1.8, 3.1).
+    if (n_data > std::min(0.1 / (1.0 - lambda), 8.0)) e_cv2 = lambda * e_cv2 + w * (e / one_minus_h) * (e / one_minus_h);
+  }
+  EXPECT_NEAR(rf.sxy(0, 0), sxy, 1e-12);
+  EXPECT_NEAR(rf.ss2(0), ss2, 1e-12);
+  EXPECT_NEAR(rf.sys(0), sys, 1e-12);
+  EXPECT_NEAR(rf.sxs(0, 0), sxs, 1e-12);
+  EXPECT_NEAR(rf.beta(0), sys / ss2, 1e-9);
+  EXPECT_NEAR(rf.loadings(0, 0), sxs / ss2, 1e-9);
+  EXPECT_NEAR(std::abs(rf.directions(0, 0)), 1.0, 1e-15);
+  EXPECT_NEAR(rf.sum_e_cv2(0), e_cv2, 1e-12);
+  EXPECT_GT(e_cv2, 0.0);
+}
+
+// A narrow field (activation 0.1 for every sample, as in 21-D) adds its third projection as soon
+// as the rule passes: mse_2/mse_1 < add_threshold, the last projection has seen 99 % of the
+// samples, and n_data·(1 − λ) > 0.5, checked after every sample. With λ = 0.9 the sample count
+// first exceeds 5 at sample 7 ((1 − 0.9⁷)/0.1 = 5.22); the summed activations never exceed 1, so
+// a count of weights would never pass.
+TEST(ReceptiveField, AddsAProjectionWhenTheCriterionPasses) {
+  LwprParams params;
+  params.update_D = false;
+  params.init_lambda = params.final_lambda = 0.9;
+  ReceptiveField rf = make_receptive_field(params, Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity());
+  FieldScratch scratch;
+  scratch.resize(3, true);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  int added_at = 0;
+  for (int k = 1; k <= 40 && added_at == 0; ++k) {
+    const Eigen::Vector3d x(uniform(rng), uniform(rng), uniform(rng));
+    update_receptive_field(params, 6.0, x, 3.0 * x(0) - 2.0 * x(1) + 1.0 * x(2), 0.1, rf, scratch);
+    const double expected_count = (1.0 - std::pow(0.9, k)) / 0.1 + std::pow(0.9, k) * 1e-10;
+    EXPECT_NEAR(rf.n_data(0), expected_count, 1e-12);
+    EXPECT_NEAR(rf.n_data(1), expected_count, 1e-12);
+    EXPECT_LT(rf.sum_w(1) * (1.0 - 0.9), 0.5);
+    const double mse_2 = rf.sum_e_cv2(1) / rf.sum_w(1) + 1e-10;
+    const double mse_1 = rf.sum_e_cv2(0) / rf.sum_w(0) + 1e-10;
+    const bool rule = mse_2 / mse_1 < params.add_threshold && rf.n_data(1) * (1.0 - 0.9) > 0.5;
+    EXPECT_EQ(rf.n_reg() == 3, rule) << "sample " << k;
+    if (rf.n_reg() == 3) added_at = k;
+  }
+  EXPECT_GE(added_at, 7);  // the count rule cannot pass earlier
+  ASSERT_EQ(rf.n_reg(), 3);
+  EXPECT_EQ(rf.n_data(2), 0.0);  // the new projection starts counting from zero
+  update_receptive_field(params, 6.0, Eigen::Vector3d(0.1, 0.2, 0.3), 0.1, 0.1, rf, scratch);
+  EXPECT_EQ(rf.n_data(2), 1.0);
+  EXPECT_NEAR(rf.n_data(0), (1.0 - std::pow(0.9, added_at + 1)) / 0.1, 1e-9);
 }
 
 }  // namespace

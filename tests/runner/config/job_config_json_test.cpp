@@ -3,6 +3,8 @@
 #include "runner/config/job_config_json.hpp"
 #include "runner/config/config_value_json.hpp"
 #include "runner/execution/job_executor.hpp"
+#include "runner/spec/spec_error.hpp"
+#include "runner/spec/sweep_expansion.hpp"
 
 #include <gtest/gtest.h>
 
@@ -164,6 +166,35 @@ TEST(JobConfigJson, EveryProblemIsInTheOneMessageTheFirstPathLeads) {
     EXPECT_NE(text.find("dt: 1e-300 s is outside the allowed range [0.0001, 0.1] s"), std::string::npos) << text;
     EXPECT_NE(text.find("; integrator_accuracy: 1e-300 is outside"), std::string::npos) << text;
     EXPECT_NE(text.find("; trajectory.sine.duration: 1e+300 s is outside"), std::string::npos) << text;
+  }
+}
+
+}  // namespace
+}  // namespace armfarm
+
+namespace armfarm {
+namespace {
+
+// Keys that take a number, a list or a matrix (learning.lwpr.init_D) are shown with their
+// number as default but accept every shape in specs; a wrong shape is still refused by the
+// validation, with its path.
+TEST(JobConfigJson, MultiShapeKeysAcceptNumbersAndListsInSpecs) {
+  const JobConfigSchema schema = make_experiment_config_schema();
+  EXPECT_TRUE(schema.defaults["learning"]["lwpr"]["init_D"].is_number());
+  EXPECT_TRUE(schema.type_reference()["learning"]["lwpr"]["init_D"].is_null());
+  const std::string folder = std::string(ARMFARM_SOURCE_DIR) + "/sweeps";
+  const std::string text = R"({"name": "shapes", "base": {"active_joints": [2, 4], "trajectory": {"sine": {"duration": 1}}},
+      "sweep": {"grid": {"learning.lwpr.init_D": [0.05, [0.05, 0.05, 0.1, 0.1, 0.2, 0.2]]}}})";
+  const ExpandedSweep sweep = expand_sweep(parse_sweep_spec(text, "shapes.json", folder, schema), schema);
+  ASSERT_EQ(sweep.jobs.size(), 2u);
+  EXPECT_NE(sweep.jobs[0].key, sweep.jobs[1].key);
+  const std::string wrong = R"({"name": "shapes", "base": {"active_joints": [2, 4]},
+      "sweep": {"grid": {"learning.lwpr.init_D": [[0.05, 0.05]]}}})";
+  try {
+    expand_sweep(parse_sweep_spec(wrong, "wrong.json", folder, schema), schema);
+    ADD_FAILURE() << "a 2-element init_D for 6 inputs was accepted";
+  } catch (const SpecError& error) {
+    EXPECT_NE(error.lines().front().find("learning.lwpr.init_D"), std::string::npos) << error.lines().front();
   }
 }
 

@@ -1,0 +1,44 @@
+#pragma once
+// The shape of a job configuration as the runner's spec layer sees it: defaults (and so types),
+// the check of a resolved configuration, and which values name files the job reads.
+#include "runner/config/config_error.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace armfarm {
+
+/// A configuration value that names a file the job reads (the arm model, a recorded
+/// trajectory, later a learned model to start from). Relative paths resolve against the folder
+/// of the file that wrote the value; the job key hashes the files' bytes instead of the path.
+struct InputFileField {
+  std::string path;  ///< dotted path of the string element, e.g. "trajectory.recorded.file"
+  /// Whether the job reads the file under `config`; unset: whenever the value is non-empty.
+  std::function<bool(const nlohmann::json& config)> is_read;
+  /// Every file that reading it opens, given its resolved path: the file itself first, then the
+  /// files it references (a model's meshes). Unset: just the file. Throws std::exception with a
+  /// one-line message when the input cannot be read.
+  std::function<std::vector<std::string>(const std::string& resolved_path)> list_files;
+};
+
+/// `defaults` holds every key with its default value (the JSON types are the expected types;
+/// an empty array means "array of numbers"); `validate` checks ranges and cross-field rules of
+/// a fully resolved configuration (its input paths resolved, see runner/spec/input_files.hpp),
+/// throwing ConfigError with the path.
+struct JobConfigSchema {
+  nlohmann::json defaults;
+  /// The tree the structural check of specs compares values with: `defaults`, except that keys
+  /// taking several shapes (a number, a list or a matrix, e.g. learning.lwpr.init_D) are null,
+  /// i.e. free-form there and checked by `validate`. Null: use `defaults`.
+  nlohmann::json types;
+  const nlohmann::json& type_reference() const { return types.is_null() ? defaults : types; }
+  std::function<void(const nlohmann::json& config)> validate;
+  std::vector<InputFileField> input_files;
+  /// Where input paths that no file wrote (the defaults) resolve: the armfarm data directory.
+  std::string default_folder = ".";
+};
+
+}  // namespace armfarm

@@ -1,0 +1,133 @@
+#include "runner/spec/input_files.hpp"
+
+#include "runner/spec/canonical_json.hpp"
+#include "runner/spec/config_path.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace armfarm {
+namespace {
+
+// The recorded input fields of `config`: inputs entries that are not includes and whose path
+// names a string element equal to the recorded "path".
+template <typename Visit>
+void visit_recorded_fields(const nlohmann::json& config, Visit visit) {
+  const auto inputs = config.find("inputs");
+  if (inputs == config.end() || !inputs->is_object()) return;
+  for (const auto& [name, entry] : inputs->items()) {
+    if (!entry.is_object() || entry.value("kind", "file") != "file") continue;
+    std::vector<PathSegment> segments;
+    try {
+      segments = parse_config_path(name);
+    } catch (const std::invalid_argument&) {
+      continue;
+    }
+    std::string problem;
+    const nlohmann::json* element = find_config_element(config, segments, problem);
+    if (element == nullptr || !element->is_string() || !entry.contains("path") || *element != entry["path"]) continue;
+    visit(segments, entry);
+  }
+}
+
+}  // namespace
+
+std::string calc_resolved_path(const std::string& path, const std::string& folder) {
+  std::filesystem::path p(path);
+  if (p.is_relative()) p = std::filesystem::path(folder.empty() ? "." : folder) / p;
+  std::error_code error;
+  const std::filesystem::path absolute = std::filesystem::absolute(p, error);
+  return (error ? p : absolute).lexically_normal().string();
+}
+
+std::string calc_file_hash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in || std::filesystem::is_directory(path)) throw std::runtime_error(path + ": cannot read the file");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return calc_text_hash(bytes.str());
+}
+
+const InputFileReader::Content& InputFileReader::read(const InputFileField& field, const std::string& resolved_path) {
+  const auto cache_key = std::make_pair(field.path, resolved_path);
+  const auto found = cache_.find(cache_key);
+  if (found != cache_.end()) return found->second;
+  if (!std::filesystem::exists(resolved_path)) throw std::runtime_error(resolved_path + ": no such file");
+  const std::vector<std::string> files =
+      field.list_files ? field.list_files(resolved_path) : std::vector<std::string>{resolved_path};
+  Content content;
+  content.files = nlohmann::json::array();
+  const std::filesystem::path folder = std::filesystem::path(resolved_path).parent_path();
+  for (const std::string& file : files) {
+    const std::string absolute = calc_resolved_path(file, folder.string());
+    content.files.push_back({{"file", std::filesystem::path(absolute).lexically_relative(folder).generic_string()},
+                             {"hash", calc_file_hash(absolute)}});
+  }
+  if (content.files.empty()) content.files.push_back({{"file", std::filesystem::path(resolved_path).filename().string()},
+                                                      {"hash", calc_file_hash(resolved_path)}});
+  // One file: its own hash (what `xxh128sum` prints); several: the hash of the list, whose
+  // names are relative to the first file's folder, so moving the tree keeps it.
+  content.hash = content.files.size() == 1 ? content.files[0]["hash"].get<std::string>()
+                                           : calc_text_hash(calc_canonical_json(content.files));
+  return cache_.emplace(cache_key, std::move(content)).first->second;
+}
+
+std::vector<InputProblem> record_input_files(nlohmann::json& config, const std::vector<InputFileField>& fields,
+                                             const std::function<std::string(const std::string&)>& folder_of,
+                                             InputFileReader& reader) {
+  std::vector<InputProblem> problems;
+  nlohmann::json inputs = config.contains("inputs") && config["inputs"].is_object() ? config["inputs"] : nlohmann::json::object();
+  for (const InputFileField& field : fields) {
+    inputs.erase(field.path);
+    std::string problem;
+    const nlohmann::json* element = find_config_element(config, parse_config_path(field.path), problem);
+    if (element == nullptr || !element->is_string() || element->get<std::string>().empty()) continue;
+    if (field.is_read && !field.is_read(config)) continue;
+    const std::string written = element->get<std::string>();
+    const std::string resolved = calc_resolved_path(written, folder_of(field.path));
+    try {
+      const InputFileReader::Content& content = reader.read(field, resolved);
+      inputs[field.path] = {{"path", written}, {"resolved", resolved}, {"hash", content.hash}, {"files", content.files}};
+    } catch (const std::exception& error) {
+      std::string message = error.what();
+      if (message.rfind(resolved, 0) != 0) message = resolved + ": " + message;
+      problems.push_back({field.path, "'" + written + "' resolves to " + message});
+    }
+  }
+  if (inputs.empty()) {
+    config.erase("inputs");
+  } else {
+    config["inputs"] = std::move(inputs);
+  }
+  return problems;
+}
+
+nlohmann::json calc_config_with_resolved_inputs(const nlohmann::json& config) {
+  nlohmann::json result = config;
+  visit_recorded_fields(config, [&](const std::vector<PathSegment>& segments, const nlohmann::json& entry) {
+    set_config_element(result, segments, entry.at("resolved"));
+  });
+  result.erase("inputs");
+  return result;
+}
+
+nlohmann::json make_job_key_document(const nlohmann::json& config) {
+  const auto inputs = config.find("inputs");
+  if (inputs == config.end()) return config;
+  nlohmann::json document = config;
+  visit_recorded_fields(config, [&](const std::vector<PathSegment>& segments, const nlohmann::json& entry) {
+    set_config_element(document, segments, "xxh3-128:" + entry.value("hash", std::string()));
+  });
+  nlohmann::json hashes = nlohmann::json::object();
+  if (inputs->is_object()) {
+    for (const auto& [name, entry] : inputs->items()) {
+      if (entry.is_object()) hashes[name] = entry.value("hash", std::string());
+    }
+  }
+  document["inputs"] = std::move(hashes);
+  return document;
+}
+
+}  // namespace armfarm

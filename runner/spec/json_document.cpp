@@ -1,0 +1,225 @@
+#include "runner/spec/json_document.hpp"
+
+#include "runner/spec/spec_error.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <iterator>
+#include <vector>
+
+namespace armfarm {
+namespace {
+
+// A character iterator that reports how far the parser has read, so that SAX events (which
+// carry no position) can be placed in the text.
+class TrackingIterator {
+ public:
+  using iterator_category = std::forward_iterator_tag;
+  using value_type = char;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const char*;
+  using reference = const char&;
+
+  TrackingIterator(const char* at, const char** furthest) : at_(at), furthest_(furthest) {}
+  reference operator*() const { return *at_; }
+  TrackingIterator& operator++() {
+    ++at_;
+    if (at_ > *furthest_) *furthest_ = at_;
+    return *this;
+  }
+  TrackingIterator operator++(int) {
+    TrackingIterator before = *this;
+    ++*this;
+    return before;
+  }
+  bool operator==(const TrackingIterator& other) const { return at_ == other.at_; }
+  bool operator!=(const TrackingIterator& other) const { return at_ != other.at_; }
+
+ private:
+  const char* at_;
+  const char** furthest_;
+};
+
+bool needs_quotes(const std::string& key) {
+  if (key.empty()) return true;
+  return std::any_of(key.begin(), key.end(), [](char c) { return c == '.' || c == '[' || c == ']' || c == '"' || c == ' '; });
+}
+
+// Builds the DOM and records where each value starts.
+class TrackingSax : public nlohmann::json_sax<nlohmann::json> {
+ public:
+  TrackingSax(const std::string& text, const char** furthest, JsonDocument& document)
+      : text_(text), furthest_(furthest), document_(document) {}
+
+  bool null() override { return put(nullptr, 4); }
+  bool boolean(bool value) override { return put(value, value ? 4 : 5); }
+  bool number_integer(number_integer_t value) override { return put_number(value); }
+  bool number_unsigned(number_unsigned_t value) override { return put_number(value); }
+  bool number_float(number_float_t value, const string_t&) override { return put_number(value); }
+  bool string(string_t& value) override {
+    // The reader stands just after the closing quote; walk back to the opening one.
+    std::size_t end = read_offset();
+    std::size_t start = end > 0 ? end - 1 : 0;
+    while (start > 0) {
+      --start;
+      if (text_[start] == '"' && (start == 0 || text_[start - 1] != '\\')) break;
+    }
+    return put_at(std::move(value), start);
+  }
+  bool binary(binary_t& value) override { return put(nlohmann::json::binary(value), 0); }
+  bool start_object(std::size_t) override { return open(nlohmann::json::object()); }
+  bool key(string_t& key) override {
+    frames_.back().key = key;
+    return true;
+  }
+  bool end_object() override { return close(); }
+  bool start_array(std::size_t) override { return open(nlohmann::json::array()); }
+  bool end_array() override { return close(); }
+
+  bool parse_error(std::size_t position, const std::string& last_token, const nlohmann::detail::exception& ex) override {
+    if (ex.id == 406) {
+      error_position_ = position >= last_token.size() ? position - last_token.size() : 0;  // the number's start
+      error_path_ = current_path();
+      error_message_ = "the number " + last_token + " does not fit a double (JSON numbers here must be finite)";
+    } else {
+      // Syntax errors: the character the reader stopped at, no path (the key may not be read yet).
+      const auto* syntax = dynamic_cast<const nlohmann::detail::parse_error*>(&ex);
+      const std::size_t byte = syntax != nullptr ? syntax->byte : position;
+      error_position_ = byte > 0 ? byte - 1 : 0;
+      std::string message = ex.what();
+      const std::size_t colon = message.find(": ", message.find("column"));
+      if (colon != std::string::npos) message = message.substr(colon + 2);
+      error_message_ = "not valid JSON: " + message;
+    }
+    return false;
+  }
+
+  std::size_t error_position() const { return error_position_; }
+  const std::string& error_path() const { return error_path_; }
+  const std::string& error_message() const { return error_message_; }
+
+ private:
+  struct Frame {
+    nlohmann::json* container;
+    std::string key;  // the key of the value being read (objects)
+  };
+
+  std::size_t read_offset() const { return static_cast<std::size_t>(*furthest_ - text_.data()); }
+
+  std::string current_path() const {
+    std::string path;
+    for (std::size_t f = 0; f < frames_.size(); ++f) {
+      const Frame& frame = frames_[f];
+      if (frame.container->is_array()) {
+        // The innermost array receives its next element; an outer one is filling its last.
+        const std::size_t size = frame.container->size();
+        path += "[" + std::to_string(f + 1 == frames_.size() || size == 0 ? size : size - 1) + "]";
+      } else if (needs_quotes(frame.key)) {
+        path += "[" + nlohmann::json(frame.key).dump() + "]";
+      } else {
+        path += (path.empty() ? "" : ".") + frame.key;
+      }
+    }
+    return path;
+  }
+
+  // Numbers end one character before the reader (it looked ahead to find the end).
+  template <typename Number>
+  bool put_number(Number value) {
+    std::size_t end = read_offset();
+    std::size_t start = end > 0 ? end - 1 : 0;
+    while (start > 0 && (std::isdigit(static_cast<unsigned char>(text_[start - 1])) || text_[start - 1] == '-' ||
+                         text_[start - 1] == '+' || text_[start - 1] == '.' || text_[start - 1] == 'e' ||
+                         text_[start - 1] == 'E')) {
+      --start;
+    }
+    return put_at(nlohmann::json(value), start);
+  }
+
+  bool put(nlohmann::json value, std::size_t length) {
+    const std::size_t end = read_offset();
+    return put_at(std::move(value), end >= length ? end - length : 0);
+  }
+
+  nlohmann::json* put_at(nlohmann::json value, std::size_t start) {
+    document_.offsets.emplace(current_path(), start);
+    if (frames_.empty()) {
+      document_.value = std::move(value);
+      return &document_.value;
+    }
+    Frame& frame = frames_.back();
+    if (frame.container->is_array()) {
+      frame.container->push_back(std::move(value));
+      return &frame.container->back();
+    }
+    nlohmann::json& slot = (*frame.container)[frame.key];
+    slot = std::move(value);
+    return &slot;
+  }
+
+  bool open(nlohmann::json empty) {
+    const std::size_t end = read_offset();
+    nlohmann::json* container = put_at(std::move(empty), end > 0 ? end - 1 : 0);
+    frames_.push_back({container, ""});
+    return true;
+  }
+
+  bool close() {
+    frames_.pop_back();
+    return true;
+  }
+
+ private:
+  const std::string& text_;
+  const char** furthest_;
+  JsonDocument& document_;
+  std::vector<Frame> frames_;
+  std::size_t error_position_ = 0;
+  std::string error_path_;
+  std::string error_message_;
+};
+
+}  // namespace
+
+std::string describe_text_position(const std::string& text, std::size_t offset) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+std::string JsonDocument::describe_position(const std::string& path) const {
+  const auto found = offsets.find(path);
+  return found == offsets.end() ? std::string() : describe_text_position(text, found->second);
+}
+
+bool is_non_finite_number_text(const std::string& text) {
+  std::string lower;
+  for (char c : text) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (!lower.empty() && (lower[0] == '-' || lower[0] == '+')) lower = lower.substr(1);
+  return lower == "nan" || lower == "inf" || lower == "infinity";
+}
+
+JsonDocument parse_json_document(const std::string& text, const std::string& file) {
+  JsonDocument document;
+  document.text = text;
+  const char* furthest = document.text.data();
+  TrackingSax sax(document.text, &furthest, document);
+  const char* begin = document.text.data();
+  const bool ok = nlohmann::json::sax_parse(TrackingIterator(begin, &furthest),
+                                            TrackingIterator(begin + document.text.size(), &furthest), &sax);
+  if (!ok) {
+    const std::string path = sax.error_path().empty() ? "" : sax.error_path() + ": ";
+    throw SpecError({file + ": " + describe_text_position(document.text, sax.error_position()) + ": " + path +
+                     sax.error_message()});
+  }
+  return document;
+}
+
+}  // namespace armfarm

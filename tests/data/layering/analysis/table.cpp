@@ -1,0 +1,3 @@
+// Fixture for LayeringTest.
+#include "results/results_store.hpp"
+#include "engine/model/arm_model.hpp"

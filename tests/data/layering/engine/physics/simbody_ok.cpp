@@ -1,0 +1,2 @@
+// Fixture for LayeringTest: Simbody is allowed here.
+#include <Simbody.h>

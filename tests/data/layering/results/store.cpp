@@ -1,0 +1,3 @@
+// Fixture for LayeringTest.
+#include "engine/model/arm_model.hpp"
+#include <sqlite3.h>
