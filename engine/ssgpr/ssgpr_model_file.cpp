@@ -99,6 +99,7 @@ class Reader {
       fail(std::string(name) + " is " + std::to_string(r) + "x" + std::to_string(c) + ", expected " +
            std::to_string(rows) + "x" + std::to_string(cols));
     }
+    need_doubles(static_cast<std::uint64_t>(rows) * static_cast<std::uint64_t>(cols), name);
     Eigen::MatrixXd m(rows, cols);
     for (Eigen::Index j = 0; j < cols; ++j) {
       for (Eigen::Index i = 0; i < rows; ++i) m(i, j) = get_finite(name);
@@ -108,6 +109,7 @@ class Reader {
   Eigen::MatrixXd get_lower(Eigen::Index n, const char* name) {
     const std::uint32_t r = get_u32();
     if (r != n) fail(std::string(name) + " has order " + std::to_string(r) + ", expected " + std::to_string(n));
+    need_doubles(static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n + 1) / 2, name);
     Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n, n);
     for (Eigen::Index j = 0; j < n; ++j) {
       for (Eigen::Index i = j; i < n; ++i) m(i, j) = get_finite(name);
@@ -125,6 +127,10 @@ class Reader {
  private:
   void need(std::size_t n) const {
     if (bytes_.size() - pos_ < n) fail("unexpected end of data");
+  }
+  /// Refuses a matrix larger than the bytes left, before allocating it.
+  void need_doubles(std::uint64_t count, const char* name) const {
+    if (count > (bytes_.size() - pos_) / 8) fail(std::string(name) + " needs more bytes than the file has left");
   }
   const std::string& bytes_;
   std::size_t base_;
@@ -211,8 +217,6 @@ SsgprModel load_ssgpr_model(std::istream& in) {
   SsgprParams p;
   p.features = static_cast<int>(r.get_dimension("features", 1, 1u << 15));
   const Eigen::Index F = 2 * static_cast<Eigen::Index>(p.features);
-  // Every matrix needs at least its doubles: refuse impossible sizes before allocating.
-  if (static_cast<std::uint64_t>(F) * F / 2 > payload.size() / 8) r.fail("features " + std::to_string(p.features) + " is impossible for the file size");
   p.lengthscales = get_vector(r, n_in, "lengthscales");
   p.signal_variance = r.get_finite("signal_variance");
   p.noise_variance = r.get_finite("noise_variance");

@@ -116,6 +116,9 @@ TEST(SsgprModelFile, RefusesDamagedTruncatedAndFutureFiles) {
   EXPECT_NE(no_inputs.find("byte 20: n_in is 0"), std::string::npos) << no_inputs;
   const std::string no_features = error_of(with_payload_byte(good, 36, 0));
   EXPECT_NE(no_features.find("byte 36: features is 0"), std::string::npos) << no_features;
+  // features 30 → 4126: the stored Ω no longer has the announced shape.
+  const std::string more_features = error_of(with_payload_byte(good, 37, 0x10));
+  EXPECT_NE(more_features.find("frequencies is 30x3, expected 4126x3"), std::string::npos) << more_features;
   // A NaN in the last double of W (the 8 bytes before the checksum; 0xff.. is a NaN pattern).
   std::string nan = good;
   for (int i = 0; i < 8; ++i) nan = with_payload_byte(nan, good.size() - 16 + i, static_cast<char>(0xff));
