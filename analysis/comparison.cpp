@@ -37,7 +37,7 @@ Tolerance parse_tolerance_entry(const nlohmann::json& entry, const Tolerance& in
     } else if (item.key() == "direction") {
       if (!item.value().is_string()) throw AnalysisError(source + ": " + where + ": expected a string");
       try {
-        tolerance.direction = parse_metric_direction(item.value().get<std::string>());
+        tolerance.direction = parse_better_direction(item.value().get<std::string>());
       } catch (const std::invalid_argument& e) {
         throw AnalysisError(source + ": " + where + ": " + e.what());
       }
@@ -103,23 +103,28 @@ bool ComparisonReport::regressed() const {
 
 namespace {
 
-Verdict judge(double base, double next, const Tolerance& tolerance, MetricDirection direction) {
+Verdict judge(double base, double next, const Tolerance& tolerance, BetterDirection direction) {
   if (std::isnan(base) && std::isnan(next)) return Verdict::within;
-  if (std::isnan(base) != std::isnan(next)) return std::isnan(next) ? Verdict::regressed : Verdict::improved;
+  const bool judged = direction == BetterDirection::lower || direction == BetterDirection::higher;
+  if (std::isnan(base) != std::isnan(next)) {
+    if (!judged) return Verdict::changed;
+    return std::isnan(next) ? Verdict::regressed : Verdict::improved;  // a result became (un)defined
+  }
   if (std::fabs(next - base) <= tolerance.atol + tolerance.rtol * std::fabs(base)) return Verdict::within;
   switch (direction) {
-    case MetricDirection::lower_is_better: return next < base ? Verdict::improved : Verdict::regressed;
-    case MetricDirection::higher_is_better: return next > base ? Verdict::improved : Verdict::regressed;
-    case MetricDirection::neutral:
-    case MetricDirection::ignored: return Verdict::regressed;
+    case BetterDirection::lower: return next < base ? Verdict::improved : Verdict::regressed;
+    case BetterDirection::higher: return next > base ? Verdict::improved : Verdict::regressed;
+    case BetterDirection::none:
+    case BetterDirection::unknown: return Verdict::changed;
   }
-  return Verdict::regressed;
+  return Verdict::changed;
 }
 
 }  // namespace
 
 ComparisonReport compare_results(const std::vector<JobResult>& base, const std::vector<JobResult>& next,
-                                 const ToleranceTable& tolerances, const std::vector<std::string>& metric_filter) {
+                                 const ToleranceTable& tolerances, const std::vector<std::string>& metric_filter,
+                                 const MetricInfoTable& info, bool include_timing) {
   ComparisonReport report;
   auto wanted = [&](const std::string& name) {
     return metric_filter.empty() || std::find(metric_filter.begin(), metric_filter.end(), name) != metric_filter.end();
@@ -146,9 +151,10 @@ ComparisonReport compare_results(const std::vector<JobResult>& base, const std::
     if (base_job.status != "done" || next_job.status != "done") continue;
     for (const auto& [id, base_value] : base_job.metrics) {
       if (!wanted(id.name)) continue;
+      const bool is_result = is_result_metric(info, id.name);
+      if (!is_result && !include_timing) continue;
       const Tolerance tolerance = tolerances.find(id);
-      const MetricDirection direction = tolerance.direction.value_or(find_metric_direction(id.name));
-      if (direction == MetricDirection::ignored) continue;
+      const BetterDirection direction = tolerance.direction.value_or(find_metric_direction(info, id.name));
       auto next_metric = next_job.metrics.find(id);
       if (next_metric == next_job.metrics.end()) {
         report.missing_metrics.push_back(base_job.key + ": " + make_metric_label(id));
@@ -160,11 +166,14 @@ ComparisonReport compare_results(const std::vector<JobResult>& base, const std::
       comparison.base = base_value;
       comparison.next = next_metric->second;
       comparison.direction = direction;
+      comparison.is_result = is_result;
       const double difference = comparison.next - comparison.base;
       comparison.relative_change = base_value != 0.0 ? difference / std::fabs(base_value)
                                    : difference == 0.0 ? 0.0
                                                        : std::copysign(std::numeric_limits<double>::infinity(), difference);
       comparison.verdict = judge(comparison.base, comparison.next, tolerance, direction);
+      // Timings vary with the machine: shown when asked, never a regression.
+      if (!is_result && comparison.verdict != Verdict::within) comparison.verdict = Verdict::changed;
       report.metrics.push_back(comparison);
     }
   }
@@ -178,6 +187,7 @@ const char* verdict_word(Verdict verdict) {
     case Verdict::within: return "ok";
     case Verdict::improved: return "improved";
     case Verdict::regressed: return "REGRESSED";
+    case Verdict::changed: return "changed";
   }
   return "ok";
 }
@@ -211,6 +221,7 @@ std::string format_comparison(const ComparisonReport& report, bool json, bool sh
                               {"base", m.base},
                               {"new", m.next},
                               {"direction", to_string(m.direction)},
+                              {"result", m.is_result},
                               {"verdict", verdict_word(m.verdict)}};
       entry["relative_change"] = std::isfinite(m.relative_change) ? nlohmann::json(m.relative_change) : nlohmann::json();
       document["metrics"].push_back(entry);
@@ -221,21 +232,24 @@ std::string format_comparison(const ComparisonReport& report, bool json, bool sh
   std::ostringstream out;
   int regressed = 0;
   int improved = 0;
+  int changed = 0;
   for (const MetricComparison& m : report.metrics) {
     regressed += m.verdict == Verdict::regressed;
     improved += m.verdict == Verdict::improved;
+    changed += m.verdict == Verdict::changed;
   }
   out << "Compared " << report.jobs_paired << " jobs, " << report.metrics.size() << " metrics: " << regressed
-      << " regressed, " << improved << " improved, " << (report.metrics.size() - regressed - improved)
-      << " within tolerance.\n\n";
-  const bool any_outside = regressed + improved > 0;
+      << " regressed, " << improved << " improved, " << changed << " changed without a better direction, "
+      << (report.metrics.size() - regressed - improved - changed) << " within tolerance.\n\n";
+  const bool any_outside = regressed + improved + changed > 0;
   if (any_outside || show_all) {
     out << "| job | metric | base | new | change | better | verdict |\n|---|---|---|---|---|---|---|\n";
     for (const MetricComparison& m : report.metrics) {
       if (!show_all && m.verdict == Verdict::within) continue;
       out << "| " << m.key.substr(0, 12) << " | " << make_metric_label(m.metric) << " | " << format_number(m.base, 6)
           << " | " << format_number(m.next, 6) << " | " << format_percent(m.relative_change) << " | "
-          << to_string(m.direction) << " | " << verdict_word(m.verdict) << " |\n";
+          << (m.is_result ? std::string(to_string(m.direction)) : std::string(to_string(m.direction)) + " (timing)")
+          << " | " << verdict_word(m.verdict) << " |\n";
     }
     out << "\n";
   }

@@ -1,6 +1,8 @@
 #pragma once
 // Regression checks: two sets of results paired by job key, each metric compared within a
-// tolerance, a change outside it judged by the metric's direction of "better".
+// tolerance, a change outside it judged by the metric's direction of "better" from the
+// databases' metric_info. Timing and diagnostic metrics are compared only when asked; a metric
+// whose catalog gives no direction is reported as changed, never guessed.
 #include "analysis/metric_direction.hpp"
 #include "analysis/sweep_data.hpp"
 
@@ -16,7 +18,7 @@ namespace armfarm {
 struct Tolerance {
   double rtol = 1e-6;
   double atol = 0.0;
-  std::optional<MetricDirection> direction;  ///< overrides find_metric_direction
+  std::optional<BetterDirection> direction;  ///< overrides the metric_info direction
 };
 
 /// Tolerances by metric and by (metric, joint), with a default; the most specific applies.
@@ -35,7 +37,8 @@ struct ToleranceTable {
 /// the JSON path of a bad entry.
 ToleranceTable parse_tolerances(const std::string& text, const std::string& source, const Tolerance& defaults);
 
-enum class Verdict { within, improved, regressed };
+/// changed: outside tolerance, but metric_info gives no better direction (none or unknown).
+enum class Verdict { within, improved, regressed, changed };
 
 struct MetricComparison {
   std::string key;
@@ -43,7 +46,8 @@ struct MetricComparison {
   double base = 0.0;
   double next = 0.0;
   double relative_change = 0.0;  ///< (next − base)/|base|; ±inf when base is 0 and next is not
-  MetricDirection direction = MetricDirection::neutral;
+  BetterDirection direction = BetterDirection::unknown;
+  bool is_result = true;  ///< false for timing and diagnostic metrics (compared only when asked)
   Verdict verdict = Verdict::within;
 };
 
@@ -64,10 +68,12 @@ struct ComparisonReport {
   bool regressed() const;
 };
 
-/// Compares `next` against `base`. `metric_filter` (names) limits the metrics; metrics whose
-/// direction is `ignored` are skipped unless the tolerance table gives them a direction.
+/// Compares `next` against `base`. `metric_filter` (names) limits the metrics; `info` (both
+/// databases' metric_info) gives directions and kinds; timing and diagnostic metrics are left
+/// out unless `include_timing` (and then shown, never gating: their verdict is within or changed).
 ComparisonReport compare_results(const std::vector<JobResult>& base, const std::vector<JobResult>& next,
-                                 const ToleranceTable& tolerances, const std::vector<std::string>& metric_filter);
+                                 const ToleranceTable& tolerances, const std::vector<std::string>& metric_filter,
+                                 const MetricInfoTable& info, bool include_timing = false);
 
 /// Markdown (changes outside tolerance, then all compared metrics) or JSON.
 std::string format_comparison(const ComparisonReport& report, bool json, bool show_all);

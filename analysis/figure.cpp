@@ -2,6 +2,7 @@
 
 #include "analysis/analysis_error.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +18,10 @@ namespace {
 std::string quote_gnuplot(const std::string& text) {
   std::string out = "\"";
   for (char c : text) {
+    if (c == '\n') {
+      out += "\\n";  // gnuplot reads \n in double quotes as a line break
+      continue;
+    }
     if (c == '"' || c == '\\') out += '\\';
     out += c;
   }
@@ -46,29 +51,61 @@ std::string make_gnuplot_script(const Figure& figure, const std::string& termina
          << "set datafile missing 'nan'\n";
   if (n_panels > 1 || !figure.title.empty()) {
     script << "set multiplot layout " << rows << "," << columns;
+    if (n_panels > 1) script << " margins 0.07,0.98,0.12,0.86 spacing 0.08,0.12";
     if (!figure.title.empty()) script << " title " << quote_gnuplot(figure.title);
     script << "\n";
   }
+  // Paul Tol's "muted" and "bright" schemes: distinguishable, also in greyscale print.
+  static const char* const kColours[12] = {"#332288", "#88CCEE", "#44AA99", "#117733", "#999933", "#DDCC77",
+                                           "#CC6677", "#882255", "#AA4499", "#4477AA", "#EE6677", "#000000"};
+  std::vector<std::string> titles_shown;
+  // With empty grid cells (7 joints on 3 × 3) the legend goes into them, bottom right.
+  const bool spare_cells = n_panels > 1 && rows * columns > n_panels;
+  if (spare_cells) {
+    script << "set key at screen 0.97, screen 0.06 right bottom vertical Left reverse\n";
+  }
   for (std::size_t p = 0; p < n_panels; ++p) {
     const Panel& panel = figure.panels[p];
+    if (!spare_cells && panel.curves.size() > 6) script << "set key outside right top vertical\n";
     script << "set title " << quote_gnuplot(panel.title) << "\n"
            << "set xlabel " << quote_gnuplot(panel.x_label) << "\n"
            << "set ylabel " << quote_gnuplot(panel.y_label) << "\n"
-           << (panel.log_x ? "set logscale x\n" : "unset logscale x\n")
-           << (panel.log_y ? "set logscale y\n" : "unset logscale y\n")
+           << (panel.log_x ? "set logscale x\nset format x '%g'\n" : "unset logscale x\nset format x '%g'\n")
+           << (panel.log_y ? "set logscale y\nset format y '%.0e'\n" : "unset logscale y\nset format y '%g'\n")
            << (panel.equal_axes ? "set size ratio -1\n" : "set size noratio\n");
     script << "plot ";
-    for (std::size_t c = 0; c < panel.curves.size(); ++c) {
+    // Emphasised curves last, so that they are drawn on top.
+    std::vector<std::size_t> order;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (std::size_t c = 0; c < panel.curves.size(); ++c) {
+        if (panel.curves[c].emphasised == (pass == 1)) order.push_back(c);
+      }
+    }
+    std::size_t plain = 0;
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      const std::size_t c = order[i];
       const Curve& curve = panel.curves[c];
       const std::string file = (std::filesystem::path(data_dir) / data_file_name(p, c)).string();
-      script << (c ? ", \\\n     " : "") << quote_gnuplot(file);
+      script << (i ? ", \\\n     " : "") << quote_gnuplot(file);
       switch (curve.style) {
         case Curve::Style::lines: script << " using 1:2 with lines lw 2"; break;
         case Curve::Style::points: script << " using 1:2 with points pt 7 ps 0.6"; break;
         case Curve::Style::lines_points: script << " using 1:2 with linespoints lw 2 pt 7"; break;
-        case Curve::Style::error_bars: script << " using 1:2:3 with yerrorlines lw 2 pt 7"; break;
+        case Curve::Style::error_bars: script << " using 1:2:3:4 with yerrorlines lw 2 pt 7"; break;
       }
-      script << " title " << quote_gnuplot(curve.title);
+      if (curve.emphasised) {
+        script << " lc rgb '#000000' dt 2";
+      } else {
+        script << " lc rgb '" << kColours[plain % 12] << "' dt " << 1 + plain / 12;
+        ++plain;
+      }
+      const bool repeated = std::find(titles_shown.begin(), titles_shown.end(), curve.title) != titles_shown.end();
+      if (repeated || curve.title.empty()) {
+        script << " notitle";
+      } else {
+        script << " title " << quote_gnuplot(curve.title);
+        titles_shown.push_back(curve.title);
+      }
     }
     script << "\n";
   }
@@ -112,8 +149,9 @@ void write_figure(const Figure& figure, const std::string& out_path) {
       char line[128];
       for (std::size_t i = 0; i < curve.x.size() && i < curve.y.size(); ++i) {
         if (curve.style == Curve::Style::error_bars) {
-          const double error = i < curve.y_error.size() ? curve.y_error[i] : 0.0;
-          std::snprintf(line, sizeof line, "%.17g %.17g %.17g\n", curve.x[i], curve.y[i], error);
+          const double low = i < curve.y_low.size() ? curve.y_low[i] : curve.y[i];
+          const double high = i < curve.y_high.size() ? curve.y_high[i] : curve.y[i];
+          std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g\n", curve.x[i], curve.y[i], low, high);
         } else {
           std::snprintf(line, sizeof line, "%.17g %.17g\n", curve.x[i], curve.y[i]);
         }

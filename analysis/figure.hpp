@@ -11,8 +11,10 @@ struct Curve {
   std::string title;
   std::vector<double> x;
   std::vector<double> y;
-  std::vector<double> y_error;  ///< same size as y with Style::error_bars, else empty
+  std::vector<double> y_low;   ///< error_bars: lower end of each bar (same size as y)
+  std::vector<double> y_high;  ///< error_bars: upper end of each bar
   Style style = Style::lines;
+  bool emphasised = false;     ///< drawn last, black, dashed (e.g. a desired path on top)
 };
 
 struct Panel {
@@ -30,6 +32,8 @@ struct Figure {
   std::vector<Panel> panels;  ///< laid out in a grid
 };
 
+/// Colours: 12 distinct ones, then the same colours with dashed, dotted … line styles. A
+/// curve title already shown in an earlier panel is not repeated, so the figure has one legend.
 /// Renders `figure` to `out_path` (.svg or .png, chosen by extension) with gnuplot. The file is
 /// written whole or not at all. Throws AnalysisError (gnuplot missing or failing, bad extension,
 /// empty figure).

@@ -1,23 +1,29 @@
 #pragma once
-// Which way is "better" for each metric the experiment job records, in one table: what
-// `armfarm compare` uses to tell a regression from an improvement.
+// Which way is "better" for a metric, and whether it is a result at all, read from the
+// database's `metric_info` (the engine's catalog as the runner wrote it), never guessed from
+// the name: what `armfarm compare` uses to tell a regression from an improvement and what
+// `merge`, tables and plots use to leave timings out.
+#include "analysis/sweep_data.hpp"
+
 #include <string>
 
 namespace armfarm {
 
-enum class MetricDirection {
-  lower_is_better,   ///< errors: nMSE, |feedback|
-  higher_is_better,  ///< ff/fb ratio, simulation speed
-  neutral,           ///< any change beyond tolerance counts as a regression
-  ignored,           ///< machine-dependent timings: not compared unless a tolerances file names them
+enum class BetterDirection {
+  lower,    ///< errors: nMSE, RMSE, |feedback|, saturation
+  higher,   ///< ff/fb share, simulation speed
+  none,     ///< the catalog says neither is better: a change is reported, not judged
+  unknown,  ///< the database has no metric_info row for the name
 };
 
-/// The direction of a metric by name (exact names first, then by pattern, e.g. any "*nmse*").
-MetricDirection find_metric_direction(const std::string& metric_name);
+/// The direction metric_info gives `name`; unknown without a row.
+BetterDirection find_metric_direction(const MetricInfoTable& info, const std::string& name);
+/// True unless metric_info gives `name` kind timing or diagnostic (unknown names count as results).
+bool is_result_metric(const MetricInfoTable& info, const std::string& name);
 
-/// "lower", "higher", "neutral", "ignored".
-const char* to_string(MetricDirection direction);
-/// Parses the words of to_string; throws std::invalid_argument otherwise.
-MetricDirection parse_metric_direction(const std::string& word);
+/// "lower", "higher", "none", "unknown".
+const char* to_string(BetterDirection direction);
+/// Parses "lower", "higher", "none"; throws std::invalid_argument otherwise.
+BetterDirection parse_better_direction(const std::string& word);
 
 }  // namespace armfarm

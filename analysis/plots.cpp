@@ -48,44 +48,110 @@ std::string make_job_label(const JobResult& job) {
 
 namespace {
 
+std::string last_segment_of(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? path : path.substr(dot + 1);
+}
+
 std::optional<double> as_number(const nlohmann::json& value) {
   if (value.is_number()) return value.get<double>();
   if (value.is_boolean()) return value.get<bool>() ? 1.0 : 0.0;
   return std::nullopt;
 }
 
-// Mean ± std of a metric over the done jobs of each (group, x) point.
-std::vector<Curve> make_grouped_curves(const SweepData& data, const std::string& x_param, const std::string& group_param,
-                                       const MetricId& metric, const std::string& group_title_prefix) {
-  std::map<std::string, std::map<double, std::vector<double>>> points;
+// Whether positive values spread over enough decades to want a log axis.
+bool spans_decades(const std::vector<double>& values) {
+  double low = INFINITY, high = 0.0;
+  for (double v : values) {
+    if (!std::isfinite(v)) continue;
+    if (v <= 0.0) return false;
+    low = std::min(low, v);
+    high = std::max(high, v);
+  }
+  return high > 0.0 && high / low >= 20.0;
+}
+
+// The done jobs' values of `metric` by curve and x. A curve is one value of every varying
+// parameter other than `x_param` and the seed, so nothing unplotted is pooled.
+struct CurvePoints {
+  std::string title;
+  std::map<double, std::vector<double>> by_x;
+};
+
+std::vector<CurvePoints> collect_points(const SweepData& data, const std::string& x_param, const std::string& group_param,
+                                        const MetricId& metric) {
+  std::vector<std::string> split;
+  if (!group_param.empty()) split.push_back(group_param);
+  for (const std::string& path : data.varying_params) {
+    if (path != x_param && path != "seed" && path != group_param) split.push_back(path);
+  }
+  std::vector<CurvePoints> curves;
   for (const JobResult& job : data.jobs) {
     if (job.status != "done") continue;
     const auto x = as_number(find_param_value(job, x_param));
     const auto value = job.metrics.find(metric);
     if (!x || value == job.metrics.end() || !std::isfinite(value->second)) continue;
-    const std::string group = group_param.empty() ? "" : format_param_value(find_param_value(job, group_param));
-    points[group][*x].push_back(value->second);
+    std::string title;
+    for (const std::string& path : split) {
+      title += (title.empty() ? "" : ", ") + last_segment_of(path) + "=" + format_param_value(find_param_value(job, path));
+    }
+    auto it = std::find_if(curves.begin(), curves.end(), [&](const CurvePoints& c) { return c.title == title; });
+    if (it == curves.end()) it = curves.insert(curves.end(), CurvePoints{title, {}});
+    it->by_x[*x].push_back(value->second);
   }
+  return curves;
+}
+
+// Curves with error bars over the seeds: mean ± std (linear) or geometric mean ×/÷ geometric std (log).
+std::vector<Curve> make_error_bar_curves(const std::vector<CurvePoints>& points, bool log_y, const std::string& fallback_title) {
   std::vector<Curve> curves;
-  for (const auto& [group, by_x] : points) {
+  for (const CurvePoints& source : points) {
     Curve curve;
     curve.style = Curve::Style::error_bars;
-    curve.title = group_param.empty() ? make_metric_label(metric) : group_title_prefix + group;
-    for (const auto& [x, values] : by_x) {
-      const SummaryStatistics summary = calc_summary_statistics(values);
+    curve.title = source.title.empty() ? fallback_title : source.title;
+    for (const auto& [x, values] : source.by_x) {
       curve.x.push_back(x);
-      curve.y.push_back(summary.mean);
-      curve.y_error.push_back(summary.std_dev);
+      if (log_y) {
+        std::vector<double> logs;
+        for (double v : values) {
+          if (v > 0.0) logs.push_back(std::log(v));
+        }
+        if (logs.empty()) {
+          curve.x.pop_back();
+          continue;
+        }
+        const SummaryStatistics summary = calc_summary_statistics(logs);
+        curve.y.push_back(std::exp(summary.mean));
+        curve.y_low.push_back(std::exp(summary.mean - summary.std_dev));
+        curve.y_high.push_back(std::exp(summary.mean + summary.std_dev));
+      } else {
+        const SummaryStatistics summary = calc_summary_statistics(values);
+        curve.y.push_back(summary.mean);
+        curve.y_low.push_back(summary.mean - summary.std_dev);
+        curve.y_high.push_back(summary.mean + summary.std_dev);
+      }
     }
     curves.push_back(std::move(curve));
   }
   return curves;
 }
 
-std::string last_segment(const std::string& path) {
-  const auto dot = path.rfind('.');
-  return dot == std::string::npos ? path : path.substr(dot + 1);
+std::vector<double> all_values(const std::vector<CurvePoints>& points, bool x) {
+  std::vector<double> values;
+  for (const CurvePoints& curve : points) {
+    for (const auto& [at, ys] : curve.by_x) {
+      if (x) values.push_back(at);
+      else values.insert(values.end(), ys.begin(), ys.end());
+    }
+  }
+  return values;
 }
+
+std::string describe_error_bars(bool log_y) {
+  return log_y ? "geometric mean ×/÷ geometric std over seeds" : "mean ± std over seeds";
+}
+
+std::string last_segment(const std::string& path) { return last_segment_of(path); }
 
 std::vector<const JobResult*> choose_jobs(const ResultsStore& store, const SweepData& data,
                                           const std::vector<std::string>& keys, const std::vector<std::string>& series) {
@@ -150,23 +216,40 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   if (joints.empty()) throw AnalysisError("sweep '" + data.name + "' has no test_nmse metric (batch learning jobs)");
   Figure figure;
   figure.title = "Test nMSE and receptive fields against kernel width (sweep " + data.name + ")";
-  const std::string prefix = last_segment(request.adaptation_param) + "=";
+  const bool log_x = request.log_x.value_or(true);
+  const bool log_y = request.log_y.value_or(true);  // nMSE spans decades across kernel widths
+  std::string undefined;
   for (int joint : joints) {
     Panel panel;
     panel.title = "joint " + std::to_string(joint);
     panel.x_label = request.kernel_param + " (kernel width, 1/input²)";
-    panel.y_label = "test nMSE (dimensionless)";
-    panel.log_x = true;
-    panel.curves = make_grouped_curves(data, request.kernel_param, request.adaptation_param, MetricId{"test_nmse", joint}, prefix);
-    if (panel.curves.empty()) throw AnalysisError("sweep '" + data.name + "': no numeric " + request.kernel_param + " values");
+    panel.y_label = make_metric_axis_label(data.metric_info, "test_nmse");
+    panel.log_x = log_x;
+    panel.log_y = log_y;
+    panel.curves = make_error_bar_curves(collect_points(data, request.kernel_param, request.adaptation_param,
+                                                        MetricId{"test_nmse", joint}),
+                                         log_y, "test_nmse");
+    if (panel.curves.empty()) {
+      undefined += (undefined.empty() ? "" : ", ") + std::to_string(joint);  // nMSE undefined (NULL) in every job
+      continue;
+    }
     figure.panels.push_back(std::move(panel));
   }
+  if (figure.panels.empty()) {
+    throw AnalysisError("sweep '" + data.name + "': no done job has a defined test_nmse and a numeric " + request.kernel_param);
+  }
+  if (!undefined.empty()) figure.title += "\njoint " + undefined + " not shown: test nMSE undefined in every job (the torque hardly varies)";
   Panel fields;
   fields.title = "receptive fields";
   fields.x_label = request.kernel_param + " (kernel width, 1/input²)";
-  fields.y_label = "receptive fields (count)";
-  fields.log_x = true;
-  fields.curves = make_grouped_curves(data, request.kernel_param, request.adaptation_param, MetricId{"n_receptive_fields", std::nullopt}, prefix);
+  const auto field_points = collect_points(data, request.kernel_param, request.adaptation_param,
+                                           MetricId{"n_receptive_fields", std::nullopt});
+  const bool fields_log = request.log_y.value_or(spans_decades(all_values(field_points, false)));
+  fields.y_label = make_metric_axis_label(data.metric_info, "n_receptive_fields");
+  figure.title += "\nerror bars: nMSE " + describe_error_bars(log_y) + ", receptive fields " + describe_error_bars(fields_log);
+  fields.log_x = log_x;
+  fields.log_y = fields_log;
+  fields.curves = make_error_bar_curves(field_points, fields_log, "n_receptive_fields");
   if (!fields.curves.empty()) figure.panels.push_back(std::move(fields));
   return figure;
 }
@@ -179,21 +262,16 @@ Figure make_metric_vs_param(const SweepData& data, const PlotRequest& request) {
   Panel panel;
   panel.title = make_metric_label(metric);
   panel.x_label = request.param;
-  panel.y_label = make_metric_label(metric) + " (mean ± std over repeats)";
-  panel.curves = make_grouped_curves(data, request.param, request.group, metric, last_segment(request.group) + "=");
-  if (panel.curves.empty()) {
+  const auto points = collect_points(data, request.param, request.group, metric);
+  if (points.empty()) {
     throw AnalysisError("sweep '" + data.name + "': no done job has metric " + make_metric_label(metric) +
                         " and a numeric " + request.param);
   }
-  double min_x = INFINITY;
-  double max_x = 0.0;
-  for (const Curve& curve : panel.curves) {
-    for (double x : curve.x) {
-      min_x = std::min(min_x, x);
-      max_x = std::max(max_x, x);
-    }
-  }
-  panel.log_x = min_x > 0.0 && max_x / min_x >= 100.0;
+  panel.log_x = request.log_x.value_or(spans_decades(all_values(points, true)));
+  panel.log_y = request.log_y.value_or(spans_decades(all_values(points, false)));
+  panel.y_label = make_metric_axis_label(data.metric_info, metric.name) + (metric.joint ? ", joint " + std::to_string(*metric.joint) : "");
+  panel.title += " (error bars: " + describe_error_bars(panel.log_y) + ")";
+  panel.curves = make_error_bar_curves(points, panel.log_y, make_metric_label(metric));
   Figure figure;
   figure.title = make_metric_label(metric) + " against " + request.param + " (sweep " + data.name + ")";
   figure.panels.push_back(std::move(panel));
@@ -201,8 +279,19 @@ Figure make_metric_vs_param(const SweepData& data, const PlotRequest& request) {
 }
 
 Figure make_rf_growth(const ResultsStore& store, const SweepData& data, const PlotRequest& request) {
-  const auto jobs = choose_jobs(store, data, request.job_keys, {"RF"});
+  auto jobs = choose_jobs(store, data, request.job_keys, {"RF"});
   if (jobs.empty()) throw AnalysisError("sweep '" + data.name + "': no done job recorded the RF series");
+  if (request.job_keys.empty()) {
+    // By default only the jobs whose receptive fields grow while recorded (online learning; a
+    // batch model is trained before the recorded pass and stays flat).
+    std::vector<const JobResult*> growing;
+    for (const JobResult* job : jobs) {
+      const SeriesRecord series = require_series(store, *job, "RF");
+      const Eigen::Index last = series.rows.cols() - 1;
+      if (series.rows.rows() > 1 && series.rows(series.rows.rows() - 1, last) != series.rows(0, last)) growing.push_back(job);
+    }
+    if (!growing.empty()) jobs = growing;
+  }
   Panel panel;
   panel.title = "receptive fields during learning";
   for (const JobResult* job : jobs) {
@@ -219,24 +308,59 @@ Figure make_rf_growth(const ResultsStore& store, const SweepData& data, const Pl
   return figure;
 }
 
-Figure make_signals(const ResultsStore& store, const SweepData& data, const PlotRequest& request) {
+// Without --job: a composite job that uses a learner, where feedback and feed-forward both
+// mean something; else the first job with the series.
+std::vector<const JobResult*> choose_signal_jobs(const ResultsStore& store, const SweepData& data,
+                                                 const PlotRequest& request) {
   auto jobs = choose_jobs(store, data, request.job_keys, {"F", "FF"});
+  if (!request.job_keys.empty() || jobs.empty()) return jobs;
+  for (const JobResult* job : jobs) {
+    const nlohmann::json mode = find_param_value(*job, "control.mode");
+    const nlohmann::json learning = find_param_value(*job, "learning.mode");
+    if (mode == "composite" && learning.is_string() && learning != "none") return {job};
+  }
+  return {jobs.front()};
+}
+
+Figure make_signals(const ResultsStore& store, const SweepData& data, const PlotRequest& request) {
+  const auto jobs = choose_signal_jobs(store, data, request);
   if (jobs.empty()) throw AnalysisError("sweep '" + data.name + "': no done job recorded the F and FF series");
-  const JobResult& job = *jobs.front();
-  const SeriesRecord feedback = require_series(store, job, "F");
-  const SeriesRecord feedforward = require_series(store, job, "FF");
-  const auto composite = store.find_series(job.id, "TOR");
   Figure figure;
-  figure.title = "Feedback, feed-forward and composite torques: " + make_job_label(job);
-  for (Eigen::Index c = 1; c < feedback.rows.cols(); ++c) {
-    Panel panel;
-    panel.title = feedback.columns[static_cast<std::size_t>(c)];
-    panel.x_label = "time (s)";
-    panel.y_label = "torque (N·m)";
-    panel.curves.push_back(make_series_curve(feedback, 0, static_cast<int>(c), "feedback"));
-    if (c < feedforward.rows.cols()) panel.curves.push_back(make_series_curve(feedforward, 0, static_cast<int>(c), "feed-forward"));
-    if (composite && c < composite->rows.cols()) panel.curves.push_back(make_series_curve(*composite, 0, static_cast<int>(c), "composite"));
-    figure.panels.push_back(std::move(panel));
+  figure.title = jobs.size() == 1 ? "Feedback, feed-forward and composite torques: " + make_job_label(*jobs.front())
+                                  : "Feedback, feed-forward and composite torques (sweep " + data.name + ")";
+  for (const JobResult* job : jobs) {
+    const SeriesRecord feedback = require_series(store, *job, "F");
+    const SeriesRecord feedforward = require_series(store, *job, "FF");
+    const auto composite = store.find_series(job->id, "TOR");
+    std::string prefix;
+    if (jobs.size() > 1) {
+      // Name each job by the parameters that tell the chosen jobs apart.
+      for (const auto& item : job->params.items()) {
+        const bool differs = std::any_of(jobs.begin(), jobs.end(), [&](const JobResult* other) {
+          return find_param_value(*other, item.key()) != item.value();
+        });
+        if (differs) prefix += (prefix.empty() ? "" : ", ") + last_segment_of(item.key()) + "=" + format_param_value(item.value());
+      }
+      prefix = (prefix.empty() ? job->key.substr(0, 8) : prefix) + ": ";
+    }
+    for (Eigen::Index c = 1; c < feedback.rows.cols(); ++c) {
+      const std::size_t p = static_cast<std::size_t>(c - 1);
+      if (figure.panels.size() <= p) {
+        Panel panel;
+        panel.title = feedback.columns[static_cast<std::size_t>(c)];
+        panel.x_label = "time (s)";
+        panel.y_label = "torque (N·m)";
+        figure.panels.push_back(std::move(panel));
+      }
+      Panel& panel = figure.panels[p];
+      panel.curves.push_back(make_series_curve(feedback, 0, static_cast<int>(c), prefix + "feedback"));
+      if (c < feedforward.rows.cols()) {
+        panel.curves.push_back(make_series_curve(feedforward, 0, static_cast<int>(c), prefix + "feed-forward"));
+      }
+      if (composite && c < composite->rows.cols()) {
+        panel.curves.push_back(make_series_curve(*composite, 0, static_cast<int>(c), prefix + "composite"));
+      }
+    }
   }
   return figure;
 }
@@ -249,14 +373,24 @@ Figure make_tracking(const ResultsStore& store, const SweepData& data, const Plo
   panel.x_label = "y (m)";
   panel.y_label = "z (m)";
   panel.equal_axes = true;
-  const SeriesRecord desired = require_series(store, *jobs.front(), "POS_D");
-  panel.curves.push_back(make_series_curve(desired, find_column(desired, "y", 2), find_column(desired, "z", 3), "desired"));
   for (const JobResult* job : jobs) {
     const SeriesRecord actual = require_series(store, *job, "POS");
     const nlohmann::json mode = find_param_value(*job, "control.mode");
     std::string title = make_job_label(*job);
     if (mode.is_string() && title.find(mode.get<std::string>()) == std::string::npos) title = mode.get<std::string>() + ", " + title;
     panel.curves.push_back(make_series_curve(actual, find_column(actual, "y", 2), find_column(actual, "z", 3), title));
+  }
+  // The desired path on top (one per distinct desired path; jobs of one trajectory share it).
+  std::vector<std::vector<double>> seen;
+  for (const JobResult* job : jobs) {
+    const SeriesRecord desired = require_series(store, *job, "POS_D");
+    Curve curve = make_series_curve(desired, find_column(desired, "y", 2), find_column(desired, "z", 3), "desired");
+    std::vector<double> signature = curve.x;
+    signature.insert(signature.end(), curve.y.begin(), curve.y.end());
+    if (std::find(seen.begin(), seen.end(), signature) != seen.end()) continue;
+    seen.push_back(signature);
+    curve.emphasised = true;
+    panel.curves.push_back(std::move(curve));
   }
   Figure figure;
   figure.title = "Tracking (sweep " + data.name + ")";

@@ -31,9 +31,13 @@ struct PlotRequest {
   std::string group;                  ///< metric-vs-param: one curve per value (optional)
   std::string kernel_param = "learning.lwpr.init_D";
   std::string adaptation_param = "learning.lwpr.update_D";
+  std::optional<bool> log_x, log_y;   ///< force (true) or forbid (false) log axes; empty = automatic
 };
 
-/// Builds the figure a request asks for. Throws AnalysisError when the sweep lacks what the
+/// Builds the figure a request asks for. Axes are logarithmic where the values span decades
+/// (nMSE, log-spaced parameters) unless forced; error bars are mean ± std over the seeds on a
+/// linear axis and geometric mean ×/÷ geometric std on a log axis (never below zero); swept
+/// parameters that are not plotted split the curves instead of being pooled. Throws AnalysisError when the sweep lacks what the
 /// kind needs (saying what is missing).
 Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request);
 

@@ -40,19 +40,27 @@ std::string format_html_table(const Table& table) {
   for (const TableRow& row : table.rows) {
     out << "<tr>";
     for (const std::string& label : row.labels) out << "<td>" << escape_html(label) << "</td>";
-    for (const SummaryStatistics& cell : row.cells) {
-      std::string text = "-";
+    for (std::size_t c = 0; c < row.cells.size(); ++c) {
+      const SummaryStatistics& cell = row.cells[c];
+      std::string text = "–";
       if (cell.count > 0) {
         text = format_number(cell.mean);
         if (cell.count > 1) text += " ± " + format_number(cell.std_dev, 2) + " (n=" + std::to_string(cell.count) + ")";
       }
-      out << "<td class=\"num\">" << escape_html(text) << "</td>";
+      out << "<td class=\"num\">" << escape_html(text);
+      if (row.footnotes[c]) out << "<sup>" << row.footnotes[c] << "</sup>";
+      out << "</td>";
     }
     out << "<td>" << row.jobs_done;
     if (row.jobs_failed) out << " (" << row.jobs_failed << " failed)";
     out << "</td></tr>\n";
   }
   out << "</table>\n";
+  if (!table.footnotes.empty()) {
+    out << "<ol class=\"notes\">\n";
+    for (const std::string& note : table.footnotes) out << "<li>" << escape_html(note) << "</li>\n";
+    out << "</ol>\n";
+  }
   return out.str();
 }
 

@@ -3,20 +3,40 @@
 #include "analysis/analysis_error.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <tuple>
 
 namespace armfarm {
 
 bool MetricId::operator<(const MetricId& other) const {
   // Job-level metrics (no joint) sort before the joints of the same name.
-  return std::make_tuple(name, joint.has_value(), joint.value_or(0)) <
-         std::make_tuple(other.name, other.joint.has_value(), other.joint.value_or(0));
+  return std::make_tuple(name, joint.has_value(), joint.value_or(0), checkpoint.has_value(), checkpoint.value_or(0)) <
+         std::make_tuple(other.name, other.joint.has_value(), other.joint.value_or(0), other.checkpoint.has_value(),
+                         other.checkpoint.value_or(0));
 }
 
-bool MetricId::operator==(const MetricId& other) const { return name == other.name && joint == other.joint; }
+bool MetricId::operator==(const MetricId& other) const {
+  return name == other.name && joint == other.joint && checkpoint == other.checkpoint;
+}
 
 std::string make_metric_label(const MetricId& id) {
-  return id.joint ? id.name + " j" + std::to_string(*id.joint) : id.name;
+  std::string label = id.name;
+  if (id.joint) label += " j" + std::to_string(*id.joint);
+  if (id.checkpoint) label += " c" + std::to_string(*id.checkpoint);
+  return label;
+}
+
+MetricInfoTable load_metric_info(const ResultsStore& store) {
+  MetricInfoTable table;
+  for (MetricInfoRecord& record : store.find_metric_info()) table[record.name] = std::move(record);
+  return table;
+}
+
+std::string make_metric_axis_label(const MetricInfoTable& info, const std::string& name) {
+  auto found = info.find(name);
+  if (found == info.end() || found->second.unit.empty()) return name;
+  if (found->second.unit == "1") return name + " (dimensionless)";
+  return name + " (" + found->second.unit + ")";
 }
 
 namespace {
@@ -110,8 +130,11 @@ SweepData load_sweep_data(const ResultsStore& store, const std::string& sweep) {
   for (const MetricRecord& metric : store.find_sweep_metrics(sweep)) {
     auto it = index_by_id.find(metric.job_id);
     if (it == index_by_id.end()) continue;
-    data.jobs[it->second].metrics[MetricId{metric.name, metric.joint}] = metric.value;
+    const MetricId id{metric.name, metric.joint, metric.checkpoint};
+    data.jobs[it->second].metrics[id] = metric.value.value_or(std::nan(""));
+    if (!metric.reason.empty()) data.jobs[it->second].reasons[id] = metric.reason;
   }
+  data.metric_info = load_metric_info(store);
   data.varying_params = calc_varying_params(data.jobs);
   return data;
 }

@@ -13,15 +13,17 @@
 
 namespace armfarm {
 
-/// A metric's identity: its name and, for per-joint metrics, the 1-based joint number.
+/// A metric's identity: its name, for per-joint metrics the 1-based joint number, for
+/// held-out evaluations the checkpoint.
 struct MetricId {
   std::string name;
   std::optional<int> joint;
+  std::optional<std::int64_t> checkpoint;
   bool operator<(const MetricId& other) const;
   bool operator==(const MetricId& other) const;
 };
 
-/// "name" for a job-level metric, "name j2" for joint 2.
+/// "name" for a job-level metric, "name j2" for joint 2, "name j2 c3" at checkpoint 3.
 std::string make_metric_label(const MetricId& id);
 
 /// One job as the analysis sees it.
@@ -33,13 +35,25 @@ struct JobResult {
   std::int64_t seed = 0;
   nlohmann::json params;  ///< the sweep's varying parameters, {"dotted.path": value}
   nlohmann::json config;  ///< the full resolved configuration
-  std::map<MetricId, double> metrics;
+  std::map<MetricId, double> metrics;       ///< NaN where the stored value is NULL (undefined)
+  std::map<MetricId, std::string> reasons;  ///< the stored reason, where there is one
 };
+
+/// The database's `metric_info`, by name.
+using MetricInfoTable = std::map<std::string, MetricInfoRecord>;
+
+/// Reads `metric_info` of a store.
+MetricInfoTable load_metric_info(const ResultsStore& store);
+
+/// "tracking_nmse (1)" → the axis/heading label of a metric with its unit from the catalog:
+/// "name (unit)", "name (dimensionless)" for unit "1", just "name" when the catalog lacks it.
+std::string make_metric_axis_label(const MetricInfoTable& info, const std::string& name);
 
 struct SweepData {
   std::string name;
   std::vector<std::string> varying_params;  ///< dotted paths, in first-seen order
   std::vector<JobResult> jobs;              ///< in expansion order
+  MetricInfoTable metric_info;              ///< what the metric names mean
 };
 
 /// The value of a parameter of a job: from its varying params, else from its configuration

@@ -50,10 +50,77 @@ bool is_finished_badly(const std::string& status) {
 
 }  // namespace
 
+std::optional<std::string> find_nearest_name(const std::string& word, const std::vector<std::string>& candidates) {
+  auto distance = [](const std::string& x, const std::string& y) {
+    std::vector<std::size_t> previous(y.size() + 1), current(y.size() + 1);
+    for (std::size_t j = 0; j <= y.size(); ++j) previous[j] = j;
+    for (std::size_t i = 1; i <= x.size(); ++i) {
+      current[0] = i;
+      for (std::size_t j = 1; j <= y.size(); ++j) {
+        current[j] = std::min({previous[j] + 1, current[j - 1] + 1, previous[j - 1] + (x[i - 1] == y[j - 1] ? 0 : 1)});
+      }
+      std::swap(previous, current);
+    }
+    return previous[y.size()];
+  };
+  std::optional<std::string> best;
+  std::size_t best_distance = 0;
+  for (const std::string& candidate : candidates) {
+    // The last dotted component alone also counts ("gain_scale" for "control.gain_scale").
+    const std::string tail = candidate.substr(candidate.rfind('.') == std::string::npos ? 0 : candidate.rfind('.') + 1);
+    const std::size_t d = std::min(distance(word, candidate), distance(word, tail));
+    if (!best || d < best_distance) best = candidate, best_distance = d;
+  }
+  if (!best || best_distance > std::max<std::size_t>(2, word.size() / 3)) return std::nullopt;
+  return best;
+}
+
+namespace {
+
+// Every dotted path of a job's configuration, for did-you-mean suggestions.
+void collect_config_paths(const nlohmann::json& node, const std::string& prefix, std::vector<std::string>& paths) {
+  if (node.is_object()) {
+    for (const auto& item : node.items()) collect_config_paths(item.value(), prefix.empty() ? item.key() : prefix + "." + item.key(), paths);
+  } else if (!prefix.empty()) {
+    paths.push_back(prefix);
+  }
+}
+
+std::string make_suggestion(const std::string& word, const std::vector<std::string>& candidates) {
+  const auto nearest = find_nearest_name(word, candidates);
+  return nearest ? "; did you mean '" + *nearest + "'?" : "";
+}
+
+std::vector<std::string> list_param_candidates(const SweepData& data) {
+  std::vector<std::string> candidates = data.varying_params;
+  if (!data.jobs.empty()) collect_config_paths(data.jobs.front().config, "", candidates);
+  return candidates;
+}
+
+void check_param_known(const SweepData& data, const std::string& path, const std::string& option) {
+  const bool known = std::any_of(data.jobs.begin(), data.jobs.end(),
+                                 [&](const JobResult& job) { return !find_param_value(job, path).is_null(); });
+  if (!known) {
+    std::string varying;
+    for (const std::string& p : data.varying_params) varying += (varying.empty() ? "" : ", ") + p;
+    throw AnalysisError("sweep '" + data.name + "': " + option + ": no parameter '" + path + "'" +
+                        make_suggestion(path, list_param_candidates(data)) +
+                        (varying.empty() ? "" : " (varying: " + varying + ")"));
+  }
+}
+
+}  // namespace
+
 Table make_table(const SweepData& data, const TableSpec& spec) {
   Table table;
   table.title = spec.title;
   const bool joint_rows = std::find(spec.rows.begin(), spec.rows.end(), "joint") != spec.rows.end();
+
+  for (const auto& [path, wanted] : spec.where) check_param_known(data, path, "--where");
+  for (const std::string& row : spec.rows) {
+    if (row != "joint") check_param_known(data, row, "--rows");
+  }
+  table.row_headers = spec.rows;
 
   // Jobs kept by --where.
   std::vector<const JobResult*> jobs;
@@ -65,21 +132,15 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
     if (keep) jobs.push_back(&job);
   }
 
-  for (const std::string& row : spec.rows) {
-    if (row == "joint") continue;
-    const bool known = std::any_of(data.jobs.begin(), data.jobs.end(),
-                                   [&](const JobResult& job) { return !find_param_value(job, row).is_null(); });
-    if (!known) throw AnalysisError("sweep '" + data.name + "': no parameter '" + row + "'");
-  }
-  table.row_headers = spec.rows;
-
   // Which metric ids exist: decide per metric between job-level and per-joint columns.
-  std::set<int> joints_present;
   std::map<std::string, std::set<std::optional<int>>> ids_by_name;
   for (const JobResult* job : jobs) {
-    for (const auto& [id, value] : job->metrics) {
-      ids_by_name[id.name].insert(id.joint);
-      if (id.joint) joints_present.insert(*id.joint);
+    for (const auto& [id, value] : job->metrics) ids_by_name[id.name].insert(id.joint);
+  }
+  std::vector<std::string> all_names;
+  for (const JobResult& job : data.jobs) {
+    for (const auto& [id, value] : job.metrics) {
+      if (std::find(all_names.begin(), all_names.end(), id.name) == all_names.end()) all_names.push_back(id.name);
     }
   }
   auto joint_wanted = [&](int joint) {
@@ -88,21 +149,23 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
   for (const std::string& name : spec.metrics) {
     auto found = ids_by_name.find(name);
     if (found == ids_by_name.end()) {
-      const bool anywhere = std::any_of(data.jobs.begin(), data.jobs.end(), [&](const JobResult& job) {
-        return std::any_of(job.metrics.begin(), job.metrics.end(), [&](const auto& m) { return m.first.name == name; });
-      });
-      if (!anywhere) throw AnalysisError("sweep '" + data.name + "': no metric '" + name + "'");
+      if (std::find(all_names.begin(), all_names.end(), name) == all_names.end()) {
+        throw AnalysisError("sweep '" + data.name + "': --cols: no metric '" + name + "'" + make_suggestion(name, all_names));
+      }
       continue;  // present, but not in the jobs --where kept
     }
-    const bool per_joint = found->second.count(std::nullopt) == 0;
-    if (!per_joint) {
-      table.columns.push_back({name, MetricId{name, std::nullopt}, false});
+    const bool has_job_level = found->second.count(std::nullopt) > 0;
+    const bool has_joints = found->second.size() > (has_job_level ? 1u : 0u);
+    if (joint_rows && has_joints) {
+      table.columns.push_back({name, MetricId{name, std::nullopt}, true, false});
     } else if (joint_rows) {
-      table.columns.push_back({name, MetricId{name, std::nullopt}, true});
+      table.columns.push_back({name, MetricId{name, std::nullopt}, false, true});
+    } else if (has_job_level) {
+      table.columns.push_back({name, MetricId{name, std::nullopt}, false, false});
     } else {
       for (const std::optional<int>& joint : found->second) {
         if (joint && joint_wanted(*joint)) {
-          table.columns.push_back({name + " j" + std::to_string(*joint), MetricId{name, joint}, false});
+          table.columns.push_back({name + " j" + std::to_string(*joint), MetricId{name, joint}, false, false});
         }
       }
     }
@@ -125,6 +188,36 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
     }
   }
 
+  // A row aggregates repeats: its jobs may differ in their seed only.
+  for (std::size_t g = 0; g < group_jobs.size(); ++g) {
+    std::vector<std::string> differing;
+    for (const std::string& path : data.varying_params) {
+      if (path == "seed" || std::find(spec.rows.begin(), spec.rows.end(), path) != spec.rows.end()) continue;
+      const nlohmann::json first = find_param_value(*group_jobs[g].front(), path);
+      for (const JobResult* job : group_jobs[g]) {
+        if (find_param_value(*job, path) != first) {
+          differing.push_back(path);
+          break;
+        }
+      }
+    }
+    if (!differing.empty()) {
+      std::string names, row;
+      for (const std::string& path : differing) names += (names.empty() ? "" : ", ") + path;
+      for (const std::string& label : group_labels[g]) row += (row.empty() ? "" : ", ") + label;
+      throw AnalysisError("sweep '" + data.name + "': the row" + (row.empty() ? "" : " (" + row + ")") +
+                          " would pool jobs that differ in " + names +
+                          ", not only in their seed; add them to --rows or choose with --where");
+    }
+  }
+
+  auto add_footnote = [&](const std::string& text) {
+    auto it = std::find(table.footnotes.begin(), table.footnotes.end(), text);
+    if (it != table.footnotes.end()) return static_cast<int>(it - table.footnotes.begin()) + 1;
+    table.footnotes.push_back(text);
+    return static_cast<int>(table.footnotes.size());
+  };
+
   auto make_row = [&](const std::vector<std::string>& labels, const std::vector<const JobResult*>& members,
                       std::optional<int> joint) {
     TableRow row;
@@ -142,12 +235,41 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
       MetricId id = column.metric;
       if (column.joint_from_row) id.joint = joint;
       std::vector<double> values;
+      int present = 0, undefined = 0;
+      std::string undefined_reason, partial_note;
       for (const JobResult* job : members) {
-        if (job->status != "done") continue;
+        if (job->status != "done" || column.job_level_on_joint_rows) continue;
         auto found = job->metrics.find(id);
-        if (found != job->metrics.end() && std::isfinite(found->second)) values.push_back(found->second);
+        if (found == job->metrics.end()) continue;
+        ++present;
+        auto reason = job->reasons.find(id);
+        if (std::isfinite(found->second)) {
+          values.push_back(found->second);
+          // A job-level mean that left joints out says so: footnote it.
+          bool joint_undefined = false;
+          if (!id.joint) {
+            for (const auto& [other, value] : job->metrics) {
+              if (other.name == id.name && other.joint && !std::isfinite(value)) joint_undefined = true;
+            }
+          }
+          if (joint_undefined && reason != job->reasons.end() && partial_note.empty()) partial_note = reason->second;
+        } else {
+          ++undefined;
+          if (undefined_reason.empty()) undefined_reason = reason != job->reasons.end() ? reason->second : "undefined";
+        }
       }
       row.cells.push_back(calc_summary_statistics(std::move(values)));
+      const std::string where = column.metric.name + (id.joint ? ", joint " + std::to_string(*id.joint) : std::string());
+      int footnote = 0;
+      if (column.job_level_on_joint_rows) {
+        footnote = add_footnote(column.metric.name + ": a job-level metric, no per-joint value");
+      } else if (undefined > 0) {
+        footnote = add_footnote(where + ": undefined in " + std::to_string(undefined) + " of " + std::to_string(present) +
+                                " jobs: " + undefined_reason);
+      } else if (!partial_note.empty()) {
+        footnote = add_footnote(where + ": " + partial_note);
+      }
+      row.footnotes.push_back(footnote);
     }
     return row;
   };
@@ -192,13 +314,14 @@ std::vector<TableSpec> make_default_table_specs(const SweepData& data) {
     rows.push_back("joint");
     specs.push_back({"Feed-forward to feedback ratio per joint (thesis tables 6.1, 6.4-6.7)", rows, ff_fb, {}, {}});
   }
-  const auto tracking = present({"tracking_nmse_x", "tracking_nmse_y", "tracking_nmse_z", "tracking_nmse"});
+  const auto tracking = present({"tracking_nmse_x", "tracking_nmse_y", "tracking_nmse_z", "tracking_nmse",
+                                  "tracking_rmse_x", "tracking_rmse_y", "tracking_rmse_z", "tracking_rmse", "task_rmse"});
   if (!tracking.empty()) {
-    specs.push_back({"Tracking nMSE per task axis and joint (thesis tables 6.2-6.3)", swept, tracking, {}, {}});
+    specs.push_back({"Tracking nMSE and RMSE per task axis, mean over joints (thesis tables 6.2-6.3)", swept, tracking, {}, {}});
   }
-  const auto learned = present({"test_nmse", "id_nmse", "n_receptive_fields"});
+  const auto learned = present({"test_nmse", "test_rmse", "id_nmse", "id_rmse", "n_receptive_fields"});
   if (!learned.empty()) {
-    specs.push_back({"Learned model: nMSE and receptive fields (thesis figures 6.1-6.2)", swept, learned, {}, {}});
+    specs.push_back({"Learned model: nMSE, RMSE and receptive fields (thesis figures 6.1-6.2)", swept, learned, {}, {}});
   }
   if (specs.empty()) {
     std::vector<std::string> job_level;
@@ -216,15 +339,16 @@ std::vector<TableSpec> make_default_table_specs(const SweepData& data) {
 
 namespace {
 
-std::string format_cell(const SummaryStatistics& cell, Aggregate aggregate, bool latex) {
-  if (cell.count == 0) return "-";
+std::string format_cell(const SummaryStatistics& cell, Aggregate aggregate, bool latex, int footnote = 0) {
+  const std::string mark = footnote ? (latex ? "$^{" + std::to_string(footnote) + "}$" : " [" + std::to_string(footnote) + "]") : "";
+  if (cell.count == 0) return (latex ? std::string("--") : std::string("–")) + mark;
   std::string text = format_number(cell.value(aggregate));
   if (aggregate == Aggregate::mean && cell.count > 1) {
     text += latex ? " $\\pm$ " : " ± ";
     text += format_number(cell.std_dev, 2);
   }
   if (cell.count > 1) text += " (n=" + std::to_string(cell.count) + ")";
-  return text;
+  return text + mark;
 }
 
 std::string format_status(const TableRow& row) {
@@ -280,13 +404,18 @@ std::string format_table(const Table& table, TableFormat format, Aggregate aggre
       for (const TableRow& row : table.rows) {
         out << "|";
         for (const std::string& label : row.labels) out << " " << label << " |";
-        for (const SummaryStatistics& cell : row.cells) out << " " << format_cell(cell, aggregate, false) << " |";
+        for (std::size_t c = 0; c < row.cells.size(); ++c) {
+          out << " " << format_cell(row.cells[c], aggregate, false, row.footnotes[c]) << " |";
+        }
         out << " " << format_status(row) << " |\n";
       }
       out << "\n";
+      for (std::size_t f = 0; f < table.footnotes.size(); ++f) out << "[" << f + 1 << "] " << table.footnotes[f] << "  \n";
+      if (!table.footnotes.empty()) out << "\n";
       break;
     }
     case TableFormat::csv: {
+      // Undefined cells are empty; their reasons follow the table as comment lines.
       bool first = true;
       auto field = [&](const std::string& text) {
         out << (first ? "" : ",") << escape_csv(text);
@@ -315,6 +444,7 @@ std::string format_table(const Table& table, TableFormat format, Aggregate aggre
         field(std::to_string(row.jobs_unfinished));
         out << "\n";
       }
+      for (std::size_t f = 0; f < table.footnotes.size(); ++f) out << "# [" << f + 1 << "] " << table.footnotes[f] << "\n";
       break;
     }
     case TableFormat::latex: {
@@ -338,13 +468,17 @@ std::string format_table(const Table& table, TableFormat format, Aggregate aggre
           out << (first ? "" : " & ") << escape_latex(label);
           first = false;
         }
-        for (const SummaryStatistics& cell : row.cells) {
-          out << (first ? "" : " & ") << format_cell(cell, aggregate, true);
+        for (std::size_t c = 0; c < row.cells.size(); ++c) {
+          out << (first ? "" : " & ") << format_cell(row.cells[c], aggregate, true, row.footnotes[c]);
           first = false;
         }
         out << (first ? "" : " & ") << escape_latex(format_status(row)) << " \\\\\n";
       }
-      out << "\\hline\n\\end{tabular}\n\\caption{" << escape_latex(table.title) << "}\n\\end{table}\n";
+      out << "\\hline\n\\end{tabular}\n";
+      for (std::size_t f = 0; f < table.footnotes.size(); ++f) {
+        out << "\\par{\\footnotesize $^{" << f + 1 << "}$ " << escape_latex(table.footnotes[f]) << "}\n";
+      }
+      out << "\\caption{" << escape_latex(table.title) << "}\n\\end{table}\n";
       break;
     }
     case TableFormat::json: {
@@ -359,6 +493,7 @@ std::string format_table(const Table& table, TableFormat format, Aggregate aggre
         for (std::size_t c = 0; c < table.columns.size(); ++c) {
           const SummaryStatistics& cell = row.cells[c];
           nlohmann::json value = {{"n", cell.count}};
+          if (row.footnotes[c]) value["note"] = table.footnotes[static_cast<std::size_t>(row.footnotes[c] - 1)];
           if (cell.count > 0) {
             value["value"] = cell.value(aggregate);
             value["mean"] = cell.mean;
@@ -371,7 +506,8 @@ std::string format_table(const Table& table, TableFormat format, Aggregate aggre
         }
         rows.push_back(entry);
       }
-      nlohmann::json document = {{"title", table.title}, {"aggregate", to_string(aggregate)}, {"rows", rows}};
+      nlohmann::json document = {
+          {"title", table.title}, {"aggregate", to_string(aggregate)}, {"rows", rows}, {"footnotes", table.footnotes}};
       out << document.dump(2) << "\n";
       break;
     }

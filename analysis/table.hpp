@@ -1,7 +1,10 @@
 #pragma once
 // Experiment tables: swept parameters (and optionally the joint) as rows, metrics as columns,
-// repeats (seeds) aggregated to mean ± standard deviation with their count. Jobs that did not
-// finish (failed, diverged, timeout) are counted per row and never averaged in.
+// repeats (seeds) aggregated to mean ± standard deviation with their count. A row only pools
+// jobs that differ in nothing but their seed (anything else is refused, naming the
+// parameters). Jobs that did not finish (failed, diverged, timeout) are counted per row and
+// never averaged in. Undefined values (NULL in the store) are left out of a cell and footnoted
+// with their reason; a cell with no defined value prints "–".
 #include "analysis/summary_statistics.hpp"
 #include "analysis/sweep_data.hpp"
 
@@ -13,7 +16,9 @@
 namespace armfarm {
 
 /// What a table shows. The row parameter "joint" puts each joint on its own row (the thesis's
-/// per-joint tables); otherwise a per-joint metric gets one column per joint.
+/// per-joint tables) and per-joint metrics show that joint's value; otherwise a per-joint
+/// metric shows its job-level row (the mean over the joints) when it has one, else one column
+/// per joint.
 struct TableSpec {
   std::string title;
   std::vector<std::string> rows;     ///< dotted parameter paths, or "joint"
@@ -26,6 +31,7 @@ struct TableColumn {
   std::string header;
   MetricId metric;  ///< joint empty and `joint_from_row` true: the row's joint
   bool joint_from_row = false;
+  bool job_level_on_joint_rows = false;  ///< a job-level-only metric in a per-joint table: not shown per joint
 };
 
 struct TableRow {
@@ -34,7 +40,8 @@ struct TableRow {
   int jobs_done = 0;
   int jobs_failed = 0;    ///< failed, diverged or timeout
   int jobs_unfinished = 0;  ///< pending or running
-  std::vector<SummaryStatistics> cells;  ///< one per column, over the row's done jobs
+  std::vector<SummaryStatistics> cells;  ///< one per column, over the row's done jobs' defined values
+  std::vector<int> footnotes;            ///< one per column: 1-based index into Table::footnotes, 0 = none
 };
 
 struct Table {
@@ -42,13 +49,16 @@ struct Table {
   std::vector<std::string> row_headers;
   std::vector<TableColumn> columns;
   std::vector<TableRow> rows;
+  std::vector<std::string> footnotes;  ///< why cells are undefined or what their values leave out
 };
 
 enum class TableFormat { markdown, csv, latex, json };
 /// Parses "md", "csv", "latex", "json"; throws std::invalid_argument otherwise.
 TableFormat parse_table_format(const std::string& word);
 
-/// Builds a table. Throws AnalysisError when a metric or row parameter names nothing in the sweep.
+/// Builds a table. Throws AnalysisError when a metric, row or --where parameter names nothing
+/// in the sweep (with the nearest name), or when a row would pool jobs that differ in more than
+/// their seed.
 Table make_table(const SweepData& data, const TableSpec& spec);
 
 /// The thesis's default tables that the sweep has metrics for: ff/fb statistics per joint
@@ -58,6 +68,9 @@ std::vector<TableSpec> make_default_table_specs(const SweepData& data);
 
 /// Renders a table as text in `format`, with cells as the chosen aggregate (mean adds ± std).
 std::string format_table(const Table& table, TableFormat format, Aggregate aggregate);
+
+/// The candidate nearest to `word` by edit distance, if it is close enough to be a likely typo.
+std::optional<std::string> find_nearest_name(const std::string& word, const std::vector<std::string>& candidates);
 
 /// Formats a parameter value for a table cell: numbers with format_number, strings unquoted.
 std::string format_param_value(const nlohmann::json& value);

@@ -246,7 +246,8 @@ ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, Sw
     result.reason = "sweep " + *mapping.sweep + " absent";
     return result;
   }
-  int matching = 0, done = 0, failed = 0, unfinished = 0, joint_missing = 0;
+  int matching = 0, done = 0, failed = 0, unfinished = 0, joint_missing = 0, undefined = 0;
+  std::string undefined_reason;
   std::vector<double> values;
   for (const JobResult& job : sweep->second.jobs) {
     if (!job_matches(job, mapping)) continue;
@@ -264,11 +265,16 @@ ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, Sw
         continue;
       }
     }
-    // The store has no checkpoint dimension yet: a checkpointed cell finds no value until the
-    // held-out metrics carry one (issue 12), and says so.
-    if (mapping.checkpoint) continue;
+    if (mapping.checkpoint) id.checkpoint = static_cast<std::int64_t>(std::llround(*mapping.checkpoint));
     auto metric = job.metrics.find(id);
-    if (metric != job.metrics.end()) values.push_back(metric->second);
+    if (metric == job.metrics.end()) continue;
+    if (std::isfinite(metric->second)) {
+      values.push_back(metric->second);
+    } else {
+      ++undefined;  // stored NULL: the metric is undefined for this job (its reason is in the store)
+      auto reason = job.reasons.find(id);
+      if (reason != job.reasons.end() && undefined_reason.empty()) undefined_reason = reason->second;
+    }
   }
   const std::string filter = describe_where(mapping);
   if (matching == 0) {
@@ -277,6 +283,8 @@ ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, Sw
     result.reason = "0 done, " + std::to_string(failed) + " failed, " + std::to_string(unfinished) + " unfinished";
   } else if (values.empty() && joint_missing == done) {
     result.reason = "the jobs move fewer than " + std::to_string(*mapping.active_joint) + " joints";
+  } else if (values.empty() && undefined > 0) {
+    result.reason = "undefined in " + std::to_string(undefined) + " job(s)" + (undefined_reason.empty() ? "" : ": " + undefined_reason);
   } else if (values.empty() && mapping.checkpoint) {
     result.reason = "no checkpoint " + format_number(*mapping.checkpoint) + " of " + *mapping.metric + " in the database";
   } else if (values.empty()) {

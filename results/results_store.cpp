@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <set>
 #include <sstream>
+#include <unistd.h>
 
 namespace armfarm {
 namespace {
@@ -97,6 +98,40 @@ CREATE VIEW sweep_job_status AS
          j.seed AS seed, sj.params AS params, j.wall_seconds AS wall_seconds, j.end_time AS end_time
     FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id JOIN jobs j ON j.id = sj.job_id;
 )sql",
+      // 2: metrics gain checkpoint and reason, values must be REAL or NULL; metric_info explains names.
+      R"sql(
+DROP VIEW job_metrics;
+CREATE TABLE metrics_v2 (
+  job_id INTEGER NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
+  name TEXT NOT NULL,
+  joint INTEGER,
+  checkpoint INTEGER,
+  value REAL CHECK (typeof(value) IN ('real', 'null')),
+  reason TEXT
+);
+INSERT INTO metrics_v2 (job_id, name, joint, checkpoint, value, reason)
+  SELECT job_id, name, joint, NULL, CAST(value AS REAL),
+         CASE WHEN value IS NULL THEN 'undefined (schema version 1 kept no reason)' END
+    FROM metrics;
+DROP TABLE metrics;
+ALTER TABLE metrics_v2 RENAME TO metrics;
+CREATE UNIQUE INDEX metrics_by_job ON metrics(job_id, name, IFNULL(joint, 0), IFNULL(checkpoint, -1));
+CREATE INDEX metrics_by_name ON metrics(name, joint);
+CREATE TABLE metric_info (
+  name TEXT PRIMARY KEY,
+  unit TEXT NOT NULL,
+  meaning TEXT NOT NULL,
+  direction TEXT NOT NULL CHECK (direction IN ('lower', 'higher', 'none')),
+  scope TEXT NOT NULL CHECK (scope IN ('job', 'joint', 'task_axis', 'segment', 'checkpoint')),
+  kind TEXT NOT NULL CHECK (kind IN ('result', 'timing', 'diagnostic'))
+);
+CREATE VIEW job_metrics AS
+  SELECT s.name AS sweep, j.id AS job_id, j.key AS key, j.status AS status, j.seed AS seed,
+         sj.params AS params, m.name AS name, m.joint AS joint, m.checkpoint AS checkpoint, m.value AS value,
+         m.reason AS reason, i.unit AS unit, i.direction AS direction, i.kind AS kind
+    FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id JOIN jobs j ON j.id = sj.job_id
+    JOIN metrics m ON m.job_id = j.id LEFT JOIN metric_info i ON i.name = m.name;
+)sql",
   };
   return scripts;
 }
@@ -127,6 +162,35 @@ nlohmann::json parse_stored_json(const std::string& text, const std::string& whe
   }
 }
 
+std::vector<std::string> find_sweep_names(SqliteConnection& db) {
+  SqliteStatement statement = db.prepare("SELECT name FROM sweeps ORDER BY id");
+  std::vector<std::string> names;
+  while (statement.step()) names.push_back(statement.column_text(0));
+  return names;
+}
+
+void write_sweep_view(SqliteConnection& db, const std::string& sweep);
+
+// Applies the migrations after `version` in one transaction. The generated per-sweep views are
+// dropped first (they name columns of the old tables) and written anew afterwards.
+void migrate(SqliteConnection& db, std::int64_t version) {
+  SqliteTransaction transaction(db);
+  if (version >= 1) {
+    std::vector<std::string> views;
+    SqliteStatement statement = db.prepare(
+        "SELECT name FROM sqlite_master WHERE type = 'view' AND name NOT IN ('job_metrics', 'sweep_job_status')");
+    while (statement.step()) views.push_back(statement.column_text(0));
+    for (const std::string& view : views) db.execute("DROP VIEW " + quote_identifier(view));
+  }
+  for (std::int64_t k = version; k < kResultsSchemaVersion; ++k) db.execute(migrations()[static_cast<std::size_t>(k)]);
+  db.execute("PRAGMA application_id = " + std::to_string(kApplicationId));
+  db.execute("PRAGMA user_version = " + std::to_string(kResultsSchemaVersion));
+  if (version >= 1) {
+    for (const std::string& sweep : find_sweep_names(db)) write_sweep_view(db, sweep);
+  }
+  transaction.commit();
+}
+
 // Opens the file and checks it is an armfarm database this build can read; migrates when writable.
 std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsStore::Mode mode) {
   const bool read_only = mode == ResultsStore::Mode::read_only;
@@ -154,27 +218,19 @@ std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsS
   if (read_only) {
     if (fresh) throw StoreError(path + ": empty file, not an armfarm results database");
     if (version < kResultsSchemaVersion) {
-      throw StoreError(path + ": schema version " + std::to_string(version) +
-                       " is older than this build's; open it once for writing (armfarm run/merge) to migrate");
+      // An older file is read through a migrated in-memory copy; the file stays as it is.
+      db.reset();
+      db = SqliteConnection::make_memory_copy(path);
+      migrate(*db, version);
     }
     db->execute("PRAGMA foreign_keys = ON");
     return db;
   }
 
-  try {
-    db->execute("PRAGMA journal_mode = WAL");
-    db->execute("PRAGMA synchronous = NORMAL");
-    db->execute("PRAGMA foreign_keys = ON");
-    if (version < kResultsSchemaVersion) {
-      SqliteTransaction transaction(*db);
-      for (std::int64_t k = version; k < kResultsSchemaVersion; ++k) db->execute(migrations()[k]);
-      db->execute("PRAGMA application_id = " + std::to_string(kApplicationId));
-      db->execute("PRAGMA user_version = " + std::to_string(kResultsSchemaVersion));
-      transaction.commit();
-    }
-  } catch (const StoreError& e) {
-    throw StoreError(std::string(e.what()));
-  }
+  db->execute("PRAGMA journal_mode = WAL");
+  db->execute("PRAGMA synchronous = NORMAL");
+  db->execute("PRAGMA foreign_keys = ON");
+  if (version < kResultsSchemaVersion) migrate(*db, version);
   return db;
 }
 
@@ -230,23 +286,43 @@ std::vector<MetricRecord> read_metrics(SqliteStatement& statement) {
     metric.job_id = statement.column_int(0);
     metric.name = statement.column_text(1);
     if (!statement.is_null(2)) metric.joint = static_cast<int>(statement.column_int(2));
-    metric.value = statement.is_null(3) ? std::nan("") : statement.column_double(3);
+    if (!statement.is_null(3)) metric.checkpoint = statement.column_int(3);
+    metric.value = statement.column_optional_double(4);
+    metric.reason = statement.column_optional_text(5).value_or("");
     metrics.push_back(std::move(metric));
   }
   return metrics;
 }
 
+void upsert_metric_info_rows(SqliteConnection& db, const std::vector<MetricInfoRecord>& records) {
+  SqliteStatement statement = db.prepare(
+      "INSERT INTO metric_info (name, unit, meaning, direction, scope, kind) VALUES (?1, ?2, ?3, ?4, ?5, ?6) "
+      "ON CONFLICT(name) DO UPDATE SET unit = ?2, meaning = ?3, direction = ?4, scope = ?5, kind = ?6");
+  for (const MetricInfoRecord& r : records) {
+    statement.bind(1, r.name).bind(2, r.unit).bind(3, r.meaning).bind(4, r.direction).bind(5, r.scope).bind(6, r.kind);
+    statement.execute();
+  }
+}
+
 void insert_metrics_and_series(SqliteConnection& db, std::int64_t job_id, const JobResultRecord& result) {
   db.prepare("DELETE FROM metrics WHERE job_id = ?").bind(1, job_id).execute();
   db.prepare("DELETE FROM series WHERE job_id = ?").bind(1, job_id).execute();
-  SqliteStatement metric = db.prepare("INSERT INTO metrics (job_id, name, joint, value) VALUES (?, ?, ?, ?)");
+  SqliteStatement metric =
+      db.prepare("INSERT INTO metrics (job_id, name, joint, checkpoint, value, reason) VALUES (?, ?, ?, ?, ?, ?)");
   for (const MetricRecord& m : result.metrics) {
-    metric.bind(1, job_id).bind(2, m.name).bind(3, m.joint ? std::optional<std::int64_t>(*m.joint) : std::nullopt);
-    if (std::isfinite(m.value)) {
-      metric.bind(4, m.value);
+    metric.bind(1, job_id)
+        .bind(2, m.name)
+        .bind(3, m.joint ? std::optional<std::int64_t>(*m.joint) : std::nullopt)
+        .bind(4, m.checkpoint);
+    std::string reason = m.reason;
+    if (m.value && std::isfinite(*m.value)) {
+      metric.bind(5, *m.value);
     } else {
-      metric.bind_null(4);  // SQLite has no NaN; infinities would not survive JSON exports either
+      // SQLite has no NaN; infinities would not survive JSON exports either.
+      metric.bind_null(5);
+      if (reason.empty()) reason = m.value ? "not finite" : "undefined";
     }
+    metric.bind(6, reason.empty() ? std::optional<std::string>() : std::optional<std::string>(reason));
     metric.execute();
   }
   SqliteStatement series = db.prepare(
@@ -271,9 +347,18 @@ void insert_metrics_and_series(SqliteConnection& db, std::int64_t job_id, const 
 
 std::string make_sweep_view_name(const std::string& sweep) {
   std::string name = "sweep_";
+  bool replaced = false;
   for (char c : sweep) {
     const bool keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
     name += keep ? c : '_';
+    replaced = replaced || !keep;
+  }
+  if (replaced) {
+    std::uint64_t hash = 14695981039346656037ull;  // FNV-1a, 64 bit
+    for (unsigned char c : sweep) hash = (hash ^ c) * 1099511628211ull;
+    char suffix[16];
+    std::snprintf(suffix, sizeof suffix, "_%06llx", static_cast<unsigned long long>(hash & 0xFFFFFFull));
+    name += suffix;
   }
   return name;
 }
@@ -360,15 +445,17 @@ std::vector<std::string> ResultsStore::find_job_keys(const std::string& prefix) 
 
 std::vector<MetricRecord> ResultsStore::find_metrics(std::int64_t job_id) const {
   SqliteStatement statement =
-      db_->prepare("SELECT job_id, name, joint, value FROM metrics WHERE job_id = ? ORDER BY name, joint");
+      db_->prepare("SELECT job_id, name, joint, checkpoint, value, reason FROM metrics WHERE job_id = ? "
+                   "ORDER BY name, joint, checkpoint");
   statement.bind(1, job_id);
   return read_metrics(statement);
 }
 
 std::vector<MetricRecord> ResultsStore::find_sweep_metrics(const std::string& sweep) const {
   SqliteStatement statement = db_->prepare(
-      "SELECT m.job_id, m.name, m.joint, m.value FROM metrics m JOIN sweep_jobs sj ON sj.job_id = m.job_id "
-      "JOIN sweeps s ON s.id = sj.sweep_id WHERE s.name = ? ORDER BY sj.position, m.job_id, m.name, m.joint");
+      "SELECT m.job_id, m.name, m.joint, m.checkpoint, m.value, m.reason FROM metrics m "
+      "JOIN sweep_jobs sj ON sj.job_id = m.job_id JOIN sweeps s ON s.id = sj.sweep_id WHERE s.name = ? "
+      "ORDER BY sj.position, m.job_id, m.name, m.joint, m.checkpoint");
   statement.bind(1, sweep);
   return read_metrics(statement);
 }
@@ -443,6 +530,7 @@ RegisteredRun ResultsStore::insert_sweep_run(const SweepRegistration& sweep, con
     run.sweep_id = id.column_int(0);
   }
   if (!sweep.shard) db_->prepare("DELETE FROM sweep_jobs WHERE sweep_id = ?").bind(1, run.sweep_id).execute();
+  upsert_metric_info_rows(*db_, sweep.metric_info);
 
   SqliteStatement insert_job = db_->prepare(
       "INSERT INTO jobs (key, sweep, params, config, status, seed) VALUES (?, ?, ?, ?, 'pending', ?) "
@@ -542,26 +630,33 @@ void ResultsStore::update_run_finished(std::int64_t run_id, const std::string& s
   update_sweep_view(sweep_name);
 }
 
-void ResultsStore::update_sweep_view(const std::string& sweep) {
+namespace {
+
+void write_sweep_view(SqliteConnection& db, const std::string& sweep) {
   // Columns: the sweep's varying parameters, then its metrics (name, or name_j<joint>).
   std::set<std::string> param_names;
   {
-    SqliteStatement statement = db_->prepare(
+    SqliteStatement statement = db.prepare(
         "SELECT DISTINCT e.key FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id, json_each(sj.params) e "
         "WHERE s.name = ? ORDER BY e.key");
     statement.bind(1, sweep);
     while (statement.step()) param_names.insert(statement.column_text(0));
   }
-  std::vector<std::pair<std::string, std::optional<int>>> metric_columns;
+  struct MetricColumn {
+    std::string name;
+    std::optional<std::int64_t> joint, checkpoint;
+  };
+  std::vector<MetricColumn> metric_columns;
   {
-    SqliteStatement statement = db_->prepare(
-        "SELECT DISTINCT m.name, m.joint FROM metrics m JOIN sweep_jobs sj ON sj.job_id = m.job_id "
-        "JOIN sweeps s ON s.id = sj.sweep_id WHERE s.name = ? ORDER BY m.name, m.joint");
+    SqliteStatement statement = db.prepare(
+        "SELECT DISTINCT m.name, m.joint, m.checkpoint FROM metrics m JOIN sweep_jobs sj ON sj.job_id = m.job_id "
+        "JOIN sweeps s ON s.id = sj.sweep_id WHERE s.name = ? ORDER BY m.name, m.joint, m.checkpoint");
     statement.bind(1, sweep);
     while (statement.step()) {
-      metric_columns.emplace_back(statement.column_text(0),
-                                  statement.is_null(1) ? std::nullopt
-                                                       : std::optional<int>(static_cast<int>(statement.column_int(1))));
+      MetricColumn column{statement.column_text(0), std::nullopt, std::nullopt};
+      if (!statement.is_null(1)) column.joint = statement.column_int(1);
+      if (!statement.is_null(2)) column.checkpoint = statement.column_int(2);
+      metric_columns.push_back(std::move(column));
     }
   }
   std::set<std::string> used = {"job_id", "key", "status", "seed", "message"};
@@ -573,28 +668,79 @@ void ResultsStore::update_sweep_view(const std::string& sweep) {
     if (param.find('"') != std::string::npos || !used.insert(param).second) continue;
     sql << ", json_extract(sj.params, " << quote_literal("$.\"" + param + "\"") << ") AS " << quote_identifier(param);
   }
-  for (const auto& [name, joint] : metric_columns) {
-    const std::string column = joint ? name + "_j" + std::to_string(*joint) : name;
+  for (const MetricColumn& metric : metric_columns) {
+    std::string column = metric.name;
+    if (metric.joint) column += "_j" + std::to_string(*metric.joint);
+    if (metric.checkpoint) column += "_c" + std::to_string(*metric.checkpoint);
     if (!used.insert(column).second) continue;
-    sql << ", (SELECT m.value FROM metrics m WHERE m.job_id = j.id AND m.name = " << quote_literal(name)
-        << " AND m.joint " << (joint ? "= " + std::to_string(*joint) : std::string("IS NULL")) << ") AS "
+    const auto match = [](const std::optional<std::int64_t>& value) {
+      return value ? "= " + std::to_string(*value) : std::string("IS NULL");
+    };
+    sql << ", (SELECT m.value FROM metrics m WHERE m.job_id = j.id AND m.name = " << quote_literal(metric.name)
+        << " AND m.joint " << match(metric.joint) << " AND m.checkpoint " << match(metric.checkpoint) << ") AS "
         << quote_identifier(column);
   }
   sql << " FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id JOIN jobs j ON j.id = sj.job_id WHERE s.name = "
       << quote_literal(sweep) << " ORDER BY sj.position";
+  db.execute("DROP VIEW IF EXISTS " + quote_identifier(view));
+  db.execute(sql.str());
+}
+
+}  // namespace
+
+void ResultsStore::update_sweep_view(const std::string& sweep) {
   SqliteTransaction transaction(*db_);
-  db_->execute("DROP VIEW IF EXISTS " + quote_identifier(view));
-  db_->execute(sql.str());
+  write_sweep_view(*db_, sweep);
+  transaction.commit();
+}
+
+std::vector<MetricInfoRecord> ResultsStore::find_metric_info() const {
+  SqliteStatement statement =
+      db_->prepare("SELECT name, unit, meaning, direction, scope, kind FROM metric_info ORDER BY name");
+  std::vector<MetricInfoRecord> records;
+  while (statement.step()) {
+    records.push_back({statement.column_text(0), statement.column_text(1), statement.column_text(2),
+                       statement.column_text(3), statement.column_text(4), statement.column_text(5)});
+  }
+  return records;
+}
+
+void ResultsStore::upsert_metric_info(const std::vector<MetricInfoRecord>& records) {
+  SqliteTransaction transaction(*db_);
+  upsert_metric_info_rows(*db_, records);
   transaction.commit();
 }
 
 MergeReport ResultsStore::merge_from(const std::string& other_path) {
+  // Checks the other file is an armfarm database this build reads before touching anything;
+  // an older schema is merged from a migrated temporary copy (the file itself is only read).
+  std::int64_t other_version = 0;
   {
-    // Checks the other file is an armfarm database of this schema version before touching anything.
     ResultsStore other = ResultsStore::open(other_path, Mode::read_only);
+    other_version = SqliteConnection(other_path, true).query_int("PRAGMA user_version");
+  }
+  struct TemporaryCopy {
+    std::string path;
+    ~TemporaryCopy() {
+      if (path.empty()) return;
+      std::error_code ignored;
+      for (const char* suffix : {"", "-wal", "-shm"}) std::filesystem::remove(path + suffix, ignored);
+    }
+  } copy;
+  std::string attached_path = other_path;
+  if (other_version < kResultsSchemaVersion) {
+    std::string pattern = (std::filesystem::temp_directory_path() / "armfarm-merge-XXXXXX").string();
+    const int fd = mkstemp(pattern.data());
+    if (fd < 0) throw StoreError(other_path + ": cannot create a temporary copy to migrate");
+    close(fd);
+    std::filesystem::remove(pattern);
+    copy.path = pattern;
+    SqliteConnection(other_path, true).copy_to_file(copy.path);
+    { ResultsStore migrated = ResultsStore::open(copy.path, Mode::read_write); }
+    attached_path = copy.path;
   }
   MergeReport report;
-  db_->prepare("ATTACH DATABASE ? AS src").bind(1, other_path).execute();
+  db_->prepare("ATTACH DATABASE ? AS src").bind(1, attached_path).execute();
   struct Detach {
     SqliteConnection& db;
     ~Detach() {
@@ -642,12 +788,27 @@ MergeReport ResultsStore::merge_from(const std::string& other_path) {
           .execute();
     }
 
+    // What the metrics mean: the other file's entries for names this file does not know.
+    db_->execute("INSERT INTO main.metric_info SELECT * FROM src.metric_info WHERE true ON CONFLICT(name) DO NOTHING");
+    // Timing and diagnostic metrics vary from run to run: never a conflict.
+    std::set<std::string> not_results;
+    {
+      SqliteStatement statement = db_->prepare(
+          "SELECT name FROM main.metric_info WHERE kind != 'result' UNION SELECT name FROM src.metric_info "
+          "WHERE kind != 'result'");
+      while (statement.step()) not_results.insert(statement.column_text(0));
+    }
+
     // Jobs: compare by key.
     auto metrics_of = [&](const std::string& schema, std::int64_t job_id) {
-      SqliteStatement statement = db_->prepare("SELECT job_id, name, joint, value FROM " + schema +
-                                               ".metrics WHERE job_id = ? ORDER BY name, joint");
+      SqliteStatement statement = db_->prepare("SELECT job_id, name, joint, checkpoint, value, reason FROM " + schema +
+                                               ".metrics WHERE job_id = ? ORDER BY name, joint, checkpoint");
       statement.bind(1, job_id);
-      return read_metrics(statement);
+      std::vector<MetricRecord> results;
+      for (MetricRecord& metric : read_metrics(statement)) {
+        if (!not_results.count(metric.name)) results.push_back(std::move(metric));
+      }
+      return results;
     };
     auto series_of = [&](const std::string& schema, std::int64_t job_id) {
       SqliteStatement statement = db_->prepare("SELECT name, columns, rows, dtype, layout, data FROM " + schema +
@@ -669,8 +830,8 @@ MergeReport ResultsStore::merge_from(const std::string& other_path) {
     auto copy_results = [&](std::int64_t src_id, std::int64_t main_id) {
       db_->prepare("DELETE FROM main.metrics WHERE job_id = ?").bind(1, main_id).execute();
       db_->prepare("DELETE FROM main.series WHERE job_id = ?").bind(1, main_id).execute();
-      db_->prepare("INSERT INTO main.metrics (job_id, name, joint, value) SELECT ?, name, joint, value "
-                   "FROM src.metrics WHERE job_id = ?")
+      db_->prepare("INSERT INTO main.metrics (job_id, name, joint, checkpoint, value, reason) "
+                   "SELECT ?, name, joint, checkpoint, value, reason FROM src.metrics WHERE job_id = ?")
           .bind(1, main_id)
           .bind(2, src_id)
           .execute();
@@ -722,8 +883,8 @@ MergeReport ResultsStore::merge_from(const std::string& other_path) {
       bool same = main_status == src_status && main_metrics.size() == src_metrics.size();
       for (std::size_t i = 0; same && i < main_metrics.size(); ++i) {
         const MetricRecord &a = main_metrics[i], &b = src_metrics[i];
-        same = a.name == b.name && a.joint == b.joint &&
-               (a.value == b.value || (std::isnan(a.value) && std::isnan(b.value)));
+        same = a.name == b.name && a.joint == b.joint && a.checkpoint == b.checkpoint && a.value == b.value &&
+               a.reason == b.reason;
       }
       if (same) same = series_of("main", main_id) == series_of("src", src_id);
       if (same) {

@@ -23,7 +23,7 @@ namespace armfarm {
 class SqliteConnection;
 
 /// The schema version this build writes and reads (PRAGMA user_version).
-inline constexpr int kResultsSchemaVersion = 1;
+inline constexpr int kResultsSchemaVersion = 2;
 
 /// Where a sweep's results came from: the armfarm build and the machine.
 struct Provenance {
@@ -64,12 +64,25 @@ struct JobRecord {
   int attempts = 0;
 };
 
-/// One row of `metrics`. `job_id` is ignored when writing.
+/// One row of `metrics`. `job_id` is ignored when writing. A non-finite value is stored as NULL.
 struct MetricRecord {
   std::int64_t job_id = 0;
   std::string name;
-  std::optional<int> joint;  ///< 1-based joint number; empty for a job-level metric
-  double value = 0.0;
+  std::optional<int> joint;                ///< 1-based joint number; empty for a job-level metric
+  std::optional<double> value;             ///< empty = undefined (NULL), see `reason`
+  std::string reason;                      ///< why undefined, or a note on the value; empty = NULL
+  std::optional<std::int64_t> checkpoint;  ///< held-out evaluation checkpoint; empty otherwise (last, so
+                                           ///< that {job_id, name, joint, value} still means what it says)
+};
+
+/// One row of `metric_info`: what a metric name means (the runner writes its catalog).
+struct MetricInfoRecord {
+  std::string name;
+  std::string unit;       ///< "1" dimensionless, "count", or an SI symbol
+  std::string meaning;    ///< one line
+  std::string direction;  ///< lower, higher, none
+  std::string scope;      ///< job, joint, task_axis, segment, checkpoint
+  std::string kind;       ///< result, timing, diagnostic
 };
 
 /// One row of `series`, decoded. `job_id` is ignored when writing.
@@ -97,6 +110,7 @@ struct SweepRegistration {
   std::string started_at;
   std::optional<std::string> shard;  ///< "I/N" when the run is one shard of the sweep
   Provenance provenance;
+  std::vector<MetricInfoRecord> metric_info;  ///< upserted into `metric_info`
 };
 
 /// What the store knows of a freshly registered sweep run.
@@ -127,7 +141,8 @@ struct JobBatch {
 };
 
 /// What `merge_from` did. A conflict is a job key present in both files with a different
-/// status, metrics or series (timings and provenance are not compared).
+/// status, result metrics or series (metrics whose metric_info kind is timing or diagnostic,
+/// wall-clock times and provenance are not compared).
 struct MergeReport {
   int jobs_added = 0;
   int jobs_identical = 0;
@@ -166,6 +181,8 @@ class ResultsStore {
   std::vector<MetricRecord> find_sweep_metrics(const std::string& sweep) const;
   std::vector<std::string> find_series_names(std::int64_t job_id) const;
   std::optional<SeriesRecord> find_series(std::int64_t job_id, const std::string& name) const;
+  /// The `metric_info` rows, by name.
+  std::vector<MetricInfoRecord> find_metric_info() const;
   /// Number of the sweep's jobs per status ("done" → 12, …).
   std::map<std::string, int> count_jobs_by_status(const std::string& sweep) const;
 
@@ -187,6 +204,8 @@ class ResultsStore {
   MergeReport merge_from(const std::string& other_path);
   /// Recreates the `sweep_<name>` view of one sweep (columns: its params and metrics).
   void update_sweep_view(const std::string& sweep);
+  /// Inserts or replaces `metric_info` rows.
+  void upsert_metric_info(const std::vector<MetricInfoRecord>& records);
 
  private:
   ResultsStore(std::string path, std::unique_ptr<SqliteConnection> connection);
@@ -194,7 +213,9 @@ class ResultsStore {
   std::unique_ptr<SqliteConnection> db_;
 };
 
-/// The `sweep_<name>` view name of a sweep: "sweep_" + name with [^A-Za-z0-9_] replaced by '_'.
+/// The `sweep_<name>` view name of a sweep (also its report page's name): "sweep_" + name with
+/// [^A-Za-z0-9_] replaced by '_', plus "_" and 6 hex digits of a hash of the name whenever a
+/// character was replaced, so that "a-b" and "a_b" get different names whatever else the file holds.
 std::string make_sweep_view_name(const std::string& sweep);
 
 /// Current UTC time as ISO-8601 text with milliseconds ("2024-05-01T12:34:56.789Z").

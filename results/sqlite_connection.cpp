@@ -20,6 +20,39 @@ SqliteConnection::SqliteConnection(const std::string& path, bool read_only) : pa
   sqlite3_busy_timeout(db_, 10000);
 }
 
+SqliteConnection::SqliteConnection(const std::string& path, const std::string& uri) : path_(path) {
+  const int rc = sqlite3_open_v2(uri.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX, nullptr);
+  if (rc != SQLITE_OK) {
+    const std::string message = db_ != nullptr ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw StoreError(path + ": cannot open a copy of the database: " + message);
+  }
+  sqlite3_extended_result_codes(db_, 1);
+}
+
+namespace {
+void copy_database(sqlite3* from, sqlite3* to, const std::string& path) {
+  sqlite3_backup* backup = sqlite3_backup_init(to, "main", from, "main");
+  if (backup == nullptr) throw StoreError(path + ": cannot copy the database: " + sqlite3_errmsg(to));
+  const int rc = sqlite3_backup_step(backup, -1);
+  sqlite3_backup_finish(backup);
+  if (rc != SQLITE_DONE) throw StoreError(path + ": cannot copy the database: " + sqlite3_errstr(rc));
+}
+}  // namespace
+
+void SqliteConnection::copy_to_file(const std::string& target) {
+  SqliteConnection copy(target, target);
+  copy_database(db_, copy.db_, path_);
+}
+
+std::unique_ptr<SqliteConnection> SqliteConnection::make_memory_copy(const std::string& path) {
+  SqliteConnection source(path, true);
+  auto copy = std::make_unique<SqliteConnection>(path, std::string(":memory:"));
+  copy_database(source.db_, copy->db_, path);
+  return copy;
+}
+
 SqliteConnection::~SqliteConnection() { sqlite3_close_v2(db_); }
 
 void SqliteConnection::fail(const std::string& what) const {

@@ -5,6 +5,7 @@
 #include "results/store_error.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -61,6 +62,8 @@ class SqliteConnection {
  public:
   /// Opens `path` (read_only: must exist; otherwise created if absent).
   SqliteConnection(const std::string& path, bool read_only);
+  /// Opens `uri` (e.g. ":memory:") under the name `path` used in messages.
+  SqliteConnection(const std::string& path, const std::string& uri);
   SqliteConnection(const SqliteConnection&) = delete;
   SqliteConnection& operator=(const SqliteConnection&) = delete;
   ~SqliteConnection();
@@ -75,6 +78,11 @@ class SqliteConnection {
 
   const std::string& path() const { return path_; }
   sqlite3* handle() { return db_; }
+  /// Copies the whole database into a new file `target` (SQLite's online backup).
+  void copy_to_file(const std::string& target);
+  /// A writable in-memory copy of the database file at `path` (which is only read); its
+  /// path() is `path`, for messages.
+  static std::unique_ptr<SqliteConnection> make_memory_copy(const std::string& path);
   /// A StoreError "<path>: <what>: <sqlite message>".
   [[noreturn]] void fail(const std::string& what) const;
 

@@ -14,7 +14,7 @@ const EnumNames& control_mode_names() {
 const EnumNames& feed_forward_source_names() {
   static const EnumNames names = {
       {"learner", static_cast<int>(FeedForwardSource::learner), "LWPR at the desired q, q̇, q̈"},
-      {"analytic", static_cast<int>(FeedForwardSource::analytic), "exact rigid-body inverse dynamics of the nominal model"},
+      {"analytic", static_cast<int>(FeedForwardSource::analytic), "the nominal model's exact inverse dynamics, its joint damping and friction included"},
       {"none", static_cast<int>(FeedForwardSource::none), "no feed-forward"},
   };
   return names;
@@ -26,7 +26,7 @@ const std::vector<ConfigKey<ControlConfig>>& control_config_keys() {
       {"mode", "", {}, ListSize::any, "open_loop (feed-forward only), feedback (PD only) or composite (PD + feed-forward), appendix A",
        [](C& c) { return make_choice_field(c.mode, control_mode_names()); }},
       {"feed_forward", "", {}, ListSize::any,
-       "learner (LWPR at the desired q, q̇, q̈), analytic (exact rigid-body inverse dynamics of the nominal model) or none",
+       "learner (LWPR at the desired q, q̇, q̈), analytic (the nominal model's full inverse dynamics: rigid body plus its viscous damping and Coulomb friction, as the plant integrates them) or none",
        [](C& c) { return make_choice_field(c.feed_forward, feed_forward_source_names()); }},
       {"kp", "N·m/rad", closed(0.0, 1e6), ListSize::per_joint,
        "proportional gains; [] = M_jj·bandwidth², M_jj the mass-matrix diagonal (armature included) at the start posture",

@@ -3,9 +3,12 @@
 #include "engine/control/composite_controller.hpp"
 #include "engine/control/pd_gains.hpp"
 #include "engine/experiment/job_config_validation.hpp"
+#include "engine/experiment/metric_catalog.hpp"
+#include "engine/experiment/nominal_inverse_dynamics.hpp"
 #include "engine/experiment/series_recorder.hpp"
 #include "engine/experiment/signal_statistics.hpp"
 #include "engine/lwpr/lwpr_model.hpp"
+#include "engine/model/arm_reach.hpp"
 #include "engine/physics/arm_simulation.hpp"
 #include "engine/random/random_stream.hpp"
 #include "engine/trajectory/trajectory.hpp"
@@ -74,11 +77,14 @@ class ExperimentRun {
     if (config.mismatch.payload.mass > 0.0) {
       true_dynamics_ = std::make_unique<ArmDynamics>(model, active_indices_, config.mismatch.payload);
     }
+    nominal_viscous_ = nominal_.viscous_damping();
+    nominal_coulomb_ = nominal_.coulomb_friction();
     true_viscous_ = config.mismatch.viscous.size() ? expand_per_joint(config.mismatch.viscous, n_, 0.0, "mismatch.viscous")
                                                    : nominal_.viscous_damping();
     true_coulomb_ = config.mismatch.coulomb.size() ? expand_per_joint(config.mismatch.coulomb, n_, 0.0, "mismatch.coulomb")
                                                    : nominal_.coulomb_friction();
     if (uses_learner()) make_learner();
+    reach_ = calc_reach(model);
     recorder_ = std::make_unique<SeriesRecorder>(config.recording.series, joint_numbers_);
   }
 
@@ -162,22 +168,23 @@ class ExperimentRun {
   /// plus its joint friction, the ground truth a learned model is scored against.
   Eigen::VectorXd calc_true_torque(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
                                    bool mismatch_present) {
-    Eigen::VectorXd torque = (mismatch_present && true_dynamics_) ? true_dynamics_->calc_inverse_dynamics(q, qd, qdd)
-                                                                  : nominal_.calc_inverse_dynamics(q, qd, qdd);
-    const Eigen::VectorXd& viscous = mismatch_present ? true_viscous_ : nominal_viscous();
-    const Eigen::VectorXd& coulomb = mismatch_present ? true_coulomb_ : nominal_coulomb();
+    ArmDynamics& dynamics = (mismatch_present && true_dynamics_) ? *true_dynamics_ : nominal_;
+    return calc_inverse_dynamics_with_friction(dynamics, q, qd, qdd, mismatch_present ? true_viscous_ : nominal_viscous_,
+                                               mismatch_present ? true_coulomb_ : nominal_coulomb_,
+                                               ArmSimulationOptions{}.coulomb_velocity_scale);
+  }
+
+  static bool is_output_trusted(const Prediction& prediction, int output) {
+    return static_cast<std::size_t>(output) < prediction.output_trusted.size() ? prediction.output_trusted[output]
+                                                                                 : prediction.trustworthy;
+  }
+  /// The prediction with each untrusted output replaced by 0 (no feed-forward for that joint only).
+  Eigen::VectorXd calc_trusted_part(const Prediction& prediction) const {
+    Eigen::VectorXd value = Eigen::VectorXd::Zero(n_);
     for (int j = 0; j < n_; ++j) {
-      torque[j] += viscous[j] * qd[j] + coulomb[j] * std::tanh(qd[j] / ArmSimulationOptions{}.coulomb_velocity_scale);
+      if (is_output_trusted(prediction, j)) value[j] = prediction.value[j];
     }
-    return torque;
-  }
-  const Eigen::VectorXd& nominal_viscous() {
-    if (nominal_viscous_.size() == 0) nominal_viscous_ = nominal_.viscous_damping();
-    return nominal_viscous_;
-  }
-  const Eigen::VectorXd& nominal_coulomb() {
-    if (nominal_coulomb_.size() == 0) nominal_coulomb_ = nominal_.coulomb_friction();
-    return nominal_coulomb_;
+    return value;
   }
 
   Prediction predict(const Eigen::VectorXd& x) {
@@ -220,6 +227,7 @@ class ExperimentRun {
       model_accuracy_ = NmseAccumulator(n_);
       share_ = FeedForwardShareAccumulator(n_);
       saturated_ticks_ = Eigen::VectorXd::Zero(n_);
+      untrusted_ticks_ = Eigen::VectorXd::Zero(n_);
       segments_.assign(1, SegmentStatistics{pass_start});
     }
 
@@ -268,14 +276,12 @@ class ExperimentRun {
       Eigen::VectorXd feed_forward = Eigen::VectorXd::Zero(n_);
       const bool wants_feed_forward = evaluate && config_.control.mode != ControlMode::feedback;
       if (wants_feed_forward && config_.control.feed_forward == FeedForwardSource::analytic) {
-        feed_forward = nominal_.calc_inverse_dynamics(q_desired, qd_desired, qdd_desired);
+        feed_forward = calc_nominal_inverse_dynamics(nominal_, q_desired, qd_desired, qdd_desired,
+                                                     ArmSimulationOptions{}.coulomb_velocity_scale);
       } else if (wants_feed_forward && config_.control.feed_forward == FeedForwardSource::learner) {
         const Prediction prediction = predict(concat(q_desired, qd_desired, qdd_desired));
-        if (prediction.trustworthy) {
-          feed_forward = prediction.value;
-        } else {
-          ++untrusted_predictions_;
-        }
+        feed_forward = calc_trusted_part(prediction);
+        for (int j = 0; j < n_; ++j) untrusted_ticks_[j] += is_output_trusted(prediction, j) ? 0.0 : 1.0;
         model_accuracy_.add(calc_true_torque(q_desired, qd_desired, qdd_desired, mismatch_present), feed_forward);
       }
       const ControlCommand command = controller.calc_command(q_desired, qd_desired, q, qd, feed_forward);
@@ -351,69 +357,121 @@ class ExperimentRun {
     }
     training_samples_ = static_cast<long>(n_train);
     if (test.empty()) return;
-    NmseAccumulator test_accuracy(n_);
+    test_accuracy_ = NmseAccumulator(n_);
     for (std::size_t index : test) {
       const Prediction prediction = predict(samples[index].x);
-      test_accuracy.add(samples[index].y, prediction.trustworthy ? prediction.value : Eigen::VectorXd::Zero(n_));
+      test_accuracy_.add(samples[index].y, calc_trusted_part(prediction));
     }
-    test_nmse_ = test_accuracy.calc_nmse();
   }
 
-  void add_metric(const std::string& name, double value) { outcome_.metrics.push_back({name, std::nullopt, value}); }
-  void add_joint_metrics(const std::string& name, const Eigen::VectorXd& values) {
-    for (int j = 0; j < n_; ++j) outcome_.metrics.push_back({name, joint_numbers_[j], values[j]});
-  }
-  static double mean_of_finite(const Eigen::VectorXd& values) {
-    double sum = 0.0;
-    int count = 0;
-    for (int i = 0; i < values.size(); ++i) {
-      if (std::isfinite(values[i])) sum += values[i], ++count;
+  static Metric make_metric(const std::string& name, std::optional<int> joint, double value, std::string reason) {
+    Metric metric{name, joint, std::nullopt, std::nullopt, std::move(reason)};
+    if (std::isfinite(value)) {
+      metric.value = value;
+    } else if (metric.reason.empty()) {
+      metric.reason = std::isnan(value) ? "undefined (nothing to average)" : "infinite";
     }
-    return count ? sum / count : std::nan("");
+    return metric;
+  }
+  void add_metric(const std::string& name, double value, std::string reason = {}) {
+    outcome_.metrics.push_back(make_metric(name, std::nullopt, value, std::move(reason)));
+  }
+  void add_joint_metrics(const std::string& name, const Eigen::VectorXd& values, const std::string& reason_if_undefined = {}) {
+    for (int j = 0; j < n_; ++j) {
+      outcome_.metrics.push_back(
+          make_metric(name, joint_numbers_[j], values[j], std::isfinite(values[j]) ? std::string() : reason_if_undefined));
+    }
+  }
+  /// Per joint nMSE (undefined below the floor) and RMSE, then the job rows: the nMSE mean over
+  /// the joints where it is defined (its reason says which), the RMSE over every joint's ticks.
+  void add_joint_error_metrics(const std::string& nmse_name, const std::string& rmse_name, const NmseAccumulator& errors,
+                               const Eigen::VectorXd& std_floor, const std::string& unit) {
+    const std::vector<NormalisedError> per_joint = errors.calc_errors(std_floor, unit);
+    double sum = 0.0;
+    int defined = 0;
+    std::string left_out;
+    for (int j = 0; j < n_; ++j) {
+      const NormalisedError& error = per_joint[static_cast<std::size_t>(j)];
+      outcome_.metrics.push_back(Metric{nmse_name, joint_numbers_[j], std::nullopt, error.nmse, error.reason});
+      outcome_.metrics.push_back(make_metric(rmse_name, joint_numbers_[j], error.rmse, {}));
+      if (error.nmse) {
+        sum += *error.nmse;
+        ++defined;
+      } else {
+        left_out += (left_out.empty() ? "" : ", ") + std::to_string(joint_numbers_[j]);
+      }
+    }
+    std::string note = "mean over " + std::to_string(defined) + " of " + std::to_string(n_) + " joints";
+    if (!left_out.empty()) note += "; left out (nMSE undefined): joint " + left_out;
+    add_metric(nmse_name, defined ? sum / defined : std::nan(""), note);
+    add_metric(rmse_name, std::sqrt(errors.calc_mse().mean()));
+  }
+
+  /// nMSE floors (see kNmseStdFloorFraction): a fraction of each joint's position range (2π
+  /// for an unlimited joint), of its torque range 2·effort limit, of the end effector's 2·reach.
+  Eigen::VectorXd calc_angle_std_floor() const {
+    Eigen::VectorXd floor(n_);
+    const Eigen::VectorXd lower = nominal_.lower_limits(), upper = nominal_.upper_limits();
+    for (int j = 0; j < n_; ++j) {
+      const double range = std::isfinite(upper[j] - lower[j]) ? upper[j] - lower[j] : 2.0 * M_PI;
+      floor[j] = kNmseStdFloorFraction * range;
+    }
+    return floor;
+  }
+  Eigen::VectorXd calc_torque_std_floor() const {
+    Eigen::VectorXd floor(n_);
+    const Eigen::VectorXd limits = nominal_.effort_limits();
+    for (int j = 0; j < n_; ++j) {
+      // Without an effort limit only exact constancy (numerical noise) is undefined.
+      floor[j] = std::isfinite(limits[j]) && limits[j] > 0.0 ? kNmseStdFloorFraction * 2.0 * limits[j] : 1e-12;
+    }
+    return floor;
   }
 
   void write_evaluation_metrics() {
-    const Eigen::VectorXd tracking = tracking_.calc_nmse();
-    add_joint_metrics("tracking_nmse", tracking);
-    add_metric("tracking_nmse", mean_of_finite(tracking));
-    const Eigen::VectorXd task = task_tracking_.calc_nmse();
-    add_metric("tracking_nmse_x", task[0]);
-    add_metric("tracking_nmse_y", task[1]);
-    add_metric("tracking_nmse_z", task[2]);
-    add_metric("tracking_rmse", std::sqrt(tracking_.calc_mse().mean()));
-    add_metric("task_rmse", std::sqrt(task_tracking_.calc_mse().sum()));
-    add_joint_metrics("ff_fb_ratio_avg", share_.calc_ratio_mean());
-    add_joint_metrics("ff_fb_ratio_var", share_.calc_ratio_variance());
-    add_joint_metrics("ff_abs_avg", share_.calc_feed_forward_abs_mean());
-    add_joint_metrics("fb_abs_avg", share_.calc_feedback_abs_mean());
-    add_joint_metrics("torque_saturation_fraction", saturated_ticks_ / static_cast<double>(std::max<long>(1, tracking_.count())));
-    if (test_nmse_.size()) {
-      add_joint_metrics("test_nmse", test_nmse_);
-      add_metric("test_nmse", mean_of_finite(test_nmse_));
-      add_metric("n_training_samples", static_cast<double>(training_samples_));
+    namespace m = metric_names;
+    add_joint_error_metrics(m::tracking_nmse, m::tracking_rmse, tracking_, calc_angle_std_floor(), "rad");
+    const std::vector<NormalisedError> task =
+        task_tracking_.calc_errors(Eigen::Vector3d::Constant(kNmseStdFloorFraction * 2.0 * reach_), "m");
+    const std::string* task_nmse[3] = {&m::tracking_nmse_x, &m::tracking_nmse_y, &m::tracking_nmse_z};
+    const std::string* task_rmse[3] = {&m::tracking_rmse_x, &m::tracking_rmse_y, &m::tracking_rmse_z};
+    for (int axis = 0; axis < 3; ++axis) {
+      outcome_.metrics.push_back(Metric{*task_nmse[axis], std::nullopt, std::nullopt, task[axis].nmse, task[axis].reason});
+      add_metric(*task_rmse[axis], task[axis].rmse);
     }
+    add_metric(m::task_rmse, std::sqrt(task_tracking_.calc_mse().sum()));
+    add_joint_metrics(m::ff_fb_ratio_avg, share_.calc_ratio_mean(), "no tick with nonzero torque");
+    add_joint_metrics(m::ff_fb_ratio_var, share_.calc_ratio_variance(), "no tick with nonzero torque");
+    add_joint_metrics(m::ff_abs_avg, share_.calc_feed_forward_abs_mean());
+    add_joint_metrics(m::fb_abs_avg, share_.calc_feedback_abs_mean());
+    add_joint_metrics(m::torque_saturation_fraction,
+                      saturated_ticks_ / static_cast<double>(std::max<long>(1, tracking_.count())));
+    if (test_accuracy_.count() > 0) {
+      add_joint_error_metrics(m::test_nmse, m::test_rmse, test_accuracy_, calc_torque_std_floor(), "N·m");
+    }
+    if (training_samples_ > 0) add_metric(m::n_training_samples, static_cast<double>(training_samples_));
     if (model_accuracy_.count() > 0) {
-      const Eigen::VectorXd id_nmse = model_accuracy_.calc_nmse();
-      add_joint_metrics("id_nmse", id_nmse);
-      add_metric("id_nmse", mean_of_finite(id_nmse));
-      add_metric("ff_untrusted_fraction", static_cast<double>(untrusted_predictions_) / static_cast<double>(model_accuracy_.count()));
+      add_joint_error_metrics(m::id_nmse, m::id_rmse, model_accuracy_, calc_torque_std_floor(), "N·m");
+      const Eigen::VectorXd untrusted = untrusted_ticks_ / static_cast<double>(model_accuracy_.count());
+      add_joint_metrics(m::ff_untrusted_fraction, untrusted);
+      add_metric(m::ff_untrusted_fraction, untrusted.mean(), "mean over " + std::to_string(n_) + " joints");
     }
     if (learner_) {
-      add_metric("n_receptive_fields", static_cast<double>(learner_->size()));
-      add_metric("learner_us_per_update", updates_ ? 1e6 * update_seconds_ / static_cast<double>(updates_) : std::nan(""));
-      add_metric("learner_us_per_predict", predictions_ ? 1e6 * predict_seconds_ / static_cast<double>(predictions_) : std::nan(""));
+      add_metric(m::n_receptive_fields, static_cast<double>(learner_->size()));
+      add_metric(m::learner_us_per_update, updates_ ? 1e6 * update_seconds_ / static_cast<double>(updates_) : std::nan(""));
+      add_metric(m::learner_us_per_predict, predictions_ ? 1e6 * predict_seconds_ / static_cast<double>(predictions_) : std::nan(""));
     }
     const auto segment_feedback = [this](const SegmentStatistics& stats) {
       return stats.ticks ? stats.feedback_abs_sum / static_cast<double>(stats.ticks * n_) : std::nan("");
     };
-    add_metric("n_segments", static_cast<double>(segments_.size()));
-    add_metric("fb_abs_avg_first_segment", segment_feedback(segments_.front()));
-    add_metric("fb_abs_avg_last_segment", segment_feedback(segments_.back()));
+    add_metric(m::n_segments, static_cast<double>(segments_.size()));
+    add_metric(m::fb_abs_avg_first_segment, segment_feedback(segments_.front()));
+    add_metric(m::fb_abs_avg_last_segment, segment_feedback(segments_.back()));
     const auto segment_rmse = [this](const SegmentStatistics& stats) {
       return stats.ticks ? std::sqrt(stats.squared_error_sum / static_cast<double>(stats.ticks * n_)) : std::nan("");
     };
-    add_metric("tracking_rmse_first_segment", segment_rmse(segments_.front()));
-    add_metric("tracking_rmse_last_segment", segment_rmse(segments_.back()));
+    add_metric(m::tracking_rmse_first_segment, segment_rmse(segments_.front()));
+    add_metric(m::tracking_rmse_last_segment, segment_rmse(segments_.back()));
     for (std::size_t s = 0; s < segments_.size(); ++s) {
       const SegmentStatistics& stats = segments_[s];
       const double ticks = static_cast<double>(std::max<long>(1, stats.ticks));
@@ -427,8 +485,8 @@ class ExperimentRun {
   JobOutcome finish() {
     if (outcome_.status == JobStatus::done) outcome_.end_time = end_time_;
     const double wall = seconds_since(wall_start_);
-    add_metric("simulated_seconds", simulated_seconds_);
-    add_metric("sim_seconds_per_wall_second", wall > 0.0 ? simulated_seconds_ / wall : std::nan(""));
+    add_metric(metric_names::simulated_seconds, simulated_seconds_);
+    add_metric(metric_names::sim_seconds_per_wall_second, wall > 0.0 ? simulated_seconds_ / wall : std::nan(""));
     outcome_.series = recorder_->take_series();
     return std::move(outcome_);
   }
@@ -451,11 +509,12 @@ class ExperimentRun {
   NmseAccumulator tracking_, task_tracking_, model_accuracy_;
   FeedForwardShareAccumulator share_;
   Eigen::VectorXd saturated_ticks_;
-  Eigen::VectorXd test_nmse_;
+  NmseAccumulator test_accuracy_;
+  Eigen::VectorXd untrusted_ticks_;  ///< per joint, ticks whose output was not trusted
+  double reach_ = 0.0;               ///< m, the arm's reach (task-space nMSE floor)
   Eigen::VectorXd last_acceleration_;
   std::vector<SegmentStatistics> segments_;
   long training_samples_ = 0;
-  long untrusted_predictions_ = 0;
   long updates_ = 0, predictions_ = 0;
   double update_seconds_ = 0.0, predict_seconds_ = 0.0;
   double simulated_seconds_ = 0.0;

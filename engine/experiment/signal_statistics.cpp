@@ -1,6 +1,8 @@
 #include "engine/experiment/signal_statistics.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace armfarm {
@@ -31,6 +33,37 @@ Eigen::VectorXd NmseAccumulator::calc_nmse() const {
     nmse[i] = variance > 0.0 ? mse[i] / variance : std::numeric_limits<double>::quiet_NaN();
   }
   return nmse;
+}
+
+Eigen::VectorXd NmseAccumulator::calc_target_variance() const {
+  if (count_ == 0) return Eigen::VectorXd::Constant(mean_.size(), std::numeric_limits<double>::quiet_NaN());
+  return m2_ / static_cast<double>(count_);
+}
+
+std::vector<NormalisedError> NmseAccumulator::calc_errors(const Eigen::VectorXd& std_floor, const std::string& unit) const {
+  const Eigen::VectorXd mse = calc_mse();
+  const Eigen::VectorXd variance = calc_target_variance();
+  std::vector<NormalisedError> errors(static_cast<std::size_t>(mse.size()));
+  for (int i = 0; i < mse.size(); ++i) {
+    NormalisedError& error = errors[static_cast<std::size_t>(i)];
+    if (count_ == 0) {
+      error.rmse = std::numeric_limits<double>::quiet_NaN();
+      error.target_std = std::numeric_limits<double>::quiet_NaN();
+      error.reason = "no samples";
+      continue;
+    }
+    error.rmse = std::sqrt(mse[i]);
+    error.target_std = std::sqrt(std::max(0.0, variance[i]));
+    if (error.target_std >= std_floor[i] && variance[i] > 0.0) {
+      error.nmse = mse[i] / variance[i];
+    } else {
+      char text[160];
+      std::snprintf(text, sizeof text, "target std %.3g %s is below the nMSE floor %.3g %s", error.target_std,
+                    unit.c_str(), std_floor[i], unit.c_str());
+      error.reason = text;
+    }
+  }
+  return errors;
 }
 
 FeedForwardShareAccumulator::FeedForwardShareAccumulator(int joints)

@@ -2,7 +2,20 @@
 // Running statistics of a job's signals, accumulated tick by tick without storing the run.
 #include <Eigen/Core>
 
+#include <optional>
+#include <string>
+#include <vector>
+
 namespace armfarm {
+
+/// The error of one dimension of an NmseAccumulator: the RMSE always (when anything was
+/// added), the nMSE only where the target's standard deviation reaches the floor.
+struct NormalisedError {
+  std::optional<double> nmse;  ///< empty = undefined, see `reason`
+  double rmse = 0.0;           ///< target units
+  double target_std = 0.0;     ///< target units
+  std::string reason;          ///< why the nMSE is undefined; empty when defined
+};
 
 /// Per-dimension normalised mean squared error: mean((estimate − target)²) / var(target), the
 /// thesis's nMSE. The target variance is accumulated with Welford's update (stable for long runs).
@@ -14,6 +27,11 @@ class NmseAccumulator {
   /// nMSE per dimension; NaN where the target never varied or nothing was added.
   Eigen::VectorXd calc_nmse() const;
   Eigen::VectorXd calc_mse() const;
+  /// Population variance of the target per dimension (NaN when nothing was added).
+  Eigen::VectorXd calc_target_variance() const;
+  /// Per dimension: the nMSE where std(target) >= `std_floor[i]` (target units, > 0), else
+  /// undefined with a reason naming the std, the floor and `unit`.
+  std::vector<NormalisedError> calc_errors(const Eigen::VectorXd& std_floor, const std::string& unit) const;
 
  private:
   long count_ = 0;

@@ -89,7 +89,7 @@ const std::vector<ConfigKey<lwpr::LwprParams>>& lwpr_params_keys() {
        [](P& p) { return make_integer_field(p.max_fields); }},
       {"cutoff", "", right_open(0.0, 1.0), ListSize::any, "fields activated at most this much are neither updated nor used",
        [](P& p) { return make_field(p.cutoff); }},
-      {"trust_n_data", "", closed(0.0, 1e9), ListSize::any, "weighted samples before a field may predict; 0 = 2·n_in",
+      {"trust_n_data", "", closed(0.0, 1e9), ListSize::any, "samples a field must have seen (counted with forgetting) before it may predict; 0 = 2·n_in",
        [](P& p) { return make_field(p.trust_n_data); }},
   };
   return keys;

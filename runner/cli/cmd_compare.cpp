@@ -25,6 +25,7 @@ struct CompareOptions {
   std::string tolerances;
   std::string format = "md";
   bool show_all = false;
+  bool timing = false;
 };
 
 // Every job of a database (or of one sweep), each once.
@@ -54,6 +55,8 @@ RunFunction setup_compare(CLI::App& parent) {
   sub->add_option("--tolerances", options->tolerances, "JSON file of per-metric / per-joint tolerances and directions");
   sub->add_option("--format", options->format, "md or json")->check(CLI::IsMember({"md", "json"}));
   sub->add_flag("--all", options->show_all, "List every compared metric, not only those outside tolerance");
+  sub->add_flag("--timing", options->timing,
+                "Also show timing and diagnostic metrics (metric_info kind); they never count as regressions");
   return [options] {
     const Tolerance defaults{options->rtol, options->atol, std::nullopt};
     ToleranceTable tolerances;
@@ -67,8 +70,11 @@ RunFunction setup_compare(CLI::App& parent) {
     }
     const ResultsStore base = ResultsStore::open(options->base, ResultsStore::Mode::read_only);
     const ResultsStore next = ResultsStore::open(options->next, ResultsStore::Mode::read_only);
-    const ComparisonReport report =
-        compare_results(load_jobs(base, options->sweep), load_jobs(next, options->sweep), tolerances, options->metrics);
+    // What the names mean: the new database's catalog, the base's for names it lacks.
+    MetricInfoTable info = load_metric_info(next);
+    for (auto& [name, record] : load_metric_info(base)) info.emplace(name, record);
+    const ComparisonReport report = compare_results(load_jobs(base, options->sweep), load_jobs(next, options->sweep),
+                                                    tolerances, options->metrics, info, options->timing);
     std::cout << format_comparison(report, options->format == "json", options->show_all);
     return report.regressed() ? 1 : 0;
   };

@@ -150,9 +150,9 @@ RunFunction setup_job(CLI::App& parent) {
     for (const Metric& metric : outcome.metrics) {
       if (metric.joint) {
         per_joint[*metric.joint]["joint"] = *metric.joint;
-        per_joint[*metric.joint][metric.name] = number_or_null(metric.value);
+        per_joint[*metric.joint][metric.name] = number_or_null(metric.value.value_or(std::nan("")));
       } else {
-        metrics[metric.name] = number_or_null(metric.value);
+        metrics[metric.name] = number_or_null(metric.value.value_or(std::nan("")));
       }
     }
     if (*as_json) {

@@ -20,6 +20,7 @@ struct PlotOptions {
   std::string param;
   std::string group;
   int joint = 0;
+  bool log_x = false, log_y = false, linear_x = false, linear_y = false;
   std::string kernel_param = "learning.lwpr.init_D";
   std::string adaptation_param = "learning.lwpr.update_D";
 };
@@ -40,6 +41,10 @@ RunFunction setup_plot(CLI::App& parent) {
   sub->add_option("--param", options->param, "metric-vs-param: the swept parameter on the x axis");
   sub->add_option("--group", options->group, "metric-vs-param: one curve per value of this parameter");
   sub->add_option("--joint", options->joint, "metric-vs-param: joint of a per-joint metric (1-based)")->check(CLI::PositiveNumber);
+  sub->add_flag("--logx", options->log_x, "Logarithmic x axis (default: automatic, where values span decades)");
+  sub->add_flag("--logy", options->log_y, "Logarithmic y axis (default: automatic)");
+  sub->add_flag("--linx", options->linear_x, "Linear x axis");
+  sub->add_flag("--liny", options->linear_y, "Linear y axis");
   sub->add_option("--kernel-param", options->kernel_param, "nmse-vs-kernel: kernel-width parameter");
   sub->add_option("--adaptation-param", options->adaptation_param, "nmse-vs-kernel: distance-metric adaptation parameter");
   return [options] {
@@ -53,6 +58,8 @@ RunFunction setup_plot(CLI::App& parent) {
     if (options->joint > 0) request.joint = options->joint;
     request.kernel_param = options->kernel_param;
     request.adaptation_param = options->adaptation_param;
+    if (options->log_x || options->linear_x) request.log_x = options->log_x;
+    if (options->log_y || options->linear_y) request.log_y = options->log_y;
     const std::string out = options->out.empty() ? options->kind + ".svg" : options->out;
     const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
     write_figure(make_plot_figure(store, request), out);

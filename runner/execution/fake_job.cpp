@@ -1,5 +1,6 @@
 #include "runner/execution/fake_job.hpp"
 
+#include "engine/experiment/metric_catalog.hpp"
 #include "engine/learning/learning_config.hpp"
 #include "engine/random/random_stream.hpp"
 
@@ -113,11 +114,11 @@ JobExecutor make_fake_job_executor() {
     for (long j = 0; j < n_joints; ++j) {
       const double base = 0.01 * std::pow(init_D, 0.3) / (1.0 + kp[j].get<double>() * gain_scale / 100.0);
       const double value = base * (1.0 + 0.1 * (generator.uniform() - 0.5));
-      outcome.metrics.push_back({"tracking_nmse", static_cast<int>(j + 1), value});
+      outcome.metrics.push_back({metric_names::tracking_nmse, static_cast<int>(j + 1), std::nullopt, value, {}});
       mean += value / static_cast<double>(n_joints);
     }
-    outcome.metrics.push_back({"test_nmse", std::nullopt, mean});
-    outcome.metrics.push_back({"work_checksum", std::nullopt, checksum});
+    outcome.metrics.push_back({metric_names::test_nmse, std::nullopt, std::nullopt, mean, {}});
+    outcome.metrics.push_back({metric_names::work_checksum, std::nullopt, std::nullopt, checksum, {}});
 
     Series pos{"POS", {"t"}, Eigen::MatrixXd(samples, n_joints + 1)};
     Series tor{"TOR", {"t"}, Eigen::MatrixXd(samples, n_joints + 1)};

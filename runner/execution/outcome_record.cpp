@@ -1,5 +1,7 @@
 #include "runner/execution/outcome_record.hpp"
 
+#include "engine/experiment/metric_catalog.hpp"
+
 namespace armfarm {
 
 JobResultRecord make_job_result_record(const std::string& key, JobOutcome outcome, double wall_seconds,
@@ -12,11 +14,28 @@ JobResultRecord make_job_result_record(const std::string& key, JobOutcome outcom
   record.wall_seconds = wall_seconds;
   record.started_at = started_at;
   record.finished_at = finished_at;
-  for (Metric& metric : outcome.metrics) record.metrics.push_back({0, std::move(metric.name), metric.joint, metric.value});
+  for (Metric& metric : outcome.metrics) {
+    std::optional<std::int64_t> checkpoint;
+    if (metric.checkpoint) checkpoint = metric.checkpoint->number;
+    record.metrics.push_back({0, std::move(metric.name), metric.joint, metric.value, std::move(metric.reason), checkpoint});
+  }
   for (Series& series : outcome.series) {
     record.series.push_back({0, std::move(series.name), std::move(series.columns), std::move(series.rows)});
   }
   return record;
+}
+
+}  // namespace armfarm
+
+namespace armfarm {
+
+std::vector<MetricInfoRecord> make_metric_info_records() {
+  std::vector<MetricInfoRecord> records;
+  for (const MetricInfo& info : metric_catalog()) {
+    records.push_back({info.name, info.unit, info.meaning, to_string(info.direction), to_string(info.scope),
+                       to_string(info.kind)});
+  }
+  return records;
 }
 
 }  // namespace armfarm

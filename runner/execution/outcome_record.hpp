@@ -5,11 +5,15 @@
 #include "results/results_store.hpp"
 
 #include <string>
+#include <vector>
 
 namespace armfarm {
 
 /// Moves the outcome's metrics and series into a record of one attempt of job `key`.
 JobResultRecord make_job_result_record(const std::string& key, JobOutcome outcome, double wall_seconds,
                                        const std::string& started_at, const std::string& finished_at);
+
+/// The engine's metric catalog as the store's `metric_info` rows.
+std::vector<MetricInfoRecord> make_metric_info_records();
 
 }  // namespace armfarm

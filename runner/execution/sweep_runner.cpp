@@ -57,6 +57,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
     registration.shard = std::to_string(options.shard.index) + "/" + std::to_string(options.shard.count);
   }
   registration.provenance = options.provenance;
+  registration.metric_info = make_metric_info_records();
   std::vector<JobRegistration> jobs;
   for (const ExpandedJob* job : shard_jobs) jobs.push_back({job->key, job->params, job->config, job->seed});
   const RegisteredRun registered = store.insert_sweep_run(registration, jobs);

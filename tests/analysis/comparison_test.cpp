@@ -18,6 +18,12 @@ JobResult make_job(const std::string& key, std::map<MetricId, double> metrics, c
   return job;
 }
 
+MetricInfoTable make_info() {
+  MetricInfoTable info;
+  for (const MetricInfoRecord& record : testing::make_test_metric_info()) info[record.name] = record;
+  return info;
+}
+
 const MetricComparison& find(const ComparisonReport& report, const std::string& name) {
   for (const MetricComparison& m : report.metrics) {
     if (m.metric.name == name) return m;
@@ -31,17 +37,17 @@ TEST(Comparison, DirectionDecidesBetweenImprovementAndRegression) {
   const std::vector<JobResult> worse = {make_job("a", {{{"tracking_nmse", 1}, 0.012}, {{"ff_fb_ratio_avg", 1}, 0.70}})};
   ToleranceTable tolerances;
   tolerances.defaults.rtol = 0.05;
-  const auto improved = compare_results(base, better, tolerances, {});
+  const auto improved = compare_results(base, better, tolerances, {}, make_info());
   EXPECT_EQ(find(improved, "tracking_nmse").verdict, Verdict::improved);
   EXPECT_EQ(find(improved, "ff_fb_ratio_avg").verdict, Verdict::improved);
   EXPECT_FALSE(improved.regressed());
-  const auto regressed = compare_results(base, worse, tolerances, {});
+  const auto regressed = compare_results(base, worse, tolerances, {}, make_info());
   EXPECT_EQ(find(regressed, "tracking_nmse").verdict, Verdict::regressed);
   EXPECT_EQ(find(regressed, "ff_fb_ratio_avg").verdict, Verdict::regressed);
   EXPECT_NEAR(find(regressed, "tracking_nmse").relative_change, 0.2, 1e-12);
   EXPECT_TRUE(regressed.regressed());
   tolerances.defaults.rtol = 0.5;  // wide enough: within tolerance
-  EXPECT_FALSE(compare_results(base, worse, tolerances, {}).regressed());
+  EXPECT_FALSE(compare_results(base, worse, tolerances, {}, make_info()).regressed());
 }
 
 TEST(Comparison, TimingsAreIgnoredAndMissingJobsReported) {
@@ -49,8 +55,8 @@ TEST(Comparison, TimingsAreIgnoredAndMissingJobsReported) {
                                        make_job("c", {{{"test_nmse", 1}, 0.1}})};
   const std::vector<JobResult> next = {make_job("a", {{{"learner_us_per_update", {}}, 30.0}}), make_job("d", {}),
                                        make_job("c", {{{"test_nmse", 1}, 0.1}}, "diverged")};
-  const auto report = compare_results(base, next, ToleranceTable{}, {});
-  EXPECT_TRUE(report.metrics.empty());  // timing ignored; c is not done in new
+  const auto report = compare_results(base, next, ToleranceTable{}, {}, make_info());
+  EXPECT_TRUE(report.metrics.empty());  // timing left out; c is not done in new
   EXPECT_EQ(report.only_in_base, std::vector<std::string>{"b"});
   EXPECT_EQ(report.only_in_next, std::vector<std::string>{"d"});
   ASSERT_EQ(report.status_changes.size(), 1u);
@@ -69,7 +75,11 @@ TEST(Comparison, TolerancesFilePerMetricAndJoint) {
   EXPECT_DOUBLE_EQ(table.find(MetricId{"tracking_nmse", 2}).rtol, 0.1);  // inherited from the metric
   const std::vector<JobResult> base = {make_job("a", {{{"learner_us_per_update", {}}, 10.0}})};
   const std::vector<JobResult> next = {make_job("a", {{{"learner_us_per_update", {}}, 30.0}})};
-  EXPECT_TRUE(compare_results(base, next, table, {}).regressed());  // named by the file: compared
+  EXPECT_TRUE(compare_results(base, next, table, {}, make_info()).metrics.empty());  // timing: left out
+  const auto shown = compare_results(base, next, table, {}, make_info(), true);     // --timing: shown, not gating
+  ASSERT_EQ(shown.metrics.size(), 1u);
+  EXPECT_EQ(shown.metrics[0].verdict, Verdict::changed);
+  EXPECT_FALSE(shown.regressed());
   try {
     parse_tolerances(R"({"metrics": {"tracking_nmse": {"rtol": "wide"}}})", "tol.json", Tolerance{});
     FAIL() << "expected an error";
@@ -78,12 +88,44 @@ TEST(Comparison, TolerancesFilePerMetricAndJoint) {
   }
 }
 
+// Issue 11: the catalog (metric_info) says torque saturation is lower-is-better, so tripling it
+// is a regression; a metric without a direction is reported as changed, not judged.
+TEST(Comparison, TripledTorqueSaturationIsARegressionAndNoDirectionIsReportedAsSuch) {
+  const std::vector<JobResult> base = {
+      make_job("a", {{{"torque_saturation_fraction", 2}, 0.01}, {{"n_receptive_fields", {}}, 100}})};
+  const std::vector<JobResult> next = {
+      make_job("a", {{{"torque_saturation_fraction", 2}, 0.03}, {{"n_receptive_fields", {}}, 140}})};
+  const auto report = compare_results(base, next, ToleranceTable{}, {}, make_info());
+  EXPECT_EQ(find(report, "torque_saturation_fraction").verdict, Verdict::regressed);
+  EXPECT_EQ(find(report, "n_receptive_fields").verdict, Verdict::changed);
+  EXPECT_EQ(find(report, "n_receptive_fields").direction, BetterDirection::none);
+  EXPECT_TRUE(report.regressed());
+  EXPECT_NE(format_comparison(report, false, false).find("| none | changed |"), std::string::npos);
+}
+
+TEST(CompareCommand, TripledTorqueSaturationFailsTheCheck) {
+  testing::TemporaryDirectory directory;
+  auto make_jobs = [](double saturation) {
+    testing::TestJob job;
+    job.params = {{"control.gain_scale", 0.2}};
+    job.metrics = {{0, "torque_saturation_fraction", 1, saturation, ""}};
+    return std::vector<testing::TestJob>{job};
+  };
+  testing::write_test_sweep(directory.file("base.db"), "s", make_jobs(0.01));
+  testing::write_test_sweep(directory.file("new.db"), "s", make_jobs(0.03));
+  const auto result = testing::run_armfarm("compare " + directory.file("base.db") + " " + directory.file("new.db"));
+  EXPECT_EQ(result.exit_code, 1) << result.output;
+  EXPECT_NE(result.output.find("torque_saturation_fraction j1"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("REGRESSED"), std::string::npos) << result.output;
+}
+
 TEST(CompareCommand, ExitCodesZeroOneTwo) {
   testing::TemporaryDirectory directory;
   auto make_jobs = [](double nmse) {
     testing::TestJob job;
     job.params = {{"control.gain_scale", 0.2}};
-    job.metrics = {{0, "tracking_nmse", 1, nmse}, {0, "sim_seconds_per_wall_second", std::nullopt, nmse * 1000}};
+    job.metrics = {{0, "tracking_nmse", 1, nmse, ""},
+                   {0, "sim_seconds_per_wall_second", std::nullopt, nmse * 1000, ""}};
     return std::vector<testing::TestJob>{job};
   };
   testing::write_test_sweep(directory.file("base.db"), "s", make_jobs(0.010));

@@ -44,8 +44,8 @@ class PlotTest : public ::testing::Test {
           testing::TestJob job;
           job.params = {{"learning.lwpr.init_D", init_d}, {"learning.lwpr.update_D", update_d}, {"seed", seed}};
           const double nmse = 0.1 / std::sqrt(init_d) + (update_d ? 0.02 : 0.0) + 0.001 * seed;
-          job.metrics = {{0, "test_nmse", 1, nmse}, {0, "test_nmse", 2, 2 * nmse},
-                         {0, "n_receptive_fields", std::nullopt, 5 * init_d + (update_d ? 10 : 0)}};
+          job.metrics = {{0, "test_nmse", 1, nmse, ""}, {0, "test_nmse", 2, 2 * nmse, ""},
+                         {0, "n_receptive_fields", std::nullopt, 5 * init_d + (update_d ? 10 : 0), ""}};
           kernel_jobs.push_back(job);
         }
       }
@@ -75,7 +75,7 @@ class PlotTest : public ::testing::Test {
       job.series.push_back(make_series("RF", {"trial", "n_receptive_fields"}, 20, [](int r, int c) {
         return c == 0 ? r + 1 : 40.0 * (1 - std::exp(-0.2 * (r + 1)));
       }));
-      job.metrics = {{0, "ff_fb_ratio_avg", 1, std::string(mode) == "feedback" ? 0.0 : 0.9}};
+      job.metrics = {{0, "ff_fb_ratio_avg", 1, std::string(mode) == "feedback" ? 0.0 : 0.9, ""}};
       tracking_jobs.push_back(job);
     }
     testing::write_test_sweep(db_, "tracking", tracking_jobs);

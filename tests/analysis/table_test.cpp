@@ -140,7 +140,7 @@ TEST(TableCommand, ReadsADatabaseAndAggregatesRepeats) {
   for (int seed = 1; seed <= 2; ++seed) {
     testing::TestJob job;
     job.params = {{"control.gain_scale", 0.2}, {"seed", seed}};
-    job.metrics = {{0, "ff_fb_ratio_avg", 2, seed == 1 ? 0.8 : 0.9}, {0, "fb_abs_avg", 2, 0.01}};
+    job.metrics = {{0, "ff_fb_ratio_avg", 2, seed == 1 ? 0.8 : 0.9, ""}, {0, "fb_abs_avg", 2, 0.01, ""}};
     jobs.push_back(job);
   }
   testing::write_test_sweep(db, "gains", jobs);

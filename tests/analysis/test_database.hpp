@@ -33,6 +33,23 @@ struct TemporaryDirectory {
   std::string file(const std::string& name) const { return (path / name).string(); }
 };
 
+/// metric_info rows for the names the analysis tests use (what the runner writes from the
+/// engine's catalog; written by hand here so that the analysis is tested on what it reads).
+inline std::vector<MetricInfoRecord> make_test_metric_info() {
+  return {
+      {"tracking_nmse", "1", "joint error over target variance", "lower", "joint", "result"},
+      {"tracking_rmse", "rad", "joint error", "lower", "joint", "result"},
+      {"test_nmse", "1", "held-out error", "lower", "joint", "result"},
+      {"ff_fb_ratio_avg", "1", "feed-forward share", "higher", "joint", "result"},
+      {"fb_abs_avg", "N·m", "feedback torque", "lower", "joint", "result"},
+      {"torque_saturation_fraction", "1", "saturated ticks", "lower", "joint", "result"},
+      {"n_receptive_fields", "count", "receptive fields", "none", "job", "result"},
+      {"learner_us_per_update", "µs", "update time", "lower", "job", "timing"},
+      {"learner_us_per_predict", "µs", "prediction time", "lower", "job", "timing"},
+      {"sim_seconds_per_wall_second", "s/s", "simulation speed", "higher", "job", "timing"},
+  };
+}
+
 /// Writes a sweep named `sweep` with `jobs` into the database at `path` (created if absent).
 inline void write_test_sweep(const std::string& path, const std::string& sweep, const std::vector<TestJob>& jobs) {
   ResultsStore store = ResultsStore::open(path, ResultsStore::Mode::read_write);
@@ -43,6 +60,7 @@ inline void write_test_sweep(const std::string& path, const std::string& sweep, 
   registration.spec_hash = "0123456789abcdef0123456789abcdef";
   registration.started_at = make_utc_timestamp();
   registration.provenance = {"0.1.0", "deadbeef", false, "GNU 12", "3.7", "testhost"};
+  registration.metric_info = make_test_metric_info();
   std::vector<JobRegistration> registrations;
   JobBatch batch;
   for (std::size_t i = 0; i < jobs.size(); ++i) {

@@ -153,6 +153,28 @@ SweepData small_sweep() {
   return data;
 }
 
+// A checkpointed cell reads the metric at that checkpoint only; an undefined (NULL) value is
+// reported with its stored reason, never averaged as a number.
+TEST(ThesisComparison, CheckpointCellsReadTheirCheckpointAndUndefinedValuesAreNotAveraged) {
+  const ThesisResults thesis = small_thesis();
+  SweepData data = small_sweep();
+  MetricId at200{"heldout_ff_fb_ratio_avg", std::nullopt, 200}, at1{"heldout_ff_fb_ratio_avg", std::nullopt, 1};
+  data.jobs[2].metrics[at200] = 0.3;
+  data.jobs[2].metrics[at1] = 0.9;
+  ThesisComparison comparison = make_thesis_comparison(thesis, {{"track", data}}, Aggregate::mean);
+  const ComparedCell& held_out = comparison.tables[0].cells[5];
+  ASSERT_EQ(held_out.state, CellState::compared) << held_out.reason;
+  EXPECT_NEAR(held_out.armfarm_value, 0.3, 1e-15);
+  EXPECT_NEAR(*held_out.ratio, 0.75, 1e-12);  // against the thesis 0.4
+
+  data.jobs[2].metrics[at200] = std::nan("");
+  data.jobs[2].reasons[at200] = "target std below the floor";
+  comparison = make_thesis_comparison(thesis, {{"track", data}}, Aggregate::mean);
+  const ComparedCell& undefined = comparison.tables[0].cells[5];
+  EXPECT_EQ(undefined.state, CellState::not_run);
+  EXPECT_NE(undefined.reason.find("target std below the floor"), std::string::npos) << undefined.reason;
+}
+
 TEST(ThesisComparison, CellsAreTheAggregateOfMatchingDoneJobsAndTheirRatio) {
   const ThesisResults thesis = small_thesis();
   const ThesisComparison comparison = make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::mean);

@@ -81,7 +81,7 @@ JobResultRecord make_result(const std::string& key, double scale) {
   result.end_time = 20.0;
   result.wall_seconds = 1.5;
   result.started_at = result.finished_at = make_utc_timestamp();
-  result.metrics = {{0, "tracking_nmse", 1, 0.1 * scale}, {0, "tracking_nmse", 2, 0.2 * scale}, {0, "test_nmse", {}, 0.3 * scale}};
+  result.metrics = {{0, "tracking_nmse", 1, 0.1 * scale, ""}, {0, "tracking_nmse", 2, 0.2 * scale, ""}, {0, "test_nmse", {}, 0.3 * scale, ""}};
   Eigen::MatrixXd rows(3, 2);
   rows << 0.0, scale, 0.1, 2 * scale, 0.2, 3 * scale;
   result.series = {{0, "POS", {"t", "q1"}, rows}};
@@ -116,7 +116,7 @@ TEST_F(ResultsStoreTest, WritesAndReadsBackEveryTable) {
   EXPECT_EQ(metrics[0].name, "test_nmse");
   EXPECT_FALSE(metrics[0].joint.has_value());
   EXPECT_EQ(metrics[2].joint, 2);
-  EXPECT_DOUBLE_EQ(metrics[2].value, 0.2);
+  EXPECT_DOUBLE_EQ(metrics[2].value.value(), 0.2);
   const auto series = reader.find_series(jobs[0].id, "POS");
   ASSERT_TRUE(series.has_value());
   EXPECT_EQ(series->columns, (std::vector<std::string>{"t", "q1"}));
@@ -139,7 +139,7 @@ TEST_F(ResultsStoreTest, RerunReplacesMetricsAndKeepsDoneStatusForResume) {
   EXPECT_EQ(job.attempts, 2);
   const auto metrics = store.find_metrics(job.id);
   ASSERT_EQ(metrics.size(), 3u);  // replaced, not accumulated
-  EXPECT_DOUBLE_EQ(metrics[0].value, 0.6);
+  EXPECT_DOUBLE_EQ(metrics[0].value.value(), 0.6);
 }
 
 TEST_F(ResultsStoreTest, JobsAreSharedAcrossSweepsByKey) {
@@ -162,9 +162,11 @@ TEST_F(ResultsStoreTest, SweepViewAnswersNmseOfJointTwoByInitD) {
   store.insert_job_batch({{}, {make_result("key0", 1.0), make_result("key1", 2.0), make_result("key2", 4.0)}, {}},
                          "my-sweep");
   store.update_run_finished(run.run_id, "complete", 3, 0, make_utc_timestamp());
-  EXPECT_EQ(make_sweep_view_name("my-sweep"), "sweep_my_sweep");
+  const std::string view = make_sweep_view_name("my-sweep");
+  EXPECT_EQ(view.substr(0, 15), "sweep_my_sweep_");  // '-' was replaced: a hash keeps it unique
+  EXPECT_EQ(view.size(), 21u);
   const auto rows = query_as_user(
-      path("r.db"), "SELECT \"learning.lwpr.init_D\", tracking_nmse_j2 FROM sweep_my_sweep ORDER BY 1");
+      path("r.db"), "SELECT \"learning.lwpr.init_D\", tracking_nmse_j2 FROM " + view + " ORDER BY 1");
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0], "10.0|0.2");
   EXPECT_EQ(rows[2], "30.0|0.8");
@@ -201,7 +203,7 @@ TEST_F(ResultsStoreTest, MergeCopiesNewJobsAcceptsIdenticalOnesAndReportsConflic
   EXPECT_NE(third.conflicts[0].find("key0"), std::string::npos);
   EXPECT_EQ(out.find_jobs("s").size(), 3u);
   EXPECT_EQ(out.count_jobs_by_status("s").at("done"), 3);
-  EXPECT_DOUBLE_EQ(out.find_metrics(out.find_job("key1")->id)[0].value, 0.9);
+  EXPECT_DOUBLE_EQ(out.find_metrics(out.find_job("key1")->id)[0].value.value(), 0.9);
   EXPECT_EQ(out.find_series(out.find_job("key2")->id, "POS")->rows(0, 1), 5.0);
 }
 

@@ -71,7 +71,7 @@ std::map<std::string, std::pair<std::string, std::vector<double>>> read_results(
   std::map<std::string, std::pair<std::string, std::vector<double>>> results;
   for (const JobRecord& job : store.find_jobs("killme")) {
     std::vector<double> values;
-    for (const MetricRecord& m : store.find_metrics(job.id)) values.push_back(m.value);
+    for (const MetricRecord& m : store.find_metrics(job.id)) values.push_back(m.value.value_or(std::nan("")));
     results[job.key] = {job.status, values};
   }
   return results;

@@ -57,7 +57,7 @@ Snapshot read_snapshot(const std::string& db, const std::string& sweep) {
   Snapshot snapshot;
   for (const JobRecord& job : store.find_jobs(sweep)) {
     std::vector<double> values;
-    for (const MetricRecord& m : store.find_metrics(job.id)) values.push_back(m.value);
+    for (const MetricRecord& m : store.find_metrics(job.id)) values.push_back(m.value.value_or(std::nan("")));
     const auto pos = store.find_series(job.id, "POS");
     snapshot[job.key] = {job.status, values, pos ? pos->rows : Eigen::MatrixXd()};
   }

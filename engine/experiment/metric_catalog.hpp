@@ -1,0 +1,85 @@
+#pragma once
+// Every metric a job can record, declared once: its name, unit, meaning, which way is better,
+// what it is measured over (scope) and whether it is a result or a machine-dependent
+// timing/diagnostic. The job code takes names from here (metric_names::…); the runner copies
+// the catalog into each database's `metric_info` table, from which tables, comparisons, merges,
+// plots and reports read directions, units and kinds. Adding a metric is one entry in
+// metric_catalog.cpp (and, if code writes it, one constant below).
+#include <string>
+#include <vector>
+
+namespace armfarm {
+
+enum class MetricDirection { lower, higher, none };
+/// job: one value per job; joint: one per joint (1-based) plus, unless the meaning says
+/// otherwise, a job-level row holding the mean over the joints with a defined value;
+/// task_axis: one end-effector axis; segment: one loop or reach of the trajectory;
+/// checkpoint: one row per (joint,) checkpoint of a held-out evaluation.
+enum class MetricScope { job, joint, task_axis, segment, checkpoint };
+/// result: the same for the same configuration and seed (compared by merge and compare);
+/// timing: depends on the machine and its load; diagnostic: bookkeeping that may vary run to run.
+enum class MetricKind { result, timing, diagnostic };
+
+struct MetricInfo {
+  std::string name;
+  std::string unit;     ///< SI symbol, "1" for dimensionless, "count" for counts
+  std::string meaning;  ///< one line
+  MetricDirection direction = MetricDirection::none;
+  MetricScope scope = MetricScope::job;
+  MetricKind kind = MetricKind::result;
+};
+
+/// "lower", "higher", "none"; "job", "joint", "task_axis", "segment", "checkpoint";
+/// "result", "timing", "diagnostic" (the spellings stored in metric_info).
+const char* to_string(MetricDirection direction);
+const char* to_string(MetricScope scope);
+const char* to_string(MetricKind kind);
+
+/// The catalog, in a stable order.
+const std::vector<MetricInfo>& metric_catalog();
+/// The entry of `name`; throws std::out_of_range for a name not in the catalog.
+const MetricInfo& find_metric_info(const std::string& name);
+
+/// Where a normalised error (nMSE) is defined: the target's standard deviation must reach this
+/// fraction of the target's range (a joint's position range, a joint's torque range
+/// 2·effort limit, the end effector's 2·reach). Below it the target barely moves and the
+/// ratio divides by numerical noise; the nMSE is stored as NULL with the reason, the RMSE
+/// beside it stays meaningful. sweeps/README.md ("Metrics") gives the reasoning.
+inline constexpr double kNmseStdFloorFraction = 1e-3;
+
+/// The names the job code writes. Each appears in metric_catalog().
+namespace metric_names {
+inline const std::string tracking_nmse = "tracking_nmse";
+inline const std::string tracking_rmse = "tracking_rmse";
+inline const std::string tracking_nmse_x = "tracking_nmse_x";
+inline const std::string tracking_nmse_y = "tracking_nmse_y";
+inline const std::string tracking_nmse_z = "tracking_nmse_z";
+inline const std::string tracking_rmse_x = "tracking_rmse_x";
+inline const std::string tracking_rmse_y = "tracking_rmse_y";
+inline const std::string tracking_rmse_z = "tracking_rmse_z";
+inline const std::string task_rmse = "task_rmse";
+inline const std::string ff_fb_ratio_avg = "ff_fb_ratio_avg";
+inline const std::string ff_fb_ratio_var = "ff_fb_ratio_var";
+inline const std::string ff_abs_avg = "ff_abs_avg";
+inline const std::string fb_abs_avg = "fb_abs_avg";
+inline const std::string torque_saturation_fraction = "torque_saturation_fraction";
+inline const std::string test_nmse = "test_nmse";
+inline const std::string test_rmse = "test_rmse";
+inline const std::string n_training_samples = "n_training_samples";
+inline const std::string id_nmse = "id_nmse";
+inline const std::string id_rmse = "id_rmse";
+inline const std::string ff_untrusted_fraction = "ff_untrusted_fraction";
+inline const std::string n_receptive_fields = "n_receptive_fields";
+inline const std::string learner_us_per_update = "learner_us_per_update";
+inline const std::string learner_us_per_predict = "learner_us_per_predict";
+inline const std::string n_segments = "n_segments";
+inline const std::string fb_abs_avg_first_segment = "fb_abs_avg_first_segment";
+inline const std::string fb_abs_avg_last_segment = "fb_abs_avg_last_segment";
+inline const std::string tracking_rmse_first_segment = "tracking_rmse_first_segment";
+inline const std::string tracking_rmse_last_segment = "tracking_rmse_last_segment";
+inline const std::string simulated_seconds = "simulated_seconds";
+inline const std::string sim_seconds_per_wall_second = "sim_seconds_per_wall_second";
+inline const std::string work_checksum = "work_checksum";
+}  // namespace metric_names
+
+}  // namespace armfarm
