@@ -210,10 +210,10 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   std::set<int> joints;
   for (const JobResult& job : data.jobs) {
     for (const auto& [id, value] : job.metrics) {
-      if (id.name == "test_nmse" && id.joint) joints.insert(*id.joint);
+      if (id.name == "same_run_test_nmse" && id.joint) joints.insert(*id.joint);
     }
   }
-  if (joints.empty()) throw AnalysisError("sweep '" + data.name + "' has no test_nmse metric (batch learning jobs)");
+  if (joints.empty()) throw AnalysisError("sweep '" + data.name + "' has no same_run_test_nmse metric (batch learning jobs)");
   Figure figure;
   figure.title = "Test nMSE and receptive fields against kernel width (sweep " + data.name + ")";
   const bool log_x = request.log_x.value_or(true);
@@ -223,12 +223,12 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
     Panel panel;
     panel.title = "joint " + std::to_string(joint);
     panel.x_label = request.kernel_param + " (kernel width, 1/input²)";
-    panel.y_label = make_metric_axis_label(data.metric_info, "test_nmse");
+    panel.y_label = make_metric_axis_label(data.metric_info, "same_run_test_nmse");
     panel.log_x = log_x;
     panel.log_y = log_y;
     panel.curves = make_error_bar_curves(collect_points(data, request.kernel_param, request.adaptation_param,
-                                                        MetricId{"test_nmse", joint}),
-                                         log_y, "test_nmse");
+                                                        MetricId{"same_run_test_nmse", joint}),
+                                         log_y, "same_run_test_nmse");
     if (panel.curves.empty()) {
       undefined += (undefined.empty() ? "" : ", ") + std::to_string(joint);  // nMSE undefined (NULL) in every job
       continue;
@@ -236,7 +236,7 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
     figure.panels.push_back(std::move(panel));
   }
   if (figure.panels.empty()) {
-    throw AnalysisError("sweep '" + data.name + "': no done job has a defined test_nmse and a numeric " + request.kernel_param);
+    throw AnalysisError("sweep '" + data.name + "': no done job has a defined same_run_test_nmse and a numeric " + request.kernel_param);
   }
   if (!undefined.empty()) figure.title += "\njoint " + undefined + " not shown: test nMSE undefined in every job (the torque hardly varies)";
   Panel fields;
@@ -416,7 +416,7 @@ std::vector<PlotKind> find_available_plot_kinds(const ResultsStore& store, const
   std::vector<PlotKind> kinds;
   bool has_test_nmse = false;
   for (const JobResult& job : data.jobs) {
-    for (const auto& [id, value] : job.metrics) has_test_nmse = has_test_nmse || id.name == "test_nmse";
+    for (const auto& [id, value] : job.metrics) has_test_nmse = has_test_nmse || id.name == "same_run_test_nmse";
   }
   if (has_test_nmse) kinds.push_back(PlotKind::nmse_vs_kernel);
   std::set<std::string> series;

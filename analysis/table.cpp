@@ -319,7 +319,7 @@ std::vector<TableSpec> make_default_table_specs(const SweepData& data) {
   if (!tracking.empty()) {
     specs.push_back({"Tracking nMSE and RMSE per task axis, mean over joints (thesis tables 6.2-6.3)", swept, tracking, {}, {}});
   }
-  const auto learned = present({"test_nmse", "test_rmse", "id_nmse", "id_rmse", "n_receptive_fields"});
+  const auto learned = present({"same_run_test_nmse", "same_run_test_rmse", "id_nmse", "id_rmse", "n_receptive_fields"});
   if (!learned.empty()) {
     specs.push_back({"Learned model: nMSE, RMSE and receptive fields (thesis figures 6.1-6.2)", swept, learned, {}, {}});
   }

@@ -6,9 +6,13 @@ namespace armfarm {
 
 CompositeController::CompositeController(ControlMode mode, PdGains gains, double gain_scale, Eigen::VectorXd effort_limits,
                                          bool limit_torque)
+    : CompositeController(mode, std::move(gains), gain_scale, gain_scale, std::move(effort_limits), limit_torque) {}
+
+CompositeController::CompositeController(ControlMode mode, PdGains gains, double kp_scale, double kd_scale,
+                                         Eigen::VectorXd effort_limits, bool limit_torque)
     : mode_(mode),
-      kp_(gains.kp * gain_scale),
-      kd_(gains.kd * gain_scale),
+      kp_(gains.kp * kp_scale),
+      kd_(gains.kd * kd_scale),
       effort_limits_(std::move(effort_limits)),
       limit_torque_(limit_torque) {}
 

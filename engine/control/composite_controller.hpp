@@ -22,6 +22,9 @@ class CompositeController {
   /// `gains` at full scale; `gain_scale` multiplies them; `effort_limits` (N·m, +inf for none)
   /// apply when `limit_torque`.
   CompositeController(ControlMode mode, PdGains gains, double gain_scale, Eigen::VectorXd effort_limits, bool limit_torque);
+  /// The same with kp × kp_scale and kd × kd_scale (see calc_kd_scale()).
+  CompositeController(ControlMode mode, PdGains gains, double kp_scale, double kd_scale, Eigen::VectorXd effort_limits,
+                      bool limit_torque);
 
   /// The command for desired (q_d, q̇_d), measured (q, q̇) and a feed-forward torque.
   ControlCommand calc_command(const Eigen::VectorXd& q_desired, const Eigen::VectorXd& qd_desired, const Eigen::VectorXd& q,

@@ -39,6 +39,9 @@ const std::vector<ConfigKey<ControlConfig>>& control_config_keys() {
        [](C& c) { return make_field(c.damping_ratio); }},
       {"gain_scale", "", closed(0.0, 100.0), ListSize::any, "multiplies kp and kd; 0.2 is the thesis's low-gain controller",
        [](C& c) { return make_field(c.gain_scale); }},
+      {"keep_damping_ratio", "", {}, ListSize::any,
+       "scale kd by √gain_scale (keeps the damping ratio) instead of gain_scale (ζ drops to √gain_scale·ζ, 0.45 at 0.2)",
+       [](C& c) { return make_field(c.keep_damping_ratio); }},
       {"limit_torque", "", {}, ListSize::any, "clip commands to the model's effort limits (counted in torque_saturation_fraction)",
        [](C& c) { return make_field(c.limit_torque); }},
   };

@@ -37,6 +37,10 @@ struct ControlConfig {
   double damping_ratio = 1.0;  ///< for the default gains
   /// Multiplies both gains; the thesis's low-gain controller is 0.2 (gains reduced by 80 %).
   double gain_scale = 1.0;
+  /// With gain_scale s, kd is scaled by √s instead of s, which keeps the damping ratio
+  /// ζ = kd / (2·√(kp·M_jj)) of the gains. Off (the thesis's "gains reduced by 80 %"), ζ becomes
+  /// √s·ζ: 0.45 at s = 0.2 for the default ζ = 1 — an underdamped low-gain controller.
+  bool keep_damping_ratio = false;
   bool limit_torque = true;    ///< clip the command to the model's effort limits
 };
 

@@ -1,5 +1,6 @@
 #include "engine/control/pd_gains.hpp"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -13,6 +14,10 @@ Eigen::VectorXd expand_per_joint(const Eigen::VectorXd& values, int size, double
                                 " values, expected 1 or one per active joint (" + std::to_string(size) + ")");
   }
   return values;
+}
+
+double calc_kd_scale(double gain_scale, bool keep_damping_ratio) {
+  return keep_damping_ratio ? std::sqrt(gain_scale) : gain_scale;
 }
 
 PdGains make_pd_gains(const ControlConfig& control, ArmDynamics& dynamics) {

@@ -19,6 +19,10 @@ struct PdGains {
 /// negative gain.
 PdGains make_pd_gains(const ControlConfig& control, ArmDynamics& dynamics);
 
+/// The factor kd is scaled by for a gain scale: √gain_scale when keep_damping_ratio (the
+/// damping ratio of kp, kd is kept), else gain_scale (as kp; ζ falls by √gain_scale).
+double calc_kd_scale(double gain_scale, bool keep_damping_ratio);
+
 /// Expands a 0- or 1-element vector to `size` entries (`fallback` for an empty one); throws
 /// std::invalid_argument naming `field` when the size is neither 0, 1 nor `size`.
 Eigen::VectorXd expand_per_joint(const Eigen::VectorXd& values, int size, double fallback, const char* field);

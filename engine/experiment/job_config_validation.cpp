@@ -119,7 +119,12 @@ void check_key(const JobConfigKey& key, JobConfig& config, int n, Checker& check
       }
       break;
     }
-    case ValueKind::integer_list:  // active_joints: check_joints
+    case ValueKind::integer_list:  // active_joints: check_joints; the others element-wise
+      if (key.size != ListSize::joint_numbers) {
+        const std::vector<int>& values = field.integers();
+        for (std::size_t i = 0; i < values.size(); ++i) checker.check_integer(key, key.path + "[" + std::to_string(i) + "]", values[i]);
+      }
+      break;
     case ValueKind::boolean:
     case ValueKind::text:
       break;
@@ -155,6 +160,13 @@ void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
                                      name(feed_forward_source_names(), FeedForwardSource::learner) + " (use " +
                                      name(feed_forward_source_names(), FeedForwardSource::analytic) + " or " +
                                      name(feed_forward_source_names(), FeedForwardSource::none) + ")");
+  }
+  const std::vector<int>& checkpoints = config.learning.heldout_checkpoints;
+  for (std::size_t i = 0; i < checkpoints.size(); ++i) {
+    if (i > 0 && checkpoints[i] <= checkpoints[i - 1]) {
+      checker.add("learning.heldout_checkpoints[" + std::to_string(i) + "]",
+                  std::to_string(checkpoints[i]) + " must exceed the checkpoint before it (" + std::to_string(checkpoints[i - 1]) + ")");
+    }
   }
   const ReachingConfig& reaching = config.trajectory.reaching;
   for (int axis = 0; axis < 3; ++axis) {

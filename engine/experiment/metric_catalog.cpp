@@ -33,12 +33,15 @@ const char* to_string(MetricKind kind) {
   return "result";
 }
 
-const std::vector<MetricInfo>& metric_catalog() {
+namespace {
+
+/// Everything but the held-out evaluation.
+std::vector<MetricInfo> make_job_entries() {
   namespace n = metric_names;
   using D = MetricDirection;
   using S = MetricScope;
   using K = MetricKind;
-  static const std::vector<MetricInfo> catalog = {
+  return {
       {n::tracking_nmse, "1",
        "joint angle error: mean (q_d - q)^2 over var(q_d); NULL where q_d's std < 0.1 % of the joint's range",
        D::lower, S::joint, K::result},
@@ -62,12 +65,12 @@ const std::vector<MetricInfo>& metric_catalog() {
       {n::fb_abs_avg, "N·m", "mean absolute feedback torque", D::lower, S::joint, K::result},
       {n::torque_saturation_fraction, "1", "fraction of ticks whose commanded torque hit the effort limit", D::lower,
        S::joint, K::result},
-      {n::test_nmse, "1",
-       "batch learner on held-out collected samples: torque MSE over var(torque); NULL where the torque's std < 0.1 % "
-       "of 2 x effort limit",
+      {n::same_run_test_nmse, "1",
+       "batch learner on the collected samples withheld from training (a random shuffle of 10 ms samples of the same "
+       "runs, not held-out data): torque MSE over var(torque); NULL where the torque's std < 0.1 % of 2 x effort limit",
        D::lower, S::joint, K::result},
-      {n::test_rmse, "N·m", "batch learner on held-out collected samples: root mean squared torque error", D::lower,
-       S::joint, K::result},
+      {n::same_run_test_rmse, "N·m", "batch learner on the withheld samples of the same runs: root mean squared torque error",
+       D::lower, S::joint, K::result},
       {n::n_training_samples, "count", "samples the batch learner was trained on", D::none, S::job, K::result},
       {n::id_nmse, "1",
        "feed-forward used against the true plant's inverse dynamics at the desired state: MSE over var(true torque); "
@@ -97,6 +100,62 @@ const std::vector<MetricInfo>& metric_catalog() {
       {n::work_checksum, "1", "fake job (runner tests): checksum of its busy-work loop", D::none, S::job,
        K::diagnostic},
   };
+}
+
+/// The held-out evaluation's entries (engine/experiment/heldout_evaluation.hpp): the frozen
+/// learner on a held-out realisation of the trajectory, one row per (joint,) checkpoint. The
+/// control-pass figures mirror the evaluation pass's entries under the heldout_ prefix.
+std::vector<MetricInfo> make_heldout_entries(const std::vector<MetricInfo>& job_entries) {
+  namespace n = metric_names;
+  using D = MetricDirection;
+  using S = MetricScope;
+  using K = MetricKind;
+  std::vector<MetricInfo> entries = {
+      {n::heldout_test_nmse, "1",
+       "frozen learner on the held-out samples (never trained on): torque MSE over var(torque); NULL below the floor",
+       D::lower, S::checkpoint, K::result},
+      {n::heldout_test_rmse, "N·m", "frozen learner on the held-out samples: root mean squared torque error", D::lower,
+       S::checkpoint, K::result},
+      {n::heldout_n_test_samples, "count", "held-out samples scored", D::none, S::checkpoint, K::result},
+      {n::heldout_learner_updates, "count", "samples the learner had learnt at the checkpoint", D::none, S::checkpoint,
+       K::result},
+      {n::heldout_n_receptive_fields, "count", "receptive fields of the learner at the checkpoint", D::none,
+       S::checkpoint, K::result},
+      {n::heldout_diverged, "1", "1 when the held-out control pass diverged (its figures cover the ticks run)", D::lower,
+       S::checkpoint, K::result},
+  };
+  for (const std::string& name : heldout_control_metric_names()) {
+    for (const MetricInfo& info : job_entries) {
+      if (info.name == name) {
+        entries.push_back({n::heldout_prefix + info.name, info.unit, "held-out control pass, frozen learner: " + info.meaning,
+                           info.direction, S::checkpoint, info.kind});
+      }
+    }
+  }
+  return entries;
+}
+
+std::vector<MetricInfo> make_catalog() {
+  std::vector<MetricInfo> catalog = make_job_entries();
+  const std::vector<MetricInfo> heldout = make_heldout_entries(catalog);
+  catalog.insert(catalog.end(), heldout.begin(), heldout.end());
+  return catalog;
+}
+
+}  // namespace
+
+const std::vector<std::string>& heldout_control_metric_names() {
+  namespace n = metric_names;
+  static const std::vector<std::string> names = {
+      n::tracking_nmse, n::tracking_rmse, n::tracking_nmse_x, n::tracking_nmse_y, n::tracking_nmse_z,
+      n::tracking_rmse_x, n::tracking_rmse_y, n::tracking_rmse_z, n::task_rmse, n::ff_fb_ratio_avg,
+      n::ff_fb_ratio_var, n::ff_abs_avg, n::fb_abs_avg, n::torque_saturation_fraction, n::id_nmse, n::id_rmse,
+      n::ff_untrusted_fraction};
+  return names;
+}
+
+const std::vector<MetricInfo>& metric_catalog() {
+  static const std::vector<MetricInfo> catalog = make_catalog();
   return catalog;
 }
 

@@ -37,6 +37,8 @@ const char* to_string(MetricKind kind);
 
 /// The catalog, in a stable order.
 const std::vector<MetricInfo>& metric_catalog();
+/// The evaluation-pass metrics a held-out control pass also writes, as heldout_<name>.
+const std::vector<std::string>& heldout_control_metric_names();
 /// The entry of `name`; throws std::out_of_range for a name not in the catalog.
 const MetricInfo& find_metric_info(const std::string& name);
 
@@ -63,8 +65,8 @@ inline const std::string ff_fb_ratio_var = "ff_fb_ratio_var";
 inline const std::string ff_abs_avg = "ff_abs_avg";
 inline const std::string fb_abs_avg = "fb_abs_avg";
 inline const std::string torque_saturation_fraction = "torque_saturation_fraction";
-inline const std::string test_nmse = "test_nmse";
-inline const std::string test_rmse = "test_rmse";
+inline const std::string same_run_test_nmse = "same_run_test_nmse";  // formerly test_nmse
+inline const std::string same_run_test_rmse = "same_run_test_rmse";  // formerly test_rmse
 inline const std::string n_training_samples = "n_training_samples";
 inline const std::string id_nmse = "id_nmse";
 inline const std::string id_rmse = "id_rmse";
@@ -80,6 +82,15 @@ inline const std::string tracking_rmse_last_segment = "tracking_rmse_last_segmen
 inline const std::string simulated_seconds = "simulated_seconds";
 inline const std::string sim_seconds_per_wall_second = "sim_seconds_per_wall_second";
 inline const std::string work_checksum = "work_checksum";
+// Held-out evaluation (engine/experiment/heldout_evaluation.hpp): every row carries a checkpoint.
+// The control-pass figures are the evaluation-pass names with this prefix.
+inline const std::string heldout_prefix = "heldout_";
+inline const std::string heldout_test_nmse = "heldout_test_nmse";
+inline const std::string heldout_test_rmse = "heldout_test_rmse";
+inline const std::string heldout_n_test_samples = "heldout_n_test_samples";
+inline const std::string heldout_learner_updates = "heldout_learner_updates";
+inline const std::string heldout_n_receptive_fields = "heldout_n_receptive_fields";
+inline const std::string heldout_diverged = "heldout_diverged";
 }  // namespace metric_names
 
 }  // namespace armfarm

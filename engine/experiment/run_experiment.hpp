@@ -4,10 +4,13 @@
 // online, or collect samples under feedback, train in batch and then control with the learned
 // model; measure tracking, feed-forward share and model accuracy.
 //
-// Phases: [batch only] collect `collect_repeats` passes of the trajectory under feedback at
-// `collect_gain_scale`, split train/test, train `epochs` epochs, score test nMSE; then one
-// evaluation pass with the configured controller. Every pass starts at the trajectory's first
-// sample at rest-consistent velocity. Metrics are those of the evaluation pass.
+// Phases (run_experiment.cpp lists them, one file each): [learning jobs] collect the held-out
+// set; [batch] collect `collect_repeats` passes of the trajectory under feedback at
+// `collect_gain_scale` (each repeat a different realisation), split at random, train `epochs`
+// epochs, score same_run_test_nmse; then one evaluation pass with the configured controller
+// over the training trajectory (online: learning every tick). At the checkpoints the frozen
+// learner is scored on the held-out set (heldout_* metrics, heldout_evaluation.hpp). Every pass
+// starts at the trajectory's first sample at its first velocity.
 #include "engine/experiment/job_config.hpp"
 #include "engine/experiment/job_outcome.hpp"
 #include "engine/model/arm_model.hpp"

@@ -10,17 +10,6 @@
 namespace armfarm {
 namespace {
 
-/// The motion of a joint at `position`, in its joint frame (as the Simbody weld of a locked joint).
-Eigen::Isometry3d make_motion(const Joint& joint, double position) {
-  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
-  if (joint.type == JointType::prismatic) {
-    motion.translation() = position * joint.axis.normalized();
-  } else if (joint.type != JointType::fixed) {
-    motion.linear() = Eigen::AngleAxisd(position, joint.axis.normalized()).toRotationMatrix();
-  }
-  return motion;
-}
-
 /// Joint frames with active joints on the path above this many use a heap buffer for their origins.
 constexpr int kStackSteps = 32;
 
@@ -69,7 +58,7 @@ SerialChain::SerialChain(const ArmModel& model, const std::vector<int>& active_j
     const Joint& joint = model.joints[j];
     pending = pending * joint.origin;
     if (column_of[j] < 0) {
-      pending = pending * make_motion(joint, joint.type == JointType::fixed ? 0.0 : joint.start_position) * joint.child_offset;
+      pending = pending * calc_joint_motion(joint, joint.type == JointType::fixed ? 0.0 : joint.start_position) * joint.child_offset;
       continue;
     }
     Step step;

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -46,6 +47,9 @@ class Learner {
 
   /// Number of local models (LWPR: receptive fields summed over outputs).
   virtual std::size_t size() const = 0;
+
+  /// Samples learnt so far (successful update() calls); a frozen learner's count never moves.
+  virtual std::uint64_t n_updates() const = 0;
 };
 
 }  // namespace armfarm

@@ -11,6 +11,13 @@ const EnumNames& learning_mode_names() {
   return names;
 }
 
+const EnumNames& learner_kind_names() {
+  static const EnumNames names = {
+      {"lwpr", static_cast<int>(LearnerKind::lwpr), "locally weighted projection regression"},
+  };
+  return names;
+}
+
 lwpr::LwprParams make_job_lwpr_defaults() {
   lwpr::LwprParams params;
   params.init_D = Eigen::MatrixXd::Constant(1, 1, 0.05);
@@ -36,6 +43,30 @@ const std::vector<ConfigKey<LearningConfig>>& learning_config_keys() {
        [](C& c) { return make_field(c.collect_gain_scale); }},
       {"learn_during_evaluation", "", {}, ListSize::any, "batch: keep learning while the learned model controls",
        [](C& c) { return make_field(c.learn_during_evaluation); }},
+      {"learner", "", {}, ListSize::any, "which learner the factory builds (engine/learning/learner_factory.hpp)",
+       [](C& c) { return make_choice_field(c.learner, learner_kind_names()); }},
+      {"collect_start_spread", "rad", closed(0.0, 1.0), ListSize::any,
+       "batch: repeats after the first start off the trajectory by a seeded normal draw of this std per joint (0 = exact copies)",
+       [](C& c) { return make_field(c.collect_start_spread); }},
+      {"collect_noise_q", "rad", closed(0.0, 1.0), ListSize::any, "std of the sensor noise on the measured angles while collecting",
+       [](C& c) { return make_field(c.collect_noise_q); }},
+      {"collect_noise_qd", "rad/s", closed(0.0, 10.0), ListSize::any,
+       "std of the sensor noise on the measured velocities while collecting", [](C& c) { return make_field(c.collect_noise_qd); }},
+      {"heldout", "", {}, ListSize::any, "score the frozen learner on a held-out realisation of the trajectory (heldout_* metrics)",
+       [](C& c) { return make_field(c.heldout); }},
+      {"heldout_checkpoints", "", closed(0, 1e9), ListSize::any,
+       "online: after this many completed segments (0 = before learning); batch: after this many epochs; [] = once at the end",
+       [](C& c) { return make_field(c.heldout_checkpoints); }},
+      {"heldout_segments", "", closed(0, 100000), ListSize::any,
+       "held-out trajectory length in reaches, periods or loops; 0 = 9 reaches or 1 period / loop",
+       [](C& c) { return make_integer_field(c.heldout_segments); }},
+      {"heldout_amplitude_scale", "", open(0.0, 10.0), ListSize::any,
+       "held-out variant: sine amplitudes and the figure-eight's scale × this", [](C& c) { return make_field(c.heldout_amplitude_scale); }},
+      {"heldout_phase_step", "rad", closed(-10.0, 10.0), ListSize::any, "held-out sine: joint i's phase + (i − 1) × this",
+       [](C& c) { return make_field(c.heldout_phase_step); }},
+      {"heldout_recorded_fraction", "", open(0.0, 1.0), ListSize::any,
+       "recorded motion: the last fraction of the recording is held out and never replayed while learning",
+       [](C& c) { return make_field(c.heldout_recorded_fraction); }},
   };
   return keys;
 }

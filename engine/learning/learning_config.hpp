@@ -23,6 +23,13 @@ enum class LearningMode {
 };
 const EnumNames& learning_mode_names();
 
+/// The learners the factory (engine/learning/learner_factory.hpp) knows; a second one (an SSGPR
+/// is planned) is a new enumerator, a spelling and a case in the factory.
+enum class LearnerKind {
+  lwpr,  ///< locally weighted projection regression (engine/lwpr/)
+};
+const EnumNames& learner_kind_names();
+
 /// The LWPR parameters a job starts from: the published defaults except init_D = 0.05·I (on
 /// inputs normalised to unit standard deviation, see normalize_inputs) and trust_n_data = 5,
 /// measured on the default sinusoid (sweeps/README.md gives the figures).
@@ -41,6 +48,38 @@ struct LearningConfig {
   /// Replace lwpr.norm_in by each input's standard deviation along the desired trajectory
   /// (q, q̇, q̈ differ by orders of magnitude; one kernel width cannot suit all three raw).
   bool normalize_inputs = true;
+  /// Which learner the factory builds.
+  LearnerKind learner = LearnerKind::lwpr;
+
+  /// Batch: every collection repeat after the first starts off the trajectory by a seeded
+  /// normal draw of this standard deviation per joint angle (rad; stream "collection.start_state"),
+  /// so a repeat is a different realisation of the run, never a copy. 0 = exact copies.
+  double collect_start_spread = 0.05;
+  /// Standard deviation of the sensor noise on the measured q (rad) and q̇ (rad/s) that the
+  /// collecting controller and the collected samples see (batch and held-out collections).
+  double collect_noise_q = 0.0;
+  double collect_noise_qd = 0.0;
+
+  /// Held-out evaluation (online and batch): the learner, frozen, is scored on a different
+  /// realisation of the trajectory it never trained on (heldout_* metrics;
+  /// engine/experiment/heldout_evaluation.hpp).
+  bool heldout = true;
+  /// When to evaluate: online, after this many completed segments of the learning pass (reaches
+  /// for reaching, periods of the slowest joint for sine, loops for figure-eight and recorded;
+  /// 0 = before learning); batch, after this many training epochs. Increasing. Empty: once, at the end.
+  std::vector<int> heldout_checkpoints;
+  /// Segments of the held-out trajectory (reaches, periods, loops); 0: 9 reaches (the thesis's
+  /// 9 held-out transitions), otherwise 1 period or loop. Ignored for recorded motion.
+  int heldout_segments = 0;
+  /// Sine and figure-eight: the held-out variant's amplitude (figure-eight: scale) relative to
+  /// the training trajectory's.
+  double heldout_amplitude_scale = 0.8;
+  /// Sine: the held-out variant adds (i − 1)·this phase (rad) to the i-th active joint (relative
+  /// phases change, so the joint-space path differs, not just its start time).
+  double heldout_phase_step = 0.785398163397448;  // π/4
+  /// Recorded motion: the last fraction of the recording is held out and never trained on (the
+  /// learning pass replays the rest).
+  double heldout_recorded_fraction = 0.25;
 };
 
 /// LearningConfig's own keys (mode, batch schedule); the LWPR block is lwpr_params_keys().

@@ -24,6 +24,16 @@ int ArmModel::find_joint(const std::string& joint_name) const {
   return -1;
 }
 
+Eigen::Isometry3d calc_joint_motion(const Joint& joint, double position) {
+  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  if (joint.type == JointType::prismatic) {
+    motion.translation() = position * joint.axis.normalized();
+  } else if (joint.type != JointType::fixed) {
+    motion.linear() = Eigen::AngleAxisd(position, joint.axis.normalized()).toRotationMatrix();
+  }
+  return motion;
+}
+
 double ArmModel::total_mass() const {
   double mass = 0.0;
   for (const Link& link : links) {

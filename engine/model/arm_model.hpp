@@ -95,4 +95,9 @@ struct ArmModel {
   double total_mass() const;                            ///< links not fixed to the world
 };
 
+/// The motion of `joint` at `position` (rad or m) in its joint frame: a rotation about, or a
+/// translation along, its axis; identity for a fixed joint. A joint's child frame sits at
+/// origin · motion · child_offset in its parent link's frame.
+Eigen::Isometry3d calc_joint_motion(const Joint& joint, double position);
+
 }  // namespace armfarm

@@ -39,16 +39,6 @@ Eigen::Isometry3d make_axis_alignment(const Eigen::Vector3d& from, const Eigen::
   return alignment;
 }
 
-Eigen::Isometry3d make_joint_motion(const Joint& joint, double position) {
-  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
-  if (joint.type == JointType::prismatic) {
-    motion.translation() = position * joint.axis.normalized();
-  } else if (joint.type != JointType::fixed) {
-    motion.linear() = Eigen::AngleAxisd(position, joint.axis.normalized()).toRotationMatrix();
-  }
-  return motion;
-}
-
 SimTK::MassProperties make_mass_properties(const Inertial& inertial) {
   const Eigen::Matrix3d& i = inertial.inertia;
   const SimTK::Inertia central(SimTK::Vec3(i(0, 0), i(1, 1), i(2, 2)), SimTK::Vec3(i(0, 1), i(0, 2), i(1, 2)));
@@ -215,7 +205,7 @@ std::unique_ptr<ArmSystem> make_arm_system(const ArmModel& model, const ArmSimul
     if (active == arm->active_joint_indices.end()) {
       // Fixed or locked: weld the child where the joint holds it at its start position.
       const double position = joint.type == JointType::fixed ? 0.0 : joint.start_position;
-      const Eigen::Isometry3d pose = joint.origin * make_joint_motion(joint, position) * joint.child_offset;
+      const Eigen::Isometry3d pose = joint.origin * calc_joint_motion(joint, position) * joint.child_offset;
       built = SimTK::MobilizedBody::Weld(parent, to_simtk(pose), body, SimTK::Transform()).getMobilizedBodyIndex();
     } else {
       const bool prismatic = joint.type == JointType::prismatic;

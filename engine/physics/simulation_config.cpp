@@ -24,6 +24,9 @@ const std::vector<ConfigKey<SimulationConfig>>& simulation_config_keys() {
        [](C& c) { return make_choice_field(c.integrator, integrator_kind_names()); }},
       {"integrator_accuracy", "", closed(1e-12, 0.1), ListSize::any, "relative accuracy of the adaptive integrators",
        [](C& c) { return make_field(c.integrator_accuracy); }},
+      {"armature_scale", "", closed(0.0, 10.0), ListSize::any,
+       "multiplies the model's joint armature (plant and nominal model); 0 = none, as the thesis's arm",
+       [](C& c) { return make_field(c.armature_scale); }},
   };
   return keys;
 }

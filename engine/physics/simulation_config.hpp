@@ -15,6 +15,10 @@ struct SimulationConfig {
   double dt = 0.01;  ///< s, control and learning period (the thesis's TAU); torques are held over a tick
   IntegratorKind integrator = ArmSimulationOptions{}.integrator;
   double integrator_accuracy = ArmSimulationOptions{}.accuracy;  ///< relative accuracy of adaptive integrators
+  /// Multiplies every joint's armature (reflected rotor inertia) of the model, in the plant and
+  /// in the nominal model alike; 0 removes it (the thesis's simulated arm had none). The default
+  /// gains follow, since they are placed on the mass-matrix diagonal with armature.
+  double armature_scale = 1.0;
 };
 
 const std::vector<ConfigKey<SimulationConfig>>& simulation_config_keys();

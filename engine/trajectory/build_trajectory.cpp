@@ -31,12 +31,12 @@ void fill_task_positions(JointTrajectory& trajectory, ArmDynamics& dynamics) {
 }
 
 JointTrajectory build_sine(const TrajectoryConfig& config, ArmDynamics& dynamics, double dt) {
-  const SineTrajectoryConfig& sine = config.sine;
   const int n = dynamics.dof();
-  const Eigen::VectorXd amplitude = expand(sine.amplitude, n, Eigen::VectorXd::Constant(n, 0.3), "trajectory.sine.amplitude");
-  const Eigen::VectorXd frequency = expand(sine.frequency, n, Eigen::VectorXd::Constant(n, 0.25), "trajectory.sine.frequency");
-  const Eigen::VectorXd phase = expand(sine.phase, n, Eigen::VectorXd::Zero(n), "trajectory.sine.phase");
-  const Eigen::VectorXd offset = expand(sine.offset, n, dynamics.start_positions(), "trajectory.sine.offset");
+  const SineTrajectoryConfig sine = resolve_sine_defaults(config.sine, n, dynamics.start_positions());
+  const Eigen::VectorXd& amplitude = sine.amplitude;
+  const Eigen::VectorXd& frequency = sine.frequency;
+  const Eigen::VectorXd& phase = sine.phase;
+  const Eigen::VectorXd& offset = sine.offset;
   if (!(sine.duration > 0.0)) throw std::invalid_argument("trajectory.sine.duration: must be positive");
   if ((frequency.array() < 0.0).any()) throw std::invalid_argument("trajectory.sine.frequency: must not be negative");
   const int samples = std::max(2, static_cast<int>(std::lround(sine.duration / dt)));
@@ -118,6 +118,15 @@ JointTrajectory build_recorded(const TrajectoryConfig& config, ArmDynamics& dyna
 }
 
 }  // namespace
+
+SineTrajectoryConfig resolve_sine_defaults(const SineTrajectoryConfig& sine, int n, const Eigen::VectorXd& start_positions) {
+  SineTrajectoryConfig resolved = sine;
+  resolved.amplitude = expand(sine.amplitude, n, Eigen::VectorXd::Constant(n, 0.3), "trajectory.sine.amplitude");
+  resolved.frequency = expand(sine.frequency, n, Eigen::VectorXd::Constant(n, 0.25), "trajectory.sine.frequency");
+  resolved.phase = expand(sine.phase, n, Eigen::VectorXd::Zero(n), "trajectory.sine.phase");
+  resolved.offset = expand(sine.offset, n, start_positions, "trajectory.sine.offset");
+  return resolved;
+}
 
 JointTrajectory build_trajectory(const TrajectoryConfig& config, ArmDynamics& dynamics, double dt, std::uint64_t seed) {
   if (!(dt > 0.0)) throw std::invalid_argument("dt: must be positive");

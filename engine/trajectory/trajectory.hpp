@@ -30,6 +30,10 @@ struct JointTrajectory {
   int size() const { return static_cast<int>(q.rows()); }
 };
 
+/// `sine` with every vector expanded to n entries and every empty one replaced by its default
+/// (`start_positions` for the offset); throws std::invalid_argument naming a wrong-sized field.
+SineTrajectoryConfig resolve_sine_defaults(const SineTrajectoryConfig& sine, int n, const Eigen::VectorXd& start_positions);
+
 /// Builds the trajectory for the active joints of `dynamics` (which supplies start angles,
 /// limits, kinematics and the IK). `seed` draws the reaching targets. Throws
 /// std::invalid_argument naming the field for unusable settings and std::runtime_error when a

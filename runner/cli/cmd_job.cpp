@@ -148,11 +148,13 @@ RunFunction setup_job(CLI::App& parent) {
     std::map<int, nlohmann::json> per_joint;
     nlohmann::json metrics = nlohmann::json::object();
     for (const Metric& metric : outcome.metrics) {
+      // Held-out metrics are measured at checkpoints: "heldout_test_nmse@200".
+      const std::string name = metric.checkpoint ? metric.name + "@" + std::to_string(metric.checkpoint->number) : metric.name;
       if (metric.joint) {
         per_joint[*metric.joint]["joint"] = *metric.joint;
-        per_joint[*metric.joint][metric.name] = number_or_null(metric.value.value_or(std::nan("")));
+        per_joint[*metric.joint][name] = number_or_null(metric.value.value_or(std::nan("")));
       } else {
-        metrics[metric.name] = number_or_null(metric.value.value_or(std::nan("")));
+        metrics[name] = number_or_null(metric.value.value_or(std::nan("")));
       }
     }
     if (*as_json) {

@@ -117,7 +117,7 @@ JobExecutor make_fake_job_executor() {
       outcome.metrics.push_back({metric_names::tracking_nmse, static_cast<int>(j + 1), std::nullopt, value, {}});
       mean += value / static_cast<double>(n_joints);
     }
-    outcome.metrics.push_back({metric_names::test_nmse, std::nullopt, std::nullopt, mean, {}});
+    outcome.metrics.push_back({metric_names::same_run_test_nmse, std::nullopt, std::nullopt, mean, {}});
     outcome.metrics.push_back({metric_names::work_checksum, std::nullopt, std::nullopt, checksum, {}});
 
     Series pos{"POS", {"t"}, Eigen::MatrixXd(samples, n_joints + 1)};

@@ -12,7 +12,7 @@ namespace armfarm {
 /// fake.{sleep_ms,work,fail,throw,diverge,hang}.
 JobConfigSchema make_fake_job_config_schema();
 
-/// Metrics: tracking_nmse per joint (1-based, one per control.kp entry), test_nmse and
+/// Metrics: tracking_nmse per joint (1-based, one per control.kp entry), same_run_test_nmse and
 /// work_checksum per job. Series: POS and TOR, simulation.samples rows of t, q1..qn / tau1..taun.
 JobExecutor make_fake_job_executor();
 

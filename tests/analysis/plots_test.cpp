@@ -44,7 +44,7 @@ class PlotTest : public ::testing::Test {
           testing::TestJob job;
           job.params = {{"learning.lwpr.init_D", init_d}, {"learning.lwpr.update_D", update_d}, {"seed", seed}};
           const double nmse = 0.1 / std::sqrt(init_d) + (update_d ? 0.02 : 0.0) + 0.001 * seed;
-          job.metrics = {{0, "test_nmse", 1, nmse, ""}, {0, "test_nmse", 2, 2 * nmse, ""},
+          job.metrics = {{0, "same_run_test_nmse", 1, nmse, ""}, {0, "same_run_test_nmse", 2, 2 * nmse, ""},
                          {0, "n_receptive_fields", std::nullopt, 5 * init_d + (update_d ? 10 : 0), ""}};
           kernel_jobs.push_back(job);
         }
@@ -113,10 +113,10 @@ TEST_F(PlotTest, NmseAgainstKernelWidthHasBothAdaptationCurvesPerJoint) {
 }
 
 TEST_F(PlotTest, MetricAgainstParamWithErrorBars) {
-  const std::string svg = render("metric-vs-param --sweep kernel --metric test_nmse --joint 1 --param learning.lwpr.init_D "
+  const std::string svg = render("metric-vs-param --sweep kernel --metric same_run_test_nmse --joint 1 --param learning.lwpr.init_D "
                                  "--group learning.lwpr.update_D",
                                  directory_.file("metric.svg"));
-  EXPECT_NE(svg.find("test_nmse j1"), std::string::npos);
+  EXPECT_NE(svg.find("same_run_test_nmse j1"), std::string::npos);
   EXPECT_NE(svg.find("update_D=true"), std::string::npos);
 }
 
@@ -160,7 +160,7 @@ TEST_F(PlotTest, ReportIsSelfContainedHtmlPerSweep) {
   EXPECT_NE(kernel.find("<table>"), std::string::npos);
   EXPECT_NE(kernel.find("deadbeef"), std::string::npos);  // provenance
   EXPECT_NE(kernel.find("<svg"), std::string::npos);      // plot inline
-  EXPECT_NE(kernel.find("test_nmse j1"), std::string::npos);
+  EXPECT_NE(kernel.find("same_run_test_nmse j1"), std::string::npos);
   const std::string tracking = read_file(out + "/sweep_tracking.html");
   EXPECT_NE(tracking.find("tracking"), std::string::npos);
   EXPECT_NE(read_file(out + "/index.html").find("sweep_kernel.html"), std::string::npos);

@@ -40,6 +40,7 @@ inline std::vector<MetricInfoRecord> make_test_metric_info() {
       {"tracking_nmse", "1", "joint error over target variance", "lower", "joint", "result"},
       {"tracking_rmse", "rad", "joint error", "lower", "joint", "result"},
       {"test_nmse", "1", "held-out error", "lower", "joint", "result"},
+      {"same_run_test_nmse", "1", "error on withheld samples of the training runs", "lower", "joint", "result"},
       {"ff_fb_ratio_avg", "1", "feed-forward share", "higher", "joint", "result"},
       {"fb_abs_avg", "N·m", "feedback torque", "lower", "joint", "result"},
       {"torque_saturation_fraction", "1", "saturated ticks", "lower", "joint", "result"},

@@ -63,11 +63,18 @@ TEST(RunExperiment, BatchLearnedFeedForwardBeatsLowGainFeedback) {
   EXPECT_LT(5.0 * l["tracking_nmse"], f["tracking_nmse"]);
   // The joints that carry the arm's weight (table 6.4 of the thesis: 0.80–0.96).
   for (int joint : {2, 4}) EXPECT_GE(l["ff_fb_ratio_avg_j" + std::to_string(joint)], 0.8) << "joint " << joint;
-  EXPECT_LT(l["test_nmse"], 0.5);
+  EXPECT_LT(l["same_run_test_nmse"], 0.5);
   EXPECT_GT(l["n_receptive_fields"], 0.0);
-  std::printf("gain 0.2: feedback tracking nMSE %.4f, batch LWPR composite %.5f (%.0fx); ff/fb j2 %.2f j4 %.2f; test nMSE %.3f\n",
+  // On the held-out variant of the sine (never trained on) the model still carries most of the
+  // torque of the weight-bearing joints, and predicts worse than on samples of its own runs.
+  EXPECT_LT(l["heldout_test_nmse"], 1.0);
+  EXPECT_GT(l["heldout_test_nmse"], l["same_run_test_nmse"]);
+  for (int joint : {2, 4}) EXPECT_GE(l["heldout_ff_fb_ratio_avg_j" + std::to_string(joint)], 0.5) << "joint " << joint;
+  std::printf("gain 0.2: feedback tracking nMSE %.4f, batch LWPR composite %.5f (%.0fx); ff/fb j2 %.2f j4 %.2f; same-run test nMSE %.3f\n"
+              "  held out: test nMSE %.3f, id nMSE %.3f, tracking nMSE %.5f, ff/fb j2 %.2f j4 %.2f\n",
               f["tracking_nmse"], l["tracking_nmse"], f["tracking_nmse"] / l["tracking_nmse"], l["ff_fb_ratio_avg_j2"],
-              l["ff_fb_ratio_avg_j4"], l["test_nmse"]);
+              l["ff_fb_ratio_avg_j4"], l["same_run_test_nmse"], l["heldout_test_nmse"], l["heldout_id_nmse"],
+              l["heldout_tracking_nmse"], l["heldout_ff_fb_ratio_avg_j2"], l["heldout_ff_fb_ratio_avg_j4"]);
 }
 
 TEST(RunExperiment, OnlineLearningOverRepeatedReachingReducesFeedback) {

@@ -1,0 +1,60 @@
+#include "engine/experiment/batch_training.hpp"
+
+#include "engine/experiment/signal_statistics.hpp"
+#include "engine/random/random_stream.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+namespace armfarm {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+PassResult train_in_batch(Learner& learner, const std::vector<Sample>& samples, const LearningConfig& config,
+                          std::uint64_t seed, LearnerClock* clock, const std::function<PassResult(int epoch)>& after_epoch,
+                          BatchTrainingResult& result) {
+  RandomStream generator(seed, "learning.batch.shuffle");
+  std::vector<std::size_t> order(samples.size());
+  std::iota(order.begin(), order.end(), 0);
+  generator.shuffle(order.begin(), order.end());
+  const auto n_train = static_cast<std::size_t>(std::llround(config.train_fraction * static_cast<double>(samples.size())));
+  std::vector<std::size_t> train(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(n_train));
+  const std::vector<std::size_t> test(order.begin() + static_cast<std::ptrdiff_t>(n_train), order.end());
+  result.training_samples = static_cast<long>(n_train);
+  if (after_epoch) {
+    PassResult checkpoint = after_epoch(0);
+    if (!checkpoint.ok()) return checkpoint;
+  }
+  for (int epoch = 1; epoch <= config.epochs; ++epoch) {
+    if (epoch > 1) generator.shuffle(train.begin(), train.end());
+    for (std::size_t index : train) {
+      const auto start = std::chrono::steady_clock::now();
+      learner.update(samples[index].x, samples[index].y);
+      if (clock) clock->update_seconds += seconds_since(start), ++clock->updates;
+    }
+    if (after_epoch) {
+      PassResult checkpoint = after_epoch(epoch);
+      if (!checkpoint.ok()) return checkpoint;
+    }
+  }
+  if (test.empty()) return PassResult{};
+  const int n_out = learner.output_dim();
+  NmseAccumulator accuracy(n_out);
+  const std::unique_ptr<PredictionWorkspace> workspace = learner.make_workspace();
+  for (std::size_t index : test) {
+    const auto start = std::chrono::steady_clock::now();
+    const Prediction prediction = learner.predict(samples[index].x, *workspace);
+    if (clock) clock->predict_seconds += seconds_since(start), ++clock->predictions;
+    accuracy.add(samples[index].y, calc_trusted_part(prediction));
+  }
+  result.same_run_test = accuracy;
+  return PassResult{};
+}
+
+}  // namespace armfarm

@@ -1,0 +1,132 @@
+#include "engine/experiment/control_pass.hpp"
+
+#include "engine/experiment/divergence_monitor.hpp"
+#include "engine/experiment/tick_recording.hpp"
+
+#include <chrono>
+#include <stdexcept>
+
+namespace armfarm {
+namespace {
+
+Eigen::VectorXd concat(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& c) {
+  Eigen::VectorXd x(a.size() + b.size() + c.size());
+  x << a, b, c;
+  return x;
+}
+
+/// The measured state: the plant's plus the configured sensor noise.
+struct Measurement {
+  Eigen::VectorXd q, qd;
+};
+
+Measurement measure(const ArmSimulation& plant, const PassOptions& options) {
+  Measurement m{plant.q(), plant.qd()};
+  if (options.noise && options.noise_q > 0.0) {
+    for (Eigen::Index j = 0; j < m.q.size(); ++j) m.q[j] += options.noise->normal(0.0, options.noise_q);
+  }
+  if (options.noise && options.noise_qd > 0.0) {
+    for (Eigen::Index j = 0; j < m.qd.size(); ++j) m.qd[j] += options.noise->normal(0.0, options.noise_qd);
+  }
+  return m;
+}
+
+PassResult end_pass(JobStatus status, double time, std::string message, double simulated) {
+  return PassResult{status, time, std::move(message), simulated};
+}
+
+}  // namespace
+
+PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTrajectory& trajectory, const PassOptions& options) {
+  const JobConfig& config = setup.config();
+  const double dt = config.simulation.dt;
+  const int n = setup.dof();
+  const double pass_start = plant.time();
+  bool mismatch_present = setup.mismatch_from_start();
+  if (options.schedule_mismatch && !mismatch_present && setup.has_mismatch()) setup.remove_mismatch(plant);
+  Eigen::VectorXd q_start = trajectory.q.row(0).transpose();
+  if (options.start_offset.size()) q_start += options.start_offset;
+  plant.set_state(pass_start, q_start, trajectory.qd.row(0).transpose());
+  DivergenceMonitor divergence(config.divergence, setup.nominal().velocity_limits(), setup.joint_numbers());
+  const auto observed_size = [&options]() -> std::size_t { return options.observed ? options.observed->size() : 0; };
+  const int ticks = trajectory.size();
+  const std::size_t segments = trajectory.segment_starts.size();
+  std::size_t segment = 0;
+  double simulated = 0.0;
+  Eigen::VectorXd last_acceleration = Eigen::VectorXd::Zero(n);
+  Measurement measured = measure(plant, options);
+
+  for (int k = 0; k < ticks; ++k) {
+    const double t = plant.time();
+    if (options.should_stop && options.should_stop()) return end_pass(JobStatus::timeout, t, "stopped before the end of the run", simulated);
+    if (options.schedule_mismatch && !mismatch_present && t - pass_start >= config.mismatch.start_time - 1e-12) {
+      setup.apply_mismatch(plant);
+      mismatch_present = true;
+    }
+    if (segment + 1 < segments && k == trajectory.segment_starts[segment + 1]) {
+      ++segment;
+      if (options.statistics) options.statistics->start_segment(t, observed_size());
+      if (options.on_segment_end) {
+        PassResult checkpoint = options.on_segment_end(static_cast<int>(segment));
+        if (!checkpoint.ok()) return end_pass(checkpoint.status, t, checkpoint.message, simulated);
+      }
+    }
+    const Eigen::VectorXd q_desired = trajectory.q.row(k).transpose();
+    const Eigen::VectorXd qd_desired = trajectory.qd.row(k).transpose();
+    const Eigen::VectorXd qdd_desired = trajectory.qdd.row(k).transpose();
+    const Eigen::VectorXd q = plant.q();
+    const Eigen::VectorXd qd = plant.qd();
+
+    if (auto reason = divergence.check(t, q, qd, q_desired)) return end_pass(JobStatus::diverged, t, *reason, simulated);
+
+    FeedForwardTerm feed_forward{Eigen::VectorXd::Zero(n)};
+    if (options.feed_forward) feed_forward = options.feed_forward->calc(q_desired, qd_desired, qdd_desired);
+    const ControlCommand command = options.controller->calc_command(q_desired, qd_desired, measured.q, measured.qd, feed_forward.torque);
+
+    if (options.statistics) {
+      const Eigen::Vector3d position = setup.nominal().calc_end_effector_position(q);
+      const Eigen::Vector3d position_desired = trajectory.task_position.row(k).transpose();
+      options.statistics->add_tick(q_desired, q, position_desired, position, command);
+      if (feed_forward.from_learner) {
+        options.statistics->add_model_accuracy(setup.calc_true_torque(q_desired, qd_desired, qdd_desired, mismatch_present),
+                                               feed_forward.torque, feed_forward.output_trusted);
+      }
+      if (options.recorder && k % options.record_every == 0) {
+        record_tick(*options.recorder, TickRecord{t, q, qd, last_acceleration, q_desired, qd_desired, qdd_desired, position,
+                                                  position_desired, command, observed_size()});
+      }
+    }
+
+    try {
+      plant.step(command.torque, dt);
+    } catch (const std::exception& failure) {
+      return end_pass(JobStatus::diverged, t, std::string("integrator failed: ") + failure.what(), simulated);
+    }
+    simulated += dt;
+    const Measurement next = measure(plant, options);
+    const Eigen::VectorXd qdd_measured = (next.qd - measured.qd) / dt;  // the thesis's backward difference
+    if (!qdd_measured.allFinite()) return end_pass(JobStatus::diverged, plant.time(), "the state became NaN or Inf", simulated);
+    last_acceleration = qdd_measured;
+    if (options.samples || options.learner) {
+      Sample sample{concat(measured.q, measured.qd, qdd_measured), command.torque};
+      if (options.learner) {
+        const auto start = std::chrono::steady_clock::now();
+        options.learner->update(sample.x, sample.y);
+        if (options.clock) {
+          options.clock->update_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          ++options.clock->updates;
+        }
+      }
+      if (options.samples) options.samples->push_back(std::move(sample));
+    }
+    measured = next;
+  }
+  if (options.statistics) options.statistics->end(observed_size());
+  if (options.on_segment_end) {
+    PassResult checkpoint = options.on_segment_end(static_cast<int>(segments));
+    if (!checkpoint.ok()) return end_pass(checkpoint.status, plant.time(), checkpoint.message, simulated);
+  }
+  return end_pass(JobStatus::done, plant.time(), {}, simulated);
+}
+
+}  // namespace armfarm

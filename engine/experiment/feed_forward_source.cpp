@@ -1,0 +1,66 @@
+#include "engine/experiment/feed_forward_source.hpp"
+
+#include "engine/experiment/nominal_inverse_dynamics.hpp"
+
+#include <chrono>
+#include <stdexcept>
+
+namespace armfarm {
+namespace {
+
+Eigen::VectorXd concat(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& c) {
+  Eigen::VectorXd x(a.size() + b.size() + c.size());
+  x << a, b, c;
+  return x;
+}
+
+}  // namespace
+
+bool is_output_trusted(const Prediction& prediction, int output) {
+  return static_cast<std::size_t>(output) < prediction.output_trusted.size() ? prediction.output_trusted[static_cast<std::size_t>(output)]
+                                                                               : prediction.trustworthy;
+}
+
+Eigen::VectorXd calc_trusted_part(const Prediction& prediction) {
+  Eigen::VectorXd value = Eigen::VectorXd::Zero(prediction.value.size());
+  for (Eigen::Index j = 0; j < value.size(); ++j) {
+    if (is_output_trusted(prediction, static_cast<int>(j))) value[j] = prediction.value[j];
+  }
+  return value;
+}
+
+FeedForwardProvider::FeedForwardProvider(const ControlConfig& control, ArmDynamics& nominal, const Learner* learner,
+                                     LearnerClock* clock)
+    : control_(control),
+      nominal_(nominal),
+      learner_(learner),
+      clock_(clock),
+      active_(control.mode != ControlMode::feedback && control.feed_forward != FeedForwardSource::none) {
+  if (active_ && control.feed_forward == FeedForwardSource::learner) {
+    if (!learner_) throw std::invalid_argument("control.feed_forward: is \"learner\" but the job has no learner");
+    workspace_ = learner_->make_workspace();
+  }
+}
+
+FeedForwardTerm FeedForwardProvider::calc(const Eigen::VectorXd& q_desired, const Eigen::VectorXd& qd_desired,
+                                        const Eigen::VectorXd& qdd_desired) {
+  FeedForwardTerm term;
+  term.torque = Eigen::VectorXd::Zero(q_desired.size());
+  if (!active_) return term;
+  if (control_.feed_forward == FeedForwardSource::analytic) {
+    term.torque = calc_nominal_inverse_dynamics(nominal_, q_desired, qd_desired, qdd_desired, ArmSimulationOptions{}.coulomb_velocity_scale);
+    return term;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const Prediction prediction = learner_->predict(concat(q_desired, qd_desired, qdd_desired), *workspace_);
+  if (clock_) {
+    clock_->predict_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++clock_->predictions;
+  }
+  term.from_learner = true;
+  term.torque = calc_trusted_part(prediction);
+  for (Eigen::Index j = 0; j < term.torque.size(); ++j) term.output_trusted.push_back(is_output_trusted(prediction, static_cast<int>(j)));
+  return term;
+}
+
+}  // namespace armfarm

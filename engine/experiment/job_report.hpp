@@ -1,0 +1,27 @@
+#pragma once
+// Recording the job's outcome: the evaluation pass's metrics and TRIAL rows, the learner's
+// figures, batch training's same-run split, and the run's cost.
+#include "engine/experiment/batch_training.hpp"
+#include "engine/experiment/experiment_metrics.hpp"
+#include "engine/experiment/feed_forward_source.hpp"
+#include "engine/experiment/pass_statistics.hpp"
+#include "engine/experiment/series_recorder.hpp"
+#include "engine/learning/learner.hpp"
+
+namespace armfarm {
+
+/// The evaluation pass's metrics (un-prefixed names: the pass on the training trajectory) and
+/// one TRIAL row per segment.
+void write_evaluation_report(MetricWriter& writer, const PassStatistics& statistics, const ErrorFloors& floors,
+                             SeriesRecorder& recorder);
+
+/// same_run_test_nmse/_rmse (per joint and job) and n_training_samples.
+void write_batch_training_report(MetricWriter& writer, const BatchTrainingResult& training, const ErrorFloors& floors);
+
+/// n_receptive_fields, learner_us_per_update, learner_us_per_predict.
+void write_learner_report(MetricWriter& writer, const Learner& learner, const LearnerClock& clock);
+
+/// simulated_seconds and sim_seconds_per_wall_second.
+void write_cost_report(MetricWriter& writer, double simulated_seconds, double wall_seconds);
+
+}  // namespace armfarm

@@ -1,0 +1,127 @@
+#include "engine/experiment/job_setup.hpp"
+
+#include "engine/experiment/metric_catalog.hpp"
+#include "engine/experiment/nominal_inverse_dynamics.hpp"
+#include "engine/model/arm_reach.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace armfarm {
+namespace {
+
+/// 1-based joint numbers (validate() checked them); every movable joint for an empty list.
+std::vector<int> resolve_joint_numbers(const ArmModel& model, const std::vector<int>& numbers) {
+  if (!numbers.empty()) return numbers;
+  std::vector<int> result;
+  for (int i = 1; i <= static_cast<int>(model.movable_joints().size()); ++i) result.push_back(i);
+  return result;
+}
+
+ArmModel scale_armature(const ArmModel& model, double scale) {
+  ArmModel scaled = model;
+  for (Joint& joint : scaled.joints) joint.armature *= scale;
+  return scaled;
+}
+
+std::vector<int> make_indices(const std::vector<int>& numbers) {
+  std::vector<int> indices;
+  for (int number : numbers) indices.push_back(number - 1);
+  return indices;
+}
+
+}  // namespace
+
+JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
+    : model_(scale_armature(model, config.simulation.armature_scale)),
+      config_(config),
+      joint_numbers_(resolve_joint_numbers(model_, config.active_joints)),
+      active_indices_(make_indices(joint_numbers_)),
+      nominal_(model_, active_indices_),
+      n_(nominal_.dof()) {
+  gains_ = make_pd_gains(config.control, nominal_);
+  reach_ = calc_reach(model_);
+  if (config.mismatch.payload.mass > 0.0) {
+    true_dynamics_ = std::make_unique<ArmDynamics>(model_, active_indices_, config.mismatch.payload);
+  }
+  nominal_viscous_ = nominal_.viscous_damping();
+  nominal_coulomb_ = nominal_.coulomb_friction();
+  true_viscous_ = config.mismatch.viscous.size() ? expand_per_joint(config.mismatch.viscous, n_, 0.0, "mismatch.viscous")
+                                                 : nominal_viscous_;
+  true_coulomb_ = config.mismatch.coulomb.size() ? expand_per_joint(config.mismatch.coulomb, n_, 0.0, "mismatch.coulomb")
+                                                 : nominal_coulomb_;
+}
+
+CompositeController JobSetup::make_controller() {
+  const ControlConfig& control = config_.control;
+  return CompositeController(control.mode, gains_, control.gain_scale, calc_kd_scale(control.gain_scale, control.keep_damping_ratio),
+                             nominal_.effort_limits(), control.limit_torque);
+}
+
+ErrorFloors JobSetup::make_error_floors() const {
+  ErrorFloors floors;
+  floors.angle.resize(n_);
+  floors.torque.resize(n_);
+  const Eigen::VectorXd lower = nominal_.lower_limits(), upper = nominal_.upper_limits(), limits = nominal_.effort_limits();
+  for (int j = 0; j < n_; ++j) {
+    const double range = std::isfinite(upper[j] - lower[j]) ? upper[j] - lower[j] : 2.0 * M_PI;
+    floors.angle[j] = kNmseStdFloorFraction * range;
+    // Without an effort limit only exact constancy (numerical noise) is undefined.
+    floors.torque[j] = std::isfinite(limits[j]) && limits[j] > 0.0 ? kNmseStdFloorFraction * 2.0 * limits[j] : 1e-12;
+  }
+  floors.task = Eigen::Vector3d::Constant(kNmseStdFloorFraction * 2.0 * reach_);
+  return floors;
+}
+
+ArmSimulation JobSetup::make_plant() const {
+  ArmSimulationOptions options;
+  options.active_joints = active_indices_;
+  options.integrator = config_.simulation.integrator;
+  options.accuracy = config_.simulation.integrator_accuracy;
+  if (mismatch_from_start()) {
+    options.payload = config_.mismatch.payload;
+    if (config_.mismatch.viscous.size()) options.friction_override.viscous = true_viscous_;
+    if (config_.mismatch.coulomb.size()) options.friction_override.coulomb = true_coulomb_;
+  }
+  return ArmSimulation(model_, options);
+}
+
+void JobSetup::apply_mismatch(ArmSimulation& plant) const {
+  plant.set_payload(config_.mismatch.payload);
+  JointFrictionOverride friction;
+  if (config_.mismatch.viscous.size()) friction.viscous = true_viscous_;
+  if (config_.mismatch.coulomb.size()) friction.coulomb = true_coulomb_;
+  plant.set_friction_override(friction);
+}
+
+void JobSetup::remove_mismatch(ArmSimulation& plant) const {
+  plant.set_payload(Payload{});
+  plant.set_friction_override(JointFrictionOverride{});
+}
+
+Eigen::VectorXd JobSetup::calc_true_torque(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                                           bool mismatch_present) {
+  ArmDynamics& dynamics = (mismatch_present && true_dynamics_) ? *true_dynamics_ : nominal_;
+  return calc_inverse_dynamics_with_friction(dynamics, q, qd, qdd, mismatch_present ? true_viscous_ : nominal_viscous_,
+                                             mismatch_present ? true_coulomb_ : nominal_coulomb_,
+                                             ArmSimulationOptions{}.coulomb_velocity_scale);
+}
+
+Eigen::VectorXd calc_trajectory_input_scale(const JointTrajectory& trajectory) {
+  const auto n = trajectory.q.cols();
+  Eigen::VectorXd scale(3 * n);
+  for (int block = 0; block < 3; ++block) {
+    const Eigen::MatrixXd& signal = block == 0 ? trajectory.q : block == 1 ? trajectory.qd : trajectory.qdd;
+    for (Eigen::Index j = 0; j < n; ++j) {
+      const Eigen::VectorXd column = signal.col(j);
+      const double mean = column.mean();
+      const double deviation = std::sqrt((column.array() - mean).square().mean());
+      scale[block * n + j] = deviation > 1e-6 ? deviation : 1.0;
+    }
+  }
+  return scale;
+}
+
+}  // namespace armfarm

@@ -1,0 +1,74 @@
+#pragma once
+// What every phase of one experiment job shares: the active joints, the nominal model the
+// controller and the analytic feed-forward know, the PD gains, and the true plant (the nominal
+// model plus the configured mismatch) that the learners are scored against.
+#include "engine/control/composite_controller.hpp"
+#include "engine/control/pd_gains.hpp"
+#include "engine/experiment/job_config.hpp"
+#include "engine/experiment/pass_statistics.hpp"
+#include "engine/model/arm_model.hpp"
+#include "engine/physics/arm_simulation.hpp"
+#include "engine/trajectory/trajectory.hpp"
+
+#include <Eigen/Core>
+
+#include <memory>
+#include <vector>
+
+namespace armfarm {
+
+class JobSetup {
+ public:
+  /// Resolves joints and gains of a configuration that validate() (job_config_validation.hpp)
+  /// accepted; throws std::invalid_argument naming the field for what only the model can tell.
+  JobSetup(const ArmModel& model, const JobConfig& config);
+  JobSetup(const JobSetup&) = delete;  // the dynamics refer to the job's model copy
+  JobSetup& operator=(const JobSetup&) = delete;
+
+  const ArmModel& model() const { return model_; }
+  const JobConfig& config() const { return config_; }
+  const std::vector<int>& joint_numbers() const { return joint_numbers_; }  ///< 1-based
+  int dof() const { return n_; }
+  ArmDynamics& nominal() { return nominal_; }  ///< scratch state inside: one per job
+  const PdGains& gains() const { return gains_; }
+  /// The job's controller: control.mode with the gains at control.gain_scale (kd per keep_damping_ratio).
+  CompositeController make_controller();
+  /// The nMSE floors (kNmseStdFloorFraction of each joint's position range, 2π when unlimited;
+  /// of its torque range 2·effort limit; of the end effector's 2·reach).
+  ErrorFloors make_error_floors() const;
+
+  /// Whether the plant differs from the nominal model from the start of every pass
+  /// (mismatch.start_time ≤ 0) rather than from start_time into the evaluation passes.
+  bool mismatch_from_start() const { return config_.mismatch.start_time <= 0.0; }
+  /// Whether any mismatch (payload, friction) is configured at all.
+  bool has_mismatch() const {
+    return config_.mismatch.payload.mass > 0.0 || config_.mismatch.viscous.size() || config_.mismatch.coulomb.size();
+  }
+  /// A fresh plant at the nominal model, with the mismatch in place when mismatch_from_start().
+  ArmSimulation make_plant() const;
+  void apply_mismatch(ArmSimulation& plant) const;
+  void remove_mismatch(ArmSimulation& plant) const;
+
+  /// The torque (n) the true plant needs for (q, q̇, q̈): rigid body (with the payload once the
+  /// mismatch is present) plus its joint friction — the ground truth of id_nmse.
+  Eigen::VectorXd calc_true_torque(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+                                   bool mismatch_present);
+
+ private:
+  ArmModel model_;  ///< the job's copy: armature × simulation.armature_scale
+  const JobConfig& config_;
+  std::vector<int> joint_numbers_;
+  std::vector<int> active_indices_;
+  ArmDynamics nominal_;
+  int n_;
+  PdGains gains_;
+  std::unique_ptr<ArmDynamics> true_dynamics_;
+  Eigen::VectorXd true_viscous_, true_coulomb_, nominal_viscous_, nominal_coulomb_;
+  double reach_ = 0.0;  ///< m, the arm's reach
+};
+
+/// Per learner input (q, q̇, q̈ of each active joint, 3n): its standard deviation along the
+/// desired trajectory (1 where it does not vary), the scale LWPR normalises its inputs by.
+Eigen::VectorXd calc_trajectory_input_scale(const JointTrajectory& trajectory);
+
+}  // namespace armfarm

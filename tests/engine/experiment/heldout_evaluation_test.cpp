@@ -1,0 +1,264 @@
+// Held-out evaluation and collection repeats (issue 12): held-out data shares no sample with
+// the training data, a collection repeat is a different realisation of the run, and the
+// learner is frozen while it is evaluated on the held-out set.
+#include "engine/experiment/collection_pass.hpp"
+#include "engine/experiment/heldout_evaluation.hpp"
+#include "engine/experiment/job_config_validation.hpp"
+#include "engine/experiment/job_setup.hpp"
+#include "engine/experiment/run_experiment.hpp"
+#include "engine/learning/learner_factory.hpp"
+#include "../physics/test_arms.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <set>
+
+namespace armfarm {
+namespace {
+
+/// Smallest distance between a row of `a` and a row of `b` (0 when they share a row).
+double calc_min_row_distance(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  double best = std::numeric_limits<double>::infinity();
+  for (Eigen::Index i = 0; i < a.rows(); ++i) {
+    best = std::min(best, (b.rowwise() - a.row(i)).rowwise().norm().minCoeff());
+  }
+  return best;
+}
+
+Eigen::MatrixXd stack_states(const JointTrajectory& t) {
+  Eigen::MatrixXd x(t.size(), 3 * t.q.cols());
+  x << t.q, t.qd, t.qdd;
+  return x;
+}
+
+Eigen::MatrixXd stack_inputs(const std::vector<Sample>& samples, std::size_t begin = 0, std::size_t end = ~std::size_t{0}) {
+  end = std::min(end, samples.size());
+  Eigen::MatrixXd x(static_cast<Eigen::Index>(end - begin), samples.front().x.size());
+  for (std::size_t i = begin; i < end; ++i) x.row(static_cast<Eigen::Index>(i - begin)) = samples[i].x.transpose();
+  return x;
+}
+
+/// A small learning job: joints 2 and 4 for the joint-space kinds, all seven for the task-space
+/// ones (two joints cannot reach the figure-eight or the reaching box).
+JobConfig make_learning_config(TrajectoryKind kind) {
+  JobConfig config;
+  if (kind == TrajectoryKind::sine || kind == TrajectoryKind::recorded) config.active_joints = {2, 4};
+  config.trajectory.kind = kind;
+  config.trajectory.sine.duration = 4.0;
+  config.trajectory.figure_eight.points_per_loop = 200;
+  config.trajectory.figure_eight.loops = 1;
+  config.trajectory.reaching.reaches = 3;
+  config.trajectory.reaching.points_per_reach = 60;
+  config.learning.mode = LearningMode::batch;
+  config.learning.collect_repeats = 1;
+  config.learning.heldout_segments = 2;
+  config.control.gain_scale = 0.2;
+  return config;
+}
+
+TEST(HeldoutEvaluation, HeldOutTrajectoriesShareNoSampleWithTraining) {
+  const ArmModel model = testing::load_lwr3();
+  for (TrajectoryKind kind : {TrajectoryKind::sine, TrajectoryKind::figure_eight, TrajectoryKind::reaching}) {
+    const JobConfig config = make_learning_config(kind);
+    JobSetup setup(model, config);
+    const JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());
+    ASSERT_TRUE(trajectories.heldout.has_value());
+    const double distance = calc_min_row_distance(stack_states(*trajectories.heldout), stack_states(trajectories.training));
+    EXPECT_GT(distance, 1e-3) << "kind " << static_cast<int>(kind);
+    std::printf("kind %d: %d training and %d held-out samples, nearest (q, qd, qdd) pair %.3g apart\n", static_cast<int>(kind),
+                trajectories.training.size(), trajectories.heldout->size(), distance);
+  }
+}
+
+TEST(HeldoutEvaluation, RecordedMotionHoldsOutItsLastPart) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_learning_config(TrajectoryKind::recorded);
+  RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
+  recorded.task_space = false;
+  recorded.loops = 2;
+  recorded.filter = RecordedFilter::none;
+  recorded.samples.resize(400, 2);
+  for (int i = 0; i < 400; ++i) recorded.samples.row(i) << 0.3 * std::sin(0.01 * i), 1.0 + 0.2 * (0.01 * i) * (0.01 * i);
+  JobSetup setup(model, config);
+  const JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());
+  ASSERT_TRUE(trajectories.heldout.has_value());
+  EXPECT_EQ(trajectories.heldout->size(), 100);
+  EXPECT_EQ(trajectories.training.size(), 2 * 300);
+  EXPECT_GT(calc_min_row_distance(trajectories.heldout->q, trajectories.training.q), 1e-4);
+  // The held-out part is the recording's last quarter, unchanged.
+  EXPECT_NEAR(trajectories.heldout->q(0, 0), recorded.samples(300, 0), 1e-12);
+}
+
+TEST(HeldoutEvaluation, HeldOutSamplesShareNoSampleWithTrainingSamples) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_learning_config(TrajectoryKind::sine);
+  config.learning.collect_repeats = 2;
+  JobSetup setup(model, config);
+  JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());
+  ArmSimulation plant = setup.make_plant();
+  std::vector<Sample> training;
+  ASSERT_TRUE(collect_samples(setup, plant, CollectionPlan{&trajectories.training, 2, "collection"}, training, {}).ok());
+  HeldoutEvaluation heldout(setup, std::move(*trajectories.heldout), {});
+  ASSERT_TRUE(heldout.collect_test_samples().ok());
+  ASSERT_EQ(training.size(), 2u * 400u);
+  ASSERT_EQ(heldout.test_samples().size(), 800u);  // 2 periods of the 0.25 Hz variant
+  const double distance = calc_min_row_distance(stack_inputs(heldout.test_samples()), stack_inputs(training));
+  EXPECT_GT(distance, 1e-3);
+  std::printf("nearest held-out / training sample pair: %.3g apart in (q, qd, qdd)\n", distance);
+}
+
+TEST(CollectionPass, ARepeatDiffersFromTheFirstPass) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_learning_config(TrajectoryKind::sine);
+  config.trajectory.sine.duration = 2.0;
+  const auto collect = [&](const JobConfig& c) {
+    JobSetup setup(model, c);
+    const JobTrajectories trajectories = build_job_trajectories(c, setup.nominal());
+    ArmSimulation plant = setup.make_plant();
+    std::vector<Sample> samples;
+    EXPECT_TRUE(collect_samples(setup, plant, CollectionPlan{&trajectories.training, 2, "collection"}, samples, {}).ok());
+    return samples;
+  };
+  const auto first_against_repeat = [](const std::vector<Sample>& samples, std::size_t tick) {
+    const std::size_t half = samples.size() / 2;
+    return (samples[tick].x - samples[half + tick].x).cwiseAbs().maxCoeff();
+  };
+  // The control: without a start perturbation or noise a repeat is an exact copy (what
+  // collect_repeats used to add).
+  JobConfig copies = config;
+  copies.learning.collect_start_spread = 0.0;
+  const std::vector<Sample> copied = collect(copies);
+  ASSERT_EQ(copied.size(), 400u);
+  // (The plant's clock runs on between passes, so the adaptive integrator's steps differ in the
+  // last bits.)
+  EXPECT_LT(first_against_repeat(copied, 0), 1e-9);
+  EXPECT_LT(first_against_repeat(copied, 150), 1e-9);
+  // The default: the repeat starts off the trajectory by a seeded draw (std 0.05 rad).
+  const std::vector<Sample> perturbed = collect(config);
+  EXPECT_GT(first_against_repeat(perturbed, 0), 1e-3);
+  EXPECT_GT(first_against_repeat(perturbed, 10), 1e-4);
+  // With sensor noise every sample of the repeat differs, long after the start transient.
+  JobConfig noisy = copies;
+  noisy.learning.collect_noise_q = 1e-4;
+  noisy.learning.collect_noise_qd = 1e-3;
+  const std::vector<Sample> noised = collect(noisy);
+  for (std::size_t tick : {0u, 100u, 199u}) EXPECT_GT(first_against_repeat(noised, tick), 0.0) << tick;
+  std::printf("repeat vs first pass, max |dx|: copies %.3g; start spread %.3g at tick 0, %.3g at tick 10; noise %.3g at tick 199\n",
+              first_against_repeat(copied, 0), first_against_repeat(perturbed, 0), first_against_repeat(perturbed, 10),
+              first_against_repeat(noised, 199));
+}
+
+TEST(HeldoutEvaluation, LeavesTheLearnerFrozen) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_learning_config(TrajectoryKind::sine);
+  config.learning.mode = LearningMode::online;
+  JobSetup setup(model, config);
+  JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());
+  std::unique_ptr<Learner> learner = make_learner(config.learning, 6, 2, calc_trajectory_input_scale(trajectories.training));
+  ArmSimulation plant = setup.make_plant();
+  std::vector<Sample> samples;
+  ASSERT_TRUE(collect_samples(setup, plant, CollectionPlan{&trajectories.training, 1, "collection"}, samples, {}).ok());
+  for (const Sample& sample : samples) learner->update(sample.x, sample.y);
+  HeldoutEvaluation heldout(setup, std::move(*trajectories.heldout), {});
+  ASSERT_TRUE(heldout.collect_test_samples().ok());
+  const std::uint64_t updates = learner->n_updates();
+  const std::size_t fields = learner->size();
+  ASSERT_EQ(updates, samples.size());
+  std::vector<Metric> first, second;
+  ASSERT_TRUE(heldout.evaluate(*learner, 1, first).ok());
+  EXPECT_EQ(learner->n_updates(), updates);
+  EXPECT_EQ(learner->size(), fields);
+  ASSERT_TRUE(heldout.evaluate(*learner, 2, second).ok());
+  // A second evaluation of the unchanged learner measures the same figures.
+  ASSERT_EQ(first.size(), second.size());
+  for (std::size_t i = 0; i < first.size(); ++i) {
+    EXPECT_EQ(first[i].name, second[i].name);
+    ASSERT_TRUE(first[i].checkpoint && second[i].checkpoint) << first[i].name;
+    EXPECT_EQ(first[i].checkpoint->number, 1);
+    EXPECT_EQ(second[i].checkpoint->number, 2);
+    // The prediction figures are exact; the control pass repeats up to the integrator's last bits.
+    ASSERT_EQ(first[i].value.has_value(), second[i].value.has_value()) << first[i].name;
+    if (!first[i].value) continue;
+    if (first[i].name.rfind("heldout_test_", 0) == 0 || first[i].name == "heldout_learner_updates") {
+      EXPECT_EQ(*first[i].value, *second[i].value) << first[i].name;
+    } else {
+      EXPECT_NEAR(*first[i].value, *second[i].value, 1e-9 * (1.0 + std::fabs(*first[i].value))) << first[i].name;
+    }
+  }
+}
+
+std::map<std::string, double> metrics_by_key(const JobOutcome& outcome) {
+  std::map<std::string, double> metrics;
+  for (const Metric& metric : outcome.metrics) {
+    std::string key = metric.name;
+    if (metric.joint) key += "_j" + std::to_string(*metric.joint);
+    if (metric.checkpoint) key += "@" + std::to_string(metric.checkpoint->number);
+    metrics[key] = metric.value.value_or(std::nan(""));
+  }
+  return metrics;
+}
+
+TEST(HeldoutEvaluation, OnlineCheckpointsEvaluateWithLearningFrozen) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_learning_config(TrajectoryKind::reaching);
+  config.learning.mode = LearningMode::online;
+  config.trajectory.reaching.reaches = 4;
+  config.trajectory.reaching.points_per_reach = 50;
+  config.learning.heldout_checkpoints = {0, 2, 4};
+  const JobOutcome outcome = run_experiment(model, config);
+  ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
+  auto m = metrics_by_key(outcome);
+  // At checkpoint c the learner has learnt exactly the c reaches of the learning pass, tick by tick.
+  const int points = config.trajectory.reaching.points_per_reach;
+  EXPECT_EQ(m["heldout_learner_updates@0"], 0.0);
+  EXPECT_EQ(m["heldout_learner_updates@2"], 2.0 * points);
+  EXPECT_EQ(m["heldout_learner_updates@4"], 4.0 * points);
+  EXPECT_EQ(m.count("heldout_learner_updates@1"), 0u);
+  EXPECT_EQ(m["heldout_diverged@4"], 0.0);
+  // Learning helps on reaches it never saw.
+  EXPECT_LT(m["heldout_test_nmse@4"], m["heldout_test_nmse@0"]);
+  EXPECT_TRUE(m.count("heldout_ff_fb_ratio_avg_j2@4"));
+  EXPECT_TRUE(m.count("heldout_tracking_nmse@2"));
+  // The held-out passes change nothing in the learning pass: the same job without them
+  // reports the same learning-pass figures.
+  JobConfig without = config;
+  without.learning.heldout = false;
+  auto w = metrics_by_key(run_experiment(model, without));
+  for (const char* key : {"tracking_nmse", "ff_fb_ratio_avg_j2", "id_nmse", "n_receptive_fields", "fb_abs_avg_last_segment"}) {
+    EXPECT_EQ(m[key], w[key]) << key;
+  }
+  EXPECT_EQ(w.count("heldout_test_nmse@4"), 0u);
+  std::printf("online reaching: held-out test nMSE %.3f before learning, %.3f after 2 reaches, %.3f after 4; "
+              "held-out tracking nMSE %.4f -> %.4f\n",
+              m["heldout_test_nmse@0"], m["heldout_test_nmse@2"], m["heldout_test_nmse@4"], m["heldout_tracking_nmse@0"],
+              m["heldout_tracking_nmse@4"]);
+}
+
+TEST(HeldoutEvaluation, CheckpointsOutOfOrderNameTheField) {
+  JobConfig config = make_learning_config(TrajectoryKind::sine);
+  config.learning.heldout_checkpoints = {3, 2, -1};
+  const std::vector<ConfigProblem> problems = validate(config, ModelFacts{7});
+  std::set<std::string> paths;
+  for (const ConfigProblem& problem : problems) paths.insert(problem.path);
+  EXPECT_TRUE(paths.count("learning.heldout_checkpoints[1]")) << make_problems_text(problems);
+  EXPECT_TRUE(paths.count("learning.heldout_checkpoints[2]")) << make_problems_text(problems);
+}
+
+TEST(HeldoutEvaluation, CheckpointsBeyondTheRunNameTheField) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_learning_config(TrajectoryKind::sine);
+  config.learning.heldout_checkpoints = {1, 9};  // batch: epochs, and the job trains 5
+  try {
+    run_experiment(model, config);
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("learning.heldout_checkpoints[1]"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace armfarm
