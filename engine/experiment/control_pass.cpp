@@ -9,12 +9,6 @@
 namespace armfarm {
 namespace {
 
-Eigen::VectorXd concat(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& c) {
-  Eigen::VectorXd x(a.size() + b.size() + c.size());
-  x << a, b, c;
-  return x;
-}
-
 /// The measured state: the plant's plus the configured sensor noise.
 struct Measurement {
   Eigen::VectorXd q, qd;
@@ -108,7 +102,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
     if (!qdd_measured.allFinite()) return end_pass(JobStatus::diverged, plant.time(), "the state became NaN or Inf", simulated);
     last_acceleration = qdd_measured;
     if (options.samples || options.learner) {
-      Sample sample{concat(measured.q, measured.qd, qdd_measured), command.torque};
+      Sample sample{make_learner_input(measured.q, measured.qd, qdd_measured), command.torque};
       if (options.learner) {
         const auto start = std::chrono::steady_clock::now();
         options.learner->update(sample.x, sample.y);

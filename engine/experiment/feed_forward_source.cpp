@@ -6,15 +6,12 @@
 #include <stdexcept>
 
 namespace armfarm {
-namespace {
 
-Eigen::VectorXd concat(const Eigen::VectorXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& c) {
-  Eigen::VectorXd x(a.size() + b.size() + c.size());
-  x << a, b, c;
+Eigen::VectorXd make_learner_input(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd) {
+  Eigen::VectorXd x(q.size() + qd.size() + qdd.size());
+  x << q, qd, qdd;
   return x;
 }
-
-}  // namespace
 
 bool is_output_trusted(const Prediction& prediction, int output) {
   return static_cast<std::size_t>(output) < prediction.output_trusted.size() ? prediction.output_trusted[static_cast<std::size_t>(output)]
@@ -52,7 +49,7 @@ FeedForwardTerm FeedForwardProvider::calc(const Eigen::VectorXd& q_desired, cons
     return term;
   }
   const auto start = std::chrono::steady_clock::now();
-  const Prediction prediction = learner_->predict(concat(q_desired, qd_desired, qdd_desired), *workspace_);
+  const Prediction prediction = learner_->predict(make_learner_input(q_desired, qd_desired, qdd_desired), *workspace_);
   if (clock_) {
     clock_->predict_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     ++clock_->predictions;

@@ -29,6 +29,8 @@ struct FeedForwardTerm {
 /// The prediction with each untrusted output replaced by 0: an untrusted output zeroes only
 /// its own joint's feed-forward.
 Eigen::VectorXd calc_trusted_part(const Prediction& prediction);
+/// The learner's input for a state: (q, q̇, q̈) stacked, 3·n_active × 1.
+Eigen::VectorXd make_learner_input(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd);
 /// Whether output `output` of the prediction was trusted.
 bool is_output_trusted(const Prediction& prediction, int output);
 

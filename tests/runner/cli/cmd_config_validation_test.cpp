@@ -2,6 +2,8 @@
 // any job of the sweep, naming the spec file and the JSON path, before a database exists.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -29,7 +31,8 @@ CommandResult run_armfarm(const std::string& arguments) {
 }
 
 fs::path make_dir() {
-  const fs::path dir = fs::temp_directory_path() / "armfarm_cmd_config_validation";
+  // One folder per test and process: ctest runs the tests of this file in parallel.
+  const fs::path dir = fs::temp_directory_path() / ("armfarm_cmd_config_validation" + std::string("-") + ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -3,6 +3,8 @@
 #include "engine/lwpr/lwpr_model_file.hpp"
 
 #include <gtest/gtest.h>
+
+#include <unistd.h>
 #include <nlohmann/json.hpp>
 
 #include <array>
@@ -32,7 +34,8 @@ CommandResult run_command(const std::string& arguments) {
 class LwprFitCommand : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / "armfarm_lwpr_fit_test";
+    // One folder per test and process: ctest runs the tests of this file in parallel.
+    dir_ = std::filesystem::temp_directory_path() / ("armfarm_lwpr_fit_test" + std::string("-") + ::testing::UnitTest::GetInstance()->current_test_info()->name() + "-" + std::to_string(getpid()));
     std::filesystem::create_directories(dir_);
     write_data("train.csv", 400, 1);
     write_data("test.csv", 200, 2);

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -78,7 +80,7 @@ TEST(SyntheticRecordings, GeneratorReproducesTheCommittedFiles) {
   if (std::system("command -v python3 > /dev/null 2>&1") != 0) {
     GTEST_SKIP() << "python3 not found: cannot rerun sweeps/thesis/tools/make_recordings.py";
   }
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "armfarm-recordings-test";
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("armfarm-recordings-test-" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   const std::string command = "python3 " + std::string(ARMFARM_SOURCE_DIR) + "/sweeps/thesis/tools/make_recordings.py " +
                               dir.string() + " > /dev/null";
