@@ -1,6 +1,8 @@
 // Versioned little-endian binary serialisation of LwprModel.
 #include "engine/lwpr/lwpr_model_file.hpp"
 
+#include "engine/learning/model_file_codec.hpp"
+
 #include <cstring>
 #include <istream>
 #include <iterator>
@@ -15,103 +17,8 @@ namespace {
 constexpr char kMagic[8] = {'A', 'F', 'L', 'W', 'P', 'R', '\r', '\n'};
 constexpr std::uint32_t kMaxDimension = 1u << 16;
 
-std::uint64_t calc_fnv1a(const std::string& bytes) {
-  std::uint64_t hash = 14695981039346656037ull;
-  for (unsigned char c : bytes) {
-    hash ^= c;
-    hash *= 1099511628211ull;
-  }
-  return hash;
-}
 
-class Writer {
- public:
-  void put_u64(std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) bytes_.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
-  }
-  void put_u32(std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) bytes_.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
-  }
-  void put_f64(double v) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    put_u64(bits);
-  }
-  void put_bool(bool v) { put_u32(v ? 1 : 0); }
-  void put_matrix(const Eigen::MatrixXd& m) {
-    put_u32(static_cast<std::uint32_t>(m.rows()));
-    put_u32(static_cast<std::uint32_t>(m.cols()));
-    for (Eigen::Index c = 0; c < m.cols(); ++c) {
-      for (Eigen::Index r = 0; r < m.rows(); ++r) put_f64(m(r, c));
-    }
-  }
-  const std::string& bytes() const { return bytes_; }
-
- private:
-  std::string bytes_;
-};
-
-class Reader {
- public:
-  Reader(const std::string& bytes, std::size_t base) : bytes_(bytes), base_(base) {}
-  [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error("LWPR model file: byte " + std::to_string(base_ + pos_) + ": " + what);
-  }
-  std::uint64_t get_u64() {
-    need(8);
-    std::uint64_t v = 0;
-    for (int i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes_[pos_ + i])) << (8 * i);
-    pos_ += 8;
-    return v;
-  }
-  std::uint32_t get_u32() {
-    need(4);
-    std::uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes_[pos_ + i])) << (8 * i);
-    pos_ += 4;
-    return v;
-  }
-  double get_f64() {
-    const std::uint64_t bits = get_u64();
-    double v;
-    std::memcpy(&v, &bits, sizeof v);
-    return v;
-  }
-  bool get_bool() {
-    const std::uint32_t v = get_u32();
-    if (v > 1) fail("flag is " + std::to_string(v) + ", expected 0 or 1");
-    return v == 1;
-  }
-  Eigen::MatrixXd get_matrix(Eigen::Index rows, Eigen::Index cols, const char* name) {
-    const std::uint32_t r = get_u32(), c = get_u32();
-    if (r != rows || c != cols) {
-      fail(std::string(name) + " is " + std::to_string(r) + "x" + std::to_string(c) + ", expected " +
-           std::to_string(rows) + "x" + std::to_string(cols));
-    }
-    Eigen::MatrixXd m(rows, cols);
-    for (Eigen::Index j = 0; j < cols; ++j) {
-      for (Eigen::Index i = 0; i < rows; ++i) m(i, j) = get_f64();
-    }
-    return m;
-  }
-  Eigen::VectorXd get_vector(Eigen::Index size, const char* name) { return get_matrix(size, 1, name).col(0); }
-  std::uint32_t get_dimension(const char* name, std::uint32_t lo, std::uint32_t hi) {
-    const std::uint32_t v = get_u32();
-    if (v < lo || v > hi) fail(std::string(name) + " is " + std::to_string(v) + ", out of range");
-    return v;
-  }
-  bool at_end() const { return pos_ == bytes_.size(); }
-
- private:
-  void need(std::size_t n) const {
-    if (bytes_.size() - pos_ < n) fail("unexpected end of data");
-  }
-  const std::string& bytes_;
-  std::size_t base_;
-  std::size_t pos_ = 0;
-};
-
-void put_params(Writer& w, const LwprParams& p) {
+void put_params(ModelFileWriter& w, const LwprParams& p) {
   w.put_matrix(p.init_D);
   w.put_f64(p.init_alpha);
   w.put_f64(p.penalty);
@@ -137,7 +44,7 @@ void put_params(Writer& w, const LwprParams& p) {
   w.put_f64(p.trust_n_data);
 }
 
-LwprParams get_params(Reader& r, int n_in, int n_out) {
+LwprParams get_params(ModelFileReader& r, int n_in, int n_out) {
   LwprParams p;
   const std::uint32_t rows = r.get_u32(), cols = r.get_u32();
   if (!((rows == 1 && cols == 1) || (rows == static_cast<std::uint32_t>(n_in) && (cols == 1 || cols == rows)))) {
@@ -181,7 +88,7 @@ LwprParams get_params(Reader& r, int n_in, int n_out) {
   return p;
 }
 
-void put_field(Writer& w, const ReceptiveField& rf) {
+void put_field(ModelFileWriter& w, const ReceptiveField& rf) {
   w.put_u32(static_cast<std::uint32_t>(rf.n_reg()));
   w.put_matrix(rf.center);
   w.put_matrix(rf.metric_factor);
@@ -209,7 +116,7 @@ void put_field(Writer& w, const ReceptiveField& rf) {
   w.put_matrix(rf.beta);
 }
 
-ReceptiveField get_field(Reader& r, int n, bool diagonal) {
+ReceptiveField get_field(ModelFileReader& r, int n, bool diagonal) {
   ReceptiveField rf;
   const int R = static_cast<int>(r.get_dimension("number of projections", 1, static_cast<std::uint32_t>(n)));
   const Eigen::Index mc = diagonal ? 1 : n;
@@ -245,7 +152,7 @@ ReceptiveField get_field(Reader& r, int n, bool diagonal) {
 }  // namespace
 
 void write_lwpr_model(const LwprModel& model, std::ostream& out) {
-  Writer payload;
+  ModelFileWriter payload;
   payload.put_u32(static_cast<std::uint32_t>(model.input_dim()));
   payload.put_u32(static_cast<std::uint32_t>(model.output_dim()));
   payload.put_u64(model.n_updates());
@@ -254,11 +161,11 @@ void write_lwpr_model(const LwprModel& model, std::ostream& out) {
     payload.put_u64(model.fields(o).size());
     for (const ReceptiveField& rf : model.fields(o)) put_field(payload, rf);
   }
-  Writer header;
+  ModelFileWriter header;
   header.put_u32(kLwprModelFormatVersion);
   header.put_u64(payload.bytes().size());
-  Writer trailer;
-  trailer.put_u64(calc_fnv1a(payload.bytes()));
+  ModelFileWriter trailer;
+  trailer.put_u64(calc_model_file_checksum(payload.bytes()));
   out.write(kMagic, sizeof kMagic);
   out.write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
   out.write(payload.bytes().data(), static_cast<std::streamsize>(payload.bytes().size()));
@@ -272,7 +179,7 @@ LwprModel load_lwpr_model(std::istream& in) {
     throw std::runtime_error("LWPR model file: byte 0: not an armfarm LWPR model (bad magic)");
   }
   const std::string header = all.substr(sizeof kMagic, 12);
-  Reader head(header, sizeof kMagic);
+  ModelFileReader head(header, sizeof kMagic, "LWPR");
   const std::uint32_t version = head.get_u32();
   if (version > kLwprModelFormatVersion) {
     throw std::runtime_error("LWPR model file: format version " + std::to_string(version) +
@@ -288,12 +195,12 @@ LwprModel load_lwpr_model(std::istream& in) {
   }
   const std::string payload = all.substr(start, length);
   const std::string trailer = all.substr(start + length);
-  Reader tail(trailer, start + length);
-  if (tail.get_u64() != calc_fnv1a(payload)) {
+  ModelFileReader tail(trailer, start + length, "LWPR");
+  if (tail.get_u64() != calc_model_file_checksum(payload)) {
     throw std::runtime_error("LWPR model file: byte " + std::to_string(start + length) +
                              ": checksum mismatch (corrupt file)");
   }
-  Reader r(payload, start);
+  ModelFileReader r(payload, start, "LWPR");
   const int n_in = static_cast<int>(r.get_dimension("n_in", 1, kMaxDimension));
   const int n_out = static_cast<int>(r.get_dimension("n_out", 1, kMaxDimension));
   const std::uint64_t n_updates = r.get_u64();

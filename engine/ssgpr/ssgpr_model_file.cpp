@@ -1,6 +1,8 @@
 // Versioned little-endian binary serialisation of SsgprModel.
 #include "engine/ssgpr/ssgpr_model_file.hpp"
 
+#include "engine/learning/model_file_codec.hpp"
+
 #include <cmath>
 #include <cstring>
 #include <istream>
@@ -17,129 +19,10 @@ constexpr char kMagic[8] = {'A', 'F', 'S', 'S', 'G', 'P', '\r', '\n'};
 constexpr std::uint32_t kMaxDimension = 1u << 16;
 constexpr std::size_t kHeaderBytes = 12;  // version + payload length
 
-std::uint64_t calc_fnv1a(const std::string& bytes) {
-  std::uint64_t hash = 14695981039346656037ull;
-  for (unsigned char c : bytes) {
-    hash ^= c;
-    hash *= 1099511628211ull;
-  }
-  return hash;
-}
 
-class Writer {
- public:
-  void put_u64(std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) bytes_.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
-  }
-  void put_u32(std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) bytes_.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
-  }
-  void put_f64(double v) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    put_u64(bits);
-  }
-  void put_matrix(const Eigen::MatrixXd& m) {
-    put_u32(static_cast<std::uint32_t>(m.rows()));
-    put_u32(static_cast<std::uint32_t>(m.cols()));
-    for (Eigen::Index c = 0; c < m.cols(); ++c) {
-      for (Eigen::Index r = 0; r < m.rows(); ++r) put_f64(m(r, c));
-    }
-  }
-  /// Lower triangle of a square matrix, column by column (diagonal included).
-  void put_lower(const Eigen::MatrixXd& m) {
-    put_u32(static_cast<std::uint32_t>(m.rows()));
-    for (Eigen::Index c = 0; c < m.cols(); ++c) {
-      for (Eigen::Index r = c; r < m.rows(); ++r) put_f64(m(r, c));
-    }
-  }
-  const std::string& bytes() const { return bytes_; }
+void put_vector(ModelFileWriter& w, const Eigen::VectorXd& v) { w.put_matrix(v); }
 
- private:
-  std::string bytes_;
-};
-
-class Reader {
- public:
-  Reader(const std::string& bytes, std::size_t base) : bytes_(bytes), base_(base) {}
-  /// Fails naming the byte where the value being read starts (or the current position).
-  [[noreturn]] void fail(const std::string& what) const { fail_at(pos_, what); }
-  [[noreturn]] void fail_at(std::size_t pos, const std::string& what) const {
-    throw std::runtime_error("SSGPR model file: byte " + std::to_string(base_ + pos) + ": " + what);
-  }
-  std::uint64_t get_u64() {
-    need(8);
-    std::uint64_t v = 0;
-    for (int i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(static_cast<unsigned char>(bytes_[pos_ + i])) << (8 * i);
-    pos_ += 8;
-    return v;
-  }
-  std::uint32_t get_u32() {
-    need(4);
-    std::uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes_[pos_ + i])) << (8 * i);
-    pos_ += 4;
-    return v;
-  }
-  double get_f64() {
-    const std::uint64_t bits = get_u64();
-    double v;
-    std::memcpy(&v, &bits, sizeof v);
-    return v;
-  }
-  double get_finite(const char* name) {
-    const std::size_t at = pos_;
-    const double v = get_f64();
-    if (!std::isfinite(v)) fail_at(at, std::string(name) + " is not finite");
-    return v;
-  }
-  Eigen::MatrixXd get_matrix(Eigen::Index rows, Eigen::Index cols, const char* name) {
-    const std::uint32_t r = get_u32(), c = get_u32();
-    if (r != rows || c != cols) {
-      fail(std::string(name) + " is " + std::to_string(r) + "x" + std::to_string(c) + ", expected " +
-           std::to_string(rows) + "x" + std::to_string(cols));
-    }
-    need_doubles(static_cast<std::uint64_t>(rows) * static_cast<std::uint64_t>(cols), name);
-    Eigen::MatrixXd m(rows, cols);
-    for (Eigen::Index j = 0; j < cols; ++j) {
-      for (Eigen::Index i = 0; i < rows; ++i) m(i, j) = get_finite(name);
-    }
-    return m;
-  }
-  Eigen::MatrixXd get_lower(Eigen::Index n, const char* name) {
-    const std::uint32_t r = get_u32();
-    if (r != n) fail(std::string(name) + " has order " + std::to_string(r) + ", expected " + std::to_string(n));
-    need_doubles(static_cast<std::uint64_t>(n) * static_cast<std::uint64_t>(n + 1) / 2, name);
-    Eigen::MatrixXd m = Eigen::MatrixXd::Zero(n, n);
-    for (Eigen::Index j = 0; j < n; ++j) {
-      for (Eigen::Index i = j; i < n; ++i) m(i, j) = get_finite(name);
-    }
-    return m;
-  }
-  std::uint32_t get_dimension(const char* name, std::uint32_t lo, std::uint32_t hi) {
-    const std::size_t at = pos_;
-    const std::uint32_t v = get_u32();
-    if (v < lo || v > hi) fail_at(at, std::string(name) + " is " + std::to_string(v) + ", out of range");
-    return v;
-  }
-  bool at_end() const { return pos_ == bytes_.size(); }
-
- private:
-  void need(std::size_t n) const {
-    if (bytes_.size() - pos_ < n) fail("unexpected end of data");
-  }
-  /// Refuses a matrix larger than the bytes left, before allocating it.
-  void need_doubles(std::uint64_t count, const char* name) const {
-    if (count > (bytes_.size() - pos_) / 8) fail(std::string(name) + " needs more bytes than the file has left");
-  }
-  const std::string& bytes_;
-  std::size_t base_;
-  std::size_t pos_ = 0;
-};
-
-void put_vector(Writer& w, const Eigen::VectorXd& v) { w.put_matrix(v); }
-
-Eigen::VectorXd get_vector(Reader& r, int dim, const char* name) {
+Eigen::VectorXd get_vector(ModelFileReader& r, int dim, const char* name) {
   const std::uint32_t rows = r.get_u32();
   if (r.get_u32() != 1 || (rows != 1 && rows != static_cast<std::uint32_t>(dim))) r.fail(std::string(name) + " has a bad shape");
   Eigen::VectorXd v(rows);
@@ -152,7 +35,7 @@ Eigen::VectorXd get_vector(Reader& r, int dim, const char* name) {
 void write_ssgpr_model(const SsgprModel& model, std::ostream& out) {
   const SsgprParams& p = model.params();
   const SsgprState& s = model.state();
-  Writer payload;
+  ModelFileWriter payload;
   payload.put_u32(static_cast<std::uint32_t>(model.input_dim()));
   payload.put_u32(static_cast<std::uint32_t>(model.output_dim()));
   payload.put_u64(s.n_updates);
@@ -170,11 +53,11 @@ void write_ssgpr_model(const SsgprModel& model, std::ostream& out) {
   payload.put_lower(s.factor);
   payload.put_matrix(s.rhs);
   payload.put_matrix(s.weights);
-  Writer header;
+  ModelFileWriter header;
   header.put_u32(kSsgprModelFormatVersion);
   header.put_u64(payload.bytes().size());
-  Writer trailer;
-  trailer.put_u64(calc_fnv1a(payload.bytes()));
+  ModelFileWriter trailer;
+  trailer.put_u64(calc_model_file_checksum(payload.bytes()));
   out.write(kMagic, sizeof kMagic);
   out.write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
   out.write(payload.bytes().data(), static_cast<std::streamsize>(payload.bytes().size()));
@@ -188,7 +71,7 @@ SsgprModel load_ssgpr_model(std::istream& in) {
     throw std::runtime_error("SSGPR model file: byte 0: not an armfarm SSGPR model (bad magic)");
   }
   const std::string header = all.substr(sizeof kMagic, kHeaderBytes);
-  Reader head(header, sizeof kMagic);
+  ModelFileReader head(header, sizeof kMagic, "SSGPR");
   const std::uint32_t version = head.get_u32();
   if (version > kSsgprModelFormatVersion) {
     throw std::runtime_error("SSGPR model file: format version " + std::to_string(version) +
@@ -204,12 +87,12 @@ SsgprModel load_ssgpr_model(std::istream& in) {
   }
   const std::string payload = all.substr(start, length);
   const std::string trailer = all.substr(start + length);
-  Reader tail(trailer, start + length);
-  if (tail.get_u64() != calc_fnv1a(payload)) {
+  ModelFileReader tail(trailer, start + length, "SSGPR");
+  if (tail.get_u64() != calc_model_file_checksum(payload)) {
     throw std::runtime_error("SSGPR model file: byte " + std::to_string(start + length) +
                              ": checksum mismatch (corrupt file)");
   }
-  Reader r(payload, start);
+  ModelFileReader r(payload, start, "SSGPR");
   const int n_in = static_cast<int>(r.get_dimension("n_in", 1, kMaxDimension));
   const int n_out = static_cast<int>(r.get_dimension("n_out", 1, kMaxDimension));
   SsgprState s;
@@ -231,10 +114,10 @@ SsgprModel load_ssgpr_model(std::istream& in) {
   } catch (const std::invalid_argument& e) {
     r.fail(e.what());
   }
-  s.frequencies = r.get_matrix(p.features, n_in, "frequencies");
+  s.frequencies = r.get_matrix(p.features, n_in, "frequencies", true);
   s.factor = r.get_lower(F, "Cholesky factor");
-  s.rhs = r.get_matrix(F, n_out, "right-hand side");
-  s.weights = r.get_matrix(F, n_out, "weights");
+  s.rhs = r.get_matrix(F, n_out, "right-hand side", true);
+  s.weights = r.get_matrix(F, n_out, "weights", true);
   if (!r.at_end()) r.fail("trailing bytes after the weights");
   try {
     return SsgprModel(n_in, n_out, p, std::move(s));
