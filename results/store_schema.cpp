@@ -1,6 +1,8 @@
 // The schema: migrations, and opening a file with its checks. Schema documented in results/README.md.
 #include "results/store_internal.hpp"
 
+#include "results/job_claims.hpp"
+
 #include <filesystem>
 
 namespace armfarm {
@@ -121,6 +123,8 @@ CREATE VIEW job_metrics AS
     FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id JOIN jobs j ON j.id = sj.job_id
     JOIN metrics m ON m.job_id = j.id LEFT JOIN metric_info i ON i.name = m.name;
 )sql",
+      // 3: job claims of runners sharing the file, heartbeats of runs (results/job_claims.cpp).
+      job_claims_sql::kMigration,
   };
   return scripts;
 }
@@ -129,6 +133,16 @@ CREATE VIEW job_metrics AS
 // dropped first (they name columns of the old tables) and written anew afterwards.
 void migrate(SqliteConnection& db, std::int64_t version) {
   SqliteTransaction transaction(db);
+  // Read again under the write lock: another process may have created or migrated the file
+  // since `version` was read (two runs starting on one fresh file).
+  version = db.query_int("PRAGMA user_version");
+  if (version > kResultsSchemaVersion) {
+    throw StoreError(db.path() + ": written by a newer armfarm (schema version " + std::to_string(version) + ")");
+  }
+  if (version == kResultsSchemaVersion) {
+    transaction.commit();
+    return;
+  }
   if (version >= 1) {
     std::vector<std::string> views;
     SqliteStatement statement = db.prepare(

@@ -18,7 +18,8 @@ class ResultWriter {
  public:
   /// Starts the thread. `store` must outlive the writer and must not be used by anyone else
   /// until finish() returns.
-  ResultWriter(ResultsStore& store, std::string sweep_name);
+  /// `claim_owner`: the owner whose job claims finished and abandoned jobs release (JobBatch).
+  ResultWriter(ResultsStore& store, std::string sweep_name, std::string claim_owner = {});
   ~ResultWriter();
   ResultWriter(const ResultWriter&) = delete;
   ResultWriter& operator=(const ResultWriter&) = delete;
@@ -39,6 +40,7 @@ class ResultWriter {
 
   ResultsStore& store_;
   const std::string sweep_name_;
+  const std::string claim_owner_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   JobBatch queued_;
