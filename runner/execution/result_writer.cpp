@@ -16,12 +16,6 @@ ResultWriter::~ResultWriter() {
   }
 }
 
-void ResultWriter::push_started(const std::string& key) {
-  std::lock_guard lock(mutex_);
-  queued_.started.push_back(key);
-  wake_.notify_one();
-}
-
 void ResultWriter::push_finished(JobResultRecord result) {
   std::lock_guard lock(mutex_);
   queued_.finished.push_back(std::move(result));

@@ -1,8 +1,8 @@
 #pragma once
-// The one thread that writes a sweep's results: workers push job events (started, finished,
-// abandoned) into a queue; the writer takes everything queued at once and commits it as one
-// transaction (ResultsStore::insert_job_batch), so batches grow when jobs finish faster than a
-// commit takes.
+// The one thread that writes a sweep's results: workers push job events (finished, abandoned;
+// a job's start is its claim, claim_keeper.hpp) into a queue; the writer takes everything
+// queued at once and commits it as one transaction (ResultsStore::insert_job_batch), so batches
+// grow when jobs finish faster than a commit takes.
 #include "results/results_store.hpp"
 
 #include <condition_variable>
@@ -24,7 +24,6 @@ class ResultWriter {
   ResultWriter(const ResultWriter&) = delete;
   ResultWriter& operator=(const ResultWriter&) = delete;
 
-  void push_started(const std::string& key);
   void push_finished(JobResultRecord result);
   void push_abandoned(const std::string& key);
 

@@ -90,7 +90,8 @@ TEST_F(ExperimentShardTest, TheEstimateIsDurationTimesJointsTimesTheModeFactor) 
   const JobCostFunction estimate = make_experiment_cost_function(model);
   const ExpandedSweep sweep = expand(R"({"name": "e", "base": {"model": "../models/dlr_lwr3.urdf",
       "trajectory": {"kind": "sine", "sine": {"duration": 10}}, "learning": {"heldout": false}},
-      "sweep": {"grid": {"learning.mode": ["none", "online", "batch"], "active_joints": [[2], [1, 2, 4], []]}}})");
+      "sweep": {"zip": [{"learning.mode": ["none", "online", "batch"], "control.feed_forward": ["none", "learner", "learner"]}],
+                "grid": {"active_joints": [[2], [1, 2, 4], []]}}})");
   ASSERT_EQ(sweep.jobs.size(), 9u);
   for (const ExpandedJob& job : sweep.jobs) {
     const std::string mode = job.config.at("learning").at("mode");
@@ -110,8 +111,8 @@ TEST_F(ExperimentShardTest, AnUnevenSweepSplitsWithinTwentyPercentOfCost) {
   // Costs spread over a factor of about 70: modes × durations × joint counts, held-out passes on.
   const ExpandedSweep sweep = expand(R"({"name": "uneven", "base": {"model": "../models/dlr_lwr3.urdf",
       "trajectory": {"kind": "sine"}},
-      "sweep": {"grid": {"learning.mode": ["none", "online", "batch"], "trajectory.sine.duration": [4, 9, 20],
-                          "active_joints": [[1], [1, 2, 3], []]}}})");
+      "sweep": {"zip": [{"learning.mode": ["none", "online", "batch"], "control.feed_forward": ["none", "learner", "learner"]}],
+                "grid": {"trajectory.sine.duration": [4, 9, 20], "active_joints": [[1], [1, 2, 3], []]}}})");
   ASSERT_EQ(sweep.jobs.size(), 27u);
   const std::vector<double> costs = calc_job_costs(sweep, make_experiment_cost_function());
   std::vector<std::string> keys;
