@@ -230,9 +230,13 @@ std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsS
 
   std::int64_t application_id = 0, version = 0, n_tables = 0;
   try {
+    // One read transaction: the three from one snapshot, even while another process creates
+    // the schema of a fresh file.
+    db->execute("BEGIN");
     application_id = db->query_int("PRAGMA application_id");
     version = db->query_int("PRAGMA user_version");
     n_tables = db->query_int("SELECT count(*) FROM sqlite_master");
+    db->execute("COMMIT");
   } catch (const StoreError& e) {
     throw StoreError(path + ": not a readable SQLite database (" + std::string(e.what()).substr(path.size() + 2) +
                      ")");
