@@ -25,6 +25,37 @@ Measurement measure(const ArmSimulation& plant, const PassOptions& options) {
   return m;
 }
 
+struct DesiredState {
+  const Eigen::VectorXd& q;
+  const Eigen::VectorXd& qd;
+  const Eigen::VectorXd& qdd;
+};
+
+// Steps the plant over one tick of `dt` and returns the torque averaged over it. With one
+// substep the tick's command is held (the thesis's loop); with more, the PD term is recomputed
+// every dt / substeps on the measured plant state against the desired state extrapolated from
+// the tick's start (q + q̇·s, q̇ + q̈·s), the feed-forward held.
+Eigen::VectorXd step_tick(ArmSimulation& plant, const CompositeController& controller, const ControlCommand& command,
+                          const Eigen::VectorXd& feed_forward, const DesiredState& desired, double dt, int substeps,
+                          const PassOptions& options) {
+  if (substeps <= 1) {
+    plant.step(command.torque, dt);
+    return command.torque;
+  }
+  const double h = dt / substeps;
+  Eigen::VectorXd total = command.torque;
+  plant.step(command.torque, h);
+  for (int s = 1; s < substeps; ++s) {
+    const double elapsed = s * h;
+    const Measurement m = measure(plant, options);
+    const ControlCommand sub = controller.calc_command(desired.q + desired.qd * elapsed, desired.qd + desired.qdd * elapsed,
+                                                      m.q, m.qd, feed_forward);
+    plant.step(sub.torque, h);
+    total += sub.torque;
+  }
+  return total / substeps;
+}
+
 PassResult end_pass(JobStatus status, double time, std::string message, double simulated) {
   return PassResult{status, time, std::move(message), simulated};
 }
@@ -91,8 +122,10 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
       }
     }
 
+    Eigen::VectorXd applied_torque;  // averaged over the tick: the learner's target
     try {
-      plant.step(command.torque, dt);
+      applied_torque = step_tick(plant, *options.controller, command, feed_forward.torque,
+                                 DesiredState{q_desired, qd_desired, qdd_desired}, dt, config.simulation.pd_substeps, options);
     } catch (const std::exception& failure) {
       return end_pass(JobStatus::diverged, t, std::string("integrator failed: ") + failure.what(), simulated);
     }
@@ -102,7 +135,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
     if (!qdd_measured.allFinite()) return end_pass(JobStatus::diverged, plant.time(), "the state became NaN or Inf", simulated);
     last_acceleration = qdd_measured;
     if (options.samples || options.learner) {
-      Sample sample{make_learner_input(measured.q, measured.qd, qdd_measured), command.torque};
+      Sample sample{make_learner_input(measured.q, measured.qd, qdd_measured), applied_torque};
       if (options.learner) {
         const auto start = std::chrono::steady_clock::now();
         options.learner->update(sample.x, sample.y);

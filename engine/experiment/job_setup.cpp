@@ -41,7 +41,7 @@ JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
       active_indices_(make_indices(joint_numbers_)),
       nominal_(model_, active_indices_),
       n_(nominal_.dof()) {
-  gains_ = make_pd_gains(config.control, nominal_);
+  gains_ = make_pd_gains(config.control, nominal_, joint_numbers_);
   reach_ = calc_reach(model_);
   if (config.mismatch.payload.mass > 0.0) {
     true_dynamics_ = std::make_unique<ArmDynamics>(model_, active_indices_, config.mismatch.payload);
