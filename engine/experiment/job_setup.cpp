@@ -80,6 +80,7 @@ ArmSimulation JobSetup::make_plant() const {
   options.active_joints = active_indices_;
   options.integrator = config_.simulation.integrator;
   options.accuracy = config_.simulation.integrator_accuracy;
+  options.steps_per_tick = config_.simulation.integrator_steps_per_tick;
   if (mismatch_from_start()) {
     options.payload = config_.mismatch.payload;
     if (config_.mismatch.viscous.size()) options.friction_override.viscous = true_viscous_;
