@@ -78,6 +78,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
       if (options.on_segment_end) {
         PassResult checkpoint = options.on_segment_end(static_cast<int>(segment));
         if (!checkpoint.ok()) return end_pass(checkpoint.status, t, checkpoint.message, simulated);
+        if (tick_clock) lap_start = Clock::now();  // a checkpoint's passes are not this tick's work
       }
     }
     const Eigen::VectorXd q_desired = trajectory.q.row(k).transpose();

@@ -99,7 +99,8 @@ class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
   }
 
   /// `total` (n, user order) plus the passive, limit and gravity generalized forces.
-  static Eigen::VectorXd add_passive_and_gravity(const ArmSystem& arm, const SimTK::State& state, Eigen::VectorXd total) {
+  static Eigen::VectorXd add_passive_and_gravity(const ArmSystem& arm, const SimTK::State& state, Eigen::VectorXd total,
+                                                 bool with_gravity = true) {
     const int n = static_cast<int>(arm.active_bodies.size());
     const ArmSimulationOptions& options = *arm.options;
     const SimTK::Vector& u = state.getU();
@@ -116,12 +117,13 @@ class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
         if (above > 0.0) total[j] -= options.limit_stiffness * above + options.limit_damping * std::max(velocity, 0.0);
       }
     }
+    if (!with_gravity) return total;
     const Eigen::VectorXd gravity = calc_gravity_generalized_force(arm, state);
     return total + gravity;
   }
 
-  /// g(q): generalized forces of gravity on every body, user order. Needs Position stage.
-  static Eigen::VectorXd calc_gravity_generalized_force(const ArmSystem& arm, const SimTK::State& state) {
+  /// Gravity as one spatial force per body (about its origin, ground frame). Needs Position stage.
+  static SimTK::Vector_<SimTK::SpatialVec> calc_gravity_body_forces(const ArmSystem& arm, const SimTK::State& state) {
     const int n_bodies = arm.matter.getNumBodies();
     SimTK::Vector_<SimTK::SpatialVec> body_forces(n_bodies, SimTK::SpatialVec(SimTK::Vec3(0), SimTK::Vec3(0)));
     for (SimTK::MobilizedBodyIndex b(1); b < n_bodies; ++b) {
@@ -131,6 +133,28 @@ class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
       const SimTK::Vec3 weight = mass.getMass() * arm.gravity;
       body_forces[b] = SimTK::SpatialVec(com_offset % weight, weight);
     }
+    return body_forces;
+  }
+
+  /// M q̈ + c(q, q̇) − g(q) for q̈ (user order; empty = 0) in one inverse-dynamics pass with gravity
+  /// applied as body forces, user order. Needs Velocity stage.
+  static Eigen::VectorXd calc_rigid_residual(const ArmSystem& arm, const SimTK::State& state, const Eigen::VectorXd& qdd) {
+    SimTK::Vector udot;
+    if (qdd.size()) {
+      udot.resize(arm.matter.getNumMobilities());
+      udot = 0.0;
+      for (std::size_t j = 0; j < arm.active_bodies.size(); ++j) udot[arm.mobility_of_active[j]] = qdd[static_cast<Eigen::Index>(j)];
+    }
+    SimTK::Vector residual;
+    arm.matter.calcResidualForceIgnoringConstraints(state, SimTK::Vector(), calc_gravity_body_forces(arm, state), udot, residual);
+    Eigen::VectorXd result(arm.active_bodies.size());
+    for (std::size_t j = 0; j < arm.active_bodies.size(); ++j) result[j] = residual[arm.mobility_of_active[j]];
+    return result;
+  }
+
+  /// g(q): generalized forces of gravity on every body, user order. Needs Position stage.
+  static Eigen::VectorXd calc_gravity_generalized_force(const ArmSystem& arm, const SimTK::State& state) {
+    const SimTK::Vector_<SimTK::SpatialVec> body_forces = calc_gravity_body_forces(arm, state);
     SimTK::Vector generalized;
     arm.matter.multiplyBySystemJacobianTranspose(state, body_forces, generalized);
     Eigen::VectorXd result(arm.active_bodies.size());
@@ -342,11 +366,12 @@ struct ArmSimulation::Impl {
   void calc_stage_dynamics(const Eigen::VectorXd& positions, const Eigen::VectorXd& velocities, StageDynamics& out) {
     write_joint_state(*arm, state, positions, velocities);
     arm->system.realize(state, SimTK::Stage::Velocity);
-    const Eigen::VectorXd force = JointDynamicsForce::add_passive_and_gravity(*arm, state, Eigen::VectorXd::Zero(positions.size()));
+    const Eigen::VectorXd passive =
+        JointDynamicsForce::add_passive_and_gravity(*arm, state, Eigen::VectorXd::Zero(positions.size()), false);
     Eigen::MatrixXd mass = JointDynamicsForce::calc_rigid_mass_matrix(*arm, state);
     mass.diagonal() += arm->parameters.armature;
     out.mass.compute(mass);
-    out.free_force = force - JointDynamicsForce::calc_bias_force(*arm, state);
+    out.free_force = passive - JointDynamicsForce::calc_rigid_residual(*arm, state, Eigen::VectorXd());  // passive + g − c
   }
 
   Eigen::VectorXd calc_stage_acceleration(const Eigen::VectorXd& positions, const Eigen::VectorXd& velocities,
@@ -556,13 +581,7 @@ Eigen::VectorXd ArmDynamics::calc_inverse_dynamics(const Eigen::VectorXd& q, con
   if (qdd.size() != dof()) throw std::invalid_argument("expected " + std::to_string(dof()) + " joint accelerations");
   impl_->set(q, qd, SimTK::Stage::Velocity);
   const ArmSystem& arm = *impl_->arm;
-  SimTK::Vector udot(arm.matter.getNumMobilities(), 0.0);
-  for (int j = 0; j < dof(); ++j) udot[arm.mobility_of_active[j]] = qdd[j];
-  SimTK::Vector residual;
-  arm.matter.calcResidualForceIgnoringConstraints(impl_->state, SimTK::Vector(), SimTK::Vector_<SimTK::SpatialVec>(),
-                                                  udot, residual);
-  return read_mobilities(arm, residual) + arm.parameters.armature.cwiseProduct(qdd) -
-         JointDynamicsForce::calc_gravity_generalized_force(arm, impl_->state);
+  return JointDynamicsForce::calc_rigid_residual(arm, impl_->state, qdd) + arm.parameters.armature.cwiseProduct(qdd);
 }
 
 Eigen::VectorXd ArmDynamics::calc_forward_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,

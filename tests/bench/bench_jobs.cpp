@@ -2,7 +2,7 @@
 // the LWR III, 3 DOF (joints 1, 2, 4) and 7 DOF, with the fixed-step runge_kutta_4 (integrator 7)
 // and the adaptive runge_kutta_merson (integrator 0) restarted every tick, in one run.
 //  - BM_Job/<kind>/<dof>/<integrator>: kind 0 = sine batch (the default 20 s sine, 2 collection
-//    repeats, 5 epochs, evaluation), 1 = figure-eight batch (3 loops of 750 points), 2 = reaching
+//    repeats, 5 epochs, evaluation), 1 = figure-eight batch (3 loops of 750 points, 7 DOF only), 2 = reaching
 //    online (30 minimum-jerk reaches of 100 points, sweeps/thesis/reaching_online.json's base).
 //    Every job has the held-out evaluation on (its default). Counters: sim_s_per_cpu_s
 //    (simulated_seconds over all passes per CPU second of the job, trajectory build included),
@@ -20,7 +20,9 @@
 
 #include <chrono>
 #include <map>
+#include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace {
 
@@ -78,7 +80,13 @@ void BM_Job(benchmark::State& state) {
   std::map<std::string, double> metrics;
   for (auto _ : state) {
     const double start = cpu_seconds();
-    const JobOutcome outcome = run_experiment(lwr3(), config);
+    JobOutcome outcome;
+    try {
+      outcome = run_experiment(lwr3(), config);
+    } catch (const std::exception& error) {
+      state.SkipWithError(error.what());
+      return;
+    }
     cpu += cpu_seconds() - start;
     if (outcome.status != JobStatus::done) state.SkipWithError(outcome.message.c_str());
     metrics = job_metrics(outcome);
@@ -100,10 +108,14 @@ void BM_Job(benchmark::State& state) {
   state.SetLabel(std::string(kinds[kind]) + ", " + std::to_string(dof) + " DOF, " +
                  (integrator == static_cast<int>(IntegratorKind::runge_kutta_4) ? "runge_kutta_4" : "runge_kutta_merson"));
 }
-BENCHMARK(BM_Job)
-    ->ArgsProduct({{0, 1, 2}, {3, 7}, {static_cast<int>(IntegratorKind::runge_kutta_4), static_cast<int>(IntegratorKind::runge_kutta_merson)}})
-    ->Unit(benchmark::kSecond)
-    ->Iterations(1);
+void register_jobs(benchmark::internal::Benchmark* bench) {
+  for (const int integrator : {static_cast<int>(IntegratorKind::runge_kutta_4), static_cast<int>(IntegratorKind::runge_kutta_merson)}) {
+    // No 3-DOF figure-eight: the figure (constant x, in the y-z plane) is out of the 3-DOF arm's
+    // reach at the default centre and at the centres tried; the thesis ran it on 7 DOF.
+    for (const auto& [kind, dof] : {std::pair{0, 3}, {0, 7}, {1, 7}, {2, 3}, {2, 7}}) bench->Args({kind, dof, integrator});
+  }
+}
+BENCHMARK(BM_Job)->Apply(register_jobs)->Unit(benchmark::kSecond)->Iterations(1);
 
 void BM_Reaching1000(benchmark::State& state) {
   JobConfig config = make_job(2, 3, static_cast<int>(state.range(0)));
