@@ -97,7 +97,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
     lap(&TickClock::control);
 
     if (options.statistics) {
-      const Eigen::Vector3d position = setup.nominal().calc_end_effector_position(q);
+      const Eigen::Vector3d position = setup.end_effector().calc_position(q);
       const Eigen::Vector3d position_desired = trajectory.task_position.row(k).transpose();
       options.statistics->add_tick(q_desired, q, position_desired, position, command);
       if (feed_forward.from_learner) {

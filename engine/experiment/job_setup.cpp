@@ -40,6 +40,7 @@ JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
       joint_numbers_(resolve_joint_numbers(model_, config.active_joints)),
       active_indices_(make_indices(joint_numbers_)),
       nominal_(model_, active_indices_),
+      end_effector_(make_end_effector_chain(nominal_)),
       n_(nominal_.dof()) {
   gains_ = make_pd_gains(config.control, nominal_);
   reach_ = calc_reach(model_);
