@@ -81,7 +81,22 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
   Eigen::VectorXd last_acceleration = Eigen::VectorXd::Zero(n);
   Measurement measured = measure(plant, options);
 
+  // Stage timing (TickClock): `lap(slot)` adds the time since the previous lap to `slot`.
+  using Clock = std::chrono::steady_clock;
+  TickClock* const tick_clock = options.tick_clock;
+  Clock::time_point lap_start;
+  const auto lap = [&](double TickClock::*slot) {
+    if (!tick_clock) return;
+    const Clock::time_point now = Clock::now();
+    tick_clock->*slot += std::chrono::duration<double>(now - lap_start).count();
+    lap_start = now;
+  };
+
   for (int k = 0; k < ticks; ++k) {
+    if (tick_clock) {
+      lap_start = Clock::now();
+      ++tick_clock->ticks;
+    }
     const double t = plant.time();
     if (options.should_stop && options.should_stop()) return end_pass(JobStatus::timeout, t, "stopped before the end of the run", simulated);
     if (options.schedule_mismatch && !mismatch_present && t - pass_start >= config.mismatch.start_time - 1e-12) {
@@ -94,6 +109,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
       if (options.on_segment_end) {
         PassResult checkpoint = options.on_segment_end(static_cast<int>(segment));
         if (!checkpoint.ok()) return end_pass(checkpoint.status, t, checkpoint.message, simulated);
+        if (tick_clock) lap_start = Clock::now();  // a checkpoint's passes are not this tick's work
       }
     }
     const Eigen::VectorXd q_desired = trajectory.q.row(k).transpose();
@@ -103,23 +119,29 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
     const Eigen::VectorXd qd = plant.qd();
 
     if (auto reason = divergence.check(t, q, qd, q_desired)) return end_pass(JobStatus::diverged, t, *reason, simulated);
+    lap(&TickClock::control);
 
     FeedForwardTerm feed_forward{Eigen::VectorXd::Zero(n)};
     if (options.feed_forward) feed_forward = options.feed_forward->calc(q_desired, qd_desired, qdd_desired);
+    lap(&TickClock::feed_forward);
     const ControlCommand command = options.controller->calc_command(q_desired, qd_desired, measured.q, measured.qd, feed_forward.torque);
+    lap(&TickClock::control);
 
     if (options.statistics) {
-      const Eigen::Vector3d position = setup.nominal().calc_end_effector_position(q);
+      const Eigen::Vector3d position = setup.end_effector().calc_position(q);
       const Eigen::Vector3d position_desired = trajectory.task_position.row(k).transpose();
       options.statistics->add_tick(q_desired, q, position_desired, position, command);
       if (feed_forward.from_learner) {
-        options.statistics->add_model_accuracy(setup.calc_true_torque(q_desired, qd_desired, qdd_desired, mismatch_present),
-                                               feed_forward.torque, feed_forward.output_trusted);
+        lap(&TickClock::statistics);
+        const Eigen::VectorXd true_torque = setup.calc_true_torque(q_desired, qd_desired, qdd_desired, mismatch_present);
+        lap(&TickClock::true_dynamics);
+        options.statistics->add_model_accuracy(true_torque, feed_forward.torque, feed_forward.output_trusted);
       }
       if (options.recorder && k % options.record_every == 0) {
         record_tick(*options.recorder, TickRecord{t, q, qd, last_acceleration, q_desired, qd_desired, qdd_desired, position,
                                                   position_desired, command, observed_size()});
       }
+      lap(&TickClock::statistics);
     }
 
     Eigen::VectorXd applied_torque;  // averaged over the tick: the learner's target
@@ -129,6 +151,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
     } catch (const std::exception& failure) {
       return end_pass(JobStatus::diverged, t, std::string("integrator failed: ") + failure.what(), simulated);
     }
+    lap(&TickClock::physics);
     simulated += dt;
     const Measurement next = measure(plant, options);
     const Eigen::VectorXd qdd_measured = (next.qd - measured.qd) / dt;  // the thesis's backward difference
@@ -147,6 +170,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
       if (options.samples) options.samples->push_back(std::move(sample));
     }
     measured = next;
+    lap(&TickClock::learning);
   }
   if (options.statistics) options.statistics->end(observed_size());
   if (options.on_segment_end) {

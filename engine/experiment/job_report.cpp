@@ -38,6 +38,18 @@ void write_learner_report(MetricWriter& writer, const Learner& learner, const Le
              clock.predictions ? 1e6 * clock.predict_seconds / static_cast<double>(clock.predictions) : std::nan(""));
 }
 
+void write_tick_report(MetricWriter& writer, const TickClock& clock) {
+  if (clock.ticks == 0) return;
+  const double per_tick = 1e6 / static_cast<double>(clock.ticks);
+  writer.add(names::tick_us_total, clock.total() * per_tick);
+  writer.add(names::tick_us_physics, clock.physics * per_tick);
+  writer.add(names::tick_us_feed_forward, clock.feed_forward * per_tick);
+  writer.add(names::tick_us_control, clock.control * per_tick);
+  writer.add(names::tick_us_true_dynamics, clock.true_dynamics * per_tick);
+  writer.add(names::tick_us_statistics, clock.statistics * per_tick);
+  writer.add(names::tick_us_learning, clock.learning * per_tick);
+}
+
 void write_cost_report(MetricWriter& writer, double simulated_seconds, double wall_seconds) {
   writer.add(names::simulated_seconds, simulated_seconds);
   writer.add(names::sim_seconds_per_wall_second, wall_seconds > 0.0 ? simulated_seconds / wall_seconds : std::nan(""));

@@ -15,6 +15,7 @@ struct SimulationConfig {
   double dt = 0.01;  ///< s, control and learning period (the thesis's TAU); torques are held over a tick
   IntegratorKind integrator = ArmSimulationOptions{}.integrator;
   double integrator_accuracy = ArmSimulationOptions{}.accuracy;  ///< relative accuracy of adaptive integrators
+  int integrator_steps_per_tick = ArmSimulationOptions{}.steps_per_tick;  ///< runge_kutta_4: equal steps per tick
   /// The PD loop runs this many times per tick (period dt / pd_substeps) on the plant's state,
   /// the desired state extrapolated within the tick; the feed-forward, learning and the
   /// statistics stay at dt. The learner's target is the torque averaged over the tick. 1: the

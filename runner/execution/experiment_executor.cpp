@@ -2,11 +2,13 @@
 // run_experiment() call. Arm models are loaded once per file and shared (read-only) by the
 // jobs of a sweep. The files a job reads (model and meshes, recorded trajectory) are its input
 // fields: the spec layer resolves and hashes them, and the job loads them from the resolved
-// paths recorded under "inputs".
+// paths recorded under "inputs". Trajectories are built once per distinct trajectory key and
+// shared read-only by the jobs that use it (trajectory_cache.hpp).
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/model/model_loading.hpp"
 #include "runner/config/job_config_json.hpp"
 #include "runner/execution/job_executor.hpp"
+#include "runner/execution/trajectory_cache.hpp"
 #include "runner/spec/input_files.hpp"
 
 #include <cstdlib>
@@ -85,13 +87,16 @@ JobConfigSchema make_experiment_config_schema() {
 
 JobExecutor make_experiment_executor() {
   auto models = std::make_shared<ModelCache>();
-  return [models](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
+  auto trajectories = std::make_shared<TrajectoryCache>();
+  return [models, trajectories](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
     const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
     const auto model = models->get(config.at("model").get<std::string>());
     const JobConfig job = parse_job_config(config, count_movable_joints(*model));
     JobOutcome outcome;
     try {
-      outcome = run_experiment(*model, job, control.should_stop);
+      const std::shared_ptr<const JobTrajectories> shared =
+          trajectories->get(make_trajectory_key(recorded), [&] { return build_job_trajectories(*model, job); });
+      outcome = run_experiment(*model, job, *shared, control.should_stop);
     } catch (const std::invalid_argument& error) {
       throw ConfigError("", error.what());
     } catch (const std::exception& error) {
