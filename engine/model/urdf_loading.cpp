@@ -275,7 +275,9 @@ class UrdfScanner {
   }
 
   // ROS-style <transmission>: one <joint name=..>, one <actuator> with <mechanicalReduction>
-  // and armfarm's <rotorInertia> (kg·m² about the motor shaft).
+  // and armfarm's <rotorInertia> (kg·m² about the motor shaft), or Drake's
+  // <drake:rotor_inertia value=..> and <drake:gear_ratio value=..> (the ratio defaults to the
+  // mechanical reduction). armature = rotor inertia · ratio².
   void scan_transmission(const tinyxml2::XMLElement* e) {
     const auto* joint = e->FirstChildElement("joint");
     if (joint == nullptr) fail(e, "<transmission> without a <joint>");
@@ -291,10 +293,16 @@ class UrdfScanner {
     if (const auto* r = e->FirstChildElement("mechanicalReduction")) reduction = element_number(r);  // old ROS style
     if (reduction == 0.0) fail(actuator, "<mechanicalReduction> of joint '" + name + "' is zero");
     double rotor_inertia = 0.0;
-    if (const auto* r = actuator->FirstChildElement("rotorInertia")) {
-      rotor_inertia = element_number(r);
-      if (rotor_inertia < 0.0) fail(r, "<rotorInertia> of joint '" + name + "' is negative");
+    const auto* ours = actuator->FirstChildElement("rotorInertia");
+    const auto* drake = actuator->FirstChildElement("drake:rotor_inertia");
+    if (ours != nullptr && drake != nullptr) fail(drake, "joint '" + name + "': both <rotorInertia> and <drake:rotor_inertia>");
+    if (ours != nullptr) rotor_inertia = element_number(ours);
+    if (drake != nullptr) {
+      rotor_inertia = number_attribute(drake, "value");
+      if (const auto* ratio = actuator->FirstChildElement("drake:gear_ratio")) reduction = number_attribute(ratio, "value");
+      if (reduction == 0.0) fail(actuator, "the gear ratio of joint '" + name + "' is zero");
     }
+    if (rotor_inertia < 0.0) fail(ours != nullptr ? ours : drake, "the rotor inertia of joint '" + name + "' is negative");
     if (!extras_.armature.emplace(name, rotor_inertia * reduction * reduction).second) {
       fail(e, "second <transmission> for joint '" + name + "'");
     }

@@ -72,7 +72,7 @@ TEST(CmdModelInfo, SeveralLeavesShowWithoutAnEndEffectorUntilChosen) {
   const CommandResult open = run_armfarm("model info --json " + path);
   ASSERT_EQ(open.exit_code, 0) << open.output;
   // The file's <self_collision_checking> gives one warning line on stderr before the JSON.
-  EXPECT_EQ(open.output.rfind("armfarm: warning: " + path + ":50: <self_collision_checking> in <link> of link 'base_link'", 0), 0u)
+  EXPECT_EQ(open.output.rfind("armfarm: warning: " + path + ":51: <self_collision_checking> in <link> of link 'base_link'", 0), 0u)
       << open.output;
   const nlohmann::json info = nlohmann::json::parse(open.output.substr(open.output.find('{')));
   EXPECT_EQ(info.at("warnings").size(), 1u);
@@ -85,7 +85,7 @@ TEST(CmdModelInfo, SeveralLeavesShowWithoutAnEndEffectorUntilChosen) {
   EXPECT_EQ(tool.at("end_effector").at("offset"), nlohmann::json::array({0.0, 0.0, 0.1}));
   const CommandResult strict = run_armfarm("model info --strict " + path);
   EXPECT_EQ(strict.exit_code, 2) << strict.output;
-  EXPECT_NE(strict.output.find(":50: <self_collision_checking> in <link> of link 'base_link' is not a URDF element (refused under --strict)"),
+  EXPECT_NE(strict.output.find(":51: <self_collision_checking> in <link> of link 'base_link' is not a URDF element (refused under --strict)"),
             std::string::npos)
       << strict.output;
 }

@@ -98,15 +98,18 @@ TEST(EndEffector, CommandLineText) {
 }
 
 TEST(UrdfExtensions, RosStyleSevenDofFileLoadsWithItsExtensionElements) {
-  // gazebo, transmission with hardware interfaces, ros2_control, drake:* at the top level and
-  // inside <collision>, visual/collision meshes as package:// URIs (never opened).
+  // gazebo, transmission with hardware interfaces and drake:rotor_inertia / drake:gear_ratio,
+  // ros2_control, drake:* at the top level and inside <collision>, visual/collision meshes as
+  // package:// URIs (never opened).
   const std::string path = test::data_path("ros7_arm.urdf");
   const ArmModel model = load_arm_model(path, {"ee", Eigen::Vector3d::Zero()});
   EXPECT_EQ(model.movable_joints().size(), 7u);
   EXPECT_EQ(model.input_files, std::vector<std::string>{path});  // no mesh is read
   EXPECT_NEAR(model.total_mass(), 5.0 + 4.0 + 4.0 + 3.0 + 2.7 + 1.7 + 1.8 + 0.3, 1e-12);
-  for (const Joint& joint : model.joints) {
-    if (joint.type != JointType::fixed) EXPECT_EQ(joint.armature, 0.0) << joint.name;  // reduction without rotor inertia
+  // Armature from Drake's transmission elements: rotor inertia × gear ratio².
+  const std::vector<int> movable = model.movable_joints();
+  for (int n = 0; n < 7; ++n) {
+    EXPECT_NEAR(model.joints[movable[n]].armature, (n < 4 ? 1e-5 : 4e-6) * 160.0 * 160.0, 1e-12) << n;
   }
   // Straight up at zero: the ee frame 0.1575 + 0.2025 + 0.2045 + 0.2155 + 0.1845 + 0.2155 + 0.081 + 0.171 m above the base.
   const test::ForwardKinematics fk = test::calc_forward_kinematics(model, std::vector<double>(7, 0.0));
@@ -114,7 +117,7 @@ TEST(UrdfExtensions, RosStyleSevenDofFileLoadsWithItsExtensionElements) {
   EXPECT_NE(load_error(path, {}).find("3 leaf links ('flange', 'tool0', 'ee')"), std::string::npos);
   // The vendor-style <self_collision_checking> is skipped with a warning; strict reading refuses it.
   ASSERT_EQ(model.warnings.size(), 1u);
-  EXPECT_EQ(model.warnings[0], path + ":50: <self_collision_checking> in <link> of link 'base_link' is not a URDF element");
+  EXPECT_EQ(model.warnings[0], path + ":51: <self_collision_checking> in <link> of link 'base_link' is not a URDF element");
   try {
     check_strict_model(model);
     ADD_FAILURE() << "strict reading accepted <self_collision_checking>";
