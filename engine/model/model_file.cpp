@@ -1,22 +1,15 @@
 #include "engine/model/model_file.hpp"
 
+#include "engine/io/input_file.hpp"
 #include "engine/model/model_loading.hpp"
 
-#include <fstream>
 #include <functional>
 #include <map>
 #include <set>
-#include <sstream>
 
 namespace armfarm {
 
-std::string read_model_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ModelError(path + ": cannot open model file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
+std::string read_model_file(const std::string& path) { return read_input_file_as<ModelError>(path, InputFileKind::arm_model); }
 
 std::vector<int> calc_tree_order(const std::vector<TreeEdge>& joints, const std::vector<int>& roots) {
   std::map<int, std::vector<int>> children;  // parent link -> joint indices, in input order

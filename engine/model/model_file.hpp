@@ -7,7 +7,8 @@
 
 namespace armfarm {
 
-/// The whole text of the model file at `path`. Throws ModelError "PATH: cannot open model file".
+/// The whole text of the model file at `path`, read as a confined input (engine/io/input_file.hpp:
+/// a regular file under the arm-model size cap). Throws ModelError with the one-line reason.
 std::string read_model_file(const std::string& path);
 
 /// A joint as the tree ordering sees it: indices of its parent and child links.

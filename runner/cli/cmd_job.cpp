@@ -5,6 +5,7 @@
 #include "engine/experiment/job_outcome.hpp"
 #include "engine/model/end_effector.hpp"
 #include "engine/model/model_loading.hpp"
+#include "engine/io/input_file.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/execution/stop_signal.hpp"
@@ -40,13 +41,10 @@ namespace {
 // `end_effector` (from --ee) replaces the file's end_effector block.
 nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& schema,
                                const std::optional<EndEffectorConfig>& end_effector) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file || std::filesystem::is_directory(path)) throw std::runtime_error(path + ": cannot open the job configuration");
-  std::ostringstream text;
-  text << file.rdbuf();
+  const std::string text = read_input_file(path, InputFileKind::json);
   JsonDocument document;
   try {
-    document = parse_json_document(text.str(), path);
+    document = parse_json_document(text, path);
   } catch (const SpecError& error) {
     throw std::runtime_error(error.what());
   }
