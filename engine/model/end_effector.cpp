@@ -98,7 +98,7 @@ void choose_end_effector(ArmModel& model, const EndEffectorConfig& choice) {
   if (leaves.empty()) throw ModelError(model.source_file + ": no leaf link to serve as the end effector (nothing moves)");
   throw ModelError(model.source_file + ": " + std::to_string(leaves.size()) + " leaf links (" + quoted_names(model, leaves) +
                    "): choose the end effector with end_effector.link (and .offset) in the job configuration, or --ee "
-                   "LINK[:x,y,z] on the command line");
+                   "LINK[:x,y,z] on armfarm job and the model commands");
 }
 
 }  // namespace armfarm

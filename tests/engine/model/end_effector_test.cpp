@@ -30,7 +30,7 @@ TEST(EndEffector, SeveralLeavesAreRefusedWithTheirNamesAndHowToChoose) {
   const std::string path = test::data_path("two_leaves.urdf");
   const std::string message = load_error(path, {});
   EXPECT_EQ(message, path + ": 2 leaf links ('tool0', 'camera_link'): choose the end effector with end_effector.link (and "
-                            ".offset) in the job configuration, or --ee LINK[:x,y,z] on the command line");
+                            ".offset) in the job configuration, or --ee LINK[:x,y,z] on armfarm job and the model commands");
   const ArmModel structure = load_arm_model_file(path);  // the structure loads without a choice
   EXPECT_EQ(structure.end_effector.link, -1);
   EXPECT_EQ(structure.movable_joints().size(), 2u);
