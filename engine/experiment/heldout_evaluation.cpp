@@ -95,6 +95,8 @@ bool is_trajectory_input(const std::string& path) {
                                       "learning.heldout_amplitude_scale", "learning.heldout_phase_step",
                                       "learning.heldout_segments", "learning.heldout_recorded_fraction"};
   if (path.rfind("trajectory.", 0) == 0) return true;
+  // The end effector is the point task-space trajectories (figure-eight, reaching) are solved for.
+  if (path.rfind("end_effector.", 0) == 0) return true;
   for (const char* key : exact) {
     if (path == key) return true;
   }

@@ -28,6 +28,7 @@ const std::vector<ConfigKey<JobConfig>>& top_level_keys() {
 std::vector<JobConfigKey> make_job_config_keys() {
   std::vector<JobConfigKey> keys;
   append_keys(keys, "", top_level_keys(), [](JobConfig& c) -> JobConfig& { return c; });
+  append_keys(keys, "end_effector.", end_effector_config_keys(), [](JobConfig& c) -> EndEffectorConfig& { return c.end_effector; });
   append_keys(keys, "", simulation_config_keys(), [](JobConfig& c) -> SimulationConfig& { return c.simulation; });
   append_keys(keys, "control.", control_config_keys(), [](JobConfig& c) -> ControlConfig& { return c.control; });
   append_keys(keys, "trajectory.", trajectory_config_keys(), [](JobConfig& c) -> TrajectoryConfig& { return c.trajectory; });

@@ -155,6 +155,9 @@ void check_lwpr(const JobConfig& config, int n, const std::vector<ConfigProblem>
 }
 
 void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
+  if (const std::string problem = check_end_effector_config(config.end_effector); !problem.empty()) {
+    checker.add("end_effector.offset", problem);
+  }
   if (config.control.mode != ControlMode::feedback && config.control.feed_forward == FeedForwardSource::learner &&
       config.learning.mode == LearningMode::none) {
     const auto name = [](const EnumNames& names, auto value) { return std::string("\"") + find_enum_name(names, static_cast<int>(value)) + "\""; };

@@ -51,6 +51,10 @@ TEST(TrajectoryCache, KeyIsTheTrajectoryInputsAndTheModel) {
   nlohmann::json other_dt = sweep.jobs[0].config;
   other_dt["dt"] = 0.005;
   EXPECT_NE(make_trajectory_key(other_dt), make_trajectory_key(sweep.jobs[0].config));
+  // Task-space targets are solved for the end effector: another point, another trajectory.
+  nlohmann::json other_tip = sweep.jobs[0].config;
+  other_tip["end_effector"]["offset"] = {0.0, 0.0, 0.05};
+  EXPECT_NE(make_trajectory_key(other_tip), make_trajectory_key(sweep.jobs[0].config));
 }
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
