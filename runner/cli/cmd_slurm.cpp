@@ -160,7 +160,7 @@ RunFunction setup_slurm(CLI::App& parent) {
     std::vector<std::string> commands = make_submit_commands(plan);
     if (array_needed) {
       std::cout << "wrote " << array_script << " (array of " << plan.tasks << " tasks, " << plan.cpus_per_task
-                << " CPUs each) and " << merge_script << "\n";
+                << " CPU" << (plan.cpus_per_task == 1 ? "" : "s") << " each) and " << merge_script << "\n";
     } else {
       commands = {"sbatch --parsable " + make_shell_quoted(merge_script)};
       std::cout << "every job is done in the shard files: only the merge is needed\nwrote " << merge_script << "\n";
