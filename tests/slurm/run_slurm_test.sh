@@ -3,7 +3,9 @@
 # slurmd from Debian's slurm-wlm and munge, installed with apt-get when missing), submits a
 # six-job sweep with `armfarm slurm --submit` as an array of 3 shard tasks plus the merge,
 # waits for them (bounded), and checks that `armfarm compare merged.db local.db` exits 0 against
-# a local `armfarm run` of the same spec, and that submitting again finds nothing to do.
+# a local `armfarm run` of the same spec. First one task is cancelled right after submission: the
+# merge must not run; then the same command again runs only the missing shard's jobs and merges;
+# once more it finds nothing to submit.
 # Stops the daemons it started, by pid, on every exit path. Skips (exit 0, one line) when not
 # root or when the packages cannot be installed.
 #
@@ -33,7 +35,7 @@ if ! command -v slurmctld >/dev/null || ! command -v slurmd >/dev/null || ! comm
     skip "could not install slurm-wlm and munge (apt-get log: /tmp/run_slurm_test.apt.log)"
   fi
 fi
-say "$(slurmctld -V), munge $(munged --version 2>&1 | head -1 | awk '{print $2}')"
+say "$(slurmctld -V), $(munged --version 2>&1 | head -1 | awk '{print $1}')"
 
 # ---- a private cluster: every file in one folder, the daemons on their own ports ----
 work=$(mktemp -d /tmp/armfarm-slurm-test.XXXXXX)
@@ -132,35 +134,66 @@ say "one-node cluster up: $(sinfo -h -o '%P %D node(s) %c CPUs %T')"
 
 # ---- the sweep on Slurm, and locally ----
 cd "$work"
-submitted=$("$armfarm" slurm "$spec" --db "$work/merged.db" --tasks 3 --cpus-per-task 1 --time 30 --submit)
-echo "$submitted"
-array_id=$(sed -n 's/^submitted array job \([0-9]*\).*/\1/p' <<<"$submitted")
-merge_id=$(sed -n 's/^submitted merge job \([0-9]*\).*/\1/p' <<<"$submitted")
-[ -n "$array_id" ] && [ -n "$merge_id" ] || { say "no job ids in the output of armfarm slurm --submit"; exit 1; }
-job_ids=("$array_id" "$merge_id")
-
-say "local run of the same spec"
-"$armfarm" run "$spec" --db "$work/local.db" -j 1 2>/dev/null
-
+db=$work/merged.db
 deadline=$((started + timeout))
-while [ -n "$(squeue -h -j "$array_id,$merge_id" -o %i 2>/dev/null)" ]; do
-  if [ "$(date +%s)" -gt "$deadline" ]; then
-    say "timed out after ${timeout}s waiting for jobs $array_id and $merge_id:"
-    squeue -j "$array_id,$merge_id" || true
-    exit 1
-  fi
-  sleep 2
-done
-job_ids=()
-scontrol -o show job "$array_id" | sed -n 's/.*JobId=\([0-9]*\) .*ArrayTaskId=\([0-9]*\) .*JobState=\([A-Z_]*\) .*ExitCode=\([0-9:]*\).*/  array task \2 (job \1): \3, exit \4/p'
-merge_state=$(scontrol -o show job "$merge_id" | sed -n 's/.*JobState=\([A-Z_]*\) .*/\1/p')
-say "merge job $merge_id: $merge_state"
-for log in "$work"/merged.db.slurm-*.log; do echo "---- $(basename "$log")"; cat "$log"; done
-[ "$merge_state" = COMPLETED ] || { say "the merge job did not complete"; exit 1; }
 
+# Submits the sweep with `armfarm slurm --submit` and waits until its jobs leave the queue;
+# sets array_id, merge_id and merge_state, prints each task's state and log.
+submit_and_wait() {
+  local submitted
+  submitted=$("$armfarm" slurm "$spec" --db "$db" --tasks 3 --cpus-per-task 1 --time 30 --submit)
+  echo "$submitted"
+  array_id=$(sed -n 's/^submitted array job \([0-9]*\).*/\1/p' <<<"$submitted")
+  merge_id=$(sed -n 's/^submitted merge job \([0-9]*\).*/\1/p' <<<"$submitted")
+  [ -n "$array_id" ] && [ -n "$merge_id" ] || { say "no job ids in the output of armfarm slurm --submit"; exit 1; }
+  job_ids=("$array_id" "$merge_id")
+  [ -z "${1:-}" ] || "$@"  # work to do while the jobs run
+  while [ -n "$(squeue -h -j "$array_id,$merge_id" -o %i 2>/dev/null)" ]; do
+    if [ "$(date +%s)" -gt "$deadline" ]; then
+      say "timed out after ${timeout}s waiting for jobs $array_id and $merge_id:"
+      squeue -j "$array_id,$merge_id" || true
+      exit 1
+    fi
+    sleep 2
+  done
+  job_ids=()
+  scontrol -o show job "$array_id" | sort |
+    sed -n 's/.*JobId=\([0-9]*\) .*ArrayTaskId=\([0-9]*\) .*JobState=\([A-Z_]*\) .*ExitCode=\([0-9:]*\).*/  array task \2 (job \1): \3, exit \4/p'
+  merge_state=$(scontrol -o show job "$merge_id" | sed -n 's/.*JobState=\([A-Z_]*\) .*/\1/p')
+  say "merge job $merge_id: $merge_state"
+  local log
+  for log in "$db".slurm-"$array_id"_*.log "$db".slurm-"$merge_id"-merge.log; do
+    [ -f "$log" ] && { echo "---- $(basename "$log")"; cat "$log"; }
+  done
+  return 0
+}
+local_run() {
+  say "local run of the same spec"
+  "$armfarm" run "$spec" --db "$work/local.db" -j 1 2>/dev/null
+}
+
+cancel_task_2() {
+  scancel "${array_id}_1"
+  say "cancelled array task 1 (shard 2)"
+  local_run
+}
+say "1. array task 1 (shard 2) cancelled right after submission: the merge must not run"
+submit_and_wait cancel_task_2
+[ "$merge_state" != COMPLETED ] || { say "the merge ran although a task failed"; exit 1; }
+[ ! -e "$db" ] || { say "$db exists although the merge did not run"; exit 1; }
+
+say "2. the same command again: only shard 2's jobs run, then the merge"
+submit_and_wait
+[ "$merge_state" = COMPLETED ] || { say "the merge job did not complete"; exit 1; }
+for task in 0 2; do
+  grep -q " 0 done, .* already done (skipped)" "$db.slurm-${array_id}_$task.log" ||
+    { say "task $task ran jobs again that were done"; exit 1; }
+done
 say "armfarm compare merged.db local.db"
-"$armfarm" compare "$work/merged.db" "$work/local.db"
-again=$("$armfarm" slurm "$spec" --db "$work/merged.db" --tasks 3 --submit)
+"$armfarm" compare "$db" "$work/local.db"
+
+say "3. the same command once more: nothing to submit"
+again=$("$armfarm" slurm "$spec" --db "$db" --tasks 3 --submit)
 echo "$again"
 grep -q "nothing to submit" <<<"$again" || { say "submitting again found work to do"; exit 1; }
 say "PASSED in $(($(date +%s) - started)) s"
