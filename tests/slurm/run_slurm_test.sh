@@ -157,8 +157,10 @@ submit_and_wait() {
     sleep 2
   done
   job_ids=()
-  scontrol -o show job "$array_id" | sort |
-    sed -n 's/.*JobId=\([0-9]*\) .*ArrayTaskId=\([0-9]*\) .*JobState=\([A-Z_]*\) .*ExitCode=\([0-9:]*\).*/  array task \2 (job \1): \3, exit \4/p'
+  scontrol -o show job "$array_id" | awk '{
+      for (i = 1; i <= NF; i++) { split($i, kv, "="); field[kv[1]] = kv[2] }
+      printf "  array task %s (job %s): %s, exit %s\n", field["ArrayTaskId"], field["JobId"], field["JobState"], field["ExitCode"]
+    }' | sort
   merge_state=$(scontrol -o show job "$merge_id" | sed -n 's/.*JobState=\([A-Z_]*\) .*/\1/p')
   say "merge job $merge_id: $merge_state"
   local log
