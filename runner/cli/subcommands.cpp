@@ -16,6 +16,7 @@ RunFunction setup_merge(CLI::App& parent);
 RunFunction setup_lwpr(CLI::App& parent);
 RunFunction setup_version(CLI::App& parent);
 RunFunction setup_model(CLI::App& parent);
+RunFunction setup_slurm(CLI::App& parent);
 
 const std::vector<SubcommandEntry>& all_subcommands() {
   static const std::vector<SubcommandEntry> entries = {
@@ -32,6 +33,7 @@ const std::vector<SubcommandEntry>& all_subcommands() {
       {"lwpr", setup_lwpr},
       {"version", setup_version},
       {"model", setup_model},
+      {"slurm", setup_slurm},
   };
   return entries;
 }
