@@ -22,17 +22,17 @@ std::map<std::string, double> job_metrics(const JobOutcome& outcome) {
   return metrics;
 }
 
-// Joints 2 and 4 (6 inputs, 2 outputs) on an 8 s sine at low gains.
+// Joints 2 and 4 (6 inputs, 2 outputs) on a 6 s sine at low gains.
 JobConfig make_ssgpr_config(LearningMode mode) {
   JobConfig config;
   config.active_joints = {2, 4};
   config.trajectory.kind = TrajectoryKind::sine;
-  config.trajectory.sine.duration = 8.0;
+  config.trajectory.sine.duration = 6.0;
   config.control.gain_scale = 0.2;
   config.learning.mode = mode;
   config.learning.learner = LearnerKind::ssgpr;
   config.learning.ssgpr.params.features = 60;
-  config.learning.ssgpr.fit_samples = 150;
+  config.learning.ssgpr.fit_samples = 120;
   config.learning.ssgpr.fit.iterations = 40;
   return config;
 }
@@ -76,10 +76,10 @@ TEST(SsgprJob, OnlineSsgprIsDeterministicAndUntrustedUntilFitted) {
     EXPECT_EQ(first.metrics[i].value, second.metrics[i].value) << first.metrics[i].name;
   }
   auto m = job_metrics(first);
-  // 800 ticks, the first 150 kept for the fit: feed-forward untrusted (0) on at least those.
+  // 600 ticks, the first 120 kept for the fit: feed-forward untrusted (0) on at least those.
   for (int joint : {2, 4}) {
     const double untrusted = m["ff_untrusted_fraction_j" + std::to_string(joint)];
-    EXPECT_GE(untrusted, 150.0 / 800.0 - 1e-12) << joint;
+    EXPECT_GE(untrusted, 120.0 / 600.0 - 1e-12) << joint;
     EXPECT_LT(untrusted, 0.5) << joint;
   }
   // A seed of the frequency draw alone changes the learnt model, hence the scores.
