@@ -1,7 +1,8 @@
 #pragma once
 // How a job learns its inverse dynamics: the learning mode, the batch schedule and the LWPR
 // parameters it starts from, with the only copy of the job's defaults, and the key tables
-// (engine/config/config_key.hpp) of LearningConfig and of LWPR's parameter block.
+// (engine/config/config_key.hpp) of LearningConfig and of LWPR's parameter block (SSGPR's
+// block: engine/learning/ssgpr_learning_config.hpp).
 //
 // Two defaults of init_D, on purpose, one home each:
 //  - lwpr::LwprParams{} (engine/lwpr/lwpr_params.hpp) keeps the published library's defaults

@@ -58,10 +58,11 @@ void SsgprFittingLearner::update(const Eigen::VectorXd& x, const Eigen::VectorXd
     kept_y_.pop_back();
     throw std::runtime_error("SSGPR hyperparameter fit on the first " + std::to_string(n) + " samples: " + error.what());
   }
+  // The fit alone is one-off work; learning the kept samples is ordinary per-sample learning.
+  fit_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   SsgprModel model(n_in_, n_out_, fitted);
   for (std::size_t i = 0; i < kept_x_.size(); ++i) model.update(kept_x_[i], kept_y_[i]);
   model_.emplace(std::move(model));
-  fit_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   kept_x_ = {};
   kept_y_ = {};
 }
