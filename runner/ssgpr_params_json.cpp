@@ -1,11 +1,11 @@
 // SSGPR params JSON → SsgprLearningConfig, through the learning.ssgpr key table.
 #include "runner/ssgpr_params_json.hpp"
 
+#include "engine/io/input_file.hpp"
 #include "runner/config/config_value_json.hpp"
 
 #include <algorithm>
 #include <cstdio>
-#include <fstream>
 #include <stdexcept>
 
 namespace armfarm {
@@ -55,11 +55,10 @@ SsgprLearningConfig parse_ssgpr_params(const nlohmann::json& json, const std::st
 }
 
 SsgprLearningConfig load_ssgpr_params(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open file");
+  const std::string text = read_input_file(path, InputFileKind::json);
   nlohmann::json json;
   try {
-    json = nlohmann::json::parse(in);
+    json = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     throw std::runtime_error(path + ": invalid JSON at byte " + std::to_string(e.byte));
   }
