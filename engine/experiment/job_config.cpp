@@ -41,6 +41,7 @@ std::vector<JobConfigKey> make_job_config_keys() {
               [](JobConfig& c) -> RecordedTrajectoryConfig& { return c.trajectory.recorded; });
   append_keys(keys, "learning.", learning_config_keys(), [](JobConfig& c) -> LearningConfig& { return c.learning; });
   append_keys(keys, "learning.lwpr.", lwpr_params_keys(), [](JobConfig& c) -> lwpr::LwprParams& { return c.learning.lwpr; });
+  append_keys(keys, "learning.ssgpr.", ssgpr_learning_config_keys(), [](JobConfig& c) -> SsgprLearningConfig& { return c.learning.ssgpr; });
   append_keys(keys, "mismatch.", mismatch_config_keys(), [](JobConfig& c) -> MismatchConfig& { return c.mismatch; });
   append_keys(keys, "recording.", recording_config_keys(), [](JobConfig& c) -> RecordingConfig& { return c.recording; });
   append_keys(keys, "divergence.", divergence_config_keys(), [](JobConfig& c) -> DivergenceConfig& { return c.divergence; });

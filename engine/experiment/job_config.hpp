@@ -5,7 +5,8 @@
 //   simulation  engine/physics/simulation_config.hpp    (keys at the top level: dt, integrator, …)
 //   control     engine/control/control_config.hpp
 //   trajectory  engine/trajectory/trajectory_config.hpp
-//   learning    engine/learning/learning_config.hpp     (learning.lwpr: LWPR's parameter block)
+//   learning    engine/learning/learning_config.hpp     (learning.lwpr: LWPR's parameter block;
+//                                                        learning.ssgpr: ssgpr_learning_config.hpp)
 //   mismatch, recording, divergence  engine/experiment/*_config.hpp
 //   end_effector  engine/model/end_effector.hpp (the runner applies it when it loads the model)
 // job_config_keys() concatenates their tables under their dotted prefixes; the runner's JSON

@@ -19,7 +19,8 @@ void write_evaluation_report(MetricWriter& writer, const PassStatistics& statist
 /// same_run_test_nmse/_rmse (per joint and job) and n_training_samples.
 void write_batch_training_report(MetricWriter& writer, const BatchTrainingResult& training, const ErrorFloors& floors);
 
-/// n_receptive_fields, learner_us_per_update, learner_us_per_predict.
+/// n_receptive_fields, learner_us_per_update (without the one-off fit), learner_us_per_predict,
+/// learner_memory_bytes, learner_fit_seconds.
 void write_learner_report(MetricWriter& writer, const Learner& learner, const LearnerClock& clock);
 
 /// tick_us_total and the tick_us_* stage times per tick (nothing when no tick was timed).

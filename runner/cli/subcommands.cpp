@@ -13,6 +13,7 @@ RunFunction setup_export(CLI::App& parent);
 RunFunction setup_plot(CLI::App& parent);
 RunFunction setup_report(CLI::App& parent);
 RunFunction setup_merge(CLI::App& parent);
+RunFunction setup_fit(CLI::App& parent);
 RunFunction setup_lwpr(CLI::App& parent);
 RunFunction setup_version(CLI::App& parent);
 RunFunction setup_model(CLI::App& parent);
@@ -30,6 +31,7 @@ const std::vector<SubcommandEntry>& all_subcommands() {
       {"plot", setup_plot},
       {"report", setup_report},
       {"merge", setup_merge},
+      {"fit", setup_fit},
       {"lwpr", setup_lwpr},
       {"version", setup_version},
       {"model", setup_model},
