@@ -121,6 +121,17 @@ CREATE VIEW job_metrics AS
     FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id JOIN jobs j ON j.id = sj.job_id
     JOIN metrics m ON m.job_id = j.id LEFT JOIN metric_info i ON i.name = m.name;
 )sql",
+      // 3: models holds the learned model a job stored (learning.store_model), its model file as a BLOB.
+      R"sql(
+CREATE TABLE models (
+  job_id INTEGER PRIMARY KEY REFERENCES jobs(id) ON DELETE CASCADE,
+  kind TEXT NOT NULL,
+  hash TEXT NOT NULL,
+  bytes INTEGER NOT NULL CHECK (bytes = length(data)),
+  data BLOB NOT NULL
+);
+CREATE INDEX models_by_hash ON models(hash);
+)sql",
   };
   return scripts;
 }

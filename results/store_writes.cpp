@@ -1,4 +1,5 @@
 // Writes: registering a sweep run, committing finished jobs, closing a run.
+#include "results/model_store.hpp"
 #include "results/series_codec.hpp"
 #include "results/store_internal.hpp"
 
@@ -154,6 +155,7 @@ void ResultsStore::insert_job_batch(const JobBatch& batch, const std::string& sw
     const std::int64_t job_id = finished.column_int(0);
     finished.reset();
     insert_metrics_and_series(*db_, job_id, result);
+    replace_job_model(*db_, job_id, result.model);
   }
   if (!batch.abandoned.empty()) {
     SqliteStatement abandoned =

@@ -14,6 +14,8 @@ struct JobKind {
   JobExecutor executor;
 };
 
-JobKind make_job_kind_from_environment();
+/// `db_path`: the results database whose stored learned models the experiment's jobs may start
+/// from (learning.initial_model); "" for none.
+JobKind make_job_kind_from_environment(const std::string& db_path = "");
 
 }  // namespace armfarm
