@@ -2,6 +2,7 @@
 // [--tolerances FILE.json] [--format md|json] [--all]`: regression check of NEW against BASE.
 // Exit 0 within tolerance, 1 on a regression, 2 on a usage or file error.
 #include "analysis/analysis_error.hpp"
+#include "engine/io/input_file.hpp"
 #include "analysis/comparison.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
@@ -62,11 +63,8 @@ RunFunction setup_compare(CLI::App& parent) {
     ToleranceTable tolerances;
     tolerances.defaults = defaults;
     if (!options->tolerances.empty()) {
-      std::ifstream in(options->tolerances);
-      if (!in) throw AnalysisError(options->tolerances + ": cannot read the file");
-      std::ostringstream text;
-      text << in.rdbuf();
-      tolerances = parse_tolerances(text.str(), options->tolerances, defaults);
+      const std::string text = read_input_file_as<AnalysisError>(options->tolerances, InputFileKind::json);
+      tolerances = parse_tolerances(text, options->tolerances, defaults);
     }
     const ResultsStore base = ResultsStore::open(options->base, ResultsStore::Mode::read_only);
     const ResultsStore next = ResultsStore::open(options->next, ResultsStore::Mode::read_only);
