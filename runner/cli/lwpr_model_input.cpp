@@ -1,11 +1,9 @@
 #include "runner/cli/lwpr_model_input.hpp"
 
+#include "engine/io/input_file.hpp"
 #include "engine/learning/learner_model_file.hpp"
 #include "runner/execution/stored_models.hpp"
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 namespace armfarm::cli {
@@ -23,12 +21,8 @@ LoadedModel load_model_input(const ModelInput& input) {
     throw std::runtime_error("give either a model file or --db DB --job KEY");
   }
   if (from_file) {
-    std::ifstream in(input.file, std::ios::binary);
-    if (!in || std::filesystem::is_directory(input.file)) throw std::runtime_error(input.file + ": cannot read the model file");
-    std::ostringstream bytes;
-    bytes << in.rdbuf();
     loaded.source = input.file;
-    loaded.bytes = bytes.str();
+    loaded.bytes = read_input_file(input.file, InputFileKind::learner_model);
   } else {
     if (input.db.empty() || input.job.empty()) throw std::runtime_error("--db and --job go together");
     StoredModels models(input.db);

@@ -1,13 +1,11 @@
 #include "runner/config/job_config_json.hpp"
 
 #include "engine/experiment/job_config_validation.hpp"
+#include "engine/io/input_file.hpp"
 #include "runner/config/config_value_json.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/io/csv_reader.hpp"
 
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -40,13 +38,6 @@ const json* find_value(const json& root, const std::string& path) {
   return node;
 }
 
-std::string read_model_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in || std::filesystem::is_directory(path)) throw std::runtime_error(path + ": cannot read the model file");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
 
 void set_value(json& root, const std::string& path, json value) {
   json* node = &root;
@@ -110,7 +101,7 @@ JobConfig parse_job_config(const nlohmann::json& c, int movable_joints,
         if (!stored_model_bytes) throw std::runtime_error("a stored model is read from its results database (armfarm run --db)");
         config.learning.initial_model_bytes = stored_model_bytes(initial.substr(prefix.size()));
       } else {
-        config.learning.initial_model_bytes = read_model_file(initial);
+        config.learning.initial_model_bytes = read_input_file(initial, InputFileKind::learner_model);
       }
     } catch (const std::exception& error) {
       throw ConfigError("learning.initial_model", error.what());

@@ -1,16 +1,15 @@
 #include "runner/spec/sweep_stages.hpp"
 
+#include "engine/io/input_file.hpp"
 #include "runner/spec/json_document.hpp"
 #include "runner/spec/spec_error.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <regex>
 #include <set>
-#include <sstream>
 
 namespace armfarm {
 namespace {
@@ -140,14 +139,17 @@ std::vector<SweepSpec> parse_sweep_stages(const std::string& text, const std::st
 }
 
 std::vector<SweepSpec> load_sweep_stages(const std::string& path, const JobConfigSchema& schema) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in || std::filesystem::is_directory(path)) throw SpecError({path + ": cannot read the file"});
-  std::ostringstream text;
-  text << in.rdbuf();
-  const JsonDocument document = parse_json_document(text.str(), path);
+  if (std::filesystem::is_directory(path)) throw SpecError({path + ": is a directory, not a sweep spec"});
+  std::string text;
+  try {
+    text = read_input_file(path, InputFileKind::json);
+  } catch (const InputFileError& error) {
+    throw SpecError({error.what()});
+  }
+  const JsonDocument document = parse_json_document(text, path);
   if (!document.value.is_object() || !document.value.contains("stages")) return {load_sweep_spec(path, schema)};
   std::string folder = std::filesystem::path(path).parent_path().string();
-  return parse_sweep_stages(text.str(), path, folder.empty() ? "." : folder, schema);
+  return parse_sweep_stages(text, path, folder.empty() ? "." : folder, schema);
 }
 
 }  // namespace armfarm

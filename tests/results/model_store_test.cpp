@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <string>
 
 namespace armfarm {
@@ -40,7 +42,10 @@ JobResultRecord make_result(const std::string& key, const std::string& bytes) {
   result.key = key;
   result.status = "done";
   result.started_at = result.finished_at = make_utc_timestamp();
-  result.model = StoredModelRecord{"lwpr", "xxh3-128:" + std::to_string(bytes.size()) + bytes.substr(0, 4), bytes};
+  // A stand-in hash of the stored form (the runner computes the real XXH3-128).
+  char digits[40];
+  std::snprintf(digits, sizeof digits, "%032zx", std::hash<std::string>{}(bytes));
+  result.model = StoredModelRecord{"lwpr", std::string("xxh3-128:") + digits, bytes};
   return result;
 }
 
@@ -82,6 +87,16 @@ TEST_F(ModelStoreTest, StoredModelsRoundTripAreReplacedAndReadableWithPlainSql) 
   EXPECT_EQ(sqlite3_column_int(statement, 2), 5000);
   sqlite3_finalize(statement);
   sqlite3_close(db);
+  EXPECT_TRUE(store.check_contents(false, 10).empty());
+
+  // A damaged row is a finding of the contents check.
+  ASSERT_EQ(sqlite3_open(path("m.db").c_str(), &db), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(db, "UPDATE models SET hash = 'abc'", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(db);
+  const std::vector<std::string> findings =
+      ResultsStore::open(path("m.db"), ResultsStore::Mode::read_only).check_contents(false, 10);
+  ASSERT_EQ(findings.size(), 1u);
+  EXPECT_NE(findings[0].find("models of job row"), std::string::npos) << findings[0];
 }
 
 TEST_F(ModelStoreTest, MergeCopiesAJobsModelAndADifferentModelIsAConflict) {
