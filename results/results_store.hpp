@@ -24,7 +24,7 @@ namespace armfarm {
 class SqliteConnection;
 
 /// The schema version this build writes and reads (PRAGMA user_version).
-inline constexpr int kResultsSchemaVersion = 3;
+inline constexpr int kResultsSchemaVersion = 4;
 
 /// Where a sweep's results came from: the armfarm build and the machine.
 struct Provenance {
@@ -121,6 +121,21 @@ struct RegisteredRun {
   std::map<std::string, std::string> status_by_key;  ///< every registered job's current status
 };
 
+/// A learned model a job stored (table `models`): the learner's versioned model file.
+struct StoredModelRecord {
+  std::string kind;  ///< the learner: "lwpr", "ssgpr" (the file's magic says the same)
+  std::string hash;  ///< "xxh3-128:<32 hex digits>" of `data`, as job keys write input hashes
+  std::string data;  ///< the model file's bytes
+};
+
+/// A stored model without its bytes: which job stored it.
+struct StoredModelInfo {
+  std::string job_key;
+  std::string kind;
+  std::string hash;
+  std::int64_t bytes = 0;
+};
+
 /// The result of one attempt of a job, written when it ends.
 struct JobResultRecord {
   std::string key;
@@ -132,6 +147,7 @@ struct JobResultRecord {
   std::string finished_at;
   std::vector<MetricRecord> metrics;
   std::vector<SeriesRecord> series;
+  std::optional<StoredModelRecord> model;  ///< the job's learned model (learning.store_model); replaces an earlier one
 };
 
 /// Events of a sweep run handed to the store by the writer thread.
@@ -197,6 +213,10 @@ class ResultsStore {
   std::optional<SeriesRecord> find_series(std::int64_t job_id, const std::string& name) const;
   /// The `metric_info` rows, by name.
   std::vector<MetricInfoRecord> find_metric_info() const;
+  /// The learned model the job stored (results/model_store.cpp), if any.
+  std::optional<StoredModelRecord> find_job_model(std::int64_t job_id) const;
+  /// The models the jobs of a sweep stored, in expansion order.
+  std::vector<StoredModelInfo> find_sweep_models(const std::string& sweep) const;
   /// Number of the sweep's jobs per status ("done" → 12, …).
   std::map<std::string, int> count_jobs_by_status(const std::string& sweep) const;
 

@@ -40,6 +40,9 @@ constexpr RowCheck kRowChecks[] = {
     {"SELECT 'series of job row ' || job_id || ' (' || name || ')', 'rows or raw_bytes disagree with the columns' "
      "FROM series WHERE typeof(rows) != 'integer' OR typeof(raw_bytes) != 'integer' OR typeof(data) != 'blob' "
      "OR (json_valid(columns) AND raw_bytes != rows * json_array_length(columns) * 8)"},
+    {"SELECT 'models of job row ' || job_id, 'kind, hash or data has the wrong type or form' FROM models "
+     "WHERE typeof(kind) != 'text' OR typeof(hash) != 'text' OR hash NOT GLOB 'xxh3-128:*' OR length(hash) != 41 "
+     "OR typeof(data) != 'blob' OR typeof(bytes) != 'integer'"},
 };
 
 }  // namespace

@@ -131,6 +131,12 @@ MergeReport ResultsStore::merge_from(const std::string& other_path) {
     auto copy_results = [&](std::int64_t src_id, std::int64_t main_id) {
       db_->prepare("DELETE FROM main.metrics WHERE job_id = ?").bind(1, main_id).execute();
       db_->prepare("DELETE FROM main.series WHERE job_id = ?").bind(1, main_id).execute();
+      db_->prepare("DELETE FROM main.models WHERE job_id = ?").bind(1, main_id).execute();
+      db_->prepare("INSERT INTO main.models (job_id, kind, hash, bytes, data) SELECT ?, kind, hash, bytes, data "
+                   "FROM src.models WHERE job_id = ?")
+          .bind(1, main_id)
+          .bind(2, src_id)
+          .execute();
       db_->prepare("INSERT INTO main.metrics (job_id, name, joint, checkpoint, value, reason) "
                    "SELECT ?, name, joint, checkpoint, value, reason FROM src.metrics WHERE job_id = ?")
           .bind(1, main_id)
@@ -188,6 +194,14 @@ MergeReport ResultsStore::merge_from(const std::string& other_path) {
                a.reason == b.reason;
       }
       if (same) same = series_of("main", main_id) == series_of("src", src_id);
+      if (same) {
+        const auto model_hash_of = [&](const std::string& schema, std::int64_t job_id) {
+          SqliteStatement statement = db_->prepare("SELECT hash FROM " + schema + ".models WHERE job_id = ?");
+          statement.bind(1, job_id);
+          return statement.step() ? statement.column_text(0) : std::string();
+        };
+        same = model_hash_of("main", main_id) == model_hash_of("src", src_id);
+      }
       if (same) {
         ++report.jobs_identical;
       } else {

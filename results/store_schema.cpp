@@ -128,6 +128,17 @@ CREATE VIEW job_metrics AS
 )sql",
       // 3: job claims of runners sharing the file, heartbeats of runs (results/job_claims.cpp).
       job_claims_sql::kMigration,
+      // 4: models holds the learned model a job stored (learning.store_model), its model file as a BLOB.
+      R"sql(
+CREATE TABLE models (
+  job_id INTEGER PRIMARY KEY REFERENCES jobs(id) ON DELETE CASCADE,
+  kind TEXT NOT NULL,
+  hash TEXT NOT NULL,
+  bytes INTEGER NOT NULL CHECK (bytes = length(data)),
+  data BLOB NOT NULL
+);
+CREATE INDEX models_by_hash ON models(hash);
+)sql",
   };
   return scripts;
 }

@@ -1,4 +1,5 @@
 // Writes: registering a sweep run, committing finished jobs, closing a run.
+#include "results/model_store.hpp"
 #include "results/series_codec.hpp"
 #include "results/store_internal.hpp"
 
@@ -157,6 +158,7 @@ void ResultsStore::insert_job_batch(const JobBatch& batch, const std::string& sw
     finished.reset();
     insert_metrics_and_series(*db_, job_id, result);
     if (!batch.claim_owner.empty()) job_claims_sql::release_claim(*db_, job_id, batch.claim_owner);
+    replace_job_model(*db_, job_id, result.model);
   }
   if (!batch.abandoned.empty()) {
     SqliteStatement abandoned =

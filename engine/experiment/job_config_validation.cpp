@@ -1,10 +1,12 @@
 #include "engine/experiment/job_config_validation.hpp"
 
+#include "engine/learning/learner_model_file.hpp"
 #include "engine/trajectory/trajectory.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <stdexcept>
 
 namespace armfarm {
@@ -154,6 +156,31 @@ void check_lwpr(const JobConfig& config, int n, const std::vector<ConfigProblem>
   }
 }
 
+// A learner to start from or to store needs a learning mode; a model to start from must read and
+// map the job's 3n inputs to its n torques.
+void check_initial_model(const LearningConfig& learning, int n, Checker& checker) {
+  if (learning.mode == LearningMode::none) {
+    if (learning.store_model) checker.add("learning.store_model", "is true but learning.mode is \"none\" (no learner to store)");
+    if (!learning.initial_model.empty()) checker.add("learning.initial_model", "is set but learning.mode is \"none\" (no learner)");
+    return;
+  }
+  if (learning.mode == LearningMode::frozen && learning.initial_model.empty()) {
+    checker.add("learning.mode", "is \"frozen\" but learning.initial_model is not set (a frozen learner needs a model to start from)");
+  }
+  if (learning.initial_model_bytes.empty()) return;
+  try {
+    const std::unique_ptr<Learner> start = decode_learner_model(learning.initial_model_bytes);
+    if (start->input_dim() != 3 * n || start->output_dim() != n) {
+      checker.add("learning.initial_model", learning.initial_model + " maps " + std::to_string(start->input_dim()) + " inputs to " +
+                                                std::to_string(start->output_dim()) + " outputs; this job needs " +
+                                                std::to_string(3 * n) + " to " + std::to_string(n) + " (q, q̇, q̈ → τ of " +
+                                                std::to_string(n) + " active joints)");
+    }
+  } catch (const std::exception& error) {
+    checker.add("learning.initial_model", learning.initial_model + ": " + error.what());
+  }
+}
+
 void check_ssgpr(const JobConfig& config, int n, const std::vector<ConfigProblem>& problems, Checker& checker) {
   const SsgprLearningConfig& ssgpr = config.learning.ssgpr;
   if (ssgpr.fit_samples == 1) checker.add("learning.ssgpr.fit_samples", "is 1; give 0 (no fit) or at least 2 samples");
@@ -187,6 +214,7 @@ void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
                                      name(feed_forward_source_names(), FeedForwardSource::analytic) + " or " +
                                      name(feed_forward_source_names(), FeedForwardSource::none) + ")");
   }
+  check_initial_model(config.learning, n, checker);
   const std::vector<int>& checkpoints = config.learning.heldout_checkpoints;
   for (std::size_t i = 0; i < checkpoints.size(); ++i) {
     if (i > 0 && checkpoints[i] <= checkpoints[i - 1]) {

@@ -53,6 +53,9 @@ struct JobOutcome {
   double end_time = 0.0;        ///< simulated time reached, s (the divergence time when diverged)
   std::vector<Metric> metrics;
   std::vector<Series> series;
+  /// With learning.store_model: the learner's model file at the end of the job
+  /// (engine/learning/learner_model_file.hpp), also when the job diverged or stopped; else empty.
+  std::string model_file;
 };
 
 }  // namespace armfarm

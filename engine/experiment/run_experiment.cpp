@@ -2,7 +2,8 @@
 //   validation       job_config_validation  the one validate() of the configuration
 //   setup            job_setup          joints, nominal model, gains, the true plant
 //   trajectories     heldout_evaluation the training trajectory and its held-out variant
-//   learner          learner_factory    one factory from the learning config (Learner interface)
+//   learner          learner_factory    one factory from the learning config (Learner interface),
+//                    learner_model_file or the model file the job starts from (learning.initial_model)
 //   held-out set     heldout_evaluation test samples collected once, never learnt
 //   collection       collection_pass    batch: repeats under feedback, each a different realisation
 //   training         batch_training     batch: epochs over a random split (same_run_test_nmse)
@@ -11,7 +12,8 @@
 //                                       source (feed_forward_source) and the divergence monitor
 //                                       (divergence_monitor) inside every pass
 //   checkpoints      heldout_evaluation the frozen learner on the held-out set (heldout_*)
-//   recording        job_report         metrics, TRIAL rows, cost
+//   recording        job_report         metrics, TRIAL rows, cost; the learner's model file
+//                    learner_model_file (learning.store_model)
 #include "engine/experiment/run_experiment.hpp"
 
 #include "engine/experiment/batch_training.hpp"
@@ -26,6 +28,7 @@
 #include "engine/experiment/pass_statistics.hpp"
 #include "engine/experiment/series_recorder.hpp"
 #include "engine/learning/learner_factory.hpp"
+#include "engine/learning/learner_model_file.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -77,7 +80,9 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
   if (training.size() < 2) throw std::invalid_argument("trajectory: needs at least 2 samples");
   const int n = setup.dof();
   std::unique_ptr<Learner> learner;
-  if (config.learning.mode != LearningMode::none) {
+  if (config.learning.mode != LearningMode::none && !config.learning.initial_model_bytes.empty()) {
+    learner = decode_learner_model(config.learning.initial_model_bytes);  // checked by validate()
+  } else if (config.learning.mode != LearningMode::none) {
     learner = make_learner(config.learning, 3 * n, n,
                            config.learning.normalize_inputs ? calc_trajectory_input_scale(training) : Eigen::VectorXd());
   }
@@ -86,6 +91,8 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
     checkpoints = resolve_checkpoints(config.learning, config.learning.epochs, "epochs");
   } else if (config.learning.mode == LearningMode::online) {
     checkpoints = resolve_checkpoints(config.learning, static_cast<int>(training.segment_starts.size()), "segments");
+  } else if (config.learning.mode == LearningMode::frozen) {
+    checkpoints = {0};  // the learner never changes: one evaluation
   }
   SeriesRecorder recorder(config.recording.series, setup.joint_numbers());
   ArmSimulation plant = setup.make_plant();
@@ -98,6 +105,7 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
     const double total = simulated_seconds + (heldout ? heldout->simulated_seconds() : 0.0);
     write_cost_report(metrics, total, std::chrono::duration<double>(Clock::now() - wall_start).count());
     outcome.series = recorder.take_series();
+    if (learner && config.learning.store_model) outcome.model_file = encode_learner_model(*learner);
     return std::move(outcome);
   };
 
@@ -144,6 +152,10 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
   const bool learns = config.learning.mode == LearningMode::online ||
                       (config.learning.mode == LearningMode::batch && config.learning.learn_during_evaluation);
   if (learns) options.learner = learner.get();
+  if (config.learning.mode == LearningMode::frozen) {
+    const PassResult frozen = evaluate_heldout_at(0);
+    if (!frozen.ok()) return finish(frozen);
+  }
   if (config.learning.mode == LearningMode::online) {
     options.on_segment_end = evaluate_heldout_at;
     const PassResult before = evaluate_heldout_at(0);

@@ -9,8 +9,11 @@
 // `collect_gain_scale` (each repeat a different realisation), split at random, train `epochs`
 // epochs, score same_run_test_nmse; then one evaluation pass with the configured controller
 // over the training trajectory (online: learning every tick). At the checkpoints the frozen
-// learner is scored on the held-out set (heldout_* metrics, heldout_evaluation.hpp). Every pass
-// starts at the trajectory's first sample at its first velocity.
+// learner is scored on the held-out set (heldout_* metrics, heldout_evaluation.hpp). [frozen]
+// the learner loaded from learning.initial_model controls and is never updated (one held-out
+// checkpoint, 0). Every pass starts at the trajectory's first sample at its first velocity. With
+// learning.initial_model the learner starts from that model file (any learner kind); with
+// learning.store_model the outcome carries the learner's model file as it is at the end.
 #include "engine/experiment/heldout_evaluation.hpp"
 #include "engine/experiment/job_config.hpp"
 #include "engine/experiment/job_outcome.hpp"

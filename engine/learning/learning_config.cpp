@@ -7,6 +7,7 @@ const EnumNames& learning_mode_names() {
       {"none", static_cast<int>(LearningMode::none), "no learner"},
       {"online", static_cast<int>(LearningMode::online), "learn every tick while controlling"},
       {"batch", static_cast<int>(LearningMode::batch), "collect under feedback, train, then control with the frozen model"},
+      {"frozen", static_cast<int>(LearningMode::frozen), "control with learning.initial_model's predictions, never updating it"},
   };
   return names;
 }
@@ -29,7 +30,7 @@ lwpr::LwprParams make_job_lwpr_defaults() {
 const std::vector<ConfigKey<LearningConfig>>& learning_config_keys() {
   using C = LearningConfig;
   static const std::vector<ConfigKey<C>> keys = {
-      {"mode", "", {}, ListSize::any, "online (learn every tick), batch (collect under feedback, train, then control) or none",
+      {"mode", "", {}, ListSize::any, "online (learn every tick), batch (collect under feedback, train, then control), frozen (control with learning.initial_model, never learning) or none",
        [](C& c) { return make_choice_field(c.mode, learning_mode_names()); }},
       {"normalize_inputs", "", {}, ListSize::any,
        "divide each input by its standard deviation along the desired trajectory (replaces lwpr.norm_in)",
@@ -68,6 +69,11 @@ const std::vector<ConfigKey<LearningConfig>>& learning_config_keys() {
       {"heldout_recorded_fraction", "", open(0.0, 1.0), ListSize::any,
        "recorded motion: the last fraction of the recording is held out and never replayed while learning",
        [](C& c) { return make_field(c.heldout_recorded_fraction); }},
+      {"store_model", "", {}, ListSize::any, "store the learner's model file, as it is at the end of the job, in the results database",
+       [](C& c) { return make_field(c.store_model); }},
+      {"initial_model", "", {}, ListSize::any,
+       "start the learner from this model (a model file, or a stored model: {\"job\": KEY} or {\"sweep\": NAME, \"params\": {...}}); \"\" = untrained",
+       [](C& c) { return make_field(c.initial_model); }},
   };
   return keys;
 }

@@ -14,6 +14,7 @@
 #include "engine/learning/ssgpr_learning_config.hpp"
 #include "engine/lwpr/lwpr_params.hpp"
 
+#include <string>
 #include <vector>
 
 namespace armfarm {
@@ -22,6 +23,7 @@ enum class LearningMode {
   none,    ///< no learner (feedback, or analytic feed-forward)
   online,  ///< learn every tick while controlling with the learner's prediction
   batch,   ///< collect under feedback, train offline, then control with the frozen model
+  frozen,  ///< control with the predictions of learning.initial_model, never updating it (a test stage)
 };
 const EnumNames& learning_mode_names();
 
@@ -85,6 +87,17 @@ struct LearningConfig {
   /// Recorded motion: the last fraction of the recording is held out and never trained on (the
   /// learning pass replays the rest).
   double heldout_recorded_fraction = 0.25;
+
+  /// Return the trained learner's model file in the job's outcome (JobOutcome::model_file; the
+  /// runner stores it in the results database), as it is at the end of the job.
+  bool store_model = false;
+  /// The model the job's learner starts from instead of an untrained one, as the configuration
+  /// names it (a model file path, or "stored:xxh3-128:<hash>" once the runner resolved a stored
+  /// model); empty: an untrained learner from `learner` and `lwpr`. The runner reads it into
+  /// initial_model_bytes; the engine only uses the bytes.
+  std::string initial_model;
+  /// The model file's bytes (engine/learning/learner_model_file.hpp; any learner kind). Not a key.
+  std::string initial_model_bytes;
 };
 
 /// LearningConfig's own keys (mode, batch schedule); the LWPR block is lwpr_params_keys().

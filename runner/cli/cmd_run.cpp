@@ -1,5 +1,6 @@
 // `armfarm run SPEC.json`: expands a sweep and runs the jobs not yet done, in parallel, into a
-// results database (resume is the default; --force runs everything again).
+// results database (resume is the default; --force runs everything again). A spec with stages
+// runs them in order (runner/spec/sweep_stages.hpp).
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/input_changes.hpp"
 #include "runner/execution/job_kind.hpp"
@@ -7,6 +8,7 @@
 #include "runner/execution/stop_signal.hpp"
 #include "runner/execution/sweep_runner.hpp"
 #include "runner/spec/spec_error.hpp"
+#include "runner/spec/sweep_stages.hpp"
 
 #include <unistd.h>
 
@@ -48,25 +50,21 @@ RunFunction setup_run(CLI::App& parent) {
       ->check(CLI::PositiveNumber);
 
   return [options] {
-    const JobKind kind = make_job_kind_from_environment();
-    ExpandedSweep sweep;
+    const JobKind kind = make_job_kind_from_environment(options->db);
+    std::vector<SweepSpec> stages;
     RunOptions run;
+    std::optional<ResultsStore> cost_reference;
     try {
-      sweep = expand_sweep(load_sweep_spec(options->spec, kind.schema), kind.schema);
+      stages = load_sweep_stages(options->spec, kind.schema);
       if (!options->shard.empty()) run.shard = parse_shard(options->shard);
       if (!options->shard_costs.empty() && options->shard.empty()) {
         throw std::invalid_argument("--shard-costs " + options->shard_costs + ": only with --shard");
       }
-      if (run.shard.count > 1) {
-        std::optional<ResultsStore> reference;
-        if (!options->shard_costs.empty()) reference = ResultsStore::open(options->shard_costs, ResultsStore::Mode::read_only);
-        run.job_costs = calc_job_costs(sweep, kind.estimate_cost, reference ? &*reference : nullptr);
+      if (!options->shard_costs.empty()) {
+        cost_reference = ResultsStore::open(options->shard_costs, ResultsStore::Mode::read_only);
       }
     } catch (const StoreError& e) {
       std::cerr << "armfarm: " << e.what() << "\n";
-      return 2;
-    } catch (const ConfigError& e) {
-      std::cerr << "armfarm: " << options->spec << ": " << e.what() << "\n";
       return 2;
     } catch (const SpecError& e) {
       for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
@@ -84,32 +82,60 @@ RunFunction setup_run(CLI::App& parent) {
     run.progress = isatty(STDERR_FILENO) ? ProgressStyle::terminal : ProgressStyle::lines;
     run.progress_out = &std::cerr;
     run.provenance = make_provenance();
-
-    std::cout << "sweep " << sweep.spec.name << ": " << sweep.jobs.size() << " jobs"
-              << (run.shard.count > 1 ? " (shard " + options->shard + ")" : "") << ", " << run.threads
-              << " threads, database " << run.db_path << (kind.name == "fake" ? ", FAKE jobs (ARMFARM_FAKE_JOBS=1)" : "")
-              << std::endl;
-    const std::string changes = make_input_change_text(find_input_changes(sweep, run.db_path));
-    if (!changes.empty()) std::cout << "sweep " << sweep.spec.name << ": " << changes << std::endl;
     StopSignalScope signals;
-    const RunSummary summary = run_sweep(sweep, kind.executor, run, signals.stop_requested());
 
-    std::cout << "sweep " << sweep.spec.name << ": " << summary.done << " done, " << summary.failed << " failed, "
-              << summary.diverged << " diverged, " << summary.timeout << " timed out, " << summary.skipped
-              << " already done (skipped)";
-    if (run.shard.count > 1) std::cout << "; " << summary.jobs_in_shard << " of " << summary.jobs_in_sweep << " jobs in this shard";
-    if (summary.done_elsewhere > 0) std::cout << "; " << summary.done_elsewhere << " done by another runner";
-    if (summary.taken_over > 0) std::cout << "; " << summary.taken_over << " stale claims of stopped runners taken over";
-    std::cout << "; " << make_duration_text(summary.elapsed_seconds) << "\n";
-    const std::size_t shown = std::min<std::size_t>(summary.failures.size(), 20);
-    for (std::size_t i = 0; i < shown; ++i) std::cout << "  " << summary.failures[i] << "\n";
-    if (summary.failures.size() > shown) {
-      std::cout << "  ... and " << summary.failures.size() - shown << " more (armfarm status " << run.db_path << ")\n";
+    // Stages run in order, each expanded only after the ones before it ran (its jobs may start
+    // from the models they stored); a stage that is not all done stops the rest.
+    for (std::size_t s = 0; s < stages.size(); ++s) {
+      ExpandedSweep sweep;
+      try {
+        sweep = expand_sweep(std::move(stages[s]), kind.schema);
+        run.job_costs.clear();
+        if (run.shard.count > 1) {
+          run.job_costs = calc_job_costs(sweep, kind.estimate_cost, cost_reference ? &*cost_reference : nullptr);
+        }
+      } catch (const StoreError& e) {
+        std::cerr << "armfarm: " << e.what() << "\n";
+        return 2;
+      } catch (const ConfigError& e) {
+        std::cerr << "armfarm: " << options->spec << ": " << e.what() << "\n";
+        return 2;
+      } catch (const SpecError& e) {
+        for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
+        return 2;
+      }
+      const std::string stage_text = stages.size() > 1 ? " (stage " + std::to_string(s + 1) + " of " + std::to_string(stages.size()) + ")" : "";
+      std::cout << "sweep " << sweep.spec.name << stage_text << ": " << sweep.jobs.size() << " jobs"
+                << (run.shard.count > 1 ? " (shard " + options->shard + ")" : "") << ", " << run.threads
+                << " threads, database " << run.db_path << (kind.name == "fake" ? ", FAKE jobs (ARMFARM_FAKE_JOBS=1)" : "")
+                << std::endl;
+      const std::string changes = make_input_change_text(find_input_changes(sweep, run.db_path));
+      if (!changes.empty()) std::cout << "sweep " << sweep.spec.name << ": " << changes << std::endl;
+      const RunSummary summary = run_sweep(sweep, kind.executor, run, signals.stop_requested());
+
+      std::cout << "sweep " << sweep.spec.name << ": " << summary.done << " done, " << summary.failed << " failed, "
+                << summary.diverged << " diverged, " << summary.timeout << " timed out, " << summary.skipped
+                << " already done (skipped)";
+      if (run.shard.count > 1) std::cout << "; " << summary.jobs_in_shard << " of " << summary.jobs_in_sweep << " jobs in this shard";
+      if (summary.done_elsewhere > 0) std::cout << "; " << summary.done_elsewhere << " done by another runner";
+      if (summary.taken_over > 0) std::cout << "; " << summary.taken_over << " stale claims of stopped runners taken over";
+      std::cout << "; " << make_duration_text(summary.elapsed_seconds) << "\n";
+      const std::size_t shown = std::min<std::size_t>(summary.failures.size(), 20);
+      for (std::size_t i = 0; i < shown; ++i) std::cout << "  " << summary.failures[i] << "\n";
+      if (summary.failures.size() > shown) {
+        std::cout << "  ... and " << summary.failures.size() - shown << " more (armfarm status " << run.db_path << ")\n";
+      }
+      if (summary.interrupted) {
+        std::cout << "interrupted: " << summary.abandoned << " jobs not finished; run the same command again to resume\n";
+      }
+      if (!summary.all_done()) {
+        if (s + 1 < stages.size()) {
+          std::cout << "sweep " << sweep.spec.name << ": not every job is done, so the later stages did not run\n";
+        }
+        return 1;
+      }
     }
-    if (summary.interrupted) {
-      std::cout << "interrupted: " << summary.abandoned << " jobs not finished; run the same command again to resume\n";
-    }
-    return summary.all_done() ? 0 : 1;
+    return 0;
   };
 }
 

@@ -37,6 +37,10 @@ struct JobConfigSchema {
   const nlohmann::json& type_reference() const { return types.is_null() ? defaults : types; }
   std::function<void(const nlohmann::json& config)> validate;
   std::vector<InputFileField> input_files;
+  /// Resolves values that name stored results (learning.initial_model's stored-model references,
+  /// runner/execution/stored_models.hpp) in a job's configuration when the sweep expands, before
+  /// its input files are recorded. Throws std::runtime_error "dotted.path: problem". Unset: none.
+  std::function<void(nlohmann::json& config)> resolve_references;
   /// Where input paths that no file wrote (the defaults) resolve: the armfarm data directory.
   std::string default_folder = ".";
 };

@@ -1,10 +1,12 @@
 #include "runner/config/job_config_json.hpp"
 
 #include "engine/experiment/job_config_validation.hpp"
+#include "engine/io/input_file.hpp"
 #include "runner/config/config_value_json.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/io/csv_reader.hpp"
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -36,6 +38,7 @@ const json* find_value(const json& root, const std::string& path) {
   return node;
 }
 
+
 void set_value(json& root, const std::string& path, json value) {
   json* node = &root;
   for (const std::string& part : split_path(path)) node = &(*node)[part];
@@ -66,10 +69,13 @@ nlohmann::json make_job_config_types() {
     const ValueKind kind = key.field(defaults).kind;
     if (kind == ValueKind::real_or_list || kind == ValueKind::real_matrix) set_value(tree, key.path, nullptr);
   }
+  // A model file path or a stored-model reference object, resolved when the sweep expands.
+  set_value(tree, "learning.initial_model", nullptr);
   return tree;
 }
 
-JobConfig parse_job_config(const nlohmann::json& c, int movable_joints) {
+JobConfig parse_job_config(const nlohmann::json& c, int movable_joints,
+                           const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
   JobConfig config;
   for (const JobConfigKey& key : job_config_keys()) {
     const json* value = find_value(c, key.path);
@@ -85,6 +91,20 @@ JobConfig parse_job_config(const nlohmann::json& c, int movable_joints) {
       recorded.samples = io::load_csv(recorded.file).values;
     } catch (const std::exception& error) {
       throw ConfigError("trajectory.recorded.file", error.what());
+    }
+  }
+  const std::string& initial = config.learning.initial_model;
+  if (!initial.empty()) {
+    const std::string prefix = "stored:";
+    try {
+      if (initial.rfind(prefix, 0) == 0) {
+        if (!stored_model_bytes) throw std::runtime_error("a stored model is read from its results database (armfarm run --db)");
+        config.learning.initial_model_bytes = stored_model_bytes(initial.substr(prefix.size()));
+      } else {
+        config.learning.initial_model_bytes = read_input_file(initial, InputFileKind::learner_model);
+      }
+    } catch (const std::exception& error) {
+      throw ConfigError("learning.initial_model", error.what());
     }
   }
   const std::vector<ConfigProblem> problems = validate(config, ModelFacts{movable_joints});

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,12 @@ nlohmann::json make_job_config_types();
 /// joints and validates it. Throws ConfigError (runner/execution/job_executor.hpp) naming the
 /// JSON path of the first problem; its message lists every problem ("path: what; path: what").
 /// `null` at a key means its default (configurations stored before the defaults were written out).
-JobConfig parse_job_config(const nlohmann::json& config, int movable_joints);
+///
+/// learning.initial_model: a model file path is read here into initial_model_bytes; a resolved
+/// stored model ("stored:<hash>", runner/execution/stored_models.hpp) is fetched with
+/// `stored_model_bytes(hash)`, which throws std::exception when it cannot (unset: such a
+/// configuration is refused).
+JobConfig parse_job_config(const nlohmann::json& config, int movable_joints,
+                           const std::function<std::string(const std::string& hash)>& stored_model_bytes = {});
 
 }  // namespace armfarm

@@ -8,8 +8,9 @@
 #include "engine/model/model_loading.hpp"
 #include "runner/config/job_config_json.hpp"
 #include "runner/execution/job_executor.hpp"
-#include "runner/spec/canonical_json.hpp"
+#include "runner/execution/stored_models.hpp"
 #include "runner/execution/trajectory_cache.hpp"
+#include "runner/spec/canonical_json.hpp"
 #include "runner/spec/input_files.hpp"
 
 #include <cstdlib>
@@ -80,19 +81,26 @@ std::string find_data_folder() {
   return ARMFARM_DEFAULT_DATA_DIR;
 }
 
+// The bytes of resolved stored models, by hash; unset without a database.
+std::function<std::string(const std::string&)> make_stored_model_reader(const std::shared_ptr<StoredModels>& stored) {
+  if (!stored) return {};
+  return [stored](const std::string& hash) { return stored->find_bytes(hash); };
+}
+
 }  // namespace
 
-JobConfigSchema make_experiment_config_schema() {
+JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stored) {
   auto models = std::make_shared<ModelCache>();
   JobConfigSchema schema;
   schema.defaults = make_job_config_defaults();
   schema.types = make_job_config_types();
-  schema.validate = [models](const nlohmann::json& recorded) {
+  schema.validate = [models, stored](const nlohmann::json& recorded) {
     const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
     const std::string path = config.at("model").get<std::string>();
-    const JobConfig job = parse_job_config(config, count_movable_joints(*models->get_file(path)));
+    const JobConfig job = parse_job_config(config, count_movable_joints(*models->get_file(path)), make_stored_model_reader(stored));
     models->get(path, job.end_effector);
   };
+  schema.resolve_references = [stored](nlohmann::json& config) { resolve_stored_model_reference(config, stored.get()); };
   InputFileField model_field;
   model_field.path = "model";
   model_field.list_files = [models](const std::string& resolved) {
@@ -108,18 +116,27 @@ JobConfigSchema make_experiment_config_schema() {
   recorded_field.is_read = [](const nlohmann::json& config) {
     return config.at("trajectory").at("kind") == "recorded";
   };
-  schema.input_files = {model_field, recorded_field};
+  // A model file to start from (a resolved stored model is named by its hash, not a file).
+  InputFileField initial_model_field;
+  initial_model_field.path = "learning.initial_model";
+  initial_model_field.is_read = [](const nlohmann::json& config) {
+    const auto learning = config.find("learning");
+    if (learning == config.end() || !learning->is_object()) return false;
+    const nlohmann::json value = learning->value("initial_model", nlohmann::json());
+    return value.is_string() && value.get<std::string>().rfind(kStoredModelPrefix, 0) != 0;
+  };
+  schema.input_files = {model_field, recorded_field, initial_model_field};
   schema.default_folder = find_data_folder();
   return schema;
 }
 
-JobExecutor make_experiment_executor() {
+JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored) {
   auto models = std::make_shared<ModelCache>();
   auto trajectories = std::make_shared<TrajectoryCache>();
-  return [models, trajectories](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
+  return [models, trajectories, stored](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
     const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
     const std::string path = config.at("model").get<std::string>();
-    const JobConfig job = parse_job_config(config, count_movable_joints(*models->get_file(path)));
+    const JobConfig job = parse_job_config(config, count_movable_joints(*models->get_file(path)), make_stored_model_reader(stored));
     const auto model = models->get(path, job.end_effector);
     JobOutcome outcome;
     try {

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <memory>
 #include <string>
 
 namespace armfarm {
@@ -24,8 +25,12 @@ struct JobControl {
 /// for an invalid configuration.
 using JobExecutor = std::function<JobOutcome(const nlohmann::json& config, const JobControl& control)>;
 
+class StoredModels;
+
 /// The experiment job's schema and executor (runner/execution/experiment_executor.cpp).
-JobConfigSchema make_experiment_config_schema();
-JobExecutor make_experiment_executor();
+/// `stored`: the results database's learned models that jobs may start from (learning.initial_model
+/// references resolve against it when a sweep expands); null: none.
+JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stored = nullptr);
+JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored = nullptr);
 
 }  // namespace armfarm

@@ -16,6 +16,8 @@ struct JobKind {
   JobCostFunction estimate_cost;  ///< for --shard (job_cost.hpp)
 };
 
-JobKind make_job_kind_from_environment();
+/// `db_path`: the results database whose stored learned models the experiment's jobs may start
+/// from (learning.initial_model); "" for none.
+JobKind make_job_kind_from_environment(const std::string& db_path = "");
 
 }  // namespace armfarm

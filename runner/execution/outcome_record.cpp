@@ -1,8 +1,12 @@
 #include "runner/execution/outcome_record.hpp"
 
 #include "engine/experiment/metric_catalog.hpp"
+#include "engine/learning/learner_model_file.hpp"
+#include "runner/spec/canonical_json.hpp"
 
 namespace armfarm {
+
+std::string make_stored_model_hash(const std::string& bytes) { return "xxh3-128:" + calc_text_hash(bytes); }
 
 JobResultRecord make_job_result_record(const std::string& key, JobOutcome outcome, double wall_seconds,
                                        const std::string& started_at, const std::string& finished_at) {
@@ -21,6 +25,13 @@ JobResultRecord make_job_result_record(const std::string& key, JobOutcome outcom
   }
   for (Series& series : outcome.series) {
     record.series.push_back({0, std::move(series.name), std::move(series.columns), std::move(series.rows)});
+  }
+  if (!outcome.model_file.empty()) {
+    StoredModelRecord model;
+    model.kind = find_learner_model_kind(outcome.model_file);
+    model.hash = make_stored_model_hash(outcome.model_file);
+    model.data = std::move(outcome.model_file);
+    record.model = std::move(model);
   }
   return record;
 }

@@ -9,7 +9,10 @@
 
 namespace armfarm {
 
-/// Moves the outcome's metrics and series into a record of one attempt of job `key`.
+/// "xxh3-128:<32 hex>": the hash a stored model is known by (in `models`, in job keys).
+std::string make_stored_model_hash(const std::string& bytes);
+
+/// Moves the outcome's metrics, series and model file into a record of one attempt of job `key`.
 JobResultRecord make_job_result_record(const std::string& key, JobOutcome outcome, double wall_seconds,
                                        const std::string& started_at, const std::string& finished_at);
 

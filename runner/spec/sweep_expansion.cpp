@@ -132,6 +132,20 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
       set_config_element(job.config, *a.segments, a.value);
       job.params[a.path] = a.value;
     }
+    // Stored results the job starts from (a learned model), by hash.
+    bool unresolved = false;
+    if (schema.resolve_references) {
+      try {
+        schema.resolve_references(job.config);
+      } catch (const std::runtime_error& e) {
+        const std::string what = e.what();
+        const std::size_t colon = what.find(": ");
+        const std::string path = colon == std::string::npos ? std::string() : what.substr(0, colon);
+        const std::string line = spec.file + ": " + locate_error(path, assignments) + ": " + what;
+        if (seen_errors.insert(line).second && errors.size() < 20) errors.push_back(line);
+        unresolved = true;
+      }
+    }
     // Input files: includes first, then every file field, resolved against the file that wrote it.
     for (std::size_t i = 0; i < spec.includes.size(); ++i) {
       const SpecInclude& include = spec.includes[i];
@@ -145,7 +159,7 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
     const std::vector<InputProblem> problems = record_input_files(job.config, schema.input_files, folder_of, reader);
     // A file that cannot be read must not hide the job's other problems: check the rest against
     // the field's default (said so in the message), and keep the job out of the sweep.
-    nlohmann::json check_config = job.config;
+    nlohmann::json check_config = unresolved ? nlohmann::json() : job.config;
     std::string stand_in_note;
     for (const InputProblem& problem : problems) {
       const std::string line = locate_input(problem.field, spec, assignments) + ": " + problem.message;
@@ -153,10 +167,10 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
       std::string unused;
       const std::vector<PathSegment> segments = parse_config_path(problem.field);
       const nlohmann::json* fallback = find_config_element(schema.defaults, segments, unused);
-      if (fallback != nullptr) set_config_element(check_config, segments, *fallback);
+      if (fallback != nullptr && !check_config.is_null()) set_config_element(check_config, segments, *fallback);
       stand_in_note += (stand_in_note.empty() ? " (checked with the default " : ", ") + problem.field;
     }
-    if (!problems.empty()) {
+    if (!problems.empty() && !check_config.is_null()) {
       stand_in_note += ", since the file cannot be read)";
       if (!record_input_files(check_config, schema.input_files, [&](const std::string&) { return schema.default_folder; },
                               reader).empty()) {

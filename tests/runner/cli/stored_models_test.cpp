@@ -1,0 +1,231 @@
+// Learned models as results, through `armfarm` as a process (issue 12): a two-stage spec runs
+// its stages in order (a stage that is not all done stops the later ones) and resumes; the test
+// stage's jobs start from the model the train stage stored, its hash in their keys; `armfarm
+// lwpr inspect|predict|export` read the stored model; a model file path works as an input file.
+#include "engine/learning/learner_model_file.hpp"
+#include "results/results_store.hpp"
+#include "runner/execution/stored_models.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace armfarm {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandResult {
+  int exit_code;
+  std::string output;
+};
+
+CommandResult run_command(const std::string& arguments) {
+  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string output;
+  std::array<char, 4096> buffer{};
+  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
+  const int status = pclose(pipe);
+  return {WEXITSTATUS(status), output};
+}
+
+// Train: one online job on two joints over the default sine (TRAIN_DURATION s), storing its
+// model. Test: two frozen jobs starting from it, on 4 s of the sine and of a smaller one.
+constexpr const char* kStagedSpec = R"({
+  "name": "twostage",
+  "description": "train, then test the stored model",
+  "base": {"active_joints": [2, 4], "control": {"gain_scale": 0.2},
+           "trajectory": {"kind": "sine", "sine": {"duration": 4}}, "learning": {"heldout": false}},
+  "stages": [
+    {"name": "train", "base": {"trajectory": {"sine": {"duration": TRAIN_DURATION}},
+                               "learning": {"mode": "online", "store_model": true}}},
+    {"name": "test", "description": "frozen",
+     "base": {"learning": {"mode": "frozen", "initial_model": {"stage": "train"}}},
+     "sweep": {"grid": {"trajectory.sine.amplitude": [[0.3], [0.2]]}}}
+  ]
+})";
+
+class StoredModelsCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() / ("armfarm_models_" + std::to_string(::getpid()) + "_" +
+                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  std::string path(const std::string& name) const { return (folder_ / name).string(); }
+  void write_spec(const std::string& name, const std::string& duration) {
+    std::string text = kStagedSpec;
+    text.replace(text.find("TRAIN_DURATION"), std::string("TRAIN_DURATION").size(), duration);
+    std::ofstream(path(name)) << text;
+  }
+  fs::path folder_;
+};
+
+TEST_F(StoredModelsCli, TwoStagesRunInOrderFromTheStoredModelAndResume) {
+  write_spec("staged.json", "4");
+  const std::string db = path("staged.db");
+  // The train job cannot finish within a microsecond: the test stage must not run.
+  const CommandResult cut = run_command("run " + path("staged.json") + " --db " + db + " -j 2 --timeout 0.000001");
+  EXPECT_EQ(cut.exit_code, 1) << cut.output;
+  EXPECT_NE(cut.output.find("later stages did not run"), std::string::npos) << cut.output;
+  EXPECT_EQ(cut.output.find("sweep twostage.test"), std::string::npos) << cut.output;
+
+  const CommandResult first = run_command("run " + path("staged.json") + " --db " + db + " -j 2");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  const std::size_t train_at = first.output.find("sweep twostage.train (stage 1 of 2)");
+  const std::size_t test_at = first.output.find("sweep twostage.test (stage 2 of 2)");
+  ASSERT_NE(train_at, std::string::npos) << first.output;
+  ASSERT_NE(test_at, std::string::npos) << first.output;
+  EXPECT_LT(train_at, test_at);
+
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  const std::vector<JobRecord> train = store.find_jobs("twostage.train");
+  const std::vector<JobRecord> test = store.find_jobs("twostage.test");
+  ASSERT_EQ(train.size(), 1u);
+  ASSERT_EQ(test.size(), 2u);
+  const std::optional<StoredModelRecord> model = store.find_job_model(train[0].id);
+  ASSERT_TRUE(model.has_value());
+  EXPECT_EQ(model->kind, "lwpr");
+  EXPECT_EQ(decode_learner_model(model->data)->input_dim(), 6);
+  for (const JobRecord& job : test) {
+    EXPECT_EQ(job.status, "done") << job.message;
+    const nlohmann::json& source = job.config["inputs"]["learning.initial_model (stored)"];
+    EXPECT_EQ(source["job"], train[0].key);
+    EXPECT_EQ(source["hash"], model->hash);
+    EXPECT_EQ(job.config["learning"]["initial_model"], "stored:" + model->hash);
+    // Frozen: each test job ends with exactly the model it started from.
+    const std::optional<StoredModelRecord> after = store.find_job_model(job.id);
+    if (after) EXPECT_EQ(after->hash, model->hash);
+    EXPECT_GE(*job.started_at, *train[0].finished_at);
+  }
+
+  // Resume: everything is done, nothing runs again.
+  const CommandResult again = run_command("run " + path("staged.json") + " --db " + db + " -j 2");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("sweep twostage.train: 0 done, 0 failed, 0 diverged, 0 timed out, 1 already done"), std::string::npos)
+      << again.output;
+  EXPECT_NE(again.output.find("sweep twostage.test: 0 done, 0 failed, 0 diverged, 0 timed out, 2 already done"), std::string::npos)
+      << again.output;
+
+  // A different training run (only the train stage changed) stores a different model: the test
+  // jobs, whose configurations differ only in the model's hash, get new keys and run again.
+  write_spec("staged.json", "6");
+  const CommandResult changed = run_command("run " + path("staged.json") + " --db " + db + " -j 2");
+  EXPECT_EQ(changed.exit_code, 0) << changed.output;
+  EXPECT_NE(changed.output.find("sweep twostage.test: 2 done, 0 failed, 0 diverged, 0 timed out, 0 already done"), std::string::npos)
+      << changed.output;
+}
+
+TEST_F(StoredModelsCli, LwprVerbsInspectPredictAndExportAStoredModel) {
+  write_spec("staged.json", "4");
+  const std::string db = path("verbs.db");
+  const CommandResult run = run_command("run " + path("staged.json") + " --db " + db + " -j 2");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::string key;
+  std::string bytes;
+  {
+    const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+    const JobRecord train = store.find_jobs("twostage.train").at(0);
+    key = train.key;
+    bytes = store.find_job_model(train.id)->data;
+  }
+  const auto learner = decode_learner_model(bytes);
+
+  const CommandResult exported = run_command("lwpr export --db " + db + " --job " + key.substr(0, 8) + " -o " + path("m.lwpr"));
+  ASSERT_EQ(exported.exit_code, 0) << exported.output;
+  std::ifstream in(path("m.lwpr"), std::ios::binary);
+  std::ostringstream file;
+  file << in.rdbuf();
+  EXPECT_EQ(file.str(), bytes);
+
+  const CommandResult inspected = run_command("lwpr inspect " + path("m.lwpr") + " --json");
+  ASSERT_EQ(inspected.exit_code, 0) << inspected.output;
+  const nlohmann::json info = nlohmann::json::parse(inspected.output);
+  EXPECT_EQ(info["inputs"], 6);
+  EXPECT_EQ(info["outputs"], 2);
+  EXPECT_EQ(info["n_updates"], learner->n_updates());
+  ASSERT_EQ(info["per_output"].size(), 2u);
+  EXPECT_EQ(info["per_output"][0]["fields"].get<std::size_t>() + info["per_output"][1]["fields"].get<std::size_t>(), learner->size());
+  EXPECT_GT(info["per_output"][0]["n_data"]["max"].get<double>(), 0.0);
+  const CommandResult text = run_command("lwpr inspect --db " + db + " --job " + key);
+  EXPECT_EQ(text.exit_code, 0) << text.output;
+  EXPECT_NE(text.output.find("lwpr model, 6 inputs -> 2 outputs"), std::string::npos) << text.output;
+
+  // Predictions at a point of the training sine (q, q̇, q̈ of joints 2 and 4): the CLI prints the
+  // model's own prediction, to the last bit, from the file and from the database alike.
+  Eigen::VectorXd x(6);
+  x << 0.1, 0.2, -0.3, 0.05, 0.1, -0.2;
+  auto workspace = learner->make_workspace();
+  const Prediction expected = learner->predict(x, *workspace);
+  const std::string point = "--x 0.1,0.2,-0.3,0.05,0.1,-0.2";
+  const CommandResult from_file = run_command("lwpr predict " + path("m.lwpr") + " " + point);
+  const CommandResult from_db = run_command("lwpr predict --db " + db + " --job " + key + " " + point);
+  ASSERT_EQ(from_file.exit_code, 0) << from_file.output;
+  EXPECT_EQ(from_file.output, from_db.output);
+  std::istringstream lines(from_file.output);
+  std::string header, row;
+  std::getline(lines, header);
+  std::getline(lines, row);
+  EXPECT_EQ(header, "x1,x2,x3,x4,x5,x6,y1,confidence1,y2,confidence2");
+  std::vector<std::string> cells;
+  std::stringstream cell_stream(row);
+  for (std::string cell; std::getline(cell_stream, cell, ',');) cells.push_back(cell);
+  ASSERT_EQ(cells.size(), 10u) << row;
+  for (int o = 0; o < 2; ++o) {
+    if (!expected.output_trusted[o]) continue;
+    EXPECT_EQ(std::stod(cells[6 + 2 * o]), expected.value(o)) << o;
+    EXPECT_EQ(std::stod(cells[7 + 2 * o]), expected.confidence(o)) << o;
+  }
+  std::ofstream(path("points.csv")) << "q2,q4,qd2,qd4,qdd2,qdd4\n0.1,0.2,-0.3,0.05,0.1,-0.2\n";
+  const CommandResult from_csv = run_command("lwpr predict " + path("m.lwpr") + " --csv " + path("points.csv"));
+  ASSERT_EQ(from_csv.exit_code, 0) << from_csv.output;
+  EXPECT_EQ(from_csv.output.substr(from_csv.output.find('\n')), from_file.output.substr(from_file.output.find('\n')));
+
+  // Bad input: one line, exit 2.
+  const CommandResult wrong_size = run_command("lwpr predict " + path("m.lwpr") + " --x 1,2");
+  EXPECT_EQ(wrong_size.exit_code, 2);
+  EXPECT_NE(wrong_size.output.find("the model has 6 inputs"), std::string::npos) << wrong_size.output;
+  const CommandResult no_job = run_command("lwpr inspect --db " + db + " --job ffffffff");
+  EXPECT_EQ(no_job.exit_code, 2);
+  EXPECT_NE(no_job.output.find("no job with that key"), std::string::npos) << no_job.output;
+
+  // The exported file as an input file: a job starting from it (its content hash in the key).
+  std::ofstream(path("from_file.json")) << R"({"name": "from_file", "base": {"active_joints": [2, 4],
+      "trajectory": {"kind": "sine", "sine": {"duration": 2}}, "control": {"gain_scale": 0.2},
+      "learning": {"mode": "frozen", "heldout": false, "initial_model": "m.lwpr"}}})";
+  const CommandResult expanded = run_command("expand " + path("from_file.json") + " --json");
+  ASSERT_EQ(expanded.exit_code, 0) << expanded.output;
+  EXPECT_NE(expanded.output.find("\"learning.initial_model\""), std::string::npos) << expanded.output;
+  const CommandResult ran = run_command("run " + path("from_file.json") + " --db " + db);
+  EXPECT_EQ(ran.exit_code, 0) << ran.output;
+}
+
+TEST_F(StoredModelsCli, BadReferencesAreOneLineErrors) {
+  std::ofstream(path("bad.json")) << R"({"name": "bad", "base": {"active_joints": [2, 4],
+      "learning": {"mode": "frozen", "initial_model": {"sweep": "nothing"}}}})";
+  const CommandResult no_db = run_command("run " + path("bad.json") + " --db " + path("none.db"));
+  EXPECT_EQ(no_db.exit_code, 2);
+  EXPECT_NE(no_db.output.find("bad.json: base.learning.initial_model: learning.initial_model: "), std::string::npos) << no_db.output;
+  EXPECT_NE(no_db.output.find("no such database file"), std::string::npos) << no_db.output;
+  EXPECT_FALSE(fs::exists(path("none.db")));
+
+  std::ofstream(path("forward.json")) << R"({"name": "fw", "stages": [
+      {"name": "a", "base": {"learning": {"initial_model": {"stage": "b"}}}}, {"name": "b"}]})";
+  const CommandResult forward = run_command("run " + path("forward.json") + " --db " + path("none.db"));
+  EXPECT_EQ(forward.exit_code, 2);
+  EXPECT_NE(forward.output.find("stages[0] (a): {\"stage\":\"b\"}: \"stage\" names an earlier stage"), std::string::npos)
+      << forward.output;
+}
+
+}  // namespace
+}  // namespace armfarm
