@@ -1,5 +1,6 @@
 #include "runner/execution/sweep_runner.hpp"
 
+#include "runner/execution/job_cost_estimate.hpp"
 #include "runner/execution/outcome_record.hpp"
 #include "runner/execution/result_writer.hpp"
 
@@ -72,17 +73,24 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   }
 
   const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  ProgressReporter progress(options.progress_out, options.progress, static_cast<int>(to_run.size()));
+  std::vector<ProgressJob> progress_jobs;
+  for (const ExpandedJob* job : to_run) {
+    progress_jobs.push_back({make_job_label(*job), job->key.substr(0, 8), estimate_job_cost(job->config)});
+  }
+  ProgressReporter progress(options.progress_out, options.progress, std::move(progress_jobs), threads);
   std::mutex summary_mutex;
+  std::vector<HeadlineJob> headline_jobs;
   {
     ResultWriter writer(store, sweep.spec.name);
-    auto run_one = [&](const ExpandedJob& job) {
+    auto run_one = [&](std::size_t index) {
+      const ExpandedJob& job = *to_run[index];
       if (stop_requested.load() || writer.failed()) {
         std::lock_guard lock(summary_mutex);
         ++summary.abandoned;
         return;
       }
       writer.push_started(job.key);
+      progress.job_started(index);
       const std::string started_at = make_utc_timestamp();
       const auto job_start = std::chrono::steady_clock::now();
       bool stopped_by_request = false;
@@ -115,6 +123,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - job_start).count();
       if (stopped_by_request && outcome.status != JobStatus::done) {
         writer.push_abandoned(job.key);
+        progress.job_dropped(index);
         std::lock_guard lock(summary_mutex);
         ++summary.abandoned;
         return;
@@ -126,19 +135,27 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
         outcome.message = text;
       }
       const std::string status = to_string(outcome.status);
-      const std::string message = outcome.message;
-      writer.push_finished(make_job_result_record(job.key, std::move(outcome), wall, started_at, make_utc_timestamp()));
-      progress.update_finished(make_job_label(job), status, wall, message);
-      std::lock_guard lock(summary_mutex);
-      ++summary.run;
-      if (status == "done") {
-        ++summary.done;
-      } else {
-        if (status == "failed") ++summary.failed;
-        if (status == "diverged") ++summary.diverged;
-        if (status == "timeout") ++summary.timeout;
-        summary.failures.push_back(make_job_label(job) + ": " + status + ": " + message);
+      HeadlineJob headline{make_job_label(job), {}};
+      for (const Metric& metric : outcome.metrics) {
+        if (!metric.joint && !metric.checkpoint && metric.value) headline.metrics[metric.name] = *metric.value;
       }
+      // Counted and reported on the writer thread, once the result is committed.
+      auto on_committed = [&, index, status, wall, message = outcome.message, headline = std::move(headline)]() mutable {
+        progress.job_committed(index, status, wall, message);
+        std::lock_guard lock(summary_mutex);
+        ++summary.run;
+        if (status == "done") {
+          ++summary.done;
+          headline_jobs.push_back(std::move(headline));
+        } else {
+          if (status == "failed") ++summary.failed;
+          if (status == "diverged") ++summary.diverged;
+          if (status == "timeout") ++summary.timeout;
+          summary.failures.push_back(headline.label + ": " + status + ": " + message);
+        }
+      };
+      writer.push_finished(make_job_result_record(job.key, std::move(outcome), wall, started_at, make_utc_timestamp()),
+                           std::move(on_committed));
     };
 
     tbb::global_control allow(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
@@ -147,16 +164,25 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
       tbb::parallel_for(
           tbb::blocked_range<std::size_t>(0, to_run.size(), 1),
           [&](const tbb::blocked_range<std::size_t>& range) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) run_one(*to_run[i]);
+            for (std::size_t i = range.begin(); i != range.end(); ++i) run_one(i);
           },
           tbb::simple_partitioner());
     });
+    try {
+      writer.finish();
+    } catch (const std::exception&) {
+      // Reported through the summary: the caller says how many finished jobs were lost.
+    }
     progress.finish();
-    writer.finish();  // throws the store's error, if any
+    summary.not_saved = writer.finished_not_saved();
+    summary.write_error = writer.error_text();
   }
   summary.interrupted = stop_requested.load();
-  store.update_run_finished(registered.run_id, summary.interrupted ? "interrupted" : "complete", summary.run,
-                            summary.skipped, make_utc_timestamp());
+  summary.headline = choose_run_headline(headline_jobs);
+  if (summary.write_error.empty()) {
+    store.update_run_finished(registered.run_id, summary.interrupted ? "interrupted" : "complete", summary.run,
+                              summary.skipped, make_utc_timestamp());
+  }
   summary.elapsed_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }

@@ -6,6 +6,7 @@
 #include "results/results_store.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/execution/progress_reporter.hpp"
+#include "runner/execution/run_headline.hpp"
 #include "runner/execution/shard.hpp"
 #include "runner/spec/sweep_expansion.hpp"
 
@@ -23,7 +24,7 @@ struct RunOptions {
   std::optional<double> timeout_seconds;   ///< per job, wall clock, s
   bool force = false;                      ///< run done jobs again
   Shard shard;
-  ProgressStyle progress = ProgressStyle::quiet;
+  ProgressConfig progress;                 ///< style quiet by default
   std::ostream* progress_out = nullptr;    ///< required unless quiet
   Provenance provenance;
 };
@@ -34,17 +35,25 @@ struct RunSummary {
   int skipped = 0;  ///< already done
   int run = 0;      ///< attempted and recorded
   int done = 0, failed = 0, diverged = 0, timeout = 0;
-  int abandoned = 0;  ///< not started or interrupted because of a stop request
+  int abandoned = 0;  ///< not started or interrupted because of a stop request or a failed write
+  int not_saved = 0;  ///< finished, but lost because a commit failed (they run again on resume)
+  std::string write_error;  ///< the failed commit's error ("" when every write succeeded)
   bool interrupted = false;
   double elapsed_seconds = 0.0;
   std::vector<std::string> failures;  ///< "key  params: status: message"
+  std::optional<RunHeadline> headline;  ///< best and worst of this run's done jobs by the main metric
   /// True when every job of the shard is done.
-  bool all_done() const { return failed + diverged + timeout + abandoned == 0 && !interrupted; }
+  bool all_done() const {
+    return failed + diverged + timeout + abandoned + not_saved == 0 && !interrupted && write_error.empty();
+  }
 };
 
 /// Runs `sweep`'s jobs of `options.shard`. `stop_requested` (e.g. from StopSignalScope) stops
 /// taking jobs and asks running ones to stop; what finished stays recorded, interrupted jobs go
-/// back to pending. Throws StoreError when the database cannot be written.
+/// back to pending. A job counts as run (and is reported) only once its result is committed;
+/// when a commit fails the run stops taking jobs and returns with `write_error` and `not_saved`
+/// set (the lost jobs are not done in the database, so the next run reruns them). Throws
+/// StoreError when the database cannot be opened or the sweep cannot be registered.
 RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, const RunOptions& options,
                      const std::atomic<bool>& stop_requested);
 
