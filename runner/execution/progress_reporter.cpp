@@ -100,7 +100,12 @@ void ProgressReporter::job_committed(std::size_t index, const std::string& statu
   } else {
     // Terminal: jobs that did not end done keep a line above the status line.
     if (status != "done") *out_ << "\r\033[K" << line << "\n";
-    print_status_locked(false);
+    // At most 10 rewrites a second however fast jobs finish (the ticker refreshes each second).
+    const auto now = std::chrono::steady_clock::now();
+    if (status != "done" || now - last_line_ >= std::chrono::milliseconds(100)) {
+      last_line_ = now;
+      print_status_locked(false);
+    }
   }
 }
 

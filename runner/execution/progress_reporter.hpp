@@ -84,6 +84,7 @@ class ProgressReporter {
   double pending_cost_ = 0.0;   ///< Σ cost of the jobs not started
   /// Running jobs: index and start time, in start order.
   std::vector<std::pair<std::size_t, std::chrono::steady_clock::time_point>> running_;
+  std::chrono::steady_clock::time_point last_line_{};  ///< terminal: when the status line was last rewritten
   std::thread ticker_;
 };
 
