@@ -18,7 +18,11 @@ endif
 
 ARMFARM = $(BUILD_DIR)/runner/armfarm
 
-.PHONY: all deps configure build run test bench clean
+# make fuzz  : build the libFuzzer targets (clang) and run each for FUZZ_SECONDS (tests/fuzz/README.md)
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS ?= spec urdf dcg obj csv model_file
+
+.PHONY: all deps configure build run test bench fuzz clean
 
 all: build
 
@@ -45,5 +49,17 @@ bench: deps
 	cmake --build build-bench -j $(JOBS)
 	@for b in build-bench/tests/bench/bench_*; do echo "== $$b"; $$b || exit 1; done
 
+fuzz: deps
+	@command -v clang++ >/dev/null || { echo "armfarm: make fuzz needs clang and libFuzzer: apt-get install -y clang libclang-rt-dev" >&2; exit 1; }
+	cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+	  -DARMFARM_FUZZ=ON -DARMFARM_BUILD_TESTS=OFF
+	cmake --build build-fuzz -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
+	@for t in $(FUZZ_TARGETS); do \
+	  mkdir -p build-fuzz/corpus/$$t build-fuzz/crashes; \
+	  echo "== fuzz_$$t for $(FUZZ_SECONDS) s"; \
+	  build-fuzz/tests/fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -timeout=10 \
+	    -print_final_stats=1 -artifact_prefix=build-fuzz/crashes/$$t- build-fuzz/corpus/$$t tests/data/fuzz/$$t || exit 1; \
+	done
+
 clean:
-	rm -rf build build-sanitize build-bench
+	rm -rf build build-sanitize build-bench build-fuzz

@@ -14,13 +14,8 @@ namespace {
 
 using nlohmann::json;
 
-// Reads one JSON file, naming the line and column of a syntax error.
-json read_json_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw AnalysisError(path + ": cannot read the file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+// Parses one JSON file's text, naming the line and column of a syntax error.
+json parse_json_text(const std::string& text, const std::string& path) {
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
@@ -36,6 +31,8 @@ json read_json_file(const std::string& path) {
     std::string message = e.what();
     const std::size_t colon = message.find(": ", message.find("column"));
     if (colon != std::string::npos) message = message.substr(colon + 2);
+    const std::size_t last_read = message.find("; last read:");  // never quote the file's bytes
+    if (last_read != std::string::npos) message.erase(last_read);
     throw AnalysisError(path + ": line " + std::to_string(line) + ", column " + std::to_string(column) +
                         ": not valid JSON: " + message);
   }
@@ -351,7 +348,9 @@ ThesisResults parse_thesis_results(const nlohmann::json& document, const std::st
   return results;
 }
 
-ThesisResults load_thesis_results(const std::string& path) { return parse_thesis_results(read_json_file(path), path); }
+ThesisResults parse_thesis_results_text(const std::string& text, const std::string& path) {
+  return parse_thesis_results(parse_json_text(text, path), path);
+}
 
 ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::map<std::string, SweepData>& sweeps,
                                         Aggregate aggregate, const std::optional<std::string>& only_sweep) {

@@ -58,9 +58,10 @@ struct ThesisResults {
   std::vector<ThesisTable> tables;
 };
 
-/// Reads the thesis results file. Throws AnalysisError "path: line L, column C: not valid JSON: …"
+/// Parses the text of the thesis results file `path` (the runner reads it, see
+/// engine/io/input_file.hpp). Throws AnalysisError "path: line L, column C: not valid JSON: …"
 /// or "path: tables[2].cells[3].value: expected a number" (the JSON path of the first problem).
-ThesisResults load_thesis_results(const std::string& path);
+ThesisResults parse_thesis_results_text(const std::string& text, const std::string& path);
 
 /// Parses an already-read document; `path` names it in messages.
 ThesisResults parse_thesis_results(const nlohmann::json& document, const std::string& path);

@@ -19,6 +19,9 @@ inline constexpr std::int64_t kApplicationId = 0x41524D46;  // "ARMF"
 const std::vector<const char*>& migrations();
 /// Applies the migrations after `version` in one transaction and rewrites the sweep views.
 void migrate(SqliteConnection& db, std::int64_t version);
+/// Throws StoreError naming the file when a table, column (name and declared type), index or
+/// fixed view of schema `version` is missing.
+void verify_structure(SqliteConnection& db, std::int64_t version);
 /// Opens `path`, checks it is an armfarm database this build reads, migrates it when writable.
 std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsStore::Mode mode);
 

@@ -14,9 +14,9 @@ using namespace store_detail;
 MergeReport ResultsStore::merge_from(const std::string& other_path) {
   // Checks the other file is an armfarm database this build reads before touching anything;
   // an older schema is merged from a migrated temporary copy (the file itself is only read).
+  verify_file(other_path);
   std::int64_t other_version = 0;
   {
-    ResultsStore other = ResultsStore::open(other_path, Mode::read_only);
     other_version = SqliteConnection(other_path, true).query_int("PRAGMA user_version");
   }
   struct TemporaryCopy {
@@ -117,10 +117,11 @@ MergeReport ResultsStore::merge_from(const std::string& other_path) {
       // Name, column names, encoding and the decoded bytes (compared bit for bit, NaN included).
       std::vector<std::string> all;
       while (statement.step()) {
-        const auto n_columns = static_cast<long>(parse_stored_json(statement.column_text(1), other_path).size());
+        const std::string& file = schema == "src" ? other_path : path_;
+        const auto n_columns = static_cast<long>(parse_stored_json(statement.column_text(1), file).size());
         const Eigen::MatrixXd rows =
             calc_series_matrix(statement.column_blob(5), static_cast<long>(statement.column_int(2)), n_columns,
-                               schema == "src" ? other_path : path_);
+                               file);
         all.push_back(statement.column_text(0) + "\n" + statement.column_text(1) + "\n" + statement.column_text(3) +
                       statement.column_text(4) + "\n" +
                       std::string(reinterpret_cast<const char*>(rows.data()), rows.size() * sizeof(double)));

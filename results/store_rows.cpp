@@ -67,7 +67,7 @@ SweepRecord read_sweep_row(const SqliteStatement& row) {
   sweep.finished_at = row.column_optional_text(6);
   sweep.provenance.armfarm_version = row.column_text(7);
   sweep.provenance.git_commit = row.column_text(8);
-  sweep.provenance.git_dirty = row.column_int(9) != 0;
+  sweep.provenance.git_dirty = !row.is_null(9) && row.column_int(9) != 0;
   sweep.provenance.compiler = row.column_text(10);
   sweep.provenance.simbody_version = row.column_text(11);
   sweep.provenance.host = row.column_text(12);

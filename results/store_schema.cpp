@@ -1,7 +1,10 @@
 // The schema: migrations, and opening a file with its checks. Schema documented in results/README.md.
 #include "results/store_internal.hpp"
 
+#include <algorithm>
 #include <filesystem>
+#include <map>
+#include <set>
 
 namespace armfarm {
 namespace store_detail {
@@ -145,6 +148,65 @@ void migrate(SqliteConnection& db, std::int64_t version) {
   transaction.commit();
 }
 
+namespace {
+
+// One table's columns as SQLite reports them: "name type notnull pk" per column.
+using TableShape = std::vector<std::string>;
+
+std::map<std::string, TableShape> read_table_shapes(SqliteConnection& db) {
+  std::map<std::string, TableShape> tables;
+  SqliteStatement names =
+      db.prepare("SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'sqlite_%' ORDER BY name");
+  while (names.step()) tables[names.column_text(0)];
+  for (auto& [table, shape] : tables) {
+    SqliteStatement columns = db.prepare("SELECT name, upper(type), \"notnull\", pk FROM pragma_table_info(?)");
+    columns.bind(1, table);
+    while (columns.step()) {
+      shape.push_back(columns.column_text(0) + " " + columns.column_text(1) + " " +
+                      std::to_string(columns.column_int(2)) + " " + std::to_string(columns.column_int(3)));
+    }
+  }
+  return tables;
+}
+
+std::set<std::string> read_object_names(SqliteConnection& db, const char* type) {
+  std::set<std::string> names;
+  SqliteStatement statement =
+      db.prepare("SELECT name FROM sqlite_master WHERE type = ? AND name NOT LIKE 'sqlite_%'");
+  statement.bind(1, type);
+  while (statement.step()) names.insert(statement.column_text(0));
+  return names;
+}
+
+}  // namespace
+
+// The structure a file of `version` must have is the one its migrations build: they are run on
+// an empty in-memory database and the two compared, table by table and column by column (name,
+// declared type, NOT NULL, primary key), with every index and fixed view present. Extra tables,
+// indexes and views (a user's own, the per-sweep views) are allowed.
+void verify_structure(SqliteConnection& db, std::int64_t version) {
+  SqliteConnection expected(db.path(), std::string(":memory:"));
+  for (std::int64_t k = 0; k < version; ++k) expected.execute(migrations()[static_cast<std::size_t>(k)]);
+  const std::string where = db.path() + ": damaged armfarm database (schema version " + std::to_string(version) + "): ";
+  const std::map<std::string, TableShape> want = read_table_shapes(expected), have = read_table_shapes(db);
+  for (const auto& [table, columns] : want) {
+    const auto found = have.find(table);
+    if (found == have.end()) throw StoreError(where + "table " + table + " is missing");
+    for (const std::string& column : columns) {
+      if (std::find(found->second.begin(), found->second.end(), column) == found->second.end()) {
+        const std::string name = column.substr(0, column.find(' '));
+        throw StoreError(where + "column " + table + "." + name + " is missing or has another type");
+      }
+    }
+  }
+  for (const char* type : {"index", "view"}) {
+    const std::set<std::string> present = read_object_names(db, type);
+    for (const std::string& name : read_object_names(expected, type)) {
+      if (!present.count(name)) throw StoreError(where + type + " " + name + " is missing");
+    }
+  }
+}
+
 // Opens the file and checks it is an armfarm database this build can read; migrates when writable.
 std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsStore::Mode mode) {
   const bool read_only = mode == ResultsStore::Mode::read_only;
@@ -169,6 +231,7 @@ std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsS
     throw StoreError(path + ": written by a newer armfarm (schema version " + std::to_string(version) +
                      "; this build reads up to version " + std::to_string(kResultsSchemaVersion) + ")");
   }
+  if (!fresh) verify_structure(*db, version);
   if (read_only) {
     if (fresh) throw StoreError(path + ": empty file, not an armfarm results database");
     if (version < kResultsSchemaVersion) {

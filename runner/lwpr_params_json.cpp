@@ -1,6 +1,7 @@
 // LWPR params JSON → LwprParams, through LWPR's key table (engine/learning/learning_config.hpp).
 #include "runner/lwpr_params_json.hpp"
 
+#include "engine/io/input_file.hpp"
 #include "engine/learning/learning_config.hpp"
 #include "runner/config/config_value_json.hpp"
 
@@ -81,11 +82,10 @@ lwpr::LwprParams parse_lwpr_params(const nlohmann::json& json, const std::string
 }
 
 lwpr::LwprParams load_lwpr_params(const std::string& path, int n_in, const LwprDataScales& scales) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open file");
+  const std::string text = read_input_file(path, InputFileKind::json);
   nlohmann::json json;
   try {
-    json = nlohmann::json::parse(in);
+    json = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error& e) {
     throw std::runtime_error(path + ": invalid JSON at byte " + std::to_string(e.byte));
   }

@@ -11,6 +11,7 @@
 // frame in the joint frame. Hinges turn about the joint frame's x axis (thesis figure 5.3),
 // sliders move along it. `#` starts a comment. A synthetic root link "world" carries every
 // `fix` body through a fixed joint.
+#include "engine/io/input_file.hpp"
 #include "engine/model/mass_properties.hpp"
 #include "engine/model/model_loaders.hpp"
 #include "engine/model/model_loading.hpp"
@@ -370,8 +371,11 @@ class DcgBuilder {
     } else if (code == 3) {
       if (file == nullptr) fail(e.line, what + ": a trimesh o(3) needs f[file.obj]");
       shape.kind = LinkShape::Kind::mesh;
-      shape.mesh_file = file->text.size() > 0 && file->text[0] == '/' ? file->text : directory_ + file->text;
-      if (!std::ifstream(shape.mesh_file)) fail(file->line, what + ": mesh file '" + shape.mesh_file + "' not found");
+      try {
+        shape.mesh_file = resolve_confined_path(directory_, file->text);
+      } catch (const InputFileError& error) {
+        fail(file->line, what + ": f[...]: " + error.what());
+      }
       if (std::find(model_.input_files.begin(), model_.input_files.end(), shape.mesh_file) == model_.input_files.end()) {
         model_.input_files.push_back(shape.mesh_file);
       }
@@ -561,11 +565,7 @@ class DcgBuilder {
 }  // namespace
 
 ArmModel load_dcg_model(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ModelError(path + ": cannot open model file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  DcgParser parser(path, buffer.str());
+  DcgParser parser(path, read_input_file_as<ModelError>(path, InputFileKind::arm_model));
   const std::vector<Entry> entries = parser.parse();
   return DcgBuilder(path, parser).build(entries);
 }

@@ -1,5 +1,6 @@
 #include "engine/model/triangle_mesh.hpp"
 
+#include "engine/io/input_file.hpp"
 #include "engine/model/model_loading.hpp"
 
 #include <array>
@@ -48,8 +49,7 @@ int parse_corner(const std::string& token, int vertex_count, const std::string& 
 }  // namespace
 
 TriangleMesh load_obj_mesh(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ModelError(path + ": cannot open mesh file");
+  std::istringstream in(read_input_file_as<ModelError>(path, InputFileKind::mesh));
 
   TriangleMesh mesh;
   mesh.source_file = path;

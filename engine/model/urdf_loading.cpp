@@ -1,6 +1,7 @@
 // URDF → ArmModel. urdfdom reads the standard elements; a tinyxml2 pass over the same text
 // first checks names, references and numbers (so messages carry line numbers, which urdfdom's
 // console messages do not) and reads what urdfdom skips: transmissions and armfarm extensions.
+#include "engine/io/input_file.hpp"
 #include "engine/model/model_loaders.hpp"
 #include "engine/model/model_loading.hpp"
 #include "engine/model/model_validation.hpp"
@@ -244,11 +245,7 @@ Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
 }  // namespace
 
 ArmModel load_urdf_model(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ModelError(path + ": cannot open model file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string xml = buffer.str();
+  const std::string xml = read_input_file_as<ModelError>(path, InputFileKind::arm_model);
 
   tinyxml2::XMLDocument document;
   if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {

@@ -3,6 +3,7 @@
 // against BASE, jobs paired by what they computed (recording.* left out) or by the given parameters.
 // Exit 0 within tolerance, 1 on a regression, 2 on a usage or file error.
 #include "analysis/analysis_error.hpp"
+#include "engine/io/input_file.hpp"
 #include "analysis/comparison.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
@@ -68,11 +69,8 @@ RunFunction setup_compare(CLI::App& parent) {
     ToleranceTable tolerances;
     tolerances.defaults = defaults;
     if (!options->tolerances.empty()) {
-      std::ifstream in(options->tolerances);
-      if (!in) throw AnalysisError(options->tolerances + ": cannot read the file");
-      std::ostringstream text;
-      text << in.rdbuf();
-      tolerances = parse_tolerances(text.str(), options->tolerances, defaults);
+      const std::string text = read_input_file_as<AnalysisError>(options->tolerances, InputFileKind::json);
+      tolerances = parse_tolerances(text, options->tolerances, defaults);
     }
     const ResultsStore base = ResultsStore::open(options->base, ResultsStore::Mode::read_only);
     const ResultsStore next = ResultsStore::open(options->next, ResultsStore::Mode::read_only);

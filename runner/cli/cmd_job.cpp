@@ -3,6 +3,7 @@
 // configuration is validated first (the same checks as `expand` and `run`); the job then runs
 // under a wall-time limit (--timeout, default one hour) and stops on Ctrl-C.
 #include "engine/experiment/job_outcome.hpp"
+#include "engine/io/input_file.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/execution/stop_signal.hpp"
@@ -35,13 +36,10 @@ namespace {
 // still matches and whose resolved file exists is read from there; defaults resolve against the
 // data folder. Every problem is a std::runtime_error naming the file.
 nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& schema) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file || std::filesystem::is_directory(path)) throw std::runtime_error(path + ": cannot open the job configuration");
-  std::ostringstream text;
-  text << file.rdbuf();
+  const std::string text = read_input_file(path, InputFileKind::json);
   JsonDocument document;
   try {
-    document = parse_json_document(text.str(), path);
+    document = parse_json_document(text, path);
   } catch (const SpecError& error) {
     throw std::runtime_error(error.what());
   }

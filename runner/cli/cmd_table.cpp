@@ -4,6 +4,7 @@
 #include "analysis/analysis_error.hpp"
 #include "analysis/table.hpp"
 #include "analysis/thesis_comparison.hpp"
+#include "engine/io/input_file.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -53,7 +54,8 @@ RunFunction setup_table(CLI::App& parent) {
     const Aggregate aggregate = parse_aggregate(options->aggregate);
     const TableFormat format = parse_table_format(options->format);
     if (!against->empty()) {
-      const ThesisResults thesis = load_thesis_results(*against);
+      const ThesisResults thesis =
+          parse_thesis_results_text(read_input_file_as<AnalysisError>(*against, InputFileKind::json), *against);
       const auto only = options->sweep.empty() ? std::nullopt : std::optional<std::string>(options->sweep);
       std::cout << format_thesis_comparison(make_thesis_comparison(thesis, store, aggregate, only), format, aggregate);
       return 0;

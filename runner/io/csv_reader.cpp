@@ -1,10 +1,12 @@
 // Numeric CSV reader with file:line error messages.
 #include "runner/io/csv_reader.hpp"
 
+#include "engine/io/input_file.hpp"
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace armfarm::io {
@@ -33,8 +35,7 @@ std::vector<std::string> split(const std::string& line) {
 }  // namespace
 
 CsvTable load_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open file");
+  std::istringstream in(read_input_file(path, InputFileKind::table));
   CsvTable table;
   std::string line;
   int line_number = 0;

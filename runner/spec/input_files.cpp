@@ -1,5 +1,7 @@
 #include "runner/spec/input_files.hpp"
 
+#include "engine/io/input_file.hpp"
+
 #include "runner/spec/canonical_json.hpp"
 #include "runner/spec/config_path.hpp"
 
@@ -42,13 +44,7 @@ std::string calc_resolved_path(const std::string& path, const std::string& folde
   return (error ? p : absolute).lexically_normal().string();
 }
 
-std::string calc_file_hash(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in || std::filesystem::is_directory(path)) throw std::runtime_error(path + ": cannot read the file");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return calc_text_hash(bytes.str());
-}
+std::string calc_file_hash(const std::string& path) { return calc_text_hash(read_input_file(path, InputFileKind::any)); }
 
 const InputFileReader::Content& InputFileReader::read(const InputFileField& field, const std::string& resolved_path) {
   const auto cache_key = std::make_pair(field.path, resolved_path);

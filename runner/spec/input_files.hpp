@@ -27,7 +27,8 @@ namespace armfarm {
 /// `path` stays as it is).
 std::string calc_resolved_path(const std::string& path, const std::string& folder);
 
-/// XXH3-128 of a file's bytes as 32 hex digits. Throws std::runtime_error "PATH: cannot read the file".
+/// XXH3-128 of a file's bytes as 32 hex digits. Throws InputFileError (a std::runtime_error)
+/// "PATH: problem" for anything but a regular file under the largest input cap.
 std::string calc_file_hash(const std::string& path);
 
 /// Reads and hashes inputs, once per (field, resolved path): one per expansion or command.

@@ -89,6 +89,10 @@ class TrackingSax : public nlohmann::json_sax<nlohmann::json> {
       std::string message = ex.what();
       const std::size_t colon = message.find(": ", message.find("column"));
       if (colon != std::string::npos) message = message.substr(colon + 2);
+      // nlohmann ends with "; last read: '<the bytes>'": a file that is not JSON at all (an
+      // include naming /etc/passwd) must not have its content printed; line and column suffice.
+      const std::size_t last_read = message.find("; last read:");
+      if (last_read != std::string::npos) message.erase(last_read);
       error_message_ = "not valid JSON: " + message;
     }
     return false;

@@ -1,5 +1,7 @@
 #include "runner/spec/sweep_spec.hpp"
 
+#include "engine/io/input_file.hpp"
+
 #include "runner/spec/canonical_json.hpp"
 #include "runner/spec/config_check.hpp"
 #include "runner/spec/did_you_mean.hpp"
@@ -17,13 +19,11 @@ namespace armfarm {
 namespace {
 
 std::string read_text_file(const std::string& path, const std::string& referenced_from) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw SpecError({(referenced_from.empty() ? path : referenced_from + ": " + path) + ": cannot read the file"});
+  try {
+    return read_input_file(path, InputFileKind::json);
+  } catch (const InputFileError& error) {
+    throw SpecError({(referenced_from.empty() ? "" : referenced_from + ": ") + error.what()});
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 // `["key"]` → `.key` where the key needs no quotes, so that spec locations and document paths compare.
@@ -440,7 +440,6 @@ SweepSpec parse_sweep_spec(const std::string& text, const std::string& file, con
 }
 
 SweepSpec load_sweep_spec(const std::string& path, const JobConfigSchema& schema) {
-  if (std::filesystem::is_directory(path)) throw SpecError({path + ": is a directory, not a sweep spec"});
   const std::string text = read_text_file(path, "");
   const std::string folder = std::filesystem::path(path).parent_path().string();
   return parse_sweep_spec(text, path, folder.empty() ? "." : folder, schema);

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <sstream>
 
 namespace armfarm {
 namespace {
@@ -26,6 +27,14 @@ const ThesisCell& find_cell(const ThesisTable& table, const std::string& row, co
     if (cell.row == row && cell.column == column) return cell;
   }
   throw std::runtime_error("no cell " + row + " / " + column + " in " + table.id);
+}
+
+// What `armfarm table --against` does, without its confined read (tested in runner/).
+ThesisResults load_thesis_results(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_thesis_results_text(text.str(), path);
 }
 
 std::string error_of(const std::string& text) {

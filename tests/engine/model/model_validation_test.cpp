@@ -37,7 +37,7 @@ const std::vector<BadModel> kCorpus = {
     {"malformed.urdf", {"malformed.urdf:", "XML error"}},
     {"unknown_tag.dcg", {"unknown_tag.dcg:3:", "body 'arm'", "unknown tag 'q'"}},
     {"unknown_body.dcg", {"unknown_body.dcg:4:", "joint 'ground-hand'", "two defined bodies"}},
-    {"missing_mesh.dcg", {"missing_mesh.dcg:3:", "body 'arm'", "no_such_mesh.obj' not found"}},
+    {"missing_mesh.dcg", {"missing_mesh.dcg:3:", "body 'arm'", "no_such_mesh.obj: no such file"}},
     {"open_mesh.dcg", {"open_mesh.dcg:3:", "open_box.obj", "open mesh"}},
     {"flipped_face.dcg", {"flipped_face.dcg:3:", "flipped_face_box.obj:", "inconsistent orientation"}},
     {"degenerate_mesh.dcg", {"degenerate_mesh.dcg:3:", "degenerate.obj:8:", "degenerate triangle"}},

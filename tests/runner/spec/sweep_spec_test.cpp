@@ -71,7 +71,7 @@ TEST(SweepSpec, ErrorsNameTheSpecFile) {
   const auto errors = collect_errors(kSpecs + "bad/wrong_type.json");
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_EQ(errors[0].rfind(kSpecs + "bad/wrong_type.json: ", 0), 0u) << errors[0];
-  EXPECT_NE(collect_errors(kSpecs + "bad/no_such_file.json").at(0).find("cannot read"), std::string::npos);
+  EXPECT_NE(collect_errors(kSpecs + "bad/no_such_file.json").at(0).find("no such file"), std::string::npos);
 }
 
 TEST(SweepSpec, IncludesMergeInOrderAndBaseOverridesThem) {
