@@ -2,6 +2,7 @@
 
 #include "analysis/analysis_error.hpp"
 #include "analysis/summary_statistics.hpp"
+#include "analysis/table.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -122,27 +123,134 @@ Verdict judge(double base, double next, const Tolerance& tolerance, BetterDirect
 
 }  // namespace
 
+namespace {
+
+// The configuration without its recording section, as canonical text (nlohmann dumps object
+// keys sorted).
+std::string make_computed_config_text(const JobResult& job) {
+  nlohmann::json config = job.config;
+  if (config.is_object()) config.erase(kRecordingSection);
+  return config.dump();
+}
+
+bool is_recording_path(const std::string& path) {
+  const std::string section = kRecordingSection;
+  return path == section || path.rfind(section + ".", 0) == 0 || path.rfind(section + "[", 0) == 0;
+}
+
+// Every dotted path of the leaves of `config` (objects only; arrays are leaves).
+void collect_config_paths(const nlohmann::json& config, const std::string& prefix, std::vector<std::string>& paths) {
+  for (const auto& item : config.items()) {
+    const std::string path = prefix.empty() ? item.key() : prefix + "." + item.key();
+    if (item.value().is_object()) {
+      collect_config_paths(item.value(), path, paths);
+    } else {
+      paths.push_back(path);
+    }
+  }
+}
+
+// The pairing key of a job under `pairing`.
+std::string make_pairing_key(const JobResult& job, const PairingRule& pairing) {
+  if (pairing.params.empty()) {
+    // A job without a stored configuration pairs by its key.
+    if (!job.config.is_object() || job.config.empty()) return "key " + job.key;
+    return "config " + make_computed_config_text(job);
+  }
+  nlohmann::json values = nlohmann::json::array();
+  for (const std::string& param : pairing.params) values.push_back(find_param_value(job, param));
+  return values.dump();
+}
+
+// The parameters (outside recording and the pairing ones) whose values differ between a and b.
+std::vector<std::string> find_differing_params(const JobResult& a, const JobResult& b, const PairingRule& pairing) {
+  std::vector<std::string> paths;
+  collect_config_paths(a.config, "", paths);
+  collect_config_paths(b.config, "", paths);
+  std::sort(paths.begin(), paths.end());
+  paths.erase(std::unique(paths.begin(), paths.end()), paths.end());
+  std::vector<std::string> differing;
+  for (const std::string& path : paths) {
+    if (is_recording_path(path)) continue;
+    if (std::find(pairing.params.begin(), pairing.params.end(), path) != pairing.params.end()) continue;
+    if (find_param_value(a, path) != find_param_value(b, path)) differing.push_back(path);
+  }
+  return differing;
+}
+
+// Jobs of one side by pairing key, in their order; throws AnalysisError for an ambiguous key.
+std::map<std::string, const JobResult*> index_jobs(const std::vector<JobResult>& jobs, const PairingRule& pairing,
+                                                   const std::string& side) {
+  std::map<std::string, const JobResult*> by_key;
+  for (const JobResult& job : jobs) {
+    const std::string key = make_pairing_key(job, pairing);
+    const auto [it, inserted] = by_key.emplace(key, &job);
+    if (inserted || pairing.params.empty()) continue;
+    std::string values, differing;
+    for (std::size_t i = 0; i < pairing.params.size(); ++i) {
+      values += (i ? ", " : "") + pairing.params[i] + "=" + find_param_value(job, pairing.params[i]).dump();
+    }
+    for (const std::string& path : find_differing_params(*it->second, job, pairing)) {
+      differing += (differing.empty() ? "" : ", ") + path;
+    }
+    throw AnalysisError("--pair-by: " + side + " jobs " + it->second->key.substr(0, 8) + " and " + job.key.substr(0, 8) +
+                        " both have " + values + "; add what tells them apart to --pair-by (" +
+                        (differing.empty() ? "they differ in no parameter" : "they differ in " + differing) + ")");
+  }
+  return by_key;
+}
+
+// Checks the pairing parameters against the jobs; throws AnalysisError naming a bad one.
+void check_pairing_params(const PairingRule& pairing, const std::vector<JobResult>& base,
+                          const std::vector<JobResult>& next) {
+  std::vector<std::string> known;
+  for (const JobResult& job : base) collect_config_paths(job.config, "", known);
+  std::sort(known.begin(), known.end());
+  known.erase(std::unique(known.begin(), known.end()), known.end());
+  for (const std::string& param : pairing.params) {
+    if (is_recording_path(param)) {
+      throw AnalysisError("--pair-by " + param + ": recording keys only change what is recorded and never pair jobs");
+    }
+    const auto has = [&](const std::vector<JobResult>& jobs) {
+      return std::any_of(jobs.begin(), jobs.end(), [&](const JobResult& job) { return !find_param_value(job, param).is_null(); });
+    };
+    if (!has(base) && !has(next)) {
+      const std::optional<std::string> nearest = find_nearest_name(param, known);
+      throw AnalysisError("--pair-by " + param + ": no job has this parameter" +
+                          (nearest ? " (did you mean '" + *nearest + "'?)" : std::string()));
+    }
+  }
+}
+
+}  // namespace
+
 ComparisonReport compare_results(const std::vector<JobResult>& base, const std::vector<JobResult>& next,
                                  const ToleranceTable& tolerances, const std::vector<std::string>& metric_filter,
-                                 const MetricInfoTable& info, bool include_timing) {
+                                 const MetricInfoTable& info, bool include_timing, const PairingRule& pairing) {
   ComparisonReport report;
+  report.pair_by = pairing.params;
+  check_pairing_params(pairing, base, next);
   auto wanted = [&](const std::string& name) {
     return metric_filter.empty() || std::find(metric_filter.begin(), metric_filter.end(), name) != metric_filter.end();
   };
-  std::map<std::string, const JobResult*> next_by_key;
-  for (const JobResult& job : next) next_by_key[job.key] = &job;
-  std::map<std::string, bool> base_keys;
-  for (const JobResult& job : base) base_keys[job.key] = true;
+  const std::map<std::string, const JobResult*> next_by_key = index_jobs(next, pairing, "new");
+  const std::map<std::string, const JobResult*> base_by_key = index_jobs(base, pairing, "base");
   for (const JobResult& job : next) {
-    if (!base_keys.count(job.key)) report.only_in_next.push_back(job.key);
+    const auto found = base_by_key.find(make_pairing_key(job, pairing));
+    if (found == base_by_key.end()) {
+      report.only_in_next.push_back(job.key);
+    }
   }
 
+  std::map<std::string, bool> paired;
   for (const JobResult& base_job : base) {
-    auto found = next_by_key.find(base_job.key);
+    const std::string pairing_key = make_pairing_key(base_job, pairing);
+    auto found = next_by_key.find(pairing_key);
     if (found == next_by_key.end()) {
       report.only_in_base.push_back(base_job.key);
       continue;
     }
+    if (!paired.emplace(pairing_key, true).second) continue;  // a duplicate of a computed configuration
     const JobResult& next_job = *found->second;
     ++report.jobs_paired;
     if (base_job.status != next_job.status) {
@@ -162,6 +270,7 @@ ComparisonReport compare_results(const std::vector<JobResult>& base, const std::
       }
       MetricComparison comparison;
       comparison.key = base_job.key;
+      comparison.next_key = next_job.key;
       comparison.metric = id;
       comparison.base = base_value;
       comparison.next = next_metric->second;
@@ -206,6 +315,7 @@ std::string format_comparison(const ComparisonReport& report, bool json, bool sh
     nlohmann::json document;
     document["regressed"] = report.regressed();
     document["jobs_paired"] = report.jobs_paired;
+    document["pair_by"] = report.pair_by;
     document["only_in_base"] = report.only_in_base;
     document["only_in_new"] = report.only_in_next;
     document["missing_metrics"] = report.missing_metrics;
@@ -216,6 +326,7 @@ std::string format_comparison(const ComparisonReport& report, bool json, bool sh
     document["metrics"] = nlohmann::json::array();
     for (const MetricComparison& m : report.metrics) {
       nlohmann::json entry = {{"key", m.key},
+                              {"new_key", m.next_key},
                               {"metric", m.metric.name},
                               {"joint", m.metric.joint ? nlohmann::json(*m.metric.joint) : nlohmann::json()},
                               {"base", m.base},
@@ -238,7 +349,12 @@ std::string format_comparison(const ComparisonReport& report, bool json, bool sh
     improved += m.verdict == Verdict::improved;
     changed += m.verdict == Verdict::changed;
   }
-  out << "Compared " << report.jobs_paired << " jobs, " << report.metrics.size() << " metrics: " << regressed
+  out << "Compared " << report.jobs_paired << " jobs";
+  if (!report.pair_by.empty()) {
+    out << " paired by";
+    for (const std::string& param : report.pair_by) out << " " << param;
+  }
+  out << ", " << report.metrics.size() << " metrics: " << regressed
       << " regressed, " << improved << " improved, " << changed << " changed without a better direction, "
       << (report.metrics.size() - regressed - improved - changed) << " within tolerance.\n\n";
   const bool any_outside = regressed + improved + changed > 0;

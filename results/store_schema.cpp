@@ -4,9 +4,11 @@
 #include "results/job_claims.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <map>
 #include <set>
+#include <thread>
 
 namespace armfarm {
 namespace store_detail {
@@ -273,7 +275,18 @@ std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsS
     return db;
   }
 
-  db->execute("PRAGMA journal_mode = WAL");
+  // Switching a fresh file to WAL needs it to itself for a moment, and SQLite does not wait for
+  // that: another process opening the same fresh file at once gets "database is locked". Retry
+  // for up to the busy timeout (10 s).
+  for (int attempt = 0;; ++attempt) {
+    try {
+      db->execute("PRAGMA journal_mode = WAL");
+      break;
+    } catch (const StoreError& e) {
+      if (attempt >= 1000 || std::string(e.what()).find("locked") == std::string::npos) throw;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
   db->execute("PRAGMA synchronous = NORMAL");
   db->execute("PRAGMA foreign_keys = ON");
   if (version < kResultsSchemaVersion) migrate(*db, version);

@@ -1,5 +1,6 @@
 // `armfarm compare BASE.db NEW.db [--sweep NAME] [--metrics …] [--rtol X] [--atol Y]
-// [--tolerances FILE.json] [--format md|json] [--all]`: regression check of NEW against BASE.
+// [--tolerances FILE.json] [--pair-by PARAM,…] [--format md|json] [--all]`: regression check of NEW
+// against BASE, jobs paired by what they computed (recording.* left out) or by the given parameters.
 // Exit 0 within tolerance, 1 on a regression, 2 on a usage or file error.
 #include "analysis/analysis_error.hpp"
 #include "engine/io/input_file.hpp"
@@ -27,6 +28,7 @@ struct CompareOptions {
   std::string format = "md";
   bool show_all = false;
   bool timing = false;
+  std::vector<std::string> pair_by;
 };
 
 // Every job of a database (or of one sweep), each once.
@@ -56,6 +58,10 @@ RunFunction setup_compare(CLI::App& parent) {
   sub->add_option("--tolerances", options->tolerances, "JSON file of per-metric / per-joint tolerances and directions");
   sub->add_option("--format", options->format, "md or json")->check(CLI::IsMember({"md", "json"}));
   sub->add_flag("--all", options->show_all, "List every compared metric, not only those outside tolerance");
+  sub->add_option("--pair-by", options->pair_by,
+                  "Pair jobs by these parameters (dotted paths, e.g. control.gain_scale,seed) instead of their whole "
+                  "configurations; recording.* keys never prevent pairing")
+      ->delimiter(',');
   sub->add_flag("--timing", options->timing,
                 "Also show timing and diagnostic metrics (metric_info kind); they never count as regressions");
   return [options] {
@@ -72,7 +78,8 @@ RunFunction setup_compare(CLI::App& parent) {
     MetricInfoTable info = load_metric_info(next);
     for (auto& [name, record] : load_metric_info(base)) info.emplace(name, record);
     const ComparisonReport report = compare_results(load_jobs(base, options->sweep), load_jobs(next, options->sweep),
-                                                    tolerances, options->metrics, info, options->timing);
+                                                    tolerances, options->metrics, info, options->timing,
+                                                    PairingRule{options->pair_by});
     std::cout << format_comparison(report, options->format == "json", options->show_all);
     return report.regressed() ? 1 : 0;
   };

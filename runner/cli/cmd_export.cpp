@@ -1,77 +1,139 @@
-// `armfarm export DB --job KEY --series NAME [--format csv]`: a recorded series as CSV (header
-// of column names, one line per sample, full double precision) for Matlab, gnuplot or pandas.
+// `armfarm export DB --job KEY --series NAME` or `armfarm export DB --sweep NAME [--series A,B]`
+// [--format csv] [-o FILE]: recorded series as CSV for pandas, R, Matlab or gnuplot. One job's
+// series: a header of its column names and one line per sample. A whole sweep: one long-form
+// table (runner/io/sweep_export.hpp). Fields are RFC 4180, numbers the shortest text that reads
+// back to the same double. With -o the file appears only once it is complete.
+#include "analysis/sweep_data.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
+#include "runner/io/csv_writing.hpp"
+#include "runner/io/sweep_export.hpp"
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 namespace armfarm::cli {
+namespace {
+
+struct ExportOptions {
+  std::string db;
+  std::string job;
+  std::string sweep;
+  std::vector<std::string> series;
+  std::string format = "csv";
+  std::string output;
+};
+
+// Writes one job's series; 0, or 2 after a one-line error.
+int write_job_series(const ResultsStore& store, const ExportOptions& options, std::ostream& out) {
+  const std::vector<std::string> keys = store.find_job_keys(options.job);
+  if (keys.empty()) {
+    std::cerr << "armfarm: " << options.db << ": no job with key " << options.job << "\n";
+    return 2;
+  }
+  if (keys.size() > 1) {
+    std::cerr << "armfarm: " << options.db << ": key prefix " << options.job << " matches " << keys.size()
+              << " jobs; give more digits\n";
+    return 2;
+  }
+  const JobRecord job = *store.find_job(keys.front());
+  const std::optional<SeriesRecord> series = store.find_series(job.id, options.series.front());
+  if (!series) {
+    std::string names;
+    for (const std::string& name : store.find_series_names(job.id)) names += (names.empty() ? "" : ", ") + name;
+    std::cerr << "armfarm: " << options.db << ": job " << job.key << " has no series " << options.series.front()
+              << " (it has: " << (names.empty() ? "none" : names) << ")\n";
+    return 2;
+  }
+  for (std::size_t c = 0; c < series->columns.size(); ++c) out << (c ? "," : "") << make_csv_field(series->columns[c]);
+  out << "\n";
+  for (Eigen::Index r = 0; r < series->rows.rows(); ++r) {
+    for (Eigen::Index c = 0; c < series->rows.cols(); ++c) {
+      out << (c ? "," : "") << make_shortest_number_text(series->rows(r, c));
+    }
+    out << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
 
 RunFunction setup_export(CLI::App& parent) {
-  struct Options {
-    std::string db;
-    std::string job;
-    std::string series;
-    std::string format = "csv";
-    std::string output;
-  };
-  auto options = std::make_shared<Options>();
-  CLI::App* app = parent.add_subcommand("export", "Write a job's recorded series as CSV");
+  auto options = std::make_shared<ExportOptions>();
+  CLI::App* app = parent.add_subcommand("export", "Write recorded series as CSV: one job's, or a whole sweep's as one long-form table");
   app->add_option("db", options->db, "Results database")->required();
-  app->add_option("--job", options->job, "Job key (or a unique prefix of it)")->required();
-  app->add_option("--series", options->series, "Series name (POS, TOR, ...)")->required();
-  app->add_option("--format", options->format, "Output format")->check(CLI::IsMember({"csv"}))->capture_default_str();
-  app->add_option("-o,--output", options->output, "Output file (default: standard output)");
+  CLI::Option* job = app->add_option("--job", options->job, "Job key (or a unique prefix of it): its series as columns");
+  CLI::Option* sweep = app->add_option("--sweep", options->sweep,
+                                       "Sweep name: every done job's series as rows of job, swept parameters, time, "
+                                       "joint, signal, value");
+  job->excludes(sweep);
+  sweep->excludes(job);
+  app->add_option("--series", options->series,
+                  "Series name (POS, TOR, ...); with --sweep a comma-separated list (default: every recorded series)")
+      ->delimiter(',');
+  app->add_option("--format", options->format,
+                  "Output format (csv; parquet is not offered: Debian has no Arrow/Parquet C++ package)")
+      ->check(CLI::IsMember({"csv"}))
+      ->capture_default_str();
+  app->add_option("-o,--output", options->output, "Output file, written complete or not at all (default: standard output)");
 
   return [options] {
+    if (options->job.empty() && options->sweep.empty()) {
+      std::cerr << "armfarm: export: give --job KEY --series NAME, or --sweep NAME\n";
+      return 2;
+    }
+    if (!options->job.empty() && options->series.size() != 1) {
+      std::cerr << "armfarm: export: --job needs exactly one --series\n";
+      return 2;
+    }
     const ResultsStore store = ResultsStore::open(options->db, ResultsStore::Mode::read_only);
-    const std::vector<std::string> keys = store.find_job_keys(options->job);
-    if (keys.empty()) {
-      std::cerr << "armfarm: " << options->db << ": no job with key " << options->job << "\n";
-      return 2;
-    }
-    if (keys.size() > 1) {
-      std::cerr << "armfarm: " << options->db << ": key prefix " << options->job << " matches " << keys.size()
-                << " jobs; give more digits\n";
-      return 2;
-    }
-    const JobRecord job = *store.find_job(keys.front());
-    const std::optional<SeriesRecord> series = store.find_series(job.id, options->series);
-    if (!series) {
-      std::string names;
-      for (const std::string& name : store.find_series_names(job.id)) names += (names.empty() ? "" : ", ") + name;
-      std::cerr << "armfarm: " << options->db << ": job " << job.key << " has no series " << options->series
-                << " (it has: " << (names.empty() ? "none" : names) << ")\n";
-      return 2;
-    }
+    const std::string temporary = options->output.empty() ? "" : options->output + ".partial";
     std::ofstream file;
     if (!options->output.empty()) {
-      file.open(options->output);
+      file.open(temporary, std::ios::binary | std::ios::trunc);
       if (!file) {
         std::cerr << "armfarm: " << options->output << ": cannot write\n";
         return 2;
       }
     }
     std::ostream& out = options->output.empty() ? std::cout : file;
-    for (std::size_t c = 0; c < series->columns.size(); ++c) out << (c ? "," : "") << series->columns[c];
-    out << "\n";
-    char number[32];
-    for (Eigen::Index r = 0; r < series->rows.rows(); ++r) {
-      for (Eigen::Index c = 0; c < series->rows.cols(); ++c) {
-        std::snprintf(number, sizeof number, "%.17g", series->rows(r, c));
-        out << (c ? "," : "") << number;
+    int status = 0;
+    try {
+      if (!options->job.empty()) {
+        status = write_job_series(store, *options, out);
+      } else {
+        const std::string name = choose_sweep(store, options->sweep);
+        const SweepExportCounts counts = write_sweep_long_csv(store, name, options->series, out);
+        std::cerr << "sweep " << name << ": " << counts.rows << " rows from " << counts.jobs << " done jobs"
+                  << (counts.jobs_skipped ? " (" + std::to_string(counts.jobs_skipped) + " jobs not done, left out)" : "")
+                  << "\n";
       }
-      out << "\n";
+    } catch (const std::invalid_argument& e) {
+      std::cerr << "armfarm: " << options->db << ": " << e.what() << "\n";
+      status = 2;
     }
     out.flush();
-    if (!out) {
-      std::cerr << "armfarm: cannot write the CSV\n";
-      return 2;
+    if (status == 0 && !out) {
+      std::cerr << "armfarm: " << (options->output.empty() ? "standard output" : options->output) << ": cannot write the CSV\n";
+      status = 2;
     }
-    return 0;
+    if (!options->output.empty()) {
+      file.close();
+      std::error_code error;
+      if (status == 0) {
+        std::filesystem::rename(temporary, options->output, error);
+        if (error) {
+          std::cerr << "armfarm: " << options->output << ": cannot write: " << error.message() << "\n";
+          status = 2;
+        }
+      }
+      if (status != 0) std::filesystem::remove(temporary, error);
+    }
+    return status;
   };
 }
 

@@ -10,6 +10,7 @@
 #include "runner/spec/spec_error.hpp"
 #include "runner/spec/sweep_stages.hpp"
 
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <iostream>
@@ -29,6 +30,8 @@ RunFunction setup_run(CLI::App& parent) {
     std::string shard;
     std::string shard_costs;
     double claim_timeout = ClaimConfig{}.timeout_seconds;
+    bool quiet = false;
+    double heartbeat = ProgressConfig{}.heartbeat_seconds;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand("run", "Run a sweep's jobs into a results database (resumes by default)");
@@ -48,6 +51,11 @@ RunFunction setup_run(CLI::App& parent) {
                   "Seconds without a heartbeat after which another runner's claim on a job is taken over")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  app->add_flag("-q,--quiet", options->quiet, "No progress output; only the summary and errors");
+  app->add_option("--heartbeat", options->heartbeat,
+                  "When standard error is not a terminal: a progress line every this many seconds (0: none)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
 
   return [options] {
     const JobKind kind = make_job_kind_from_environment(options->db);
@@ -79,7 +87,11 @@ RunFunction setup_run(CLI::App& parent) {
     if (options->timeout > 0.0) run.timeout_seconds = options->timeout;
     run.force = options->force;
     run.claims.timeout_seconds = options->claim_timeout;
-    run.progress = isatty(STDERR_FILENO) ? ProgressStyle::terminal : ProgressStyle::lines;
+    const bool terminal = isatty(STDERR_FILENO) != 0;
+    run.progress.style = options->quiet ? ProgressStyle::quiet : terminal ? ProgressStyle::terminal : ProgressStyle::lines;
+    run.progress.heartbeat_seconds = options->heartbeat;
+    winsize size{};
+    if (terminal && ioctl(STDERR_FILENO, TIOCGWINSZ, &size) == 0 && size.ws_col > 0) run.progress.terminal_width = size.ws_col;
     run.progress_out = &std::cerr;
     run.provenance = make_provenance();
     StopSignalScope signals;
@@ -119,11 +131,19 @@ RunFunction setup_run(CLI::App& parent) {
       if (run.shard.count > 1) std::cout << "; " << summary.jobs_in_shard << " of " << summary.jobs_in_sweep << " jobs in this shard";
       if (summary.done_elsewhere > 0) std::cout << "; " << summary.done_elsewhere << " done by another runner";
       if (summary.taken_over > 0) std::cout << "; " << summary.taken_over << " stale claims of stopped runners taken over";
-      std::cout << "; " << make_duration_text(summary.elapsed_seconds) << "\n";
+      std::cout << "; wall time " << make_duration_text(summary.elapsed_seconds) << "\n";
+      if (summary.headline) std::cout << "sweep " << sweep.spec.name << ": " << make_headline_text(*summary.headline) << "\n";
       const std::size_t shown = std::min<std::size_t>(summary.failures.size(), 20);
       for (std::size_t i = 0; i < shown; ++i) std::cout << "  " << summary.failures[i] << "\n";
       if (summary.failures.size() > shown) {
         std::cout << "  ... and " << summary.failures.size() - shown << " more (armfarm status " << run.db_path << ")\n";
+      }
+      if (!summary.write_error.empty()) {
+        std::cout.flush();
+        std::cerr << "armfarm: " << run.db_path << ": writing results failed (" << summary.write_error << "); stopped: "
+                  << summary.not_saved << " finished jobs were not saved, " << summary.run
+                  << " saved; run the same command again to rerun the unsaved ones\n";
+        return 1;
       }
       if (summary.interrupted) {
         std::cout << "interrupted: " << summary.abandoned << " jobs not finished; run the same command again to resume\n";

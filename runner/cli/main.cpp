@@ -1,4 +1,5 @@
 // armfarm: a batch experiment farm for learning the motor control of simulated robot arms.
+#include "runner/build_info.hpp"
 #include "runner/cli/subcommand.hpp"
 
 #include <exception>
@@ -8,6 +9,9 @@ int main(int argc, char** argv) {
   CLI::App app{"armfarm: parameter sweeps of learned motor control on simulated robot arms"};
   app.require_subcommand(1);
   app.fallthrough(false);
+  app.set_version_flag("--version", std::string("armfarm ") + armfarm::build_info::version + " (" +
+                                        armfarm::build_info::git_commit + (armfarm::build_info::git_dirty ? ", dirty" : "") + ")",
+                       "Print armfarm's version and git commit and exit (`armfarm version` says more)");
 
   armfarm::cli::RunFunction selected;
   std::vector<std::pair<CLI::App*, armfarm::cli::RunFunction>> runs;

@@ -16,9 +16,10 @@ ResultWriter::~ResultWriter() {
   }
 }
 
-void ResultWriter::push_finished(JobResultRecord result) {
+void ResultWriter::push_finished(JobResultRecord result, std::function<void()> on_committed) {
   std::lock_guard lock(mutex_);
   queued_.finished.push_back(std::move(result));
+  queued_callbacks_.push_back(std::move(on_committed));
   wake_.notify_one();
 }
 
@@ -53,27 +54,61 @@ int ResultWriter::batches_written() const {
   return batches_;
 }
 
+int ResultWriter::finished_not_saved() const {
+  std::lock_guard lock(mutex_);
+  return not_saved_;
+}
+
+std::string ResultWriter::error_text() const {
+  std::lock_guard lock(mutex_);
+  return error_text_;
+}
+
 void ResultWriter::write_loop() {
   for (;;) {
     JobBatch batch;
+    std::vector<std::function<void()>> callbacks;
     bool last = false;
+    bool failed = false;
     {
       std::unique_lock lock(mutex_);
       wake_.wait(lock, [&] {
         return closing_ || !queued_.started.empty() || !queued_.finished.empty() || !queued_.abandoned.empty();
       });
       std::swap(batch, queued_);
+      std::swap(callbacks, queued_callbacks_);
       last = closing_;
+      failed = error_ != nullptr;
     }
-    if (!batch.started.empty() || !batch.finished.empty() || !batch.abandoned.empty()) {
+    if (failed) {
+      // After a failed commit nothing more is written: what arrives is counted as lost.
+      std::lock_guard lock(mutex_);
+      not_saved_ += static_cast<int>(batch.finished.size());
+    } else if (!batch.started.empty() || !batch.finished.empty() || !batch.abandoned.empty()) {
+      bool committed = false;
       try {
         batch.claim_owner = claim_owner_;
         store_.insert_job_batch(batch, sweep_name_);
+        committed = true;
+      } catch (const std::exception& e) {
         std::lock_guard lock(mutex_);
-        ++batches_;
+        error_ = std::current_exception();
+        error_text_ = e.what();
+        not_saved_ += static_cast<int>(batch.finished.size());
       } catch (...) {
         std::lock_guard lock(mutex_);
-        if (!error_) error_ = std::current_exception();
+        error_ = std::current_exception();
+        error_text_ = "unknown error";
+        not_saved_ += static_cast<int>(batch.finished.size());
+      }
+      if (committed) {
+        {
+          std::lock_guard lock(mutex_);
+          ++batches_;
+        }
+        for (const std::function<void()>& callback : callbacks) {
+          if (callback) callback();
+        }
       }
     }
     if (last) {

@@ -2,12 +2,15 @@
 // The one thread that writes a sweep's results: workers push job events (finished, abandoned;
 // a job's start is its claim, claim_keeper.hpp) into a queue; the writer takes everything
 // queued at once and commits it as one transaction (ResultsStore::insert_job_batch), so batches
-// grow when jobs finish faster than a commit takes.
+// grow when jobs finish faster than a commit takes. A finished job's callback runs on the writer
+// thread once its transaction has committed; after the first failed commit nothing more is
+// written (the run stops) and the finished jobs whose results were lost are counted.
 #include "results/results_store.hpp"
 
 #include <condition_variable>
 #include <deque>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -24,7 +27,9 @@ class ResultWriter {
   ResultWriter(const ResultWriter&) = delete;
   ResultWriter& operator=(const ResultWriter&) = delete;
 
-  void push_finished(JobResultRecord result);
+  /// `on_committed` (may be empty) runs on the writer thread after the commit that holds `result`;
+  /// never when that commit fails.
+  void push_finished(JobResultRecord result, std::function<void()> on_committed = {});
   void push_abandoned(const std::string& key);
 
   /// Writes what is queued, stops the thread; rethrows the first store error.
@@ -33,6 +38,10 @@ class ResultWriter {
   bool failed() const;
   /// Number of transactions committed.
   int batches_written() const;
+  /// Finished jobs whose results were not committed because a write failed.
+  int finished_not_saved() const;
+  /// The first write error's message ("" while none).
+  std::string error_text() const;
 
  private:
   void write_loop();
@@ -43,9 +52,12 @@ class ResultWriter {
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   JobBatch queued_;
+  std::vector<std::function<void()>> queued_callbacks_;  ///< one per queued_.finished entry
   bool closing_ = false;
   std::exception_ptr error_;
   int batches_ = 0;
+  int not_saved_ = 0;
+  std::string error_text_;
   std::thread thread_;
 };
 

@@ -1,5 +1,6 @@
 #include "runner/execution/sweep_runner.hpp"
 
+#include "runner/execution/job_cost_estimate.hpp"
 #include "runner/execution/outcome_record.hpp"
 #include "runner/execution/result_writer.hpp"
 
@@ -80,12 +81,18 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   summary.taken_over = claims.stale_at_start().claims_interrupted;
 
   const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  ProgressReporter progress(options.progress_out, options.progress, static_cast<int>(to_run.size()));
+  std::vector<ProgressJob> progress_jobs;
+  for (const ExpandedJob* job : to_run) {
+    progress_jobs.push_back({make_job_label(*job), job->key.substr(0, 8), estimate_job_cost(job->config)});
+  }
+  ProgressReporter progress(options.progress_out, options.progress, std::move(progress_jobs), threads);
   std::mutex summary_mutex;
+  std::vector<HeadlineJob> headline_jobs;
   {
     ResultWriter writer(store, sweep.spec.name, claims.owner().owner);
-    std::vector<const ExpandedJob*> elsewhere;  // held by another live runner: looked at again
-    auto run_one = [&](const ExpandedJob& job) {
+    std::vector<std::size_t> elsewhere;  // indices into to_run held by another live runner: looked at again
+    auto run_one = [&](std::size_t index) {
+      const ExpandedJob& job = *to_run[index];
       if (stop_requested.load() || writer.failed() || claims.failed()) {
         std::lock_guard lock(summary_mutex);
         ++summary.abandoned;
@@ -95,9 +102,10 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
       if (claim.result != ClaimResult::claimed) {
         std::lock_guard lock(summary_mutex);
         if (claim.result == ClaimResult::done) ++summary.done_elsewhere;
-        if (claim.result == ClaimResult::claimed_elsewhere) elsewhere.push_back(&job);
+        if (claim.result == ClaimResult::claimed_elsewhere) elsewhere.push_back(index);
         return;
       }
+      progress.job_started(index);
       const std::string started_at = make_utc_timestamp();
       const auto job_start = std::chrono::steady_clock::now();
       bool stopped_by_request = false;
@@ -136,12 +144,14 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
       claims.forget(job.key);  // before the writer releases the claim
       if (claim_lost && outcome.status != JobStatus::done) {
         writer.push_abandoned(job.key);  // another runner took it over: wait for its result
+        progress.job_dropped(index);
         std::lock_guard lock(summary_mutex);
-        elsewhere.push_back(&job);
+        elsewhere.push_back(index);
         return;
       }
       if (stopped_by_request && outcome.status != JobStatus::done) {
         writer.push_abandoned(job.key);
+        progress.job_dropped(index);
         std::lock_guard lock(summary_mutex);
         ++summary.abandoned;
         return;
@@ -153,38 +163,47 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
         outcome.message = text;
       }
       const std::string status = to_string(outcome.status);
-      const std::string message = outcome.message;
-      writer.push_finished(make_job_result_record(job.key, std::move(outcome), wall, started_at, make_utc_timestamp()));
-      progress.update_finished(make_job_label(job), status, wall, message);
-      std::lock_guard lock(summary_mutex);
-      ++summary.run;
-      if (status == "done") {
-        ++summary.done;
-      } else {
-        if (status == "failed") ++summary.failed;
-        if (status == "diverged") ++summary.diverged;
-        if (status == "timeout") ++summary.timeout;
-        summary.failures.push_back(make_job_label(job) + ": " + status + ": " + message);
+      HeadlineJob headline{make_job_label(job), {}};
+      for (const Metric& metric : outcome.metrics) {
+        if (!metric.joint && !metric.checkpoint && metric.value) headline.metrics[metric.name] = *metric.value;
       }
+      // Counted and reported on the writer thread, once the result is committed.
+      auto on_committed = [&, index, status, wall, message = outcome.message, headline = std::move(headline)]() mutable {
+        progress.job_committed(index, status, wall, message);
+        std::lock_guard lock(summary_mutex);
+        ++summary.run;
+        if (status == "done") {
+          ++summary.done;
+          headline_jobs.push_back(std::move(headline));
+        } else {
+          if (status == "failed") ++summary.failed;
+          if (status == "diverged") ++summary.diverged;
+          if (status == "timeout") ++summary.timeout;
+          summary.failures.push_back(headline.label + ": " + status + ": " + message);
+        }
+      };
+      writer.push_finished(make_job_result_record(job.key, std::move(outcome), wall, started_at, make_utc_timestamp()),
+                           std::move(on_committed));
     };
 
     tbb::global_control allow(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
     tbb::task_arena arena(threads);
     // Rounds: every job is claimed and run, or found done, or held by another live runner; those
     // are looked at again after a poll interval until done elsewhere or their claim goes stale.
-    std::vector<const ExpandedJob*> round = to_run;
+    std::vector<std::size_t> round(to_run.size());
+    for (std::size_t i = 0; i < round.size(); ++i) round[i] = i;
     while (!round.empty()) {
       arena.execute([&] {
         tbb::parallel_for(
             tbb::blocked_range<std::size_t>(0, round.size(), 1),
             [&](const tbb::blocked_range<std::size_t>& range) {
-              for (std::size_t i = range.begin(); i != range.end(); ++i) run_one(*round[i]);
+              for (std::size_t i = range.begin(); i != range.end(); ++i) run_one(round[i]);
             },
             tbb::simple_partitioner());
       });
       round.swap(elsewhere);
       elsewhere.clear();
-      std::sort(round.begin(), round.end());  // expansion order (pointers into sweep.jobs)
+      std::sort(round.begin(), round.end());  // expansion order
       if (round.empty()) break;
       if (stop_requested.load() || writer.failed() || claims.failed()) {
         summary.abandoned += static_cast<int>(round.size());
@@ -192,14 +211,23 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
       }
       claims.wait_poll(stop_requested);
     }
+    try {
+      writer.finish();
+    } catch (const std::exception&) {
+      // Reported through the summary: the caller says how many finished jobs were lost.
+    }
     progress.finish();
-    writer.finish();  // throws the store's error, if any
+    summary.not_saved = writer.finished_not_saved();
+    summary.write_error = writer.error_text();
     claims.rethrow_error();
   }
   summary.taken_over += claims.taken_over();
   summary.interrupted = stop_requested.load();
-  store.update_run_finished(registered.run_id, summary.interrupted ? "interrupted" : "complete", summary.run,
-                            summary.skipped, make_utc_timestamp());
+  summary.headline = choose_run_headline(headline_jobs);
+  if (summary.write_error.empty()) {
+    store.update_run_finished(registered.run_id, summary.interrupted ? "interrupted" : "complete", summary.run,
+                              summary.skipped, make_utc_timestamp());
+  }
   summary.elapsed_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }

@@ -10,6 +10,7 @@
 #include "runner/execution/claim_keeper.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/execution/progress_reporter.hpp"
+#include "runner/execution/run_headline.hpp"
 #include "runner/execution/shard.hpp"
 #include "runner/spec/sweep_expansion.hpp"
 
@@ -29,7 +30,7 @@ struct RunOptions {
   Shard shard;
   std::vector<double> job_costs;           ///< per job of the sweep, to deal shards (job_cost.hpp); empty: 1 each
   ClaimConfig claims;                      ///< runners sharing the database (claim_keeper.hpp)
-  ProgressStyle progress = ProgressStyle::quiet;
+  ProgressConfig progress;                 ///< style quiet by default
   std::ostream* progress_out = nullptr;    ///< required unless quiet
   Provenance provenance;
 };
@@ -40,19 +41,27 @@ struct RunSummary {
   int skipped = 0;  ///< already done
   int run = 0;      ///< attempted and recorded
   int done = 0, failed = 0, diverged = 0, timeout = 0;
-  int abandoned = 0;  ///< not started or interrupted because of a stop request
+  int abandoned = 0;  ///< not started or interrupted because of a stop request or a failed write
   int done_elsewhere = 0;  ///< done by another runner on the same database while this one ran
   int taken_over = 0;      ///< stale claims of other runners this run took over (or found at its start)
+  int not_saved = 0;  ///< finished, but lost because a commit failed (they run again on resume)
+  std::string write_error;  ///< the failed commit's error ("" when every write succeeded)
   bool interrupted = false;
   double elapsed_seconds = 0.0;
   std::vector<std::string> failures;  ///< "key  params: status: message"
+  std::optional<RunHeadline> headline;  ///< best and worst of this run's done jobs by the main metric
   /// True when every job of the shard is done.
-  bool all_done() const { return failed + diverged + timeout + abandoned == 0 && !interrupted; }
+  bool all_done() const {
+    return failed + diverged + timeout + abandoned + not_saved == 0 && !interrupted && write_error.empty();
+  }
 };
 
 /// Runs `sweep`'s jobs of `options.shard`. `stop_requested` (e.g. from StopSignalScope) stops
 /// taking jobs and asks running ones to stop; what finished stays recorded, interrupted jobs go
-/// back to pending. Throws StoreError when the database cannot be written.
+/// back to pending. A job counts as run (and is reported) only once its result is committed;
+/// when a commit fails the run stops taking jobs and returns with `write_error` and `not_saved`
+/// set (the lost jobs are not done in the database, so the next run reruns them). Throws
+/// StoreError when the database cannot be opened or the sweep cannot be registered.
 RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, const RunOptions& options,
                      const std::atomic<bool>& stop_requested);
 
