@@ -16,17 +16,20 @@ RunFunction setup_expand(CLI::App& parent) {
   struct Options {
     std::string spec;
     bool json = false;
+    ExpansionLimits limits;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand("expand", "List the jobs of a sweep spec with their keys and parameters");
   app->add_option("spec", options->spec, "Sweep spec (JSON)")->required();
   app->add_flag("--json", options->json, "Print {\"jobs\": [{\"key\", \"params\", \"config\"}]}");
+  app->add_option("--max-jobs", options->limits.max_jobs, "Refuse a sweep of more jobs than this")
+      ->capture_default_str()->check(CLI::PositiveNumber);
 
   return [options] {
     const JobKind kind = make_job_kind_from_environment();
     ExpandedSweep sweep;
     try {
-      sweep = expand_sweep(load_sweep_spec(options->spec, kind.schema), kind.schema);
+      sweep = expand_sweep(load_sweep_spec(options->spec, kind.schema), kind.schema, options->limits);
     } catch (const SpecError& e) {
       for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
       return 2;
@@ -37,7 +40,7 @@ RunFunction setup_expand(CLI::App& parent) {
       out["spec_hash"] = sweep.spec_hash;
       out["jobs"] = nlohmann::json::array();
       for (const ExpandedJob& job : sweep.jobs) {
-        out["jobs"].push_back({{"key", job.key}, {"params", job.params}, {"config", job.config}});
+        out["jobs"].push_back({{"key", job.key}, {"params", job.params}, {"config", job.config()}});
       }
       std::cout << out.dump(2) << "\n";
       return 0;

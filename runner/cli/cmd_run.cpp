@@ -24,6 +24,7 @@ RunFunction setup_run(CLI::App& parent) {
     double timeout = 0.0;
     bool force = false;
     std::string shard;
+    ExpansionLimits limits;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand("run", "Run a sweep's jobs into a results database (resumes by default)");
@@ -35,13 +36,15 @@ RunFunction setup_run(CLI::App& parent) {
       ->check(CLI::NonNegativeNumber);
   app->add_flag("--force", options->force, "Run every job again, even those already done");
   app->add_option("--shard", options->shard, "Run only shard I of N (I/N, 1-based), to split a sweep across machines");
+  app->add_option("--max-jobs", options->limits.max_jobs, "Refuse a sweep of more jobs than this")
+      ->capture_default_str()->check(CLI::PositiveNumber);
 
   return [options] {
     const JobKind kind = make_job_kind_from_environment();
     ExpandedSweep sweep;
     RunOptions run;
     try {
-      sweep = expand_sweep(load_sweep_spec(options->spec, kind.schema), kind.schema);
+      sweep = expand_sweep(load_sweep_spec(options->spec, kind.schema), kind.schema, options->limits);
       if (!options->shard.empty()) run.shard = parse_shard(options->shard);
     } catch (const SpecError& e) {
       for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";

@@ -69,7 +69,9 @@ nlohmann::json make_job_config_types() {
   return tree;
 }
 
-JobConfig parse_job_config(const nlohmann::json& c, int movable_joints) {
+JobConfig parse_job_config(const nlohmann::json& c, int movable_joints) { return parse_job_config(c, ModelFacts{movable_joints, {}, {}}); }
+
+JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts) {
   JobConfig config;
   for (const JobConfigKey& key : job_config_keys()) {
     const json* value = find_value(c, key.path);
@@ -82,12 +84,14 @@ JobConfig parse_job_config(const nlohmann::json& c, int movable_joints) {
   RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
   if (config.trajectory.kind == TrajectoryKind::recorded && !recorded.file.empty()) {
     try {
-      recorded.samples = io::load_csv(recorded.file).values;
+      io::CsvTable table = io::load_csv(recorded.file);
+      recorded.samples = std::move(table.values);
+      recorded.sample_lines = std::move(table.lines);
     } catch (const std::exception& error) {
       throw ConfigError("trajectory.recorded.file", error.what());
     }
   }
-  const std::vector<ConfigProblem> problems = validate(config, ModelFacts{movable_joints});
+  const std::vector<ConfigProblem> problems = validate(config, facts);
   if (!problems.empty()) {
     const std::string text = make_problems_text(problems);
     const std::string& path = problems.front().path;

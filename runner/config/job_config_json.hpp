@@ -5,6 +5,7 @@
 // key through the same table, then runs the engine's validate() (job_config_validation.hpp).
 // sweeps/README.md documents every key; a test keeps the two in step.
 #include "engine/experiment/job_config.hpp"
+#include "engine/experiment/job_config_validation.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -35,5 +36,9 @@ nlohmann::json make_job_config_types();
 /// JSON path of the first problem; its message lists every problem ("path: what; path: what").
 /// `null` at a key means its default (configurations stored before the defaults were written out).
 JobConfig parse_job_config(const nlohmann::json& config, int movable_joints);
+
+/// The same, checked against everything known of the model: a joint-space recorded trajectory
+/// must also stay within the joints' position limits (the first line outside them is named).
+JobConfig parse_job_config(const nlohmann::json& config, const ModelFacts& facts);
 
 }  // namespace armfarm

@@ -41,8 +41,6 @@ class ModelCache {
   std::map<std::string, std::shared_ptr<const ArmModel>> models_;
 };
 
-int count_movable_joints(const ArmModel& model) { return static_cast<int>(model.movable_joints().size()); }
-
 // Where the default model (and any other default path) resolves: $ARMFARM_DATA_DIR, else the
 // source tree armfarm was built from.
 std::string find_data_folder() {
@@ -61,7 +59,7 @@ JobConfigSchema make_experiment_config_schema() {
   schema.validate = [models](const nlohmann::json& recorded) {
     const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
     const auto model = models->get(config.at("model").get<std::string>());
-    parse_job_config(config, count_movable_joints(*model));
+    parse_job_config(config, make_model_facts(*model));
   };
   InputFileField model_field;
   model_field.path = "model";
@@ -88,7 +86,7 @@ JobExecutor make_experiment_executor() {
   return [models](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
     const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
     const auto model = models->get(config.at("model").get<std::string>());
-    const JobConfig job = parse_job_config(config, count_movable_joints(*model));
+    const JobConfig job = parse_job_config(config, make_model_facts(*model));
     JobOutcome outcome;
     try {
       outcome = run_experiment(*model, job, control.should_stop);

@@ -59,7 +59,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   registration.provenance = options.provenance;
   registration.metric_info = make_metric_info_records();
   std::vector<JobRegistration> jobs;
-  for (const ExpandedJob* job : shard_jobs) jobs.push_back({job->key, job->params, job->config, job->seed});
+  for (const ExpandedJob* job : shard_jobs) jobs.push_back({job->key, job->params, job->config(), job->seed});
   const RegisteredRun registered = store.insert_sweep_run(registration, jobs);
 
   std::vector<const ExpandedJob*> to_run;
@@ -102,7 +102,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
       };
       JobOutcome outcome;
       try {
-        outcome = executor(job.config, control);
+        outcome = executor(job.config(), control);
       } catch (const std::exception& e) {
         outcome = JobOutcome{};
         outcome.status = JobStatus::failed;
