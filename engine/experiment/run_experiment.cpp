@@ -63,7 +63,7 @@ JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const 
   LearnerClock learner_clock;
 
   // Setup (the configuration checked once), trajectories, learner.
-  const std::vector<ConfigProblem> problems = validate(config, ModelFacts{static_cast<int>(model.movable_joints().size())});
+  const std::vector<ConfigProblem> problems = validate(config, make_model_facts(model));
   if (!problems.empty()) throw std::invalid_argument(make_problems_text(problems));
   JobSetup setup(model, config);
   MetricWriter metrics(outcome.metrics, setup.joint_numbers());
