@@ -167,6 +167,16 @@ class ResultsStore {
   int schema_version() const;
   /// The result of PRAGMA integrity_check: "ok" for a sound file, otherwise SQLite's findings.
   std::string check_integrity() const;
+  /// Row by row, what armfarm itself would never have written: dangling references
+  /// (foreign_key_check), stored JSON that does not parse or is not an object, values of the
+  /// wrong storage class, series whose blob does not decode to rows × columns, and (with
+  /// `integrity`) SQLite's integrity_check findings. One line per problem ("table.column of
+  /// row …: …"), at most `limit` lines; empty for a sound file. Opening already checked the
+  /// tables and columns exist.
+  std::vector<std::string> check_contents(bool integrity, std::size_t limit = 20) const;
+  /// Opens `path` read-only and checks its structure and contents (integrity included); throws
+  /// StoreError "<path>: damaged armfarm database: <first problem>" for a file that fails.
+  static void verify_file(const std::string& path);
 
   // ---- reads ----
   std::vector<SweepRecord> find_sweeps() const;
@@ -201,6 +211,7 @@ class ResultsStore {
   void update_run_finished(std::int64_t run_id, const std::string& status, int jobs_run, int jobs_skipped,
                            const std::string& finished_at);
   /// Copies the sweeps, jobs, memberships, metrics and series of another database into this one.
+  /// The other file is verified first (verify_file): a damaged input changes nothing here.
   MergeReport merge_from(const std::string& other_path);
   /// Recreates the `sweep_<name>` view of one sweep (columns: its params and metrics).
   void update_sweep_view(const std::string& sweep);

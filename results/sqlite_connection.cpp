@@ -144,11 +144,43 @@ void SqliteStatement::reset() {
 
 bool SqliteStatement::is_null(int column) const { return sqlite3_column_type(statement_, column) == SQLITE_NULL; }
 
-std::int64_t SqliteStatement::column_int(int column) const { return sqlite3_column_int64(statement_, column); }
+namespace {
 
-double SqliteStatement::column_double(int column) const { return sqlite3_column_double(statement_, column); }
+const char* storage_class_name(int type) {
+  switch (type) {
+    case SQLITE_INTEGER: return "an integer";
+    case SQLITE_FLOAT: return "a real";
+    case SQLITE_TEXT: return "text";
+    case SQLITE_BLOB: return "a blob";
+    default: return "NULL";
+  }
+}
+
+}  // namespace
+
+// A value of the wrong storage class is damage (armfarm never writes one): refused, not coerced
+// (SQLite would read 'abc' as 0).
+void SqliteStatement::require_type(int column, bool allowed, const char* wanted) const {
+  if (allowed) return;
+  const char* name = sqlite3_column_name(statement_, column);
+  throw StoreError(connection_->path() + ": damaged armfarm database: column " + (name ? name : "?") + " holds " +
+                   storage_class_name(sqlite3_column_type(statement_, column)) + " where " + wanted + " belongs");
+}
+
+std::int64_t SqliteStatement::column_int(int column) const {
+  require_type(column, sqlite3_column_type(statement_, column) == SQLITE_INTEGER, "an integer");
+  return sqlite3_column_int64(statement_, column);
+}
+
+double SqliteStatement::column_double(int column) const {
+  const int type = sqlite3_column_type(statement_, column);
+  require_type(column, type == SQLITE_FLOAT || type == SQLITE_INTEGER, "a number");
+  return sqlite3_column_double(statement_, column);
+}
 
 std::string SqliteStatement::column_text(int column) const {
+  const int type = sqlite3_column_type(statement_, column);
+  require_type(column, type == SQLITE_TEXT || type == SQLITE_NULL, "text");
   const auto* text = reinterpret_cast<const char*>(sqlite3_column_text(statement_, column));
   if (text == nullptr) return {};
   return std::string(text, static_cast<std::size_t>(sqlite3_column_bytes(statement_, column)));
@@ -165,6 +197,8 @@ std::optional<double> SqliteStatement::column_optional_double(int column) const 
 }
 
 std::vector<unsigned char> SqliteStatement::column_blob(int column) const {
+  const int type = sqlite3_column_type(statement_, column);
+  require_type(column, type == SQLITE_BLOB || type == SQLITE_NULL, "a blob");
   const auto* data = static_cast<const unsigned char*>(sqlite3_column_blob(statement_, column));
   const int size = sqlite3_column_bytes(statement_, column);
   if (data == nullptr || size <= 0) return {};

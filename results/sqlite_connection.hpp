@@ -46,6 +46,7 @@ class SqliteStatement {
   void reset();
 
   bool is_null(int column) const;
+  /// Typed reads: a value of another storage class throws StoreError naming the file and column.
   std::int64_t column_int(int column) const;
   double column_double(int column) const;
   std::string column_text(int column) const;
@@ -54,6 +55,8 @@ class SqliteStatement {
   std::vector<unsigned char> column_blob(int column) const;
 
  private:
+  void require_type(int column, bool allowed, const char* wanted) const;
+
   SqliteConnection* connection_;
   sqlite3_stmt* statement_ = nullptr;
 };

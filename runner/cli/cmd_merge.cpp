@@ -31,6 +31,9 @@ RunFunction setup_merge(CLI::App& parent) {
         return 2;
       }
     }
+    // Every input is verified before the output is opened (or created): a damaged input leaves
+    // the output as it was.
+    for (const std::string& input : options->inputs) ResultsStore::verify_file(input);
     ResultsStore store = ResultsStore::open(options->out, ResultsStore::Mode::read_write);
     int conflicts = 0;
     for (const std::string& input : options->inputs) {

@@ -1,4 +1,6 @@
-// `armfarm status DB`: job counts by status for each sweep, then the failures with their messages.
+// `armfarm status DB [--check]`: job counts by status for each sweep, then the failures with
+// their messages. --check first verifies the file row by row (integrity_check, dangling
+// references, stored JSON, storage classes, series blobs) and exits 2 if it is damaged.
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -9,11 +11,19 @@ namespace armfarm::cli {
 
 RunFunction setup_status(CLI::App& parent) {
   auto db_path = std::make_shared<std::string>();
+  auto check = std::make_shared<bool>(false);
   CLI::App* app = parent.add_subcommand("status", "Count a database's jobs by status and list the failures");
   app->add_option("db", *db_path, "Results database")->required();
+  app->add_flag("--check", *check, "Verify the file row by row first (integrity, references, types, series)");
 
-  return [db_path] {
+  return [db_path, check] {
     const ResultsStore store = ResultsStore::open(*db_path, ResultsStore::Mode::read_only);
+    if (*check) {
+      const std::vector<std::string> findings = store.check_contents(true, 50);
+      for (const std::string& finding : findings) std::cerr << "armfarm: " << *db_path << ": " << finding << "\n";
+      if (!findings.empty()) return 2;
+      std::cout << *db_path << ": check passed (integrity, references, stored JSON, value types, series)\n";
+    }
     const std::vector<SweepRecord> sweeps = store.find_sweeps();
     if (sweeps.empty()) std::cout << *db_path << ": no sweeps\n";
     bool any_failure = false;

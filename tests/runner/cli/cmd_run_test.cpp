@@ -5,6 +5,7 @@
 #include "results/results_store.hpp"
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -210,6 +211,32 @@ TEST_F(CmdRunTest, CommandsOnFilesThatAreNotResultsDatabasesExitTwo) {
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_NE(result.output.find("not a readable SQLite database"), std::string::npos) << result.output;
   EXPECT_EQ(run_command("table " + path("missing.db")).exit_code, 2);
+}
+
+// `status --check` and `merge` on a damaged file: exit 2, one line per problem naming the file,
+// and a merge leaves its output exactly as it was (here: not even created).
+TEST_F(CmdRunTest, StatusCheckAndMergeRefuseADamagedDatabaseNamingIt) {
+  std::ofstream(path("small.json")) << R"({"name": "small", "base": {"fake": {"sleep_ms": 0}},
+      "sweep": {"grid": {"learning.lwpr.init_D": [10, 20]}}})";
+  const std::string db = path("small.db");
+  ASSERT_EQ(run_command("run " + path("small.json") + " --db " + db).exit_code, 0);
+  const CommandResult sound = run_command("status --check " + db);
+  EXPECT_EQ(sound.exit_code, 0) << sound.output;
+  EXPECT_NE(sound.output.find("check passed"), std::string::npos) << sound.output;
+
+  sqlite3* handle = nullptr;
+  ASSERT_EQ(sqlite3_open(db.c_str(), &handle), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(handle, "DELETE FROM sweeps", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(handle);
+  const CommandResult check = run_command("status --check " + db);
+  EXPECT_EQ(check.exit_code, 2);
+  EXPECT_EQ(check.output.rfind("armfarm: " + db + ": runs row 1: refers to a missing row of sweeps", 0), 0u)
+      << check.output;
+  const std::string out = path("merged.db");
+  const CommandResult merge = run_command("merge " + out + " " + db);
+  EXPECT_EQ(merge.exit_code, 2);
+  EXPECT_EQ(merge.output.rfind("armfarm: " + db + ": damaged armfarm database: ", 0), 0u) << merge.output;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 }  // namespace

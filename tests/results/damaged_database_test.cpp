@@ -1,0 +1,172 @@
+// Damaged databases are refused with the file named, before anything is written: a table or
+// column removed (refused at open), rows armfarm never writes (dangling references, broken
+// JSON, a text where a number belongs, a series blob that does not decode) found by
+// check_contents and refused by merge, and typed reads that never coerce 'abc' to 0.
+#include "results/results_store.hpp"
+
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <filesystem>
+
+namespace armfarm {
+namespace {
+
+namespace fs = std::filesystem;
+
+class DamagedDatabaseTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() / ("armfarm_damaged_" + std::to_string(::getpid()) + "_" +
+                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+    write_sound_database(path("sound.db"));
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  std::string path(const std::string& name) const { return (folder_ / name).string(); }
+
+  // Two jobs of one sweep, one done with metrics and a series.
+  static void write_sound_database(const std::string& file) {
+    ResultsStore store = ResultsStore::open(file, ResultsStore::Mode::read_write);
+    SweepRegistration sweep;
+    sweep.name = "s";
+    sweep.spec_text = "{}";
+    sweep.spec_hash = "h";
+    sweep.started_at = make_utc_timestamp();
+    std::vector<JobRegistration> jobs = {{"0123456789abcdef0123456789abcdef", {{"a", 1}}, {{"a", 1}}, 1},
+                                         {"fedcba9876543210fedcba9876543210", {{"a", 2}}, {{"a", 2}}, 2}};
+    const RegisteredRun run = store.insert_sweep_run(sweep, jobs);
+    JobResultRecord result;
+    result.key = jobs[0].key;
+    result.status = "done";
+    result.end_time = 1.0;
+    result.wall_seconds = 0.5;
+    result.started_at = result.finished_at = make_utc_timestamp();
+    result.metrics = {{0, "tracking_nmse", 1, 0.25, ""}};
+    Eigen::MatrixXd rows(2, 2);
+    rows << 0.0, 1.0, 0.1, 2.0;
+    result.series = {{0, "POS", {"t", "q1"}, rows}};
+    store.insert_job_batch({{jobs[0].key}, {result}, {}}, "s");
+    store.update_run_finished(run.run_id, "complete", 1, 0, make_utc_timestamp());
+  }
+
+  // Copies the sound file and changes it with plain sqlite3, as a careless script would
+  // (foreign keys off, as the sqlite3 shell has them).
+  std::string damage(const std::string& sql) {
+    const std::string file = path("damaged.db");
+    fs::remove(file);
+    fs::copy_file(path("sound.db"), file);
+    sqlite3* db = nullptr;
+    EXPECT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
+    char* error = nullptr;
+    EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error), SQLITE_OK) << (error ? error : "");
+    sqlite3_free(error);
+    sqlite3_close(db);
+    return file;
+  }
+
+  // The message of the StoreError `action` throws ("" when it does not throw).
+  template <typename Action>
+  static std::string error_of(Action action) {
+    try {
+      action();
+    } catch (const StoreError& e) {
+      return e.what();
+    }
+    return "";
+  }
+
+  // Merging `damaged` into a fresh output fails naming `damaged` and leaves the output empty.
+  void expect_merge_refused(const std::string& damaged, const std::string& expected_problem) {
+    const std::string out = path("out.db");
+    fs::remove(out);
+    ResultsStore store = ResultsStore::open(out, ResultsStore::Mode::read_write);
+    const std::string message = error_of([&] { store.merge_from(damaged); });
+    EXPECT_EQ(message.rfind(damaged + ": damaged armfarm database: ", 0), 0u) << message;
+    EXPECT_NE(message.find(expected_problem), std::string::npos) << message;
+    EXPECT_TRUE(store.find_sweeps().empty());
+    EXPECT_TRUE(store.find_job_keys("").empty());
+  }
+
+  fs::path folder_;
+};
+
+TEST_F(DamagedDatabaseTest, ASoundFileHasNoFindingsAndVerifies) {
+  const ResultsStore store = ResultsStore::open(path("sound.db"), ResultsStore::Mode::read_only);
+  EXPECT_TRUE(store.check_contents(true).empty());
+  EXPECT_EQ(error_of([&] { ResultsStore::verify_file(path("sound.db")); }), "");
+}
+
+TEST_F(DamagedDatabaseTest, AMissingTableOrColumnIsRefusedAtOpen) {
+  const std::string no_metrics = damage("DROP TABLE metrics");
+  EXPECT_EQ(error_of([&] { ResultsStore::open(no_metrics, ResultsStore::Mode::read_only); }),
+            no_metrics + ": damaged armfarm database (schema version " + std::to_string(kResultsSchemaVersion) +
+                "): table metrics is missing");
+  EXPECT_NE(error_of([&] { ResultsStore::open(no_metrics, ResultsStore::Mode::read_write); }).find("table metrics is missing"),
+            std::string::npos);
+  const std::string no_seed = damage("DROP VIEW sweep_job_status; DROP VIEW job_metrics; DROP VIEW sweep_s; ALTER TABLE jobs DROP COLUMN message");
+  EXPECT_NE(error_of([&] { ResultsStore::open(no_seed, ResultsStore::Mode::read_only); }).find("column jobs.message is missing"),
+            std::string::npos);
+  const std::string no_view = damage("DROP VIEW job_metrics");
+  EXPECT_NE(error_of([&] { ResultsStore::open(no_view, ResultsStore::Mode::read_only); }).find("view job_metrics is missing"),
+            std::string::npos);
+}
+
+TEST_F(DamagedDatabaseTest, DeletedSweepsLeaveDanglingRowsThatMergeRefuses) {
+  const std::string damaged = damage("DELETE FROM sweeps");
+  const ResultsStore store = ResultsStore::open(damaged, ResultsStore::Mode::read_only);
+  const std::vector<std::string> findings = store.check_contents(false);
+  ASSERT_FALSE(findings.empty());
+  EXPECT_NE(findings.front().find("refers to a missing row of sweeps"), std::string::npos) << findings.front();
+  expect_merge_refused(damaged, "refers to a missing row of sweeps");
+}
+
+TEST_F(DamagedDatabaseTest, BrokenStoredJsonIsFoundAndMergeRefusesIt) {
+  const std::string damaged = damage("UPDATE jobs SET config = '{'");
+  const ResultsStore store = ResultsStore::open(damaged, ResultsStore::Mode::read_only);
+  const std::vector<std::string> findings = store.check_contents(false);
+  ASSERT_EQ(findings.size(), 2u);  // both jobs
+  EXPECT_NE(findings[0].find("config is not a JSON object"), std::string::npos) << findings[0];
+  expect_merge_refused(damaged, "config is not a JSON object");
+}
+
+TEST_F(DamagedDatabaseTest, ATextWhereANumberBelongsIsNeverReadAsZero) {
+  // The CHECK constraint refuses the write; a script that switches checks off gets it in.
+  EXPECT_NE(error_of([&] {
+              sqlite3* db = nullptr;
+              sqlite3_open(path("sound.db").c_str(), &db);
+              const int rc = sqlite3_exec(db, "UPDATE metrics SET value = 'abc'", nullptr, nullptr, nullptr);
+              sqlite3_close(db);
+              if (rc != SQLITE_OK) throw StoreError("refused");
+            }),
+            "");
+  const std::string damaged = damage("PRAGMA ignore_check_constraints = ON; UPDATE metrics SET value = 'abc'");
+  const ResultsStore store = ResultsStore::open(damaged, ResultsStore::Mode::read_only);
+  const JobRecord job = *store.find_job("0123456789abcdef0123456789abcdef");
+  EXPECT_EQ(error_of([&] { store.find_metrics(job.id); }),
+            damaged + ": damaged armfarm database: column value holds text where a number belongs");
+  EXPECT_NE(store.check_contents(false).at(0).find("value is text, not a real or NULL"), std::string::npos);
+  expect_merge_refused(damaged, "value is text");
+
+  const std::string end_time = damage("UPDATE jobs SET end_time = 'abc'");
+  EXPECT_NE(error_of([&] { ResultsStore::open(end_time, ResultsStore::Mode::read_only).find_jobs("s"); })
+                .find("end_time holds text"),
+            std::string::npos);
+}
+
+TEST_F(DamagedDatabaseTest, ASeriesBlobThatDoesNotDecodeIsFound) {
+  const std::string damaged = damage("UPDATE series SET data = x'0011223344'");
+  const std::vector<std::string> findings =
+      ResultsStore::open(damaged, ResultsStore::Mode::read_only).check_contents(false);
+  ASSERT_EQ(findings.size(), 1u);
+  EXPECT_NE(findings[0].find("series of job row 1 (POS)"), std::string::npos) << findings[0];
+  const std::string wrong_size = damage("UPDATE series SET raw_bytes = 8");
+  EXPECT_NE(ResultsStore::open(wrong_size, ResultsStore::Mode::read_only).check_contents(false).at(0).find(
+                "rows or raw_bytes disagree"),
+            std::string::npos);
+  expect_merge_refused(damaged, "series of job row 1 (POS)");
+}
+
+}  // namespace
+}  // namespace armfarm
