@@ -1,6 +1,7 @@
 # Two commands on a fresh machine: `make run` and `make test`.
 # make run   : install missing Debian packages, build, run the default sweep, print its table
 # make test  : build and run the GoogleTest suites (SANITIZE=1 for ASan+UBSan)
+# make test-slurm : run a sweep on a private one-node Slurm cluster (root; see tests/slurm)
 # make bench : build and run the Google Benchmark programs (long; not part of test)
 
 JOBS      ?= $(shell nproc)
@@ -24,7 +25,7 @@ SANITIZE_SUBSET = ^(InputFileTest|ConfinedPath|DcgMeshPath|NumberText|StrictObj|
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS ?= spec urdf dcg obj csv model_file
 
-.PHONY: all deps configure build run test test-sanitize-subset bench fuzz clean
+.PHONY: all deps configure build run test test-sanitize-subset test-slurm bench fuzz clean
 
 all: build
 
@@ -45,6 +46,10 @@ run: build
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# A private one-node Slurm on this machine (root; installs slurm-wlm and munge if missing).
+test-slurm: build
+	bash tests/slurm/run_slurm_test.sh $(ARMFARM)
 
 bench: deps
 	cmake -S . -B build-bench -DCMAKE_BUILD_TYPE=Release -DARMFARM_BUILD_BENCH=ON

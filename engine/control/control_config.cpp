@@ -20,6 +20,16 @@ const EnumNames& feed_forward_source_names() {
   return names;
 }
 
+const EnumNames& gain_set_names() {
+  static const EnumNames names = {
+      {"mass_bandwidth", static_cast<int>(GainSet::mass_bandwidth),
+       "kp = M_jj·bandwidth², kd = 2·damping_ratio·M_jj·bandwidth at the start posture"},
+      {"appendix_d", static_cast<int>(GainSet::appendix_d),
+       "the thesis's paramfile PID lines (appendix D) for joints 1-6, joint 7 as joint 6; needs simulation.pd_substeps >= 10"},
+  };
+  return names;
+}
+
 const std::vector<ConfigKey<ControlConfig>>& control_config_keys() {
   using C = ControlConfig;
   static const std::vector<ConfigKey<C>> keys = {
@@ -28,10 +38,13 @@ const std::vector<ConfigKey<ControlConfig>>& control_config_keys() {
       {"feed_forward", "", {}, ListSize::any,
        "learner (LWPR at the desired q, q̇, q̈), analytic (the nominal model's full inverse dynamics: rigid body plus its viscous damping and Coulomb friction, as the plant integrates them) or none",
        [](C& c) { return make_choice_field(c.feed_forward, feed_forward_source_names()); }},
+      {"gain_set", "", {}, ListSize::any,
+       "the gains where kp / kd are empty: mass_bandwidth (kp = M_jj·bandwidth², kd = 2·damping_ratio·M_jj·bandwidth) or appendix_d (the thesis's PID lines; with simulation.pd_substeps >= 10)",
+       [](C& c) { return make_choice_field(c.gain_set, gain_set_names()); }},
       {"kp", "N·m/rad", closed(0.0, 1e6), ListSize::per_joint,
-       "proportional gains; [] = M_jj·bandwidth², M_jj the mass-matrix diagonal (armature included) at the start posture",
+       "proportional gains; [] = by gain_set (mass_bandwidth: M_jj·bandwidth², M_jj the mass-matrix diagonal, armature included, at the start posture)",
        [](C& c) { return make_field(c.kp); }},
-      {"kd", "N·m·s/rad", closed(0.0, 1e5), ListSize::per_joint, "derivative gains; [] = 2·damping_ratio·M_jj·bandwidth",
+      {"kd", "N·m·s/rad", closed(0.0, 1e5), ListSize::per_joint, "derivative gains; [] = by gain_set (mass_bandwidth: 2·damping_ratio·M_jj·bandwidth)",
        [](C& c) { return make_field(c.kd); }},
       {"bandwidth", "rad/s", left_open(0.0, 1000.0), ListSize::any, "closed-loop bandwidth of the default gains",
        [](C& c) { return make_field(c.bandwidth); }},

@@ -26,11 +26,22 @@ enum class FeedForwardSource {
 };
 const EnumNames& feed_forward_source_names();
 
+/// Which rule places the full-scale PD gains where control.kp / control.kd are empty.
+enum class GainSet {
+  mass_bandwidth,  ///< kp = M_jj·bandwidth², kd = 2·damping_ratio·M_jj·bandwidth (armfarm's default)
+  appendix_d,      ///< the thesis's paramfile PID lines (appendix D), by joint number
+};
+const EnumNames& gain_set_names();
+
 struct ControlConfig {
   ControlMode mode = ControlMode::composite;
   FeedForwardSource feed_forward = FeedForwardSource::learner;
-  /// PD gains, N·m/rad and N·m·s/rad. Empty: kp = M_jj·bandwidth², kd = 2·damping_ratio·M_jj·bandwidth
-  /// with M_jj the diagonal of the mass matrix (armature included) at the start posture.
+  /// Where kp / kd are empty: mass_bandwidth (below) or appendix D's PID lines. Appendix D's
+  /// gains need a PD period finer than 10 ms on this arm (simulation.pd_substeps, see pd_gains.hpp).
+  GainSet gain_set = GainSet::mass_bandwidth;
+  /// PD gains, N·m/rad and N·m·s/rad. Empty: by gain_set; for mass_bandwidth kp = M_jj·bandwidth²,
+  /// kd = 2·damping_ratio·M_jj·bandwidth with M_jj the diagonal of the mass matrix (armature
+  /// included) at the start posture.
   Eigen::VectorXd kp;
   Eigen::VectorXd kd;
   double bandwidth = 20.0;     ///< rad/s, for the default gains (stable under a 10 ms hold)

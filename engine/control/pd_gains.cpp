@@ -1,5 +1,6 @@
 #include "engine/control/pd_gains.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -20,15 +21,36 @@ double calc_kd_scale(double gain_scale, bool keep_damping_ratio) {
   return keep_damping_ratio ? std::sqrt(gain_scale) : gain_scale;
 }
 
-PdGains make_pd_gains(const ControlConfig& control, ArmDynamics& dynamics) {
+PdGains make_appendix_d_gains(const std::vector<int>& joint_numbers) {
+  // The paramfile's lines "PID joint P I D" (thesis appendix D), joints 0-5.
+  constexpr double kP[] = {60.0, 70.0, 50.0, 60.0, 60.0, 10.0};
+  constexpr double kD[] = {40.0, 80.0, 30.0, 50.0, 75.0, 10.0};
+  constexpr int kLines = 6;
+  PdGains gains{Eigen::VectorXd(joint_numbers.size()), Eigen::VectorXd(joint_numbers.size())};
+  for (std::size_t i = 0; i < joint_numbers.size(); ++i) {
+    if (joint_numbers[i] < 1) throw std::invalid_argument("joint number " + std::to_string(joint_numbers[i]) + " is not 1-based");
+    const int line = std::min(joint_numbers[i], kLines) - 1;
+    gains.kp[static_cast<Eigen::Index>(i)] = kP[line];
+    gains.kd[static_cast<Eigen::Index>(i)] = kD[line];
+  }
+  return gains;
+}
+
+PdGains make_pd_gains(const ControlConfig& control, ArmDynamics& dynamics, const std::vector<int>& joint_numbers) {
   const int n = dynamics.dof();
-  const Eigen::VectorXd inertia = dynamics.calc_mass_matrix(dynamics.start_positions()).diagonal();
+  PdGains placed;
+  if (control.gain_set == GainSet::appendix_d) {
+    placed = make_appendix_d_gains(joint_numbers);
+  } else {
+    const Eigen::VectorXd inertia = dynamics.calc_mass_matrix(dynamics.start_positions()).diagonal();
+    const double omega = control.bandwidth;
+    placed = {inertia * omega * omega, inertia * 2.0 * control.damping_ratio * omega};
+  }
+  if (placed.kp.size() != n) throw std::invalid_argument("control.gain_set: " + std::to_string(placed.kp.size()) +
+                                                         " joint numbers for " + std::to_string(n) + " active joints");
   PdGains gains;
-  const double omega = control.bandwidth;
-  gains.kp = control.kp.size() == 0 ? Eigen::VectorXd(inertia * omega * omega)
-                                    : expand_per_joint(control.kp, n, 0.0, "control.kp");
-  gains.kd = control.kd.size() == 0 ? Eigen::VectorXd(inertia * 2.0 * control.damping_ratio * omega)
-                                    : expand_per_joint(control.kd, n, 0.0, "control.kd");
+  gains.kp = control.kp.size() == 0 ? placed.kp : expand_per_joint(control.kp, n, 0.0, "control.kp");
+  gains.kd = control.kd.size() == 0 ? placed.kd : expand_per_joint(control.kd, n, 0.0, "control.kd");
   for (int j = 0; j < n; ++j) {
     if (!(gains.kp[j] >= 0.0)) throw std::invalid_argument("control.kp[" + std::to_string(j) + "]: must not be negative");
     if (!(gains.kd[j] >= 0.0)) throw std::invalid_argument("control.kd[" + std::to_string(j) + "]: must not be negative");

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 namespace armfarm {
 
 struct PdGains {
@@ -13,11 +15,20 @@ struct PdGains {
   Eigen::VectorXd kd;  ///< n_active × 1
 };
 
+/// Appendix D's paramfile PID lines (the thesis's joints 0-5; I = 0 in every line): kp in
+/// N·m/rad, kd in N·m·s/rad, for joint numbers 1-6. Joint 7 (the LWR III's last wrist roll; the
+/// thesis's arm had six joints) takes joint 6's line.
+/// Stability: the torque is held over a PD period h, and a joint of inertia I is stable under
+/// held damping only while kd·h/I < 2. On the LWR III's wrist (I ≈ 0.11 kg·m² with armature)
+/// kd·h/I ≈ 6.8 at h = 10 ms: the gains diverge within 0.05 s (measured); at h = 1 ms
+/// (simulation.pd_substeps 10) they run (measured stable on appendix D's sine, full scale and 0.2).
+PdGains make_appendix_d_gains(const std::vector<int>& joint_numbers);
+
 /// Full-scale gains (gain_scale not applied): the configured ones (a 1-element vector is
-/// broadcast) or, where empty, kp = M_jj·ω², kd = 2ζ·M_jj·ω from the mass matrix diagonal at the
-/// start posture. Throws std::invalid_argument ("control.kp: ...") for a wrong size or a
-/// negative gain.
-PdGains make_pd_gains(const ControlConfig& control, ArmDynamics& dynamics);
+/// broadcast) or, where empty, those of control.gain_set: kp = M_jj·ω², kd = 2ζ·M_jj·ω from the
+/// mass matrix diagonal at the start posture, or appendix D's for the active `joint_numbers`
+/// (1-based). Throws std::invalid_argument ("control.kp: ...") for a wrong size or a negative gain.
+PdGains make_pd_gains(const ControlConfig& control, ArmDynamics& dynamics, const std::vector<int>& joint_numbers);
 
 /// The factor kd is scaled by for a gain scale: √gain_scale when keep_damping_ratio (the
 /// damping ratio of kp, kd is kept), else gain_scale (as kp; ζ falls by √gain_scale).

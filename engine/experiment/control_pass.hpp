@@ -30,6 +30,19 @@ struct Sample {
   Eigen::VectorXd y;
 };
 
+/// Wall time of the stages of a pass's control ticks (tick_us_* metrics, job_report.hpp): where a
+/// tick goes. Seconds summed over `ticks`; a stage a pass does not run stays 0.
+struct TickClock {
+  double physics = 0.0;        ///< stepping the plant over the tick (integrator)
+  double feed_forward = 0.0;   ///< the feed-forward term (learner prediction or nominal inverse dynamics)
+  double control = 0.0;        ///< the controller's command and the divergence check
+  double true_dynamics = 0.0;  ///< the true plant's inverse dynamics at the desired state (id_nmse)
+  double statistics = 0.0;     ///< tracking statistics (end-effector position) and series recording
+  double learning = 0.0;       ///< the learner's update (and sample collection)
+  long ticks = 0;
+  double total() const { return physics + feed_forward + control + true_dynamics + statistics + learning; }
+};
+
 /// How a pass ended: done, or the job ends (diverged, timeout) at end_time for `message`.
 struct PassResult {
   JobStatus status = JobStatus::done;
@@ -45,6 +58,7 @@ struct PassOptions {
   Learner* learner = nullptr;        ///< learns every tick when set; null: nothing learns
   const Learner* observed = nullptr; ///< whose size the statistics and RF series report (may be null)
   LearnerClock* clock = nullptr;
+  TickClock* tick_clock = nullptr;  ///< accumulates the stages' wall time when set
   std::vector<Sample>* samples = nullptr;  ///< appends every tick's sample when set
   PassStatistics* statistics = nullptr;
   SeriesRecorder* recorder = nullptr;      ///< records every `record_every` ticks when set

@@ -20,6 +20,7 @@
 
 #include <functional>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace armfarm {
@@ -33,6 +34,11 @@ struct JobTrajectories {
 /// its held-out variant (see above). Throws as build_trajectory does; recorded motion too
 /// short to split throws std::invalid_argument naming learning.heldout_recorded_fraction.
 JobTrajectories build_job_trajectories(const JobConfig& config, ArmDynamics& dynamics);
+
+/// Whether the configuration key at `path` (a job_config_keys() path, e.g. "trajectory.sine.duration")
+/// is read by build_job_trajectories: with the model's content, these keys determine a job's
+/// trajectories, so jobs equal on them can share one build (the runner's trajectory cache).
+bool is_trajectory_input(const std::string& path);
 
 class HeldoutEvaluation {
  public:

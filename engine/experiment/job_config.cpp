@@ -28,6 +28,7 @@ const std::vector<ConfigKey<JobConfig>>& top_level_keys() {
 std::vector<JobConfigKey> make_job_config_keys() {
   std::vector<JobConfigKey> keys;
   append_keys(keys, "", top_level_keys(), [](JobConfig& c) -> JobConfig& { return c; });
+  append_keys(keys, "end_effector.", end_effector_config_keys(), [](JobConfig& c) -> EndEffectorConfig& { return c.end_effector; });
   append_keys(keys, "", simulation_config_keys(), [](JobConfig& c) -> SimulationConfig& { return c.simulation; });
   append_keys(keys, "control.", control_config_keys(), [](JobConfig& c) -> ControlConfig& { return c.control; });
   append_keys(keys, "trajectory.", trajectory_config_keys(), [](JobConfig& c) -> TrajectoryConfig& { return c.trajectory; });
@@ -40,6 +41,7 @@ std::vector<JobConfigKey> make_job_config_keys() {
               [](JobConfig& c) -> RecordedTrajectoryConfig& { return c.trajectory.recorded; });
   append_keys(keys, "learning.", learning_config_keys(), [](JobConfig& c) -> LearningConfig& { return c.learning; });
   append_keys(keys, "learning.lwpr.", lwpr_params_keys(), [](JobConfig& c) -> lwpr::LwprParams& { return c.learning.lwpr; });
+  append_keys(keys, "learning.ssgpr.", ssgpr_learning_config_keys(), [](JobConfig& c) -> SsgprLearningConfig& { return c.learning.ssgpr; });
   append_keys(keys, "mismatch.", mismatch_config_keys(), [](JobConfig& c) -> MismatchConfig& { return c.mismatch; });
   append_keys(keys, "recording.", recording_config_keys(), [](JobConfig& c) -> RecordingConfig& { return c.recording; });
   append_keys(keys, "divergence.", divergence_config_keys(), [](JobConfig& c) -> DivergenceConfig& { return c.divergence; });

@@ -5,8 +5,10 @@
 //   simulation  engine/physics/simulation_config.hpp    (keys at the top level: dt, integrator, …)
 //   control     engine/control/control_config.hpp
 //   trajectory  engine/trajectory/trajectory_config.hpp
-//   learning    engine/learning/learning_config.hpp     (learning.lwpr: LWPR's parameter block)
+//   learning    engine/learning/learning_config.hpp     (learning.lwpr: LWPR's parameter block;
+//                                                        learning.ssgpr: ssgpr_learning_config.hpp)
 //   mismatch, recording, divergence  engine/experiment/*_config.hpp
+//   end_effector  engine/model/end_effector.hpp (the runner applies it when it loads the model)
 // job_config_keys() concatenates their tables under their dotted prefixes; the runner's JSON
 // reader and writer, validate() (job_config_validation.hpp) and the documentation check use it.
 // The engine never reads JSON.
@@ -20,6 +22,7 @@
 #include "engine/experiment/mismatch_config.hpp"
 #include "engine/experiment/recording_config.hpp"
 #include "engine/learning/learning_config.hpp"
+#include "engine/model/end_effector.hpp"
 #include "engine/physics/simulation_config.hpp"
 #include "engine/trajectory/trajectory_config.hpp"
 
@@ -33,6 +36,7 @@ namespace armfarm {
 struct JobConfig {
   std::vector<int> active_joints;  ///< 1-based movable joint numbers (the thesis's "Joint 2"); empty = all
   std::uint64_t seed = 0;          ///< draws the reaching targets and the batch split and shuffles
+  EndEffectorConfig end_effector;  ///< which link (and point on it) tracks task-space targets; applied to the model by its loader
   SimulationConfig simulation;
   ControlConfig control;
   TrajectoryConfig trajectory;

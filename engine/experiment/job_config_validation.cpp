@@ -183,7 +183,31 @@ void check_lwpr(const JobConfig& config, int n, const std::vector<ConfigProblem>
   }
 }
 
+void check_ssgpr(const JobConfig& config, int n, const std::vector<ConfigProblem>& problems, Checker& checker) {
+  const SsgprLearningConfig& ssgpr = config.learning.ssgpr;
+  if (ssgpr.fit_samples == 1) checker.add("learning.ssgpr.fit_samples", "is 1; give 0 (no fit) or at least 2 samples");
+  if (has_problem_under(problems, "learning.ssgpr.")) return;  // one report per cause
+  try {
+    ssgpr::validate_ssgpr_params(ssgpr.params, 3 * n, n);
+  } catch (const std::invalid_argument& error) {
+    // "SSGPR parameter lengthscales[2] must be ..." → learning.ssgpr.lengthscales[2]: must be ...
+    std::string message = error.what();
+    const std::string prefix = "SSGPR parameter ";
+    if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
+    const auto space = message.find(' ');
+    const std::string name = message.substr(0, space);
+    const std::string base = name.substr(0, name.find('['));
+    const auto& keys = ssgpr_learning_config_keys();
+    const bool known = std::any_of(keys.begin(), keys.end(), [&](const auto& key) { return base == key.name; });
+    checker.add(known && space != std::string::npos ? "learning.ssgpr." + name : "learning.ssgpr",
+                known && space != std::string::npos ? message.substr(space + 1) : message);
+  }
+}
+
 void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
+  if (const std::string problem = check_end_effector_config(config.end_effector); !problem.empty()) {
+    checker.add("end_effector.offset", problem);
+  }
   if (config.control.mode != ControlMode::feedback && config.control.feed_forward == FeedForwardSource::learner &&
       config.learning.mode == LearningMode::none) {
     const auto name = [](const EnumNames& names, auto value) { return std::string("\"") + find_enum_name(names, static_cast<int>(value)) + "\""; };
@@ -275,6 +299,18 @@ void check_cost(const JobConfig& config, int n, const JobCostLimits& limits, Che
     updates = learning.epochs * std::round(learning.train_fraction * learning.collect_repeats * ticks) +
               (learning.learn_during_evaluation ? ticks : 0.0);
   }
+  if (learning.learner == LearnerKind::ssgpr && learning.mode != LearningMode::none && total <= limits.max_control_ticks &&
+      updates <= limits.max_learner_updates) {
+    const double features = 2.0 * learning.ssgpr.params.features;
+    const double fit = static_cast<double>(learning.ssgpr.fit_samples);
+    const double work = updates * features * features + (fit > 0.0 ? fit * fit * fit * learning.ssgpr.fit.iterations : 0.0);
+    if (!(work <= limits.max_ssgpr_work)) {
+      checker.add("learning.ssgpr.features",
+                  "the SSGPR learner would cost " + format_number(work) + " units (" + format_number(updates) + " updates × (2 × " +
+                      format_number(learning.ssgpr.params.features) + " features)² + fit_samples³ × fit_iterations); a job may cost at most " +
+                      format_number(limits.max_ssgpr_work) + ": fewer features, a shorter job or a smaller fit");
+    }
+  }
   if (total <= limits.max_control_ticks && !(updates <= limits.max_learner_updates)) {
     checker.add(batch ? "learning.epochs" : length_key(config.trajectory.kind),
                 "the learner would be updated " + format_number(updates) + " times (" +
@@ -361,6 +397,7 @@ std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& f
   JobConfig& fields = const_cast<JobConfig&>(config);
   for (const JobConfigKey& key : job_config_keys()) check_key(key, fields, n, checker);
   if (n >= 1) check_lwpr(config, n, problems, checker);
+  if (n >= 1 && config.learning.learner == LearnerKind::ssgpr) check_ssgpr(config, n, problems, checker);
   check_cross_fields(config, n, checker);
   // Limits once the recording's shape and values are known good.
   if (config.trajectory.kind == TrajectoryKind::recorded && !config.trajectory.recorded.task_space &&

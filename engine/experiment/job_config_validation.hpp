@@ -1,7 +1,7 @@
 #pragma once
 // The one validation of a job configuration, run before anything is built or stored: every
 // key's range from the key tables (job_config.hpp), list sizes against the model's joints,
-// the cross-field rules, LWPR's parameter shapes, and the job's cost bound. The runner calls it
+// the cross-field rules, LWPR's and SSGPR's parameter shapes, and the job's cost bound. The runner calls it
 // (through parse_job_config) for every job of a sweep before the database is opened; the
 // engine's run_experiment() calls it again so that no unchecked configuration runs.
 #include "engine/experiment/job_config.hpp"
@@ -35,6 +35,10 @@ ModelFacts make_model_facts(const ArmModel& model);
 struct JobCostLimits {
   double max_control_ticks = 5e6;    ///< over all passes (batch: collect_repeats + 1; held-out: 1 + one per checkpoint)
   double max_learner_updates = 2e7;  ///< online ticks, or epochs × training samples (+ evaluation updates)
+  /// SSGPR: updates × (2·features)² + fit_samples³ × fit_iterations. At the measured ~0.5 µs per
+  /// (2D)²/1000 of an update (engine/ssgpr/README.md: 478 µs at D = 500) and ~2.5e9 fit units
+  /// per second, 4e12 is about half an hour of wall time.
+  double max_ssgpr_work = 4e12;
 };
 
 /// Control ticks of one pass over the configured trajectory at `config.simulation.dt`

@@ -32,10 +32,26 @@ void write_batch_training_report(MetricWriter& writer, const BatchTrainingResult
 
 void write_learner_report(MetricWriter& writer, const Learner& learner, const LearnerClock& clock) {
   writer.add(names::n_receptive_fields, static_cast<double>(learner.size()));
+  // The one-off fit runs inside one update(): reported apart, not spread over the updates.
+  const double fit_seconds = learner.fit_seconds();
   writer.add(names::learner_us_per_update,
-             clock.updates ? 1e6 * clock.update_seconds / static_cast<double>(clock.updates) : std::nan(""));
+             clock.updates ? 1e6 * std::max(0.0, clock.update_seconds - fit_seconds) / static_cast<double>(clock.updates) : std::nan(""));
   writer.add(names::learner_us_per_predict,
              clock.predictions ? 1e6 * clock.predict_seconds / static_cast<double>(clock.predictions) : std::nan(""));
+  writer.add(names::learner_memory_bytes, static_cast<double>(learner.calc_memory_bytes()));
+  writer.add(names::learner_fit_seconds, fit_seconds);
+}
+
+void write_tick_report(MetricWriter& writer, const TickClock& clock) {
+  if (clock.ticks == 0) return;
+  const double per_tick = 1e6 / static_cast<double>(clock.ticks);
+  writer.add(names::tick_us_total, clock.total() * per_tick);
+  writer.add(names::tick_us_physics, clock.physics * per_tick);
+  writer.add(names::tick_us_feed_forward, clock.feed_forward * per_tick);
+  writer.add(names::tick_us_control, clock.control * per_tick);
+  writer.add(names::tick_us_true_dynamics, clock.true_dynamics * per_tick);
+  writer.add(names::tick_us_statistics, clock.statistics * per_tick);
+  writer.add(names::tick_us_learning, clock.learning * per_tick);
 }
 
 void write_cost_report(MetricWriter& writer, double simulated_seconds, double wall_seconds) {

@@ -2,6 +2,7 @@
 // Recording the job's outcome: the evaluation pass's metrics and TRIAL rows, the learner's
 // figures, batch training's same-run split, and the run's cost.
 #include "engine/experiment/batch_training.hpp"
+#include "engine/experiment/control_pass.hpp"
 #include "engine/experiment/experiment_metrics.hpp"
 #include "engine/experiment/feed_forward_source.hpp"
 #include "engine/experiment/pass_statistics.hpp"
@@ -18,8 +19,12 @@ void write_evaluation_report(MetricWriter& writer, const PassStatistics& statist
 /// same_run_test_nmse/_rmse (per joint and job) and n_training_samples.
 void write_batch_training_report(MetricWriter& writer, const BatchTrainingResult& training, const ErrorFloors& floors);
 
-/// n_receptive_fields, learner_us_per_update, learner_us_per_predict.
+/// n_receptive_fields, learner_us_per_update (without the one-off fit), learner_us_per_predict,
+/// learner_memory_bytes, learner_fit_seconds.
 void write_learner_report(MetricWriter& writer, const Learner& learner, const LearnerClock& clock);
+
+/// tick_us_total and the tick_us_* stage times per tick (nothing when no tick was timed).
+void write_tick_report(MetricWriter& writer, const TickClock& clock);
 
 /// simulated_seconds and sim_seconds_per_wall_second.
 void write_cost_report(MetricWriter& writer, double simulated_seconds, double wall_seconds);

@@ -40,8 +40,9 @@ JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
       joint_numbers_(resolve_joint_numbers(model_, config.active_joints)),
       active_indices_(make_indices(joint_numbers_)),
       nominal_(model_, active_indices_),
+      end_effector_(make_end_effector_chain(nominal_)),
       n_(nominal_.dof()) {
-  gains_ = make_pd_gains(config.control, nominal_);
+  gains_ = make_pd_gains(config.control, nominal_, joint_numbers_);
   reach_ = calc_reach(model_);
   if (config.mismatch.payload.mass > 0.0) {
     true_dynamics_ = std::make_unique<ArmDynamics>(model_, active_indices_, config.mismatch.payload);
@@ -80,6 +81,7 @@ ArmSimulation JobSetup::make_plant() const {
   options.active_joints = active_indices_;
   options.integrator = config_.simulation.integrator;
   options.accuracy = config_.simulation.integrator_accuracy;
+  options.steps_per_tick = config_.simulation.integrator_steps_per_tick;
   if (mismatch_from_start()) {
     options.payload = config_.mismatch.payload;
     if (config_.mismatch.viscous.size()) options.friction_override.viscous = true_viscous_;

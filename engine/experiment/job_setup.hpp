@@ -6,6 +6,7 @@
 #include "engine/control/pd_gains.hpp"
 #include "engine/experiment/job_config.hpp"
 #include "engine/experiment/pass_statistics.hpp"
+#include "engine/kinematics/serial_chain.hpp"
 #include "engine/model/arm_model.hpp"
 #include "engine/physics/arm_simulation.hpp"
 #include "engine/trajectory/trajectory.hpp"
@@ -30,6 +31,9 @@ class JobSetup {
   const std::vector<int>& joint_numbers() const { return joint_numbers_; }  ///< 1-based
   int dof() const { return n_; }
   ArmDynamics& nominal() { return nominal_; }  ///< scratch state inside: one per job
+  /// The end effector's kinematic chain on the job's joints (world-frame position in a
+  /// microsecond, equal to nominal().calc_end_effector_position to 1e-12; the statistics use it).
+  const SerialChain& end_effector() const { return end_effector_; }
   const PdGains& gains() const { return gains_; }
   /// The job's controller: control.mode with the gains at control.gain_scale (kd per keep_damping_ratio).
   CompositeController make_controller();
@@ -60,6 +64,7 @@ class JobSetup {
   std::vector<int> joint_numbers_;
   std::vector<int> active_indices_;
   ArmDynamics nominal_;
+  SerialChain end_effector_;
   int n_;
   PdGains gains_;
   std::unique_ptr<ArmDynamics> true_dynamics_;

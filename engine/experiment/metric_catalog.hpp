@@ -74,6 +74,8 @@ inline const std::string ff_untrusted_fraction = "ff_untrusted_fraction";
 inline const std::string n_receptive_fields = "n_receptive_fields";
 inline const std::string learner_us_per_update = "learner_us_per_update";
 inline const std::string learner_us_per_predict = "learner_us_per_predict";
+inline const std::string learner_memory_bytes = "learner_memory_bytes";
+inline const std::string learner_fit_seconds = "learner_fit_seconds";
 inline const std::string n_segments = "n_segments";
 inline const std::string fb_abs_avg_first_segment = "fb_abs_avg_first_segment";
 inline const std::string fb_abs_avg_last_segment = "fb_abs_avg_last_segment";
@@ -81,6 +83,14 @@ inline const std::string tracking_rmse_first_segment = "tracking_rmse_first_segm
 inline const std::string tracking_rmse_last_segment = "tracking_rmse_last_segment";
 inline const std::string simulated_seconds = "simulated_seconds";
 inline const std::string sim_seconds_per_wall_second = "sim_seconds_per_wall_second";
+// Where a tick of the evaluation pass goes (TickClock, control_pass.hpp), µs per tick.
+inline const std::string tick_us_total = "tick_us_total";
+inline const std::string tick_us_physics = "tick_us_physics";
+inline const std::string tick_us_feed_forward = "tick_us_feed_forward";
+inline const std::string tick_us_control = "tick_us_control";
+inline const std::string tick_us_true_dynamics = "tick_us_true_dynamics";
+inline const std::string tick_us_statistics = "tick_us_statistics";
+inline const std::string tick_us_learning = "tick_us_learning";
 inline const std::string work_checksum = "work_checksum";
 // Held-out evaluation (engine/experiment/heldout_evaluation.hpp): every row carries a checkpoint.
 // The control-pass figures are the evaluation-pass names with this prefix.

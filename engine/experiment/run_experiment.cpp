@@ -54,20 +54,25 @@ std::vector<int> resolve_checkpoints(const LearningConfig& learning, int last, c
   return learning.heldout_checkpoints;
 }
 
-}  // namespace
+void check_config(const ArmModel& model, const JobConfig& config) {
+  const std::vector<ConfigProblem> problems = validate(config, make_model_facts(model));
+  if (!problems.empty()) throw std::invalid_argument(make_problems_text(problems));
+}
 
-JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const std::function<bool()>& should_stop) {
+/// The job itself, on its trajectories (`built` when the job built them, else `shared`).
+JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTrajectories* shared, const std::function<bool()>& should_stop) {
   const Clock::time_point wall_start = Clock::now();
   JobOutcome outcome;
   double simulated_seconds = 0.0;
   LearnerClock learner_clock;
 
   // Setup (the configuration checked once), trajectories, learner.
-  const std::vector<ConfigProblem> problems = validate(config, make_model_facts(model));
-  if (!problems.empty()) throw std::invalid_argument(make_problems_text(problems));
+  check_config(model, config);
   JobSetup setup(model, config);
   MetricWriter metrics(outcome.metrics, setup.joint_numbers());
-  JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());
+  JobTrajectories built;
+  if (!shared) built = build_job_trajectories(config, setup.nominal());
+  const JobTrajectories& trajectories = shared ? *shared : built;
   const JointTrajectory& training = trajectories.training;
   if (training.size() < 2) throw std::invalid_argument("trajectory: needs at least 2 samples");
   const int n = setup.dof();
@@ -102,7 +107,7 @@ JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const 
     return heldout->evaluate(*learner, progress, outcome.metrics);
   };
   if (trajectories.heldout) {
-    heldout.emplace(setup, std::move(*trajectories.heldout), should_stop);
+    heldout.emplace(setup, shared ? *trajectories.heldout : std::move(*built.heldout), should_stop);
     PassResult collected = heldout->collect_test_samples();
     if (!collected.ok()) return finish({collected.status, collected.end_time, "held-out collection: " + collected.message});
   }
@@ -129,6 +134,8 @@ JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const 
   options.feed_forward = &feed_forward;
   options.observed = learner.get();
   options.clock = &learner_clock;
+  TickClock tick_clock;
+  options.tick_clock = &tick_clock;
   options.statistics = &statistics;
   options.recorder = &recorder;
   options.record_every = config.recording.every;
@@ -151,7 +158,25 @@ JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const 
   write_evaluation_report(metrics, statistics, floors, recorder);
   if (config.learning.mode == LearningMode::batch) write_batch_training_report(metrics, batch, floors);
   if (learner) write_learner_report(metrics, *learner, learner_clock);
+  write_tick_report(metrics, tick_clock);
   return finish(evaluated);
+}
+
+}  // namespace
+
+JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const std::function<bool()>& should_stop) {
+  return run_job(model, config, nullptr, should_stop);
+}
+
+JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const JobTrajectories& trajectories,
+                          const std::function<bool()>& should_stop) {
+  return run_job(model, config, &trajectories, should_stop);
+}
+
+JobTrajectories build_job_trajectories(const ArmModel& model, const JobConfig& config) {
+  check_config(model, config);
+  JobSetup setup(model, config);
+  return build_job_trajectories(config, setup.nominal());
 }
 
 }  // namespace armfarm

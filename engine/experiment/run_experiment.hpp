@@ -11,6 +11,7 @@
 // over the training trajectory (online: learning every tick). At the checkpoints the frozen
 // learner is scored on the held-out set (heldout_* metrics, heldout_evaluation.hpp). Every pass
 // starts at the trajectory's first sample at its first velocity.
+#include "engine/experiment/heldout_evaluation.hpp"
 #include "engine/experiment/job_config.hpp"
 #include "engine/experiment/job_outcome.hpp"
 #include "engine/model/arm_model.hpp"
@@ -26,5 +27,17 @@ namespace armfarm {
 /// for an unusable configuration. Deterministic: the same model, config and seed give the same
 /// metrics (timing metrics learner_us_* and sim_seconds_per_wall_second excepted).
 JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const std::function<bool()>& should_stop = {});
+
+/// The job's trajectories (training and, when it has one, the held-out variant) exactly as
+/// run_experiment builds them: a pure function of the model and the configuration's keys for
+/// which is_trajectory_input() holds (heldout_evaluation.hpp). Throws std::invalid_argument as
+/// run_experiment does for an unusable configuration.
+JobTrajectories build_job_trajectories(const ArmModel& model, const JobConfig& config);
+
+/// run_experiment on trajectories built beforehand by build_job_trajectories(model, other) for a
+/// configuration `other` equal to `config` on every trajectory input: the same outcome, bit for
+/// bit, as building them in the job. `trajectories` is only read, so jobs may share one build.
+JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const JobTrajectories& trajectories,
+                          const std::function<bool()>& should_stop = {});
 
 }  // namespace armfarm

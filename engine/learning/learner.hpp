@@ -50,6 +50,16 @@ class Learner {
 
   /// Samples learnt so far (successful update() calls); a frozen learner's count never moves.
   virtual std::uint64_t n_updates() const = 0;
+
+  /// Bytes of the numbers the learnt model stores (8 per double, 1 per flag; its scratch but not
+  /// the callers' workspaces, nor object or allocator overheads, so that the figure is the same
+  /// on every machine and standard library): the learner_memory_bytes metric.
+  virtual std::size_t calc_memory_bytes() const = 0;
+
+  /// Wall-clock seconds spent inside update() on one-off work that is not per-sample learning
+  /// (SSGPR's hyperparameter fit on its first batch); 0 for a learner without any. The job's
+  /// µs-per-update metric excludes it and reports it apart (learner_fit_seconds).
+  virtual double fit_seconds() const { return 0.0; }
 };
 
 }  // namespace armfarm

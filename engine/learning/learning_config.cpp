@@ -14,6 +14,7 @@ const EnumNames& learning_mode_names() {
 const EnumNames& learner_kind_names() {
   static const EnumNames names = {
       {"lwpr", static_cast<int>(LearnerKind::lwpr), "locally weighted projection regression"},
+      {"ssgpr", static_cast<int>(LearnerKind::ssgpr), "incremental sparse-spectrum Gaussian-process regression"},
   };
   return names;
 }
@@ -43,7 +44,7 @@ const std::vector<ConfigKey<LearningConfig>>& learning_config_keys() {
        [](C& c) { return make_field(c.collect_gain_scale); }},
       {"learn_during_evaluation", "", {}, ListSize::any, "batch: keep learning while the learned model controls",
        [](C& c) { return make_field(c.learn_during_evaluation); }},
-      {"learner", "", {}, ListSize::any, "which learner the factory builds (engine/learning/learner_factory.hpp)",
+      {"learner", "", {}, ListSize::any, "lwpr (parameters learning.lwpr.*) or ssgpr (learning.ssgpr.*)",
        [](C& c) { return make_choice_field(c.learner, learner_kind_names()); }},
       {"collect_start_spread", "rad", closed(0.0, 1.0), ListSize::any,
        "batch: repeats after the first start off the trajectory by a seeded normal draw of this std per joint (0 = exact copies)",

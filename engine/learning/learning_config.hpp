@@ -1,7 +1,8 @@
 #pragma once
 // How a job learns its inverse dynamics: the learning mode, the batch schedule and the LWPR
 // parameters it starts from, with the only copy of the job's defaults, and the key tables
-// (engine/config/config_key.hpp) of LearningConfig and of LWPR's parameter block.
+// (engine/config/config_key.hpp) of LearningConfig and of LWPR's parameter block (SSGPR's
+// block: engine/learning/ssgpr_learning_config.hpp).
 //
 // Two defaults of init_D, on purpose, one home each:
 //  - lwpr::LwprParams{} (engine/lwpr/lwpr_params.hpp) keeps the published library's defaults
@@ -10,6 +11,7 @@
 //    standard deviation, trust_n_data = 5), the default of LearningConfig::lwpr; the JSON
 //    defaults and the documentation are written from it.
 #include "engine/config/config_key.hpp"
+#include "engine/learning/ssgpr_learning_config.hpp"
 #include "engine/lwpr/lwpr_params.hpp"
 
 #include <vector>
@@ -23,10 +25,11 @@ enum class LearningMode {
 };
 const EnumNames& learning_mode_names();
 
-/// The learners the factory (engine/learning/learner_factory.hpp) knows; a second one (an SSGPR
-/// is planned) is a new enumerator, a spelling and a case in the factory.
+/// The learners the factory (engine/learning/learner_factory.hpp) knows; another one is a new
+/// enumerator, a spelling in learner_kind_names() and a case in the factory.
 enum class LearnerKind {
-  lwpr,  ///< locally weighted projection regression (engine/lwpr/)
+  lwpr,   ///< locally weighted projection regression (engine/lwpr/), block learning.lwpr
+  ssgpr,  ///< incremental sparse-spectrum GP regression (engine/ssgpr/), block learning.ssgpr
 };
 const EnumNames& learner_kind_names();
 
@@ -50,6 +53,8 @@ struct LearningConfig {
   bool normalize_inputs = true;
   /// Which learner the factory builds.
   LearnerKind learner = LearnerKind::lwpr;
+  /// SSGPR's block (used when learner is ssgpr; engine/learning/ssgpr_learning_config.hpp).
+  SsgprLearningConfig ssgpr;
 
   /// Batch: every collection repeat after the first starts off the trajectory by a seeded
   /// normal draw of this standard deviation per joint angle (rad; stream "collection.start_state"),

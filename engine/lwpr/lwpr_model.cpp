@@ -280,6 +280,26 @@ std::size_t LwprModel::size() const {
   return total;
 }
 
+std::size_t LwprModel::calc_memory_bytes() const {
+  std::size_t doubles = static_cast<std::size_t>(init_metric_.size() + norm_in_.size() + norm_out_.size());
+  std::size_t flags = 0;
+  for (const auto& list : fields_) {
+    for (const ReceptiveField& rf : list) {
+      doubles += static_cast<std::size_t>(
+          rf.center.size() + rf.metric_factor.size() + rf.metric.size() + rf.log_alpha.size() + rf.meta_trace.size() +
+          rf.mean_x.size() + rf.sum_w.size() + rf.n_data.size() + rf.sxy.size() + rf.sxs.size() + rf.ss2.size() +
+          rf.sys.size() + rf.sum_e_cv2.size() + rf.press_H.size() + rf.press_R.size() + rf.directions.size() +
+          rf.loadings.size() + rf.beta.size());
+      doubles += 5;  // lambda, beta0, sum_e2, press_E and the trust flag counted as a number
+    }
+  }
+  for (const ScanData& scan : scan_) {
+    doubles += scan.centres.size() + scan.metrics.size();
+    flags += scan.trusted.size();
+  }
+  return sizeof(double) * doubles + flags;
+}
+
 double LwprModel::calc_mean_projections() const {
   std::size_t fields = 0;
   double projections = 0.0;

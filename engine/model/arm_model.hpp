@@ -86,6 +86,9 @@ struct ArmModel {
   std::vector<Joint> joints;
   int root_link = 0;
   EndEffector end_effector;
+  /// Elements the loader skipped that a strict reading refuses, one line each ("file:line: <x>
+  /// in <link> of link 'y' is not a URDF element"); see check_strict_model (model_loading.hpp).
+  std::vector<std::string> warnings;
 
   /// Indices into `joints` of the joints that move (not `fixed`), in tree order. The
   /// "joint numbers" users give (active joint lists, per-joint gains) index this list.

@@ -14,6 +14,7 @@
 #include "engine/io/input_file.hpp"
 #include "engine/io/number_text.hpp"
 #include "engine/model/mass_properties.hpp"
+#include "engine/model/model_file.hpp"
 #include "engine/model/model_loaders.hpp"
 #include "engine/model/model_loading.hpp"
 #include "engine/model/model_validation.hpp"
@@ -289,8 +290,7 @@ class DcgBuilder {
     for (const Entry& e : entries) {
       if (e.kind == 'J') read_joint(e);
     }
-    order_joints();
-    choose_end_effector();
+    order_joints();  // the end effector: ee(...) when a body has it, else choose_end_effector (end_effector.hpp)
     validate_arm_model(model_, lines_);
     return model_;
   }
@@ -498,19 +498,11 @@ class DcgBuilder {
     joints_.push_back(joint);
   }
 
-  // Tree order: from the synthetic world, fixed bodies in file order, then depth first along
-  // the file's joints. Cycles and bodies hanging in the air are reported here.
+  // Tree order (calc_tree_order): from the synthetic world, each fixed body in file order by
+  // its weld, then depth first along the file's joints. Cycles and bodies hanging in the air
+  // are reported here.
   void order_joints() {
-    std::map<int, std::vector<int>> children;  // parent link -> indices into joints_
-    for (int j = 0; j < static_cast<int>(joints_.size()); ++j) children[joints_[j].parent_link].push_back(j);
-    std::set<int> placed;
-    std::function<void(int)> descend = [&](int link) {
-      placed.insert(link);
-      for (int j : children[link]) {
-        model_.joints.push_back(joints_[j]);
-        descend(joints_[j].child_link);
-      }
-    };
+    std::vector<Joint> candidates;  // the welds, then the file's joints
     for (int l = 1; l < static_cast<int>(model_.links.size()); ++l) {
       if (!model_.links[l].fixed_to_world) continue;
       Joint weld;
@@ -522,10 +514,17 @@ class DcgBuilder {
       weld.effort_limit = std::numeric_limits<double>::infinity();
       weld.velocity_limit = std::numeric_limits<double>::infinity();
       lines_.joints[weld.name] = lines_.links[model_.links[l].name];
-      model_.joints.push_back(weld);
-      descend(l);
+      candidates.push_back(weld);
     }
-    if (placed.empty()) fail(1, "no fixed body: anchor the arm with a body tagged fix");
+    if (candidates.empty()) fail(1, "no fixed body: anchor the arm with a body tagged fix");
+    candidates.insert(candidates.end(), joints_.begin(), joints_.end());
+    std::vector<TreeEdge> edges;
+    for (const Joint& joint : candidates) edges.push_back({joint.parent_link, joint.child_link});
+    std::set<int> placed{0};
+    for (const int index : calc_tree_order(edges, {0})) {
+      model_.joints.push_back(candidates[index]);
+      placed.insert(candidates[index].child_link);
+    }
     for (int l = 1; l < static_cast<int>(model_.links.size()); ++l) {
       if (placed.count(l) != 0) continue;
       const std::string& name = model_.links[l].name;
@@ -536,20 +535,6 @@ class DcgBuilder {
       fail(lines_.joints[joints_[it->second].name],
            "body '" + name + "' is not connected to a fixed body: joint '" + joints_[it->second].name + "' is part of a cycle");
     }
-  }
-
-  void choose_end_effector() {
-    if (ee_line_ != 0) return;
-    std::set<int> parents;
-    for (const Joint& joint : model_.joints) parents.insert(joint.parent_link);
-    std::vector<int> leaves;
-    for (int l = 1; l < static_cast<int>(model_.links.size()); ++l) {
-      if (!model_.links[l].fixed_to_world && parents.count(l) == 0) leaves.push_back(l);
-    }
-    if (leaves.size() != 1) {
-      fail(1, std::to_string(leaves.size()) + " leaf bodies: mark the end effector with ee(x y z) on one body");
-    }
-    model_.end_effector.link = leaves[0];
   }
 
   std::string path_;
@@ -566,7 +551,7 @@ class DcgBuilder {
 }  // namespace
 
 ArmModel load_dcg_model(const std::string& path) {
-  DcgParser parser(path, read_input_file_as<ModelError>(path, InputFileKind::arm_model));
+  DcgParser parser(path, read_model_file(path));
   const std::vector<Entry> entries = parser.parse();
   return DcgBuilder(path, parser).build(entries);
 }

@@ -1,6 +1,8 @@
 #pragma once
-// The per-format loaders behind load_arm_model (model_loading.hpp). Each reads one file,
-// builds an ArmModel in tree order and validates it; each throws ModelError.
+// The per-format loaders behind load_arm_model (model_loading.hpp). Each reads its file with
+// read_model_file (model_file.hpp), builds an ArmModel in tree order (calc_tree_order) and
+// validates it; each throws ModelError. The end effector is the file's own choice, or -1 when
+// the file names none (choose_end_effector, end_effector.hpp, picks the single leaf or asks).
 #include "engine/model/arm_model.hpp"
 
 #include <string>

@@ -7,7 +7,7 @@
 
 namespace armfarm {
 
-ArmModel load_arm_model(const std::string& path) {
+ArmModel load_arm_model_file(const std::string& path) {
   const std::size_t dot = path.find_last_of('.');
   std::string extension = dot == std::string::npos ? "" : path.substr(dot + 1);
   std::transform(extension.begin(), extension.end(), extension.begin(),
@@ -15,6 +15,19 @@ ArmModel load_arm_model(const std::string& path) {
   if (extension == "urdf") return load_urdf_model(path);
   if (extension == "dcg") return load_dcg_model(path);
   throw ModelError(path + ": unknown model format '." + extension + "' (expected .urdf or .dcg)");
+}
+
+ArmModel load_arm_model(const std::string& path, const EndEffectorConfig& end_effector) {
+  ArmModel model = load_arm_model_file(path);
+  choose_end_effector(model, end_effector);
+  return model;
+}
+
+void check_strict_model(const ArmModel& model) {
+  if (model.warnings.empty()) return;
+  const std::size_t more = model.warnings.size() - 1;
+  throw ModelError(model.warnings.front() + " (refused under --strict" +
+                   (more > 0 ? "; " + std::to_string(more) + " more such element" + (more > 1 ? "s" : "") : "") + ")");
 }
 
 }  // namespace armfarm

@@ -3,6 +3,7 @@
 // extension: .urdf (urdfdom) or .dcg (the thesis's tag format, appendix B); trimesh bodies
 // read Wavefront .obj meshes relative to the model file.
 #include "engine/model/arm_model.hpp"
+#include "engine/model/end_effector.hpp"
 
 #include <stdexcept>
 #include <string>
@@ -16,7 +17,16 @@ class ModelError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// Loads and validates an arm model. Throws ModelError.
-ArmModel load_arm_model(const std::string& path);
+/// Loads and validates an arm model and chooses its end effector (choose_end_effector:
+/// `end_effector` when it names a link, else the file's, else the single leaf). Throws ModelError.
+ArmModel load_arm_model(const std::string& path, const EndEffectorConfig& end_effector = {});
+
+/// Loads and validates an arm model without requiring an end effector: end_effector.link is -1
+/// when the file names none and has several leaves. For callers that need the file's structure
+/// (its joints, the files it reads) before the choice is known. Throws ModelError.
+ArmModel load_arm_model_file(const std::string& path);
+
+/// --strict: throws ModelError with the first of `model.warnings`, if any.
+void check_strict_model(const ArmModel& model);
 
 }  // namespace armfarm

@@ -143,7 +143,8 @@ void validate_arm_model(const ArmModel& model, const ModelSourceLines& lines) {
   }
   for (int j = 0; j < n_joints; ++j) validate_joint(model.joints[j], j, report);
 
-  if (model.end_effector.link < 0 || model.end_effector.link >= n_links) report.model("end effector link is not set");
+  // -1: not chosen yet (load_arm_model_file on a file with several leaves); choose_end_effector sets it.
+  if (model.end_effector.link < -1 || model.end_effector.link >= n_links) report.model("end effector link is out of range");
   if (!finite(model.end_effector.offset)) report.model("NaN or Inf in the end effector offset");
 }
 

@@ -21,7 +21,7 @@ struct ModelSourceLines {
 /// that is not symmetric positive definite or violates the triangle inequality, NaN/Inf
 /// anywhere, a zero or non-unit axis, lower > upper, negative damping/friction/armature,
 /// non-positive effort/velocity limits, a start position outside the limits, and an invalid
-/// end effector.
+/// end effector (link -1 passes: not chosen yet, see end_effector.hpp).
 void validate_arm_model(const ArmModel& model, const ModelSourceLines& lines = {});
 
 }  // namespace armfarm

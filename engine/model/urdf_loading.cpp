@@ -1,7 +1,10 @@
 // URDF → ArmModel. urdfdom reads the standard elements; a tinyxml2 pass over the same text
-// first checks names, references and numbers (so messages carry line numbers, which urdfdom's
-// console messages do not) and reads what urdfdom skips: transmissions and armfarm extensions.
-#include "engine/io/input_file.hpp"
+// first checks names, references, numbers and the element names inside <link> and <joint> (so
+// messages carry line numbers, which urdfdom's console messages do not, and a misspelled
+// <axsi> is an error instead of a silently default axis) and reads what urdfdom skips:
+// transmissions and armfarm extensions. Extension elements (namespaced ones such as drake:*,
+// <gazebo>, <ros2_control>, <frame>, …) are skipped.
+#include "engine/model/model_file.hpp"
 #include "engine/model/model_loaders.hpp"
 #include "engine/model/model_loading.hpp"
 #include "engine/model/model_validation.hpp"
@@ -12,7 +15,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
+#include <algorithm>
 #include <functional>
 #include <limits>
 #include <map>
@@ -24,6 +27,65 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
+// The URDF elements urdfdom reads, by parent (ROS wiki "urdf/XML"; urdfdom's parser). Inside
+// <link> and <joint> (and their core children) an element that is not one of these is
+//   - skipped silently when namespaced (prefix:name, e.g. drake:*);
+//   - an error when it is one or two edits away from an allowed name (<axsi>: a misspelling);
+//   - otherwise skipped with a warning (ArmModel::warnings; --strict refuses it): ROS's own
+//     tutorial suggests custom elements such as <collision_checking> inside <link>, and vendor
+//     files carry <self_collision_checking> (PR2, iiwa) and <material> inside <collision>.
+// At the top level, names that are not core are extensions (gazebo, ros2_control, frame, ...) and
+// skipped silently, unless they are one or two edits away from link, joint or material.
+const std::map<std::string, std::set<std::string>>& core_children() {
+  static const std::map<std::string, std::set<std::string>> children = {
+      {"robot", {"link", "joint", "material", "transmission", "gazebo"}},
+      {"link", {"inertial", "visual", "collision"}},
+      {"joint", {"origin", "parent", "child", "axis", "calibration", "dynamics", "limit", "safety_controller", "mimic"}},
+      {"inertial", {"origin", "mass", "inertia"}},
+      {"visual", {"origin", "geometry", "material"}},
+      {"collision", {"origin", "geometry", "material"}},  // material: urdfdom ignores it there; vendor files carry it
+      {"geometry", {"box", "cylinder", "sphere", "mesh", "capsule"}},
+      {"material", {"color", "texture"}},
+  };
+  return children;
+}
+
+// Levenshtein distance, for "did you mean".
+std::size_t calc_edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// The closest of `names` to `name` within two edits, or "".
+std::string find_close_name(const std::string& name, const std::set<std::string>& names) {
+  std::string best;
+  std::size_t best_distance = 3;
+  for (const std::string& candidate : names) {
+    const std::size_t distance = calc_edit_distance(name, candidate);
+    if (distance < best_distance) {
+      best = candidate;
+      best_distance = distance;
+    }
+  }
+  return best;
+}
+
+std::string join_names(const std::set<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "<" : ", <") + name + ">";
+  return text;
+}
+
 // What the tinyxml2 pass learns besides the checks.
 struct UrdfExtras {
   ModelSourceLines lines;
@@ -33,6 +95,7 @@ struct UrdfExtras {
   std::string end_effector_link;                    // empty: default
   Eigen::Vector3d end_effector_offset = Eigen::Vector3d::Zero();
   int end_effector_line = 0;
+  std::vector<std::string> warnings;  // "file:line: <x> in <link> of link 'y' is not a URDF element"
 };
 
 class UrdfScanner {
@@ -42,6 +105,7 @@ class UrdfScanner {
   UrdfExtras scan(const tinyxml2::XMLDocument& document) {
     const tinyxml2::XMLElement* robot = document.FirstChildElement("robot");
     if (robot == nullptr) fail(1, "the root element must be <robot>");
+    check_element_names(robot);
     for (const auto* e = robot->FirstChildElement("link"); e != nullptr; e = e->NextSiblingElement("link")) {
       const std::string name = required_attribute(e, "name");
       if (!extras_.lines.links.emplace(name, e->GetLineNum()).second) fail(e, "duplicate link name '" + name + "'");
@@ -113,6 +177,40 @@ class UrdfScanner {
   }
   [[noreturn]] void fail(const tinyxml2::XMLElement* e, const std::string& what) const { fail(e->GetLineNum(), what); }
 
+  // Core elements may hold only core elements (or extensions); see core_children().
+  void check_element_names(const tinyxml2::XMLElement* robot) {
+    const std::set<std::string>& top = core_children().at("robot");
+    for (const auto* e = robot->FirstChildElement(); e != nullptr; e = e->NextSiblingElement()) {
+      const std::string tag = e->Name();
+      if (top.count(tag) != 0 || tag.find(':') != std::string::npos) continue;
+      const std::string close = find_close_name(tag, {"link", "joint", "material"});
+      if (!close.empty()) fail(e, "unknown element <" + tag + "> in <robot> (did you mean <" + close + ">?)");
+    }
+    std::function<void(const tinyxml2::XMLElement*, const std::string&)> visit = [&](const tinyxml2::XMLElement* e,
+                                                                                     const std::string& owner) {
+      const auto allowed = core_children().find(e->Name());
+      if (allowed == core_children().end()) return;  // a leaf element (origin, mass, box, ...)
+      for (const auto* child = e->FirstChildElement(); child != nullptr; child = child->NextSiblingElement()) {
+        const std::string tag = child->Name();
+        if (tag.find(':') != std::string::npos) continue;  // namespaced extension (drake:*, ...)
+        if (allowed->second.count(tag) == 0) {
+          const std::string close = find_close_name(tag, allowed->second);
+          const std::string where = "<" + tag + "> in <" + e->Name() + "> of " + owner;
+          if (!close.empty()) fail(child, "unknown element " + where + " (did you mean <" + close + ">?)");
+          extras_.warnings.push_back(path_ + ":" + std::to_string(child->GetLineNum()) + ": " + where + " is not a URDF element");
+          continue;
+        }
+        visit(child, owner);
+      }
+    };
+    for (const char* kind : {"link", "joint", "material"}) {
+      for (const auto* e = robot->FirstChildElement(kind); e != nullptr; e = e->NextSiblingElement(kind)) {
+        const char* name = e->Attribute("name");
+        visit(e, std::string(kind) + " '" + (name == nullptr ? "" : name) + "'");
+      }
+    }
+  }
+
   std::string required_attribute(const tinyxml2::XMLElement* e, const char* name) const {
     const char* value = e->Attribute(name);
     if (value == nullptr || *value == '\0') fail(e, "<" + std::string(e->Name()) + "> needs a '" + name + "' attribute");
@@ -177,7 +275,9 @@ class UrdfScanner {
   }
 
   // ROS-style <transmission>: one <joint name=..>, one <actuator> with <mechanicalReduction>
-  // and armfarm's <rotorInertia> (kg·m² about the motor shaft).
+  // and armfarm's <rotorInertia> (kg·m² about the motor shaft), or Drake's
+  // <drake:rotor_inertia value=..> and <drake:gear_ratio value=..> (the ratio defaults to the
+  // mechanical reduction). armature = rotor inertia · ratio².
   void scan_transmission(const tinyxml2::XMLElement* e) {
     const auto* joint = e->FirstChildElement("joint");
     if (joint == nullptr) fail(e, "<transmission> without a <joint>");
@@ -193,10 +293,16 @@ class UrdfScanner {
     if (const auto* r = e->FirstChildElement("mechanicalReduction")) reduction = element_number(r);  // old ROS style
     if (reduction == 0.0) fail(actuator, "<mechanicalReduction> of joint '" + name + "' is zero");
     double rotor_inertia = 0.0;
-    if (const auto* r = actuator->FirstChildElement("rotorInertia")) {
-      rotor_inertia = element_number(r);
-      if (rotor_inertia < 0.0) fail(r, "<rotorInertia> of joint '" + name + "' is negative");
+    const auto* ours = actuator->FirstChildElement("rotorInertia");
+    const auto* drake = actuator->FirstChildElement("drake:rotor_inertia");
+    if (ours != nullptr && drake != nullptr) fail(drake, "joint '" + name + "': both <rotorInertia> and <drake:rotor_inertia>");
+    if (ours != nullptr) rotor_inertia = element_number(ours);
+    if (drake != nullptr) {
+      rotor_inertia = number_attribute(drake, "value");
+      if (const auto* ratio = actuator->FirstChildElement("drake:gear_ratio")) reduction = number_attribute(ratio, "value");
+      if (reduction == 0.0) fail(actuator, "the gear ratio of joint '" + name + "' is zero");
     }
+    if (rotor_inertia < 0.0) fail(ours != nullptr ? ours : drake, "the rotor inertia of joint '" + name + "' is negative");
     if (!extras_.armature.emplace(name, rotor_inertia * reduction * reduction).second) {
       fail(e, "second <transmission> for joint '" + name + "'");
     }
@@ -245,7 +351,7 @@ Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
 }  // namespace
 
 ArmModel load_urdf_model(const std::string& path) {
-  const std::string xml = read_input_file_as<ModelError>(path, InputFileKind::arm_model);
+  const std::string xml = read_model_file(path);
 
   tinyxml2::XMLDocument document;
   if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
@@ -263,6 +369,7 @@ ArmModel load_urdf_model(const std::string& path) {
   model.name = urdf->getName();
   model.source_file = path;
   model.input_files = {path};  // URDF geometry (meshes) is not read
+  model.warnings = extras.warnings;
   for (const std::string& name : extras.link_order) {
     const urdf::LinkConstSharedPtr source = urdf->getLink(name);
     Link link;
@@ -283,73 +390,60 @@ ArmModel load_urdf_model(const std::string& path) {
   // counts in total_mass(), as in a data sheet's robot mass.
   model.links[model.root_link].fixed_to_world = true;
 
-  // Joints in tree order: depth first from the root, children in document order.
-  std::map<std::string, std::vector<std::string>> child_joints;  // parent link -> joint names
-  std::vector<std::string> joint_document_order;
+  // Joints in tree order (calc_tree_order): depth first from the root, children in document order.
+  std::vector<std::string> joint_names;
+  std::vector<TreeEdge> edges;
   for (const tinyxml2::XMLElement* e = document.FirstChildElement("robot")->FirstChildElement("joint"); e != nullptr;
        e = e->NextSiblingElement("joint")) {
-    joint_document_order.push_back(e->Attribute("name"));
+    const urdf::JointConstSharedPtr source = urdf->getJoint(e->Attribute("name"));
+    joint_names.push_back(source->name);
+    edges.push_back({model.find_link(source->parent_link_name), model.find_link(source->child_link_name)});
   }
-  for (const std::string& name : joint_document_order) child_joints[urdf->getJoint(name)->parent_link_name].push_back(name);
-
-  std::function<void(const std::string&)> add_children = [&](const std::string& parent) {
-    for (const std::string& name : child_joints[parent]) {
-      const urdf::JointConstSharedPtr source = urdf->getJoint(name);
-      const auto where = [&] { return path + ":" + std::to_string(extras.lines.joints.at(name)) + ": joint '" + name + "': "; };
-      Joint joint;
-      joint.name = name;
-      joint.parent_link = model.find_link(source->parent_link_name);
-      joint.child_link = model.find_link(source->child_link_name);
-      joint.origin = to_isometry(source->parent_to_joint_origin_transform);
-      joint.axis = Eigen::Vector3d(source->axis.x, source->axis.y, source->axis.z);
-      if (joint.axis.norm() > 0.0) joint.axis.normalize();
-      switch (source->type) {
-        case urdf::Joint::REVOLUTE: joint.type = JointType::revolute; break;
-        case urdf::Joint::CONTINUOUS: joint.type = JointType::continuous; break;
-        case urdf::Joint::PRISMATIC: joint.type = JointType::prismatic; break;
-        case urdf::Joint::FIXED: joint.type = JointType::fixed; break;
-        default: throw ModelError(where() + "only revolute, continuous, prismatic and fixed joints are supported");
-      }
-      joint.effort_limit = kInfinity;
-      joint.velocity_limit = kInfinity;
-      if (source->limits) {
-        // URDF writes 0 (or nothing) for "no limit given"; negative values are kept and rejected.
-        if (source->limits->effort != 0.0) joint.effort_limit = source->limits->effort;
-        if (source->limits->velocity != 0.0) joint.velocity_limit = source->limits->velocity;
-        if (joint.type == JointType::revolute || joint.type == JointType::prismatic) {
-          joint.has_position_limits = true;
-          joint.lower = source->limits->lower;
-          joint.upper = source->limits->upper;
-        }
-      }
-      if (source->dynamics) {
-        joint.damping = source->dynamics->damping;
-        joint.friction = source->dynamics->friction;
-      }
-      if (const auto it = extras.armature.find(name); it != extras.armature.end()) joint.armature = it->second;
-      if (const auto it = extras.start_position.find(name); it != extras.start_position.end()) {
-        joint.start_position = it->second;
-      }
-      model.joints.push_back(joint);
-      add_children(source->child_link_name);
+  for (const int index : calc_tree_order(edges, {model.root_link})) {
+    const std::string& name = joint_names[index];
+    const urdf::JointConstSharedPtr source = urdf->getJoint(name);
+    const auto where = [&] { return path + ":" + std::to_string(extras.lines.joints.at(name)) + ": joint '" + name + "': "; };
+    Joint joint;
+    joint.name = name;
+    joint.parent_link = edges[index].parent_link;
+    joint.child_link = edges[index].child_link;
+    joint.origin = to_isometry(source->parent_to_joint_origin_transform);
+    joint.axis = Eigen::Vector3d(source->axis.x, source->axis.y, source->axis.z);
+    if (joint.axis.norm() > 0.0) joint.axis.normalize();
+    switch (source->type) {
+      case urdf::Joint::REVOLUTE: joint.type = JointType::revolute; break;
+      case urdf::Joint::CONTINUOUS: joint.type = JointType::continuous; break;
+      case urdf::Joint::PRISMATIC: joint.type = JointType::prismatic; break;
+      case urdf::Joint::FIXED: joint.type = JointType::fixed; break;
+      default: throw ModelError(where() + "only revolute, continuous, prismatic and fixed joints are supported");
     }
-  };
-  add_children(model.links[model.root_link].name);
+    joint.effort_limit = kInfinity;
+    joint.velocity_limit = kInfinity;
+    if (source->limits) {
+      // URDF writes 0 (or nothing) for "no limit given"; negative values are kept and rejected.
+      if (source->limits->effort != 0.0) joint.effort_limit = source->limits->effort;
+      if (source->limits->velocity != 0.0) joint.velocity_limit = source->limits->velocity;
+      if (joint.type == JointType::revolute || joint.type == JointType::prismatic) {
+        joint.has_position_limits = true;
+        joint.lower = source->limits->lower;
+        joint.upper = source->limits->upper;
+      }
+    }
+    if (source->dynamics) {
+      joint.damping = source->dynamics->damping;
+      joint.friction = source->dynamics->friction;
+    }
+    if (const auto it = extras.armature.find(name); it != extras.armature.end()) joint.armature = it->second;
+    if (const auto it = extras.start_position.find(name); it != extras.start_position.end()) {
+      joint.start_position = it->second;
+    }
+    model.joints.push_back(joint);
+  }
 
+  // The file's end effector, if it names one; otherwise choose_end_effector decides.
   if (!extras.end_effector_link.empty()) {
     model.end_effector.link = model.find_link(extras.end_effector_link);
     model.end_effector.offset = extras.end_effector_offset;
-  } else {
-    // Default: the single leaf link (the tip of a serial chain), offset zero.
-    std::vector<int> leaves;
-    for (int l = 0; l < static_cast<int>(model.links.size()); ++l) {
-      if (child_joints[model.links[l].name].empty() && l != model.root_link) leaves.push_back(l);
-    }
-    if (leaves.size() != 1) {
-      throw ModelError(path + ": " + std::to_string(leaves.size()) +
-                       " leaf links: name the end effector with <armfarm:end_effector link=\"..\" offset=\"x y z\"/>");
-    }
-    model.end_effector.link = leaves[0];
   }
 
   validate_arm_model(model, extras.lines);

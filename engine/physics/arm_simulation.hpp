@@ -17,7 +17,11 @@
 
 namespace armfarm {
 
-enum class IntegratorKind { runge_kutta_merson, runge_kutta_3, runge_kutta_feldberg, explicit_euler, semi_explicit_euler2, verlet, cpodes };
+/// How the plant is integrated over a tick. The Simbody integrators are adaptive and restarted
+/// every tick; runge_kutta_4 is armfarm's own fixed-step classical Runge–Kutta on (q, q̇), the
+/// armature equation solved directly at each stage (no Simbody forward dynamics, no restart).
+enum class IntegratorKind { runge_kutta_merson, runge_kutta_3, runge_kutta_feldberg, explicit_euler, semi_explicit_euler2, verlet, cpodes,
+                            runge_kutta_4 };
 
 /// Extra mass rigidly attached to the end effector (model mismatch, thesis section 3.1).
 struct Payload {
@@ -35,9 +39,10 @@ struct JointFrictionOverride {
 /// How a job's plant is built. A plain description; defaults are the documented defaults.
 struct ArmSimulationOptions {
   std::vector<int> active_joints;  ///< indices into ArmModel::movable_joints(); empty = all. Others are locked at start_position.
-  IntegratorKind integrator = IntegratorKind::runge_kutta_merson;
+  IntegratorKind integrator = IntegratorKind::runge_kutta_4;  // engine/README.md, "Integrator choice"
   double accuracy = 1e-5;          ///< relative accuracy of adaptive integrators
-  double fixed_step = 0.0;         ///< s; > 0 forces a fixed step for the integrator
+  double fixed_step = 0.0;         ///< s; > 0 forces a fixed step for the Simbody integrators
+  int steps_per_tick = 1;          ///< runge_kutta_4: equal steps per call of ArmSimulation::step
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);  ///< m/s², world frame
   bool soft_joint_limits = true;   ///< stiff spring-damper outside [lower, upper]
   double limit_stiffness = 2000.0; ///< N·m/rad

@@ -14,6 +14,7 @@
 
 #include <Eigen/Cholesky>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -94,10 +95,16 @@ class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
   /// τ_held + passive + limits + gravity as generalized forces, user order.
   static Eigen::VectorXd calc_total_generalized_force(const ArmSystem& arm, const SimTK::State& state) {
     const int n = static_cast<int>(arm.active_bodies.size());
+    return add_passive_and_gravity(arm, state, arm.held_torque.size() == n ? arm.held_torque : Eigen::VectorXd::Zero(n));
+  }
+
+  /// `total` (n, user order) plus the passive, limit and gravity generalized forces.
+  static Eigen::VectorXd add_passive_and_gravity(const ArmSystem& arm, const SimTK::State& state, Eigen::VectorXd total,
+                                                 bool with_gravity = true) {
+    const int n = static_cast<int>(arm.active_bodies.size());
     const ArmSimulationOptions& options = *arm.options;
     const SimTK::Vector& u = state.getU();
     const SimTK::Vector& q = state.getQ();
-    Eigen::VectorXd total = arm.held_torque.size() == n ? arm.held_torque : Eigen::VectorXd::Zero(n);
     for (int j = 0; j < n; ++j) {
       const int m = arm.mobility_of_active[j];
       const double velocity = u[m];
@@ -110,12 +117,13 @@ class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
         if (above > 0.0) total[j] -= options.limit_stiffness * above + options.limit_damping * std::max(velocity, 0.0);
       }
     }
+    if (!with_gravity) return total;
     const Eigen::VectorXd gravity = calc_gravity_generalized_force(arm, state);
     return total + gravity;
   }
 
-  /// g(q): generalized forces of gravity on every body, user order. Needs Position stage.
-  static Eigen::VectorXd calc_gravity_generalized_force(const ArmSystem& arm, const SimTK::State& state) {
+  /// Gravity as one spatial force per body (about its origin, ground frame). Needs Position stage.
+  static SimTK::Vector_<SimTK::SpatialVec> calc_gravity_body_forces(const ArmSystem& arm, const SimTK::State& state) {
     const int n_bodies = arm.matter.getNumBodies();
     SimTK::Vector_<SimTK::SpatialVec> body_forces(n_bodies, SimTK::SpatialVec(SimTK::Vec3(0), SimTK::Vec3(0)));
     for (SimTK::MobilizedBodyIndex b(1); b < n_bodies; ++b) {
@@ -125,6 +133,28 @@ class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
       const SimTK::Vec3 weight = mass.getMass() * arm.gravity;
       body_forces[b] = SimTK::SpatialVec(com_offset % weight, weight);
     }
+    return body_forces;
+  }
+
+  /// M q̈ + c(q, q̇) − g(q) for q̈ (user order; empty = 0) in one inverse-dynamics pass with gravity
+  /// applied as body forces, user order. Needs Velocity stage.
+  static Eigen::VectorXd calc_rigid_residual(const ArmSystem& arm, const SimTK::State& state, const Eigen::VectorXd& qdd) {
+    SimTK::Vector udot;
+    if (qdd.size()) {
+      udot.resize(arm.matter.getNumMobilities());
+      udot = 0.0;
+      for (std::size_t j = 0; j < arm.active_bodies.size(); ++j) udot[arm.mobility_of_active[j]] = qdd[static_cast<Eigen::Index>(j)];
+    }
+    SimTK::Vector residual;
+    arm.matter.calcResidualForceIgnoringConstraints(state, SimTK::Vector(), calc_gravity_body_forces(arm, state), udot, residual);
+    Eigen::VectorXd result(arm.active_bodies.size());
+    for (std::size_t j = 0; j < arm.active_bodies.size(); ++j) result[j] = residual[arm.mobility_of_active[j]];
+    return result;
+  }
+
+  /// g(q): generalized forces of gravity on every body, user order. Needs Position stage.
+  static Eigen::VectorXd calc_gravity_generalized_force(const ArmSystem& arm, const SimTK::State& state) {
+    const SimTK::Vector_<SimTK::SpatialVec> body_forces = calc_gravity_body_forces(arm, state);
     SimTK::Vector generalized;
     arm.matter.multiplyBySystemJacobianTranspose(state, body_forces, generalized);
     Eigen::VectorXd result(arm.active_bodies.size());
@@ -298,6 +328,9 @@ std::unique_ptr<SimTK::Integrator> make_integrator(const SimTK::MultibodySystem&
     case IntegratorKind::semi_explicit_euler2: integrator = std::make_unique<SimTK::SemiExplicitEuler2Integrator>(system); break;
     case IntegratorKind::verlet: integrator = std::make_unique<SimTK::VerletIntegrator>(system); break;
     case IntegratorKind::cpodes: integrator = std::make_unique<SimTK::CPodesIntegrator>(system); break;
+    case IntegratorKind::runge_kutta_4:  // armfarm's own (ArmSimulation::Impl); Merson takes its ticks at a joint limit
+      integrator = std::make_unique<SimTK::RungeKuttaMersonIntegrator>(system);
+      break;
   }
   integrator->setAccuracy(options.accuracy);
   if (options.fixed_step > 0.0) integrator->setFixedStepSize(options.fixed_step);
@@ -318,6 +351,91 @@ struct ArmSimulation::Impl {
   Eigen::VectorXd q, qd, qdd;
   long integrator_steps = 0;  ///< summed over ticks (each tick restarts the integrator)
 
+  /// runge_kutta_4: the torque-free part of the armature equation at the current state,
+  /// q̈ = (M + A)⁻¹ (τ + free_force) with free_force = passive + limits + g − c; valid while the
+  /// state is the one it was computed at (the next tick's first stage reuses it).
+  struct StageDynamics {
+    Eigen::LLT<Eigen::MatrixXd> mass;  ///< M + A factored
+    Eigen::VectorXd free_force;
+  };
+  StageDynamics current;
+  bool current_valid = false;
+  Eigen::VectorXd stage_q, stage_u;  ///< scratch
+
+  /// Moves the scratch state to (q, u), realizes it to Velocity and fills `out`.
+  void calc_stage_dynamics(const Eigen::VectorXd& positions, const Eigen::VectorXd& velocities, StageDynamics& out) {
+    write_joint_state(*arm, state, positions, velocities);
+    arm->system.realize(state, SimTK::Stage::Velocity);
+    const Eigen::VectorXd passive =
+        JointDynamicsForce::add_passive_and_gravity(*arm, state, Eigen::VectorXd::Zero(positions.size()), false);
+    Eigen::MatrixXd mass = JointDynamicsForce::calc_rigid_mass_matrix(*arm, state);
+    mass.diagonal() += arm->parameters.armature;
+    out.mass.compute(mass);
+    out.free_force = passive - JointDynamicsForce::calc_rigid_residual(*arm, state, Eigen::VectorXd());  // passive + g − c
+  }
+
+  Eigen::VectorXd calc_stage_acceleration(const Eigen::VectorXd& positions, const Eigen::VectorXd& velocities,
+                                          const Eigen::VectorXd& tau) {
+    StageDynamics stage;
+    calc_stage_dynamics(positions, velocities, stage);
+    return stage.mass.solve(tau + stage.free_force);
+  }
+
+  /// Whether any joint of `positions` is outside its position limits (where the soft-limit
+  /// spring-damper acts: its damping switches on there, a jump no fixed step resolves).
+  bool beyond_limits(const Eigen::VectorXd& positions) const {
+    if (!options.soft_joint_limits) return false;
+    return (positions.array() < arm->parameters.lower.array()).any() || (positions.array() > arm->parameters.upper.array()).any();
+  }
+
+  /// Classical fourth-order Runge–Kutta over `duration` in options.steps_per_tick equal steps,
+  /// τ held; leaves the state realized to Velocity at the end and qdd under τ there. A tick in
+  /// which any stage reaches beyond a joint limit is redone by the adaptive Runge–Kutta–Merson
+  /// (at options.accuracy) from the tick's start. Returns false when it fell back.
+  bool step_runge_kutta_4(const Eigen::VectorXd& tau, double duration) {
+    const double start = state.getTime();
+    const int steps = std::max(1, options.steps_per_tick);
+    const double h = duration / steps;
+    const Eigen::VectorXd q_start = q, u_start = qd;
+    Eigen::VectorXd q0 = q, u0 = qd;
+    for (int s = 0; s < steps; ++s) {
+      if (!current_valid) calc_stage_dynamics(q0, u0, current);
+      const Eigen::VectorXd a1 = current.mass.solve(tau + current.free_force);
+      const Eigen::VectorXd v2 = u0 + 0.5 * h * a1;
+      const Eigen::VectorXd q2 = q0 + 0.5 * h * u0;
+      const Eigen::VectorXd a2 = calc_stage_acceleration(q2, v2, tau);
+      const Eigen::VectorXd v3 = u0 + 0.5 * h * a2;
+      const Eigen::VectorXd q3 = q0 + 0.5 * h * v2;
+      const Eigen::VectorXd a3 = calc_stage_acceleration(q3, v3, tau);
+      const Eigen::VectorXd v4 = u0 + h * a3;
+      const Eigen::VectorXd q4 = q0 + h * v3;
+      const Eigen::VectorXd a4 = calc_stage_acceleration(q4, v4, tau);
+      const bool at_limit = beyond_limits(q0) || beyond_limits(q2) || beyond_limits(q3) || beyond_limits(q4);
+      q0 += (h / 6.0) * (u0 + 2.0 * v2 + 2.0 * v3 + v4);
+      u0 += (h / 6.0) * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+      if (at_limit || beyond_limits(q0)) {
+        state.setTime(start);
+        write_joint_state(*arm, state, q_start, u_start);
+        q = q_start;
+        qd = u_start;
+        current_valid = false;
+        return false;
+      }
+      if (!q0.allFinite() || !u0.allFinite()) {
+        current_valid = false;
+        throw std::runtime_error("runge_kutta_4: the state became NaN or Inf at t = " + std::to_string(start + (s + 1) * h) + " s");
+      }
+      state.setTime(s + 1 == steps ? start + duration : start + (s + 1) * h);
+      calc_stage_dynamics(q0, u0, current);  // the end state: its q̈, and the next step's first stage
+      current_valid = true;
+    }
+    integrator_steps += steps;
+    q = q0;
+    qd = u0;
+    qdd = current.mass.solve(tau + current.free_force);
+    return true;
+  }
+
   void rebuild(double time, const Eigen::VectorXd& positions, const Eigen::VectorXd& velocities) {
     const Eigen::VectorXd torque = arm ? arm->held_torque : Eigen::VectorXd();
     arm = make_arm_system(*model, options);
@@ -330,6 +448,7 @@ struct ArmSimulation::Impl {
   }
 
   void refresh() {
+    current_valid = false;
     arm->system.realize(state, SimTK::Stage::Acceleration);
     q = read_mobilities(*arm, state.getQ());
     qd = read_mobilities(*arm, state.getU());
@@ -368,6 +487,7 @@ void ArmSimulation::step(const Eigen::VectorXd& tau, double duration) {
   }
   if (!(duration > 0.0)) throw std::invalid_argument("step duration must be positive");
   impl.arm->held_torque = tau;
+  if (impl.options.integrator == IntegratorKind::runge_kutta_4 && impl.step_runge_kutta_4(tau, duration)) return;
   impl.state.invalidateAllCacheAtOrAbove(SimTK::Stage::Dynamics);  // forces read the new torque
   // The held torque changes discontinuously at the tick: restart the integrator from the
   // current state (the force element reads the new torque).
@@ -461,13 +581,7 @@ Eigen::VectorXd ArmDynamics::calc_inverse_dynamics(const Eigen::VectorXd& q, con
   if (qdd.size() != dof()) throw std::invalid_argument("expected " + std::to_string(dof()) + " joint accelerations");
   impl_->set(q, qd, SimTK::Stage::Velocity);
   const ArmSystem& arm = *impl_->arm;
-  SimTK::Vector udot(arm.matter.getNumMobilities(), 0.0);
-  for (int j = 0; j < dof(); ++j) udot[arm.mobility_of_active[j]] = qdd[j];
-  SimTK::Vector residual;
-  arm.matter.calcResidualForceIgnoringConstraints(impl_->state, SimTK::Vector(), SimTK::Vector_<SimTK::SpatialVec>(),
-                                                  udot, residual);
-  return read_mobilities(arm, residual) + arm.parameters.armature.cwiseProduct(qdd) -
-         JointDynamicsForce::calc_gravity_generalized_force(arm, impl_->state);
+  return JointDynamicsForce::calc_rigid_residual(arm, impl_->state, qdd) + arm.parameters.armature.cwiseProduct(qdd);
 }
 
 Eigen::VectorXd ArmDynamics::calc_forward_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,

@@ -15,6 +15,12 @@ struct SimulationConfig {
   double dt = 0.01;  ///< s, control and learning period (the thesis's TAU); torques are held over a tick
   IntegratorKind integrator = ArmSimulationOptions{}.integrator;
   double integrator_accuracy = ArmSimulationOptions{}.accuracy;  ///< relative accuracy of adaptive integrators
+  int integrator_steps_per_tick = ArmSimulationOptions{}.steps_per_tick;  ///< runge_kutta_4: equal steps per tick
+  /// The PD loop runs this many times per tick (period dt / pd_substeps) on the plant's state,
+  /// the desired state extrapolated within the tick; the feed-forward, learning and the
+  /// statistics stay at dt. The learner's target is the torque averaged over the tick. 1: the
+  /// thesis's single 10 ms loop. Appendix D's gains need >= 10 on the LWR III (pd_gains.hpp).
+  int pd_substeps = 1;
   /// Multiplies every joint's armature (reflected rotor inertia) of the model, in the plant and
   /// in the nominal model alike; 0 removes it (the thesis's simulated arm had none). The default
   /// gains follow, since they are placed on the mass-matrix diagonal with armature.

@@ -170,7 +170,7 @@ std::size_t SsgprModel::calc_memory_bytes() const {
   const std::size_t doubles = static_cast<std::size_t>(state_.frequencies.size() + state_.factor.size() +
                                                        state_.rhs.size() + state_.weights.size() + phi_.size() +
                                                        rotated_.size() + gain_.size() + 2 * n_out_ + n_out_);
-  return sizeof(*this) + sizeof(double) * doubles;
+  return sizeof(double) * doubles;
 }
 
 }  // namespace armfarm::ssgpr

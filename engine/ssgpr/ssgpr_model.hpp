@@ -81,8 +81,8 @@ class SsgprModel final : public Learner {
   const SsgprParams& params() const { return params_; }
   const SsgprState& state() const { return state_; }
   std::uint64_t n_updates() const { return state_.n_updates; }
-  /// Bytes held by the model's matrices (L, B, W, Ω and scratch).
-  std::size_t calc_memory_bytes() const;
+  /// Bytes of the model's numbers: L, B, W, Ω and the update scratch (Learner::calc_memory_bytes).
+  std::size_t calc_memory_bytes() const override;
 
  private:
   void resolve_weights();

@@ -3,6 +3,8 @@
 // configuration is validated first (the same checks as `expand` and `run`); the job then runs
 // under a wall-time limit (--timeout, default one hour) and stops on Ctrl-C.
 #include "engine/experiment/job_outcome.hpp"
+#include "engine/model/end_effector.hpp"
+#include "engine/model/model_loading.hpp"
 #include "engine/io/input_file.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/job_executor.hpp"
@@ -23,6 +25,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <sstream>
 #include <string>
@@ -35,7 +38,9 @@ namespace {
 // Input paths written in the file resolve against its folder; an input whose recorded entry
 // still matches and whose resolved file exists is read from there; defaults resolve against the
 // data folder. Every problem is a std::runtime_error naming the file.
-nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& schema) {
+// `end_effector` (from --ee) replaces the file's end_effector block.
+nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& schema,
+                               const std::optional<EndEffectorConfig>& end_effector) {
   const std::string text = read_input_file(path, InputFileKind::json);
   JsonDocument document;
   try {
@@ -60,6 +65,10 @@ nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& s
   }
   nlohmann::json config = schema.defaults;
   merge_config_into(config, checked);
+  if (end_effector) {
+    const Eigen::Vector3d& offset = end_effector->offset;
+    config["end_effector"] = {{"link", end_effector->link}, {"offset", {offset.x(), offset.y(), offset.z()}}};
+  }
 
   // Recorded includes stay (the key covers them); fields are read again.
   for (const auto& [name, entry] : recorded.items()) {
@@ -116,12 +125,23 @@ RunFunction setup_job(CLI::App& parent) {
   auto timeout = std::make_shared<double>(3600.0);
   command->add_option("config", *path, "Job configuration (JSON; missing keys take their defaults)")->required();
   command->add_flag("--json", *as_json, "Print {key, status, message, end_time, metrics, per_joint} as JSON");
+  auto ee = std::make_shared<std::string>();
+  command->add_option("--ee", *ee, "End effector LINK[:x,y,z] (offset in m, link frame); sets end_effector.link and .offset");
+  auto strict = std::make_shared<bool>(false);
+  command->add_flag("--strict", *strict, "Refuse non-URDF elements inside the model's <link>/<joint> (by default skipped with a warning)");
   command->add_option("--timeout", *timeout, "Stop the job after this many seconds of wall clock (0: none)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  return [path, as_json, timeout] {
+  return [path, as_json, timeout, ee, strict] {
     const JobConfigSchema schema = make_experiment_config_schema();
-    const nlohmann::json config = load_job_config(*path, schema);
+    std::optional<EndEffectorConfig> end_effector;
+    if (!ee->empty()) end_effector = parse_end_effector_text(*ee);
+    const nlohmann::json config = load_job_config(*path, schema, end_effector);
+    {
+      const ArmModel model = load_arm_model_file(calc_config_with_resolved_inputs(config).at("model").get<std::string>());
+      if (*strict) check_strict_model(model);
+      for (const std::string& warning : model.warnings) std::cerr << "armfarm: warning: " << warning << " (skipped; --strict refuses it)\n";
+    }
     JobOutcome outcome;
     StopSignalScope signals;
     const std::atomic<bool>& interrupted = signals.stop_requested();

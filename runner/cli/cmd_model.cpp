@@ -5,11 +5,13 @@
 namespace armfarm::cli {
 
 RunFunction setup_model_info(CLI::App& model);
+RunFunction setup_model_dynamics(CLI::App& model);
 
 namespace {
 const std::vector<SubcommandEntry>& model_subcommands() {
   static const std::vector<SubcommandEntry> entries = {
       {"info", setup_model_info},
+      {"dynamics", setup_model_dynamics},
   };
   return entries;
 }

@@ -1,6 +1,8 @@
-// `armfarm model info FILE [--json]`: what a model file describes — the link tree, the joints
-// with their limits and drive figures, link masses, total mass and reach. Bad files exit 2
-// with the loader's one-line message.
+// `armfarm model info FILE [--ee LINK[:x,y,z]] [--json]`: what a model file describes — the
+// link tree, the joints (numbered 1.. as in job configurations) with their limits and drive
+// figures, link masses, total mass, the leaf links, the end effector and reach. A file with
+// several leaves and no choice still prints (the end effector shows as not chosen). Bad files
+// exit 2 with the loader's one-line message.
 #include "engine/model/arm_reach.hpp"
 #include "engine/model/model_loading.hpp"
 #include "runner/cli/subcommand.hpp"
@@ -68,7 +70,7 @@ nlohmann::json make_json(const ArmModel& model) {
                             {"armature", joint.armature},
                             {"start_position", joint.start_position}};
     const auto index = std::find(movable.begin(), movable.end(), j);
-    entry["number"] = index == movable.end() ? nlohmann::json(nullptr) : nlohmann::json(index - movable.begin());
+    entry["number"] = index == movable.end() ? nlohmann::json(nullptr) : nlohmann::json(index - movable.begin() + 1);
     if (joint.has_position_limits) {
       entry["lower"] = joint.lower;
       entry["upper"] = joint.upper;
@@ -80,9 +82,17 @@ nlohmann::json make_json(const ArmModel& model) {
   }
   out["degrees_of_freedom"] = movable.size();
   out["total_mass"] = model.total_mass();
-  out["reach"] = calc_reach(model);
-  out["end_effector"] = {{"link", model.links[model.end_effector.link].name},
-                         {"offset", vector_json(model.end_effector.offset)}};
+  out["warnings"] = model.warnings;
+  out["leaf_links"] = nlohmann::json::array();
+  for (int leaf : find_leaf_links(model)) out["leaf_links"].push_back(model.links[leaf].name);
+  if (model.end_effector.link >= 0) {
+    out["reach"] = calc_reach(model);
+    out["end_effector"] = {{"link", model.links[model.end_effector.link].name},
+                           {"offset", vector_json(model.end_effector.offset)}};
+  } else {
+    out["reach"] = nullptr;
+    out["end_effector"] = nullptr;  // not chosen: several leaves (--ee chooses)
+  }
   return out;
 }
 
@@ -92,7 +102,7 @@ void print_text(const ArmModel& model, std::ostream& out) {
     out << "  " << model.links[joint.parent_link].name << " -> " << model.links[joint.child_link].name << "  ["
         << joint.name << ", " << type_name(joint.type) << "]\n";
   }
-  out << "\njoints (numbers index the movable joints in tree order):\n";
+  out << "\njoints (numbered 1.. over the movable joints in tree order, as in active_joints):\n";
   out << "  #  name             type        axis               lower..upper deg      lower..upper rad    "
          "effort  velocity  armature  damping  start\n";
   const std::vector<int> movable = model.movable_joints();
@@ -108,7 +118,7 @@ void print_text(const ArmModel& model, std::ostream& out) {
       deg << "unlimited";
       rad << "unlimited";
     }
-    out << "  " << std::left << std::setw(3) << n << std::setw(17) << joint.name << std::setw(12) << type_name(joint.type)
+    out << "  " << std::left << std::setw(3) << n + 1 << std::setw(17) << joint.name << std::setw(12) << type_name(joint.type)
         << std::setw(19) << axis.str() << std::setw(22) << deg.str() << std::setw(20) << rad.str() << std::setw(8)
         << number(joint.effort_limit) << std::setw(10) << number(joint.velocity_limit) << std::setw(10)
         << number(joint.armature) << std::setw(9) << number(joint.damping) << number(joint.start_position) << "\n";
@@ -119,12 +129,19 @@ void print_text(const ArmModel& model, std::ostream& out) {
     out << "  " << std::left << std::setw(12) << link.name << std::right << std::setw(9) << std::fixed << std::setprecision(4)
         << link.inertial.mass << " kg" << std::defaultfloat << (link.fixed_to_world ? "  (fixed to the world)" : "") << "\n";
   }
-  const Link& tip = model.links[model.end_effector.link];
+  std::string leaves;
+  for (int leaf : find_leaf_links(model)) leaves += (leaves.empty() ? "" : ", ") + model.links[leaf].name;
   out << std::fixed << std::setprecision(4) << "\ndegrees of freedom: " << movable.size()
       << "\ntotal mass: " << model.total_mass() << " kg (links not fixed to the world)"
-      << "\nreach: " << calc_reach(model) << " m (joint-origin path from the first joint to the end effector)"
-      << "\nend effector: " << tip.name << " + (" << model.end_effector.offset.transpose() << ") m\n"
-      << std::defaultfloat;
+      << "\nleaf links: " << leaves;
+  if (model.end_effector.link >= 0) {
+    const Link& tip = model.links[model.end_effector.link];
+    out << "\nreach: " << calc_reach(model) << " m (joint-origin path from the first joint to the end effector)"
+        << "\nend effector: " << tip.name << " + (" << model.end_effector.offset.transpose() << ") m\n";
+  } else {
+    out << "\nend effector: not chosen (several leaf links; choose with --ee LINK[:x,y,z] or end_effector.link in a job)\n";
+  }
+  out << std::defaultfloat;
 }
 
 }  // namespace
@@ -135,8 +152,18 @@ RunFunction setup_model_info(CLI::App& model) {
   auto json = std::make_shared<bool>(false);
   info->add_option("FILE", *file, "Model file (.urdf or .dcg)")->required();
   info->add_flag("--json", *json, "Print JSON (stable keys) instead of text");
-  return [file, json] {
-    const ArmModel arm = load_arm_model(*file);
+  auto ee = std::make_shared<std::string>();
+  info->add_option("--ee", *ee, "End effector LINK[:x,y,z] (offset in m, in the link's frame)");
+  auto strict = std::make_shared<bool>(false);
+  info->add_flag("--strict", *strict, "Refuse non-URDF elements inside <link>/<joint> (by default skipped with a warning)");
+  return [file, json, ee, strict] {
+    ArmModel arm = load_arm_model_file(*file);
+    if (*strict) check_strict_model(arm);
+    for (const std::string& warning : arm.warnings) std::cerr << "armfarm: warning: " << warning << " (skipped; --strict refuses it)\n";
+    const std::vector<int> leaves = find_leaf_links(arm);
+    if (!ee->empty() || arm.end_effector.link >= 0 || leaves.size() == 1) {
+      choose_end_effector(arm, ee->empty() ? EndEffectorConfig{} : parse_end_effector_text(*ee));
+    }
     if (*json) {
       std::cout << make_json(arm).dump(2) << "\n";
     } else {

@@ -13,9 +13,11 @@ RunFunction setup_export(CLI::App& parent);
 RunFunction setup_plot(CLI::App& parent);
 RunFunction setup_report(CLI::App& parent);
 RunFunction setup_merge(CLI::App& parent);
+RunFunction setup_fit(CLI::App& parent);
 RunFunction setup_lwpr(CLI::App& parent);
 RunFunction setup_version(CLI::App& parent);
 RunFunction setup_model(CLI::App& parent);
+RunFunction setup_slurm(CLI::App& parent);
 
 const std::vector<SubcommandEntry>& all_subcommands() {
   static const std::vector<SubcommandEntry> entries = {
@@ -29,9 +31,11 @@ const std::vector<SubcommandEntry>& all_subcommands() {
       {"plot", setup_plot},
       {"report", setup_report},
       {"merge", setup_merge},
+      {"fit", setup_fit},
       {"lwpr", setup_lwpr},
       {"version", setup_version},
       {"model", setup_model},
+      {"slurm", setup_slurm},
   };
   return entries;
 }

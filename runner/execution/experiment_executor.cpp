@@ -2,11 +2,14 @@
 // run_experiment() call. Arm models are loaded once per file and shared (read-only) by the
 // jobs of a sweep. The files a job reads (model and meshes, recorded trajectory) are its input
 // fields: the spec layer resolves and hashes them, and the job loads them from the resolved
-// paths recorded under "inputs".
+// paths recorded under "inputs". Trajectories are built once per distinct trajectory key and
+// shared read-only by the jobs that use it (trajectory_cache.hpp).
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/model/model_loading.hpp"
 #include "runner/config/job_config_json.hpp"
 #include "runner/execution/job_executor.hpp"
+#include "runner/spec/canonical_json.hpp"
+#include "runner/execution/trajectory_cache.hpp"
 #include "runner/spec/input_files.hpp"
 
 #include <cstdlib>
@@ -19,26 +22,52 @@
 namespace armfarm {
 namespace {
 
-/// Arm models by file path, loaded on first use. Thread-safe; models are immutable once loaded.
+/// Arm models by file path and end-effector choice, loaded on first use. Thread-safe; models
+/// are immutable once loaded.
 class ModelCache {
  public:
-  std::shared_ptr<const ArmModel> get(const std::string& path) {
+  /// The file's arm before the end effector is chosen (its joints, its input files).
+  std::shared_ptr<const ArmModel> get_file(const std::string& path) {
     std::lock_guard<std::mutex> lock(mutex_);
-    auto found = models_.find(path);
-    if (found != models_.end()) return found->second;
-    std::shared_ptr<const ArmModel> model;
+    return get_file_locked(path);
+  }
+
+  /// The arm with the end effector `choice` picks (end_effector.hpp). ConfigError at "model"
+  /// when the file is bad, at "end_effector.link" when the choice is.
+  std::shared_ptr<const ArmModel> get(const std::string& path, const EndEffectorConfig& choice) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const std::string key = path + "\n" + choice.link + "\n" + calc_canonical_json(nlohmann::json::array(
+                                                                  {choice.offset.x(), choice.offset.y(), choice.offset.z()}));
+    auto found = chosen_.find(key);
+    if (found != chosen_.end()) return found->second;
+    ArmModel model = *get_file_locked(path);
     try {
-      model = std::make_shared<const ArmModel>(load_arm_model(path));
+      choose_end_effector(model, choice);
     } catch (const std::exception& error) {
-      throw ConfigError("model", error.what());
+      throw ConfigError("end_effector.link", error.what());
     }
-    models_.emplace(path, model);
-    return model;
+    auto shared = std::make_shared<const ArmModel>(std::move(model));
+    chosen_.emplace(key, shared);
+    return shared;
   }
 
  private:
+  std::shared_ptr<const ArmModel> get_file_locked(const std::string& path) {
+    auto found = files_.find(path);
+    if (found != files_.end()) return found->second;
+    std::shared_ptr<const ArmModel> model;
+    try {
+      model = std::make_shared<const ArmModel>(load_arm_model_file(path));
+    } catch (const std::exception& error) {
+      throw ConfigError("model", error.what());
+    }
+    files_.emplace(path, model);
+    return model;
+  }
+
   std::mutex mutex_;
-  std::map<std::string, std::shared_ptr<const ArmModel>> models_;
+  std::map<std::string, std::shared_ptr<const ArmModel>> files_;
+  std::map<std::string, std::shared_ptr<const ArmModel>> chosen_;  // path, link, offset
 };
 
 // Where the default model (and any other default path) resolves: $ARMFARM_DATA_DIR, else the
@@ -58,14 +87,15 @@ JobConfigSchema make_experiment_config_schema() {
   schema.types = make_job_config_types();
   schema.validate = [models](const nlohmann::json& recorded) {
     const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
-    const auto model = models->get(config.at("model").get<std::string>());
-    parse_job_config(config, make_model_facts(*model));
+    const std::string path = config.at("model").get<std::string>();
+    const JobConfig job = parse_job_config(config, make_model_facts(*models->get_file(path)));
+    models->get(path, job.end_effector);
   };
   InputFileField model_field;
   model_field.path = "model";
   model_field.list_files = [models](const std::string& resolved) {
     try {
-      return models->get(resolved)->input_files;
+      return models->get_file(resolved)->input_files;
     } catch (const ConfigError& error) {
       const std::string message = error.what();  // "model: FILE: problem"
       throw std::runtime_error(message.substr(error.json_path().empty() ? 0 : error.json_path().size() + 2));
@@ -83,13 +113,17 @@ JobConfigSchema make_experiment_config_schema() {
 
 JobExecutor make_experiment_executor() {
   auto models = std::make_shared<ModelCache>();
-  return [models](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
+  auto trajectories = std::make_shared<TrajectoryCache>();
+  return [models, trajectories](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
     const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
-    const auto model = models->get(config.at("model").get<std::string>());
-    const JobConfig job = parse_job_config(config, make_model_facts(*model));
+    const std::string path = config.at("model").get<std::string>();
+    const JobConfig job = parse_job_config(config, make_model_facts(*models->get_file(path)));
+    const auto model = models->get(path, job.end_effector);
     JobOutcome outcome;
     try {
-      outcome = run_experiment(*model, job, control.should_stop);
+      const std::shared_ptr<const JobTrajectories> shared =
+          trajectories->get(make_trajectory_key(recorded), [&] { return build_job_trajectories(*model, job); });
+      outcome = run_experiment(*model, job, *shared, control.should_stop);
     } catch (const std::invalid_argument& error) {
       throw ConfigError("", error.what());
     } catch (const std::exception& error) {

@@ -194,10 +194,45 @@ TEST(JobConfigValidation, CrossFieldAndShapeRules) {
       << problems_of(config);
 }
 
+TEST(JobConfigValidation, SsgprBlockIsCheckedWhenSsgprLearns) {
+  JobConfig config;
+  config.learning.ssgpr.params.lengthscales = Eigen::VectorXd::Constant(4, 1.0);  // neither 1 nor 3n
+  config.learning.ssgpr.fit_samples = 1;
+  EXPECT_EQ(paths_of(config), (std::set<std::string>{"learning.ssgpr.lengthscales"})) << problems_of(config);  // lwpr learns
+  config.learning.learner = LearnerKind::ssgpr;
+  config.learning.ssgpr.params.features = 0;
+  config.learning.ssgpr.params.forgetting = 0.0;
+  EXPECT_EQ(paths_of(config), (std::set<std::string>{"learning.ssgpr.lengthscales", "learning.ssgpr.features",
+                                                     "learning.ssgpr.forgetting", "learning.ssgpr.fit_samples"}))
+      << problems_of(config);
+  EXPECT_NE(problems_of(config).find("learning.ssgpr.features: 0 is outside the allowed range [1, 2000] (integers)"), std::string::npos)
+      << problems_of(config);
+  EXPECT_NE(problems_of(config).find("learning.ssgpr.lengthscales: has 4 values; give 1 or one per input (3 × 7 active joints = 21)"),
+            std::string::npos)
+      << problems_of(config);
+  config = JobConfig{};
+  config.learning.learner = LearnerKind::ssgpr;
+  EXPECT_TRUE(validate(config, kLwr3).empty()) << problems_of(config);
+}
+
+TEST(JobConfigValidation, SsgprCostBoundNamesTheFeatures) {
+  JobConfig config;
+  config.learning.learner = LearnerKind::ssgpr;
+  config.trajectory.kind = TrajectoryKind::sine;
+  config.trajectory.sine.duration = 3000.0;  // 300 000 online updates
+  config.learning.ssgpr.params.features = 1000;  // × 4e6 = 1.2e12: allowed
+  EXPECT_TRUE(validate(config, kLwr3).empty()) << problems_of(config);
+  config.learning.ssgpr.params.features = 2000;  // × 1.6e7 = 4.8e12: refused
+  EXPECT_EQ(paths_of(config), (std::set<std::string>{"learning.ssgpr.features"})) << problems_of(config);
+  config.learning.learner = LearnerKind::lwpr;  // the block is LWPR's concern no more
+  EXPECT_TRUE(validate(config, kLwr3).empty()) << problems_of(config);
+}
+
 TEST(JobConfigValidation, EnumTablesSpellEveryEnumeratorOnce) {
   for (const EnumNames* names : {&control_mode_names(), &feed_forward_source_names(), &trajectory_kind_names(),
                                  &differentiation_names(), &reach_profile_names(), &recorded_filter_names(),
-                                 &learning_mode_names(), &lwpr_kernel_names(), &integrator_kind_names()}) {
+                                 &learning_mode_names(), &lwpr_kernel_names(), &integrator_kind_names(),
+                                 &learner_kind_names()}) {
     std::set<std::string> spellings;
     for (std::size_t i = 0; i < names->size(); ++i) {
       EXPECT_EQ((*names)[i].value, static_cast<int>(i)) << (*names)[i].name;  // declaration order, no gaps

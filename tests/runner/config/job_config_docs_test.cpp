@@ -52,7 +52,7 @@ std::string describe_allowed(const JobConfigKey& key, const FieldRef& field) {
       for (const EnumName& name : *field.choices) text += (text.empty() ? "" : ", ") + std::string("`\"") + name.name + "\"`";
       return text;
     case ValueKind::boolean: return "true, false";
-    case ValueKind::text: return "a path";
+    case ValueKind::text: return key.path == "end_effector.link" ? "a link of the model" : "a path";
     case ValueKind::name_list: return "names listed";
     case ValueKind::integer: return key.range.describe() + ", integer";
     case ValueKind::integer_list:

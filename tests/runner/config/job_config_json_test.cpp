@@ -99,7 +99,7 @@ TEST(JobConfigJson, DefaultsTreeHoldsExactlyTheTableKeysWithTheStructDefaults) {
   EXPECT_EQ(leaves, keys);
   // Values: the literal numbers of the structs, and the job's LWPR defaults rather than the library's.
   EXPECT_EQ(defaults["dt"], 0.01);
-  EXPECT_EQ(defaults["integrator"], "runge_kutta_merson");
+  EXPECT_EQ(defaults["integrator"], "runge_kutta_4");
   EXPECT_EQ(defaults["learning"]["lwpr"]["init_D"], 0.05);
   EXPECT_NE(defaults["learning"]["lwpr"]["init_D"], lwpr::LwprParams{}.init_D(0, 0));
   EXPECT_EQ(defaults["learning"]["lwpr"]["trust_n_data"], 5.0);

@@ -1,0 +1,160 @@
+// Choosing the end effector: the single leaf by default, a named link (config or --ee) on a
+// file with several leaves, the file's own element, and the errors that list the leaves. Also
+// the URDF extension elements a ROS-style file carries, and the shared tree ordering.
+#include "engine/model/end_effector.hpp"
+#include "engine/model/model_file.hpp"
+#include "engine/model/model_loading.hpp"
+#include "tests/engine/model/model_test_helpers.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <unistd.h>
+
+namespace armfarm {
+namespace {
+
+std::string load_error(const std::string& path, const EndEffectorConfig& choice) {
+  try {
+    load_arm_model(path, choice);
+  } catch (const ModelError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(EndEffector, SeveralLeavesAreRefusedWithTheirNamesAndHowToChoose) {
+  const std::string path = test::data_path("two_leaves.urdf");
+  const std::string message = load_error(path, {});
+  EXPECT_EQ(message, path + ": 2 leaf links ('tool0', 'camera_link'): choose the end effector with end_effector.link (and "
+                            ".offset) in the job configuration, or --ee LINK[:x,y,z] on armfarm job and the model commands");
+  const ArmModel structure = load_arm_model_file(path);  // the structure loads without a choice
+  EXPECT_EQ(structure.end_effector.link, -1);
+  EXPECT_EQ(structure.movable_joints().size(), 2u);
+}
+
+TEST(EndEffector, ANamedLinkAndOffsetAreTheEndEffector) {
+  const std::string path = test::data_path("two_leaves.urdf");
+  const ArmModel tool = load_arm_model(path, {"tool0", Eigen::Vector3d::Zero()});
+  EXPECT_EQ(tool.links[tool.end_effector.link].name, "tool0");
+  const ArmModel camera = load_arm_model(path, {"camera_link", Eigen::Vector3d(0, 0, 0.02)});
+  EXPECT_EQ(camera.links[camera.end_effector.link].name, "camera_link");
+  EXPECT_EQ(camera.end_effector.offset, Eigen::Vector3d(0, 0, 0.02));
+  // Any link may be chosen, not only a leaf: the tip of the forearm itself.
+  const ArmModel fore = load_arm_model(path, {"fore", Eigen::Vector3d(0.4, 0, 0)});
+  const test::ForwardKinematics fk = test::calc_forward_kinematics(fore, {0.3, -0.5});
+  const Eigen::Vector3d via_fore = fk.links[fore.end_effector.link] * fore.end_effector.offset;
+  const Eigen::Vector3d via_tool = fk.links[tool.find_link("tool0")].translation();
+  EXPECT_LT((via_fore - via_tool).norm(), 1e-12);
+}
+
+TEST(EndEffector, AnUnknownLinkListsTheLeaves) {
+  const std::string path = test::data_path("two_leaves.urdf");
+  EXPECT_EQ(load_error(path, {"tool", Eigen::Vector3d::Zero()}),
+            path + ": end effector: no link 'tool' (leaf links: 'tool0', 'camera_link')");
+  EXPECT_NE(load_error(path, {"", Eigen::Vector3d(0, 0, 1)}).find("an offset needs end_effector.link"), std::string::npos);
+}
+
+TEST(EndEffector, TheFilesElementIsTheDefaultAndAChoiceOverridesIt) {
+  const std::string path = test::models_path("planar2.urdf");  // <armfarm:end_effector link="link_2" offset="0.8 0 0"/>
+  const ArmModel own = load_arm_model(path);
+  EXPECT_EQ(own.links[own.end_effector.link].name, "link_2");
+  EXPECT_EQ(own.end_effector.offset, Eigen::Vector3d(0.8, 0, 0));
+  const ArmModel chosen = load_arm_model(path, {"link_1", Eigen::Vector3d(1.0, 0, 0)});
+  EXPECT_EQ(chosen.links[chosen.end_effector.link].name, "link_1");
+  EXPECT_EQ(chosen.end_effector.offset, Eigen::Vector3d(1.0, 0, 0));
+}
+
+TEST(EndEffector, DcgWithSeveralLeavesAsksToo) {
+  const auto folder = std::filesystem::temp_directory_path() / ("armfarm_ee_dcg_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  const std::string path = (folder / "fork.dcg").string();
+  std::ofstream(path) << "<DCGraph>\n"
+                         "B base <t(0 0 0)> o(1) s(0.1 0.1 0.1) fix ;\n"
+                         "B left <> o(1) s(0.1 0.1 0.4) w(1) ;\n"
+                         "B right <> o(1) s(0.1 0.1 0.4) w(1) ;\n"
+                         "J base-left <t(0 0 0.1) || t(0 0 0.2)> ;\n"
+                         "J base-right <t(0 0 0.1) || t(0 0 0.2)> ;\n"
+                         "</DCGraph>\n";
+  EXPECT_NE(load_error(path, {}).find("2 leaf links ('left', 'right')"), std::string::npos) << load_error(path, {});
+  const ArmModel right = load_arm_model(path, {"right", Eigen::Vector3d(0, 0, 0.2)});
+  EXPECT_EQ(right.links[right.end_effector.link].name, "right");
+  std::filesystem::remove_all(folder);
+}
+
+TEST(EndEffector, CommandLineText) {
+  EXPECT_EQ(parse_end_effector_text("tool0").link, "tool0");
+  EXPECT_EQ(parse_end_effector_text("tool0").offset, Eigen::Vector3d::Zero());
+  const EndEffectorConfig tip = parse_end_effector_text("link_7:0,0,0.126");
+  EXPECT_EQ(tip.link, "link_7");
+  EXPECT_EQ(tip.offset, Eigen::Vector3d(0, 0, 0.126));
+  EXPECT_EQ(parse_end_effector_text("a:-1e-2,2,3").offset, Eigen::Vector3d(-0.01, 2, 3));
+  for (const char* bad : {"", ":1,2,3", "tool0:", "tool0:1,2", "tool0:1,2,3,4", "tool0:1,x,3", "tool0:1,,3", "tool0:nan,0,0"}) {
+    EXPECT_THROW(parse_end_effector_text(bad), std::invalid_argument) << bad;
+  }
+}
+
+TEST(UrdfExtensions, RosStyleSevenDofFileLoadsWithItsExtensionElements) {
+  // gazebo, transmission with hardware interfaces and drake:rotor_inertia / drake:gear_ratio,
+  // ros2_control, drake:* at the top level and inside <collision>, visual/collision meshes as
+  // package:// URIs (never opened).
+  const std::string path = test::data_path("ros7_arm.urdf");
+  const ArmModel model = load_arm_model(path, {"ee", Eigen::Vector3d::Zero()});
+  EXPECT_EQ(model.movable_joints().size(), 7u);
+  EXPECT_EQ(model.input_files, std::vector<std::string>{path});  // no mesh is read
+  EXPECT_NEAR(model.total_mass(), 5.0 + 4.0 + 4.0 + 3.0 + 2.7 + 1.7 + 1.8 + 0.3, 1e-12);
+  // Armature from Drake's transmission elements: rotor inertia × gear ratio².
+  const std::vector<int> movable = model.movable_joints();
+  for (int n = 0; n < 7; ++n) {
+    EXPECT_NEAR(model.joints[movable[n]].armature, (n < 4 ? 1e-5 : 4e-6) * 160.0 * 160.0, 1e-12) << n;
+  }
+  // Straight up at zero: the ee frame 0.1575 + 0.2025 + 0.2045 + 0.2155 + 0.1845 + 0.2155 + 0.081 + 0.171 m above the base.
+  const test::ForwardKinematics fk = test::calc_forward_kinematics(model, std::vector<double>(7, 0.0));
+  EXPECT_LT((fk.links[model.end_effector.link].translation() - Eigen::Vector3d(0, 0, 1.432)).norm(), 1e-12);
+  EXPECT_NE(load_error(path, {}).find("3 leaf links ('flange', 'tool0', 'ee')"), std::string::npos);
+  // The vendor-style <self_collision_checking> is skipped with a warning; strict reading refuses it.
+  ASSERT_EQ(model.warnings.size(), 1u);
+  EXPECT_EQ(model.warnings[0], path + ":51: <self_collision_checking> in <link> of link 'base_link' is not a URDF element");
+  try {
+    check_strict_model(model);
+    ADD_FAILURE() << "strict reading accepted <self_collision_checking>";
+  } catch (const ModelError& error) {
+    EXPECT_EQ(std::string(error.what()), model.warnings[0] + " (refused under --strict)");
+  }
+  EXPECT_NO_THROW(check_strict_model(load_arm_model(test::models_path("dlr_lwr3.urdf"))));
+}
+
+TEST(UrdfExtensions, NamespacedElementsInsideLinksAndJointsAreSkipped) {
+  const auto folder = std::filesystem::temp_directory_path() / ("armfarm_ee_ext_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  const std::string path = (folder / "ext.urdf").string();
+  std::ofstream(path) << R"(<robot name="ext" xmlns:drake="http://drake.mit.edu">
+  <link name="base"/>
+  <frame name="tcp" link="tip" xyz="0 0 0.1"/>
+  <joint name="j" type="continuous"><parent link="base"/><child link="tip"/><axis xyz="0 0 1"/>
+    <drake:acceleration lower="-10" upper="10"/></joint>
+  <link name="tip"><drake:compliant_hydroelastic/>
+    <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <sensor name="cam"/>
+</robot>
+)";
+  const ArmModel model = load_arm_model(path);
+  EXPECT_EQ(model.links[model.end_effector.link].name, "tip");
+  std::filesystem::remove_all(folder);
+}
+
+TEST(ModelFile, TreeOrderIsDepthFirstInGivenOrder) {
+  // links: 0 root, 1..5; joints given out of tree order.
+  const std::vector<TreeEdge> joints = {{2, 3}, {0, 1}, {1, 2}, {0, 4}, {1, 5}};
+  EXPECT_EQ(calc_tree_order(joints, {0}), (std::vector<int>{1, 2, 0, 4, 3}));
+  // A cycle away from the root is left out for the caller to report.
+  const std::vector<TreeEdge> cyclic = {{0, 1}, {2, 3}, {3, 2}};
+  EXPECT_EQ(calc_tree_order(cyclic, {0}), (std::vector<int>{0}));
+  EXPECT_THROW(read_model_file("/nonexistent/arm.urdf"), ModelError);
+}
+
+}  // namespace
+}  // namespace armfarm

@@ -1,0 +1,201 @@
+#!/usr/bin/env bash
+# armfarm on a real Slurm: starts a private one-node cluster on this machine (munged, slurmctld,
+# slurmd from Debian's slurm-wlm and munge, installed with apt-get when missing), submits a
+# six-job sweep with `armfarm slurm --submit` as an array of 3 shard tasks plus the merge,
+# waits for them (bounded), and checks that `armfarm compare merged.db local.db` exits 0 against
+# a local `armfarm run` of the same spec. First one task is cancelled right after submission: the
+# merge must not run; then the same command again runs only the missing shard's jobs and merges;
+# once more it finds nothing to submit.
+# Stops the daemons it started, by pid, on every exit path. Skips (exit 0, one line) when not
+# root or when the packages cannot be installed.
+#
+# usage: tests/slurm/run_slurm_test.sh [ARMFARM_BINARY]     (default: build/runner/armfarm)
+# environment: SLURM_TEST_TIMEOUT (s, default 900) bounds the wait for the Slurm jobs.
+set -euo pipefail
+
+repo=$(cd "$(dirname "$0")/../.." && pwd)
+armfarm=$(realpath "${1:-$repo/build/runner/armfarm}")
+spec=$repo/tests/data/specs/slurm_small.json
+timeout=${SLURM_TEST_TIMEOUT:-900}
+started=$(date +%s)
+
+say() { echo "run_slurm_test: $*"; }
+skip() { say "SKIPPED: $*"; exit 0; }
+
+[ "$(id -u)" -eq 0 ] || skip "needs root (it installs packages and starts slurmctld, slurmd and munged)"
+[ -x "$armfarm" ] || { say "FAILED: no armfarm binary at $armfarm (build it first: make build)"; exit 1; }
+
+# ---- packages ----
+if ! command -v slurmctld >/dev/null || ! command -v slurmd >/dev/null || ! command -v munged >/dev/null ||
+   ! command -v sbatch >/dev/null; then
+  say "installing slurm-wlm and munge with apt-get"
+  if ! { DEBIAN_FRONTEND=noninteractive apt-get update -qq &&
+         DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends slurm-wlm munge; } \
+       >/tmp/run_slurm_test.apt.log 2>&1; then
+    skip "could not install slurm-wlm and munge (apt-get log: /tmp/run_slurm_test.apt.log)"
+  fi
+fi
+say "$(slurmctld -V), $(munged --version 2>&1 | head -1 | awk '{print $1}')"
+
+# ---- a private cluster: every file in one folder, the daemons on their own ports ----
+work=$(mktemp -d /tmp/armfarm-slurm-test.XXXXXX)
+chmod 0755 "$work"
+pids=()
+job_ids=()
+cleanup() {
+  local status=$?
+  if [ ${#job_ids[@]} -gt 0 ] && [ -n "${SLURM_CONF:-}" ]; then
+    scancel "${job_ids[@]}" 2>/dev/null || true
+  fi
+  local i
+  for ((i = ${#pids[@]} - 1; i >= 0; i--)); do  # slurmd, slurmctld, then munged
+    kill "${pids[i]}" 2>/dev/null || true
+  done
+  for pid in "${pids[@]}"; do
+    for _ in $(seq 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+    kill -9 "$pid" 2>/dev/null || true
+  done
+  if [ "$status" -ne 0 ]; then
+    say "FAILED (exit $status); logs in $work"
+    for log in slurmctld.log slurmd.log munged.log; do
+      [ -f "$work/$log" ] && { echo "---- $log (last 20 lines)"; tail -20 "$work/$log"; }
+    done
+    for log in "$work"/merged.db.slurm-*.log; do
+      [ -f "$log" ] && { echo "---- $(basename "$log")"; cat "$log"; }
+    done
+  else
+    rm -rf "$work"
+  fi
+  exit "$status"
+}
+trap cleanup EXIT
+trap 'exit 130' INT TERM
+
+mkdir -p "$work/munge" "$work/state" "$work/spool"
+chmod 0711 "$work/munge"
+dd if=/dev/urandom of="$work/munge/munge.key" bs=1024 count=1 status=none
+chmod 0400 "$work/munge/munge.key"
+munged --foreground --force --key-file="$work/munge/munge.key" --socket="$work/munge/munge.socket" \
+  --pid-file="$work/munge/munged.pid" --seed-file="$work/munge/munged.seed" --log-file="$work/munged.log" >"$work/munged.out" 2>&1 &
+pids+=($!)
+for _ in $(seq 50); do [ -S "$work/munge/munge.socket" ] && break; sleep 0.1; done
+[ -S "$work/munge/munge.socket" ] || { say "munged did not start"; exit 1; }
+
+host=$(hostname -s)
+# The node line as slurmd measures this machine (CPUs, sockets, cores, memory), so that the
+# controller never drains it for a mismatch.
+node=$(slurmd -C | head -1 | sed -e "s/^NodeName=[^ ]*/NodeName=$host NodeAddr=127.0.0.1/")
+export SLURM_CONF=$work/slurm.conf
+cat >"$SLURM_CONF" <<EOF
+ClusterName=armfarmtest
+SlurmctldHost=$host(127.0.0.1)
+SlurmctldPort=16817
+SlurmdPort=16818
+SlurmUser=root
+SlurmdUser=root
+AuthType=auth/munge
+CredType=cred/munge
+AuthInfo=socket=$work/munge/munge.socket
+StateSaveLocation=$work/state
+SlurmdSpoolDir=$work/spool
+SlurmctldPidFile=$work/slurmctld.pid
+SlurmdPidFile=$work/slurmd.pid
+SlurmctldLogFile=$work/slurmctld.log
+SlurmdLogFile=$work/slurmd.log
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+JobAcctGatherType=jobacct_gather/none
+AccountingStorageType=accounting_storage/none
+SelectType=select/cons_tres
+SelectTypeParameters=CR_CPU
+SchedulerType=sched/backfill
+SchedulerParameters=sched_interval=2
+MpiDefault=none
+SwitchType=switch/none
+ReturnToService=2
+MinJobAge=3600
+KillWait=5
+$node State=UNKNOWN
+PartitionName=armfarmtest Nodes=$host Default=YES MaxTime=INFINITE State=UP
+EOF
+
+slurmctld -D -c -f "$SLURM_CONF" >"$work/slurmctld.out" 2>&1 &
+pids+=($!)
+slurmd -D -f "$SLURM_CONF" >"$work/slurmd.out" 2>&1 &
+pids+=($!)
+idle=
+for _ in $(seq 120); do
+  state=$(sinfo -h -n "$host" -o %T 2>/dev/null || true)
+  if [ "$state" = idle ]; then idle=1; break; fi
+  sleep 0.5
+done
+[ -n "$idle" ] || { say "node $host did not become idle (state: ${state:-none})"; exit 1; }
+say "one-node cluster up: $(sinfo -h -o '%P %D node(s) %c CPUs %T')"
+
+# ---- the sweep on Slurm, and locally ----
+cd "$work"
+db=$work/merged.db
+deadline=$((started + timeout))
+
+# Submits the sweep with `armfarm slurm --submit` and waits until its jobs leave the queue;
+# sets array_id, merge_id and merge_state, prints each task's state and log.
+submit_and_wait() {
+  local submitted
+  submitted=$("$armfarm" slurm "$spec" --db "$db" --tasks 3 --cpus-per-task 1 --time 30 --submit)
+  echo "$submitted"
+  array_id=$(sed -n 's/^submitted array job \([0-9]*\).*/\1/p' <<<"$submitted")
+  merge_id=$(sed -n 's/^submitted merge job \([0-9]*\).*/\1/p' <<<"$submitted")
+  [ -n "$array_id" ] && [ -n "$merge_id" ] || { say "no job ids in the output of armfarm slurm --submit"; exit 1; }
+  job_ids=("$array_id" "$merge_id")
+  [ -z "${1:-}" ] || "$@"  # work to do while the jobs run
+  while [ -n "$(squeue -h -j "$array_id,$merge_id" -o %i 2>/dev/null)" ]; do
+    if [ "$(date +%s)" -gt "$deadline" ]; then
+      say "timed out after ${timeout}s waiting for jobs $array_id and $merge_id:"
+      squeue -j "$array_id,$merge_id" || true
+      exit 1
+    fi
+    sleep 2
+  done
+  job_ids=()
+  scontrol -o show job "$array_id" | awk '{
+      for (i = 1; i <= NF; i++) { split($i, kv, "="); field[kv[1]] = kv[2] }
+      printf "  array task %s (job %s): %s, exit %s\n", field["ArrayTaskId"], field["JobId"], field["JobState"], field["ExitCode"]
+    }' | sort
+  merge_state=$(scontrol -o show job "$merge_id" | sed -n 's/.*JobState=\([A-Z_]*\) .*/\1/p')
+  say "merge job $merge_id: $merge_state"
+  local log
+  for log in "$db".slurm-"$array_id"_*.log "$db".slurm-"$merge_id"-merge.log; do
+    [ -f "$log" ] && { echo "---- $(basename "$log")"; cat "$log"; }
+  done
+  return 0
+}
+local_run() {
+  say "local run of the same spec"
+  "$armfarm" run "$spec" --db "$work/local.db" -j 1 2>/dev/null
+}
+
+cancel_task_2() {
+  scancel "${array_id}_1"
+  say "cancelled array task 1 (shard 2)"
+  local_run
+}
+say "1. array task 1 (shard 2) cancelled right after submission: the merge must not run"
+submit_and_wait cancel_task_2
+[ "$merge_state" != COMPLETED ] || { say "the merge ran although a task failed"; exit 1; }
+[ ! -e "$db" ] || { say "$db exists although the merge did not run"; exit 1; }
+
+say "2. the same command again: only shard 2's jobs run, then the merge"
+submit_and_wait
+[ "$merge_state" = COMPLETED ] || { say "the merge job did not complete"; exit 1; }
+for task in 0 2; do
+  grep -q " 0 done, .* already done (skipped)" "$db.slurm-${array_id}_$task.log" ||
+    { say "task $task ran jobs again that were done"; exit 1; }
+done
+say "armfarm compare merged.db local.db"
+"$armfarm" compare "$db" "$work/local.db"
+
+say "3. the same command once more: nothing to submit"
+again=$("$armfarm" slurm "$spec" --db "$db" --tasks 3 --submit)
+echo "$again"
+grep -q "nothing to submit" <<<"$again" || { say "submitting again found work to do"; exit 1; }
+say "PASSED in $(($(date +%s) - started)) s"
