@@ -6,6 +6,7 @@
 // thread to read in parallel (WAL mode lets readers run while a writer commits). Times are UTC
 // ISO-8601 text; durations and simulated times are seconds. Errors throw StoreError whose
 // message names the file.
+#include "results/job_claims.hpp"
 #include "results/store_error.hpp"
 
 #include <Eigen/Core>
@@ -23,7 +24,7 @@ namespace armfarm {
 class SqliteConnection;
 
 /// The schema version this build writes and reads (PRAGMA user_version).
-inline constexpr int kResultsSchemaVersion = 2;
+inline constexpr int kResultsSchemaVersion = 3;
 
 /// Where a sweep's results came from: the armfarm build and the machine.
 struct Provenance {
@@ -138,6 +139,9 @@ struct JobBatch {
   std::vector<std::string> started;
   std::vector<JobResultRecord> finished;
   std::vector<std::string> abandoned;
+  /// The claim owner (results/job_claims.hpp) whose claims the finished and abandoned jobs
+  /// release; empty when the jobs were not claimed (`started` marks them running instead).
+  std::string claim_owner;
 };
 
 /// What `merge_from` did. A conflict is a job key present in both files with a different
@@ -217,6 +221,25 @@ class ResultsStore {
   void update_sweep_view(const std::string& sweep);
   /// Inserts or replaces `metric_info` rows.
   void upsert_metric_info(const std::vector<MetricInfoRecord>& records);
+
+  // ---- job claims (results/job_claims.hpp; defined in results/job_claims.cpp) ----
+  /// One transaction: claims the job `key` for `owner` unless it is done (a done job is claimed
+  /// again only when `redo_done_before` is set and it finished before that time: --force) or
+  /// another owner's live claim has a heartbeat at most `timeout_seconds` old at `now`; a staler
+  /// claim is marked interrupted (with its run) and taken over. A claim makes the job `running`
+  /// (attempts + 1, jobs.sweep = owner.sweep, started_at = now).
+  ClaimAttempt claim_job(const std::string& key, const ClaimOwner& owner, const std::string& now,
+                         double timeout_seconds, const std::optional<std::string>& redo_done_before = std::nullopt);
+  /// Sets the heartbeat of `owner`'s live claims and of its `runs` row (and the row's owner and
+  /// pid) to `now`; returns the keys of the jobs it still holds (a claim another runner took
+  /// over is missing).
+  std::vector<std::string> refresh_claims(const ClaimOwner& owner, const std::string& now);
+  /// Marks every live claim whose heartbeat is older than `timeout_seconds` at `now` interrupted
+  /// (its job back to pending, its run interrupted), and `running` runs rows with a stale
+  /// heartbeat interrupted; `running` jobs without a live claim go back to pending.
+  StaleClaimReport interrupt_stale_claims(const std::string& now, double timeout_seconds, const std::string& by_owner);
+  /// Claims (live only, or interrupted ones as well) with their heartbeat ages at `now`.
+  std::vector<JobClaimRecord> find_job_claims(const std::string& now, bool live_only = true) const;
 
  private:
   ResultsStore(std::string path, std::unique_ptr<SqliteConnection> connection);

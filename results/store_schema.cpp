@@ -1,6 +1,8 @@
 // The schema: migrations, and opening a file with its checks. Schema documented in results/README.md.
 #include "results/store_internal.hpp"
 
+#include "results/job_claims.hpp"
+
 #include <algorithm>
 #include <filesystem>
 #include <map>
@@ -124,6 +126,8 @@ CREATE VIEW job_metrics AS
     FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id JOIN jobs j ON j.id = sj.job_id
     JOIN metrics m ON m.job_id = j.id LEFT JOIN metric_info i ON i.name = m.name;
 )sql",
+      // 3: job claims of runners sharing the file, heartbeats of runs (results/job_claims.cpp).
+      job_claims_sql::kMigration,
   };
   return scripts;
 }
@@ -132,6 +136,16 @@ CREATE VIEW job_metrics AS
 // dropped first (they name columns of the old tables) and written anew afterwards.
 void migrate(SqliteConnection& db, std::int64_t version) {
   SqliteTransaction transaction(db);
+  // Read again under the write lock: another process may have created or migrated the file
+  // since `version` was read (two runs starting on one fresh file).
+  version = db.query_int("PRAGMA user_version");
+  if (version > kResultsSchemaVersion) {
+    throw StoreError(db.path() + ": written by a newer armfarm (schema version " + std::to_string(version) + ")");
+  }
+  if (version == kResultsSchemaVersion) {
+    transaction.commit();
+    return;
+  }
   if (version >= 1) {
     std::vector<std::string> views;
     SqliteStatement statement = db.prepare(
@@ -216,9 +230,13 @@ std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsS
 
   std::int64_t application_id = 0, version = 0, n_tables = 0;
   try {
+    // One read transaction: the three from one snapshot, even while another process creates
+    // the schema of a fresh file.
+    db->execute("BEGIN");
     application_id = db->query_int("PRAGMA application_id");
     version = db->query_int("PRAGMA user_version");
     n_tables = db->query_int("SELECT count(*) FROM sqlite_master");
+    db->execute("COMMIT");
   } catch (const StoreError& e) {
     throw StoreError(path + ": not a readable SQLite database (" + std::string(e.what()).substr(path.size() + 2) +
                      ")");

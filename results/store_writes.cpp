@@ -2,6 +2,8 @@
 #include "results/series_codec.hpp"
 #include "results/store_internal.hpp"
 
+#include "results/job_claims.hpp"
+
 #include <cmath>
 
 namespace armfarm {
@@ -154,11 +156,21 @@ void ResultsStore::insert_job_batch(const JobBatch& batch, const std::string& sw
     const std::int64_t job_id = finished.column_int(0);
     finished.reset();
     insert_metrics_and_series(*db_, job_id, result);
+    if (!batch.claim_owner.empty()) job_claims_sql::release_claim(*db_, job_id, batch.claim_owner);
   }
   if (!batch.abandoned.empty()) {
     SqliteStatement abandoned =
         db_->prepare("UPDATE jobs SET status = 'pending' WHERE key = ? AND status = 'running'");
-    for (const std::string& key : batch.abandoned) abandoned.bind(1, key).execute();
+    for (const std::string& key : batch.abandoned) {
+      // A claimed job goes back to pending only while its claim is still this owner's (a claim
+      // taken over belongs to the runner now running the job).
+      if (!batch.claim_owner.empty()) {
+        SqliteStatement id = db_->prepare("SELECT id FROM jobs WHERE key = ?");
+        id.bind(1, key);
+        if (!id.step() || !job_claims_sql::release_claim(*db_, id.column_int(0), batch.claim_owner)) continue;
+      }
+      abandoned.bind(1, key).execute();
+    }
   }
   transaction.commit();
 }

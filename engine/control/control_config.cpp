@@ -25,7 +25,7 @@ const EnumNames& gain_set_names() {
       {"mass_bandwidth", static_cast<int>(GainSet::mass_bandwidth),
        "kp = M_jj·bandwidth², kd = 2·damping_ratio·M_jj·bandwidth at the start posture"},
       {"appendix_d", static_cast<int>(GainSet::appendix_d),
-       "the thesis's paramfile PID lines (appendix D) for joints 1-6, joint 7 as joint 6; needs simulation.pd_substeps >= 10"},
+       "the thesis's paramfile PID lines (appendix D) for joints 1-6, joint 7 as joint 6; needs pd_substeps >= 10"},
   };
   return names;
 }
@@ -39,7 +39,7 @@ const std::vector<ConfigKey<ControlConfig>>& control_config_keys() {
        "learner (LWPR at the desired q, q̇, q̈), analytic (the nominal model's full inverse dynamics: rigid body plus its viscous damping and Coulomb friction, as the plant integrates them) or none",
        [](C& c) { return make_choice_field(c.feed_forward, feed_forward_source_names()); }},
       {"gain_set", "", {}, ListSize::any,
-       "the gains where kp / kd are empty: mass_bandwidth (kp = M_jj·bandwidth², kd = 2·damping_ratio·M_jj·bandwidth) or appendix_d (the thesis's PID lines; with simulation.pd_substeps >= 10)",
+       "the gains where kp / kd are empty: mass_bandwidth (kp = M_jj·bandwidth², kd = 2·damping_ratio·M_jj·bandwidth) or appendix_d (the thesis's PID lines; with pd_substeps >= 10)",
        [](C& c) { return make_choice_field(c.gain_set, gain_set_names()); }},
       {"kp", "N·m/rad", closed(0.0, 1e6), ListSize::per_joint,
        "proportional gains; [] = by gain_set (mass_bandwidth: M_jj·bandwidth², M_jj the mass-matrix diagonal, armature included, at the start posture)",

@@ -37,7 +37,7 @@ struct ControlConfig {
   ControlMode mode = ControlMode::composite;
   FeedForwardSource feed_forward = FeedForwardSource::learner;
   /// Where kp / kd are empty: mass_bandwidth (below) or appendix D's PID lines. Appendix D's
-  /// gains need a PD period finer than 10 ms on this arm (simulation.pd_substeps, see pd_gains.hpp).
+  /// gains need a PD period finer than 10 ms on this arm (pd_substeps, see pd_gains.hpp).
   GainSet gain_set = GainSet::mass_bandwidth;
   /// PD gains, N·m/rad and N·m·s/rad. Empty: by gain_set; for mass_bandwidth kp = M_jj·bandwidth²,
   /// kd = 2·damping_ratio·M_jj·bandwidth with M_jj the diagonal of the mass matrix (armature

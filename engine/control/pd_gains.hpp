@@ -21,7 +21,7 @@ struct PdGains {
 /// Stability: the torque is held over a PD period h, and a joint of inertia I is stable under
 /// held damping only while kd·h/I < 2. On the LWR III's wrist (I ≈ 0.11 kg·m² with armature)
 /// kd·h/I ≈ 6.8 at h = 10 ms: the gains diverge within 0.05 s (measured); at h = 1 ms
-/// (simulation.pd_substeps 10) they run (measured stable on appendix D's sine, full scale and 0.2).
+/// (pd_substeps 10) they run (measured stable on appendix D's sine, full scale and 0.2).
 PdGains make_appendix_d_gains(const std::vector<int>& joint_numbers);
 
 /// Full-scale gains (gain_scale not applied): the configured ones (a 1-element vector is

@@ -12,6 +12,7 @@
 
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <thread>
 
 namespace armfarm::cli {
@@ -24,6 +25,8 @@ RunFunction setup_run(CLI::App& parent) {
     double timeout = 0.0;
     bool force = false;
     std::string shard;
+    std::string shard_costs;
+    double claim_timeout = ClaimConfig{}.timeout_seconds;
     ExpansionLimits limits;
   };
   auto options = std::make_shared<Options>();
@@ -35,7 +38,15 @@ RunFunction setup_run(CLI::App& parent) {
   app->add_option("--timeout", options->timeout, "Stop a job after this many seconds of wall clock (0: none)")
       ->check(CLI::NonNegativeNumber);
   app->add_flag("--force", options->force, "Run every job again, even those already done");
-  app->add_option("--shard", options->shard, "Run only shard I of N (I/N, 1-based), to split a sweep across machines");
+  app->add_option("--shard", options->shard,
+                  "Run only shard I of N (I/N, 1-based), to split a sweep across machines; jobs are dealt by estimated cost");
+  app->add_option("--shard-costs", options->shard_costs,
+                  "With --shard: a results database whose finished jobs' wall times calibrate the costs (give every shard "
+                  "the same file)");
+  app->add_option("--claim-timeout", options->claim_timeout,
+                  "Seconds without a heartbeat after which another runner's claim on a job is taken over")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   app->add_option("--max-jobs", options->limits.max_jobs, "Refuse a sweep of more jobs than this")
       ->capture_default_str()->check(CLI::PositiveNumber);
 
@@ -46,6 +57,20 @@ RunFunction setup_run(CLI::App& parent) {
     try {
       sweep = expand_sweep(load_sweep_spec(options->spec, kind.schema), kind.schema, options->limits);
       if (!options->shard.empty()) run.shard = parse_shard(options->shard);
+      if (!options->shard_costs.empty() && options->shard.empty()) {
+        throw std::invalid_argument("--shard-costs " + options->shard_costs + ": only with --shard");
+      }
+      if (run.shard.count > 1) {
+        std::optional<ResultsStore> reference;
+        if (!options->shard_costs.empty()) reference = ResultsStore::open(options->shard_costs, ResultsStore::Mode::read_only);
+        run.job_costs = calc_job_costs(sweep, kind.estimate_cost, reference ? &*reference : nullptr);
+      }
+    } catch (const StoreError& e) {
+      std::cerr << "armfarm: " << e.what() << "\n";
+      return 2;
+    } catch (const ConfigError& e) {
+      std::cerr << "armfarm: " << options->spec << ": " << e.what() << "\n";
+      return 2;
     } catch (const SpecError& e) {
       for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
       return 2;
@@ -58,6 +83,7 @@ RunFunction setup_run(CLI::App& parent) {
                                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     if (options->timeout > 0.0) run.timeout_seconds = options->timeout;
     run.force = options->force;
+    run.claims.timeout_seconds = options->claim_timeout;
     run.progress = isatty(STDERR_FILENO) ? ProgressStyle::terminal : ProgressStyle::lines;
     run.progress_out = &std::cerr;
     run.provenance = make_provenance();
@@ -75,6 +101,8 @@ RunFunction setup_run(CLI::App& parent) {
               << summary.diverged << " diverged, " << summary.timeout << " timed out, " << summary.skipped
               << " already done (skipped)";
     if (run.shard.count > 1) std::cout << "; " << summary.jobs_in_shard << " of " << summary.jobs_in_sweep << " jobs in this shard";
+    if (summary.done_elsewhere > 0) std::cout << "; " << summary.done_elsewhere << " done by another runner";
+    if (summary.taken_over > 0) std::cout << "; " << summary.taken_over << " stale claims of stopped runners taken over";
     std::cout << "; " << make_duration_text(summary.elapsed_seconds) << "\n";
     const std::size_t shown = std::min<std::size_t>(summary.failures.size(), 20);
     for (std::size_t i = 0; i < shown; ++i) std::cout << "  " << summary.failures[i] << "\n";

@@ -1,13 +1,49 @@
 // `armfarm status DB [--check]`: job counts by status for each sweep, then the failures with
-// their messages. --check first verifies the file row by row (integrity_check, dangling
-// references, stored JSON, storage classes, series blobs) and exits 2 if it is damaged.
+// their messages, then the live job claims of the runners working on the file (owner, host, pid,
+// ages). --check first verifies the file row by row (integrity_check, dangling references,
+// stored JSON, storage classes, series blobs) and exits 2 if it is damaged.
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
+#include "runner/execution/claim_keeper.hpp"
+
+#include <cstdio>
 
 #include <iostream>
 #include <memory>
 
 namespace armfarm::cli {
+namespace {
+
+void print_claims(const ResultsStore& store, std::ostream& out) {
+  const std::vector<JobClaimRecord> claims = store.find_job_claims(make_utc_timestamp(), false);
+  const double timeout = ClaimConfig{}.timeout_seconds;
+  int interrupted = 0;
+  std::vector<const JobClaimRecord*> live;
+  for (const JobClaimRecord& claim : claims) {
+    if (claim.state == "live") {
+      live.push_back(&claim);
+    } else {
+      ++interrupted;
+    }
+  }
+  if (!live.empty()) out << "live claims: " << live.size() << "\n";
+  for (const JobClaimRecord* claim : live) {
+    char ages[96];
+    std::snprintf(ages, sizeof ages, "running %.1f s, heartbeat %.1f s ago", claim->claim_age_seconds,
+                  claim->heartbeat_age_seconds);
+    out << "  " << claim->key.substr(0, 12) << " owner " << claim->owner << " host " << claim->host << " pid "
+        << claim->pid << ": " << ages;
+    if (claim->heartbeat_age_seconds > timeout) {
+      out << " (stale after the default --claim-timeout of " << timeout << " s: the next run takes it over)";
+    }
+    out << "\n";
+  }
+  if (interrupted > 0) {
+    out << "interrupted claims: " << interrupted << " (stale claims of stopped runners, taken over)\n";
+  }
+}
+
+}  // namespace
 
 RunFunction setup_status(CLI::App& parent) {
   auto db_path = std::make_shared<std::string>();
@@ -46,6 +82,7 @@ RunFunction setup_status(CLI::App& parent) {
         std::cout << ": " << job.message << "\n";
       }
     }
+    print_claims(store, std::cout);
     return any_failure ? 1 : 0;
   };
 }

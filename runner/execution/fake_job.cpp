@@ -151,4 +151,15 @@ JobExecutor make_fake_job_executor() {
   };
 }
 
+JobCostFunction make_fake_job_cost_function() {
+  return [](const nlohmann::json& config) {
+    const std::size_t n = config.at("control").at("kp").size();
+    JobCostEstimate estimate;
+    estimate.cost = config.at("simulation").at("duration").get<double>() * static_cast<double>(std::max<std::size_t>(1, n)) +
+                    config.at("fake").at("sleep_ms").get<double>() / 1000.0;
+    estimate.kind = "fake " + std::to_string(n) + " joints";
+    return estimate;
+  };
+}
+
 }  // namespace armfarm

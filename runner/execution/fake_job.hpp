@@ -3,6 +3,7 @@
 // benchmarks (and `armfarm` itself when ARMFARM_FAKE_JOBS=1, a testing aid): its metrics and
 // series are closed-form functions of the configuration and seed; it can sleep, burn CPU,
 // fail, throw, diverge or hang on request (the `fake` section of its configuration).
+#include "runner/execution/job_cost.hpp"
 #include "runner/execution/job_executor.hpp"
 
 namespace armfarm {
@@ -15,5 +16,9 @@ JobConfigSchema make_fake_job_config_schema();
 /// Metrics: tracking_nmse per joint (1-based, one per control.kp entry), same_run_test_nmse and
 /// work_checksum per job. Series: POS and TOR, simulation.samples rows of t, q1..qn / tau1..taun.
 JobExecutor make_fake_job_executor();
+
+/// The fake job's cost estimate: simulation.duration × joints (control.kp entries) + sleep_ms / 1000;
+/// kind "fake N joints".
+JobCostFunction make_fake_job_cost_function();
 
 }  // namespace armfarm

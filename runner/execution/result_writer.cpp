@@ -2,8 +2,11 @@
 
 namespace armfarm {
 
-ResultWriter::ResultWriter(ResultsStore& store, std::string sweep_name)
-    : store_(store), sweep_name_(std::move(sweep_name)), thread_([this] { write_loop(); }) {}
+ResultWriter::ResultWriter(ResultsStore& store, std::string sweep_name, std::string claim_owner)
+    : store_(store),
+      sweep_name_(std::move(sweep_name)),
+      claim_owner_(std::move(claim_owner)),
+      thread_([this] { write_loop(); }) {}
 
 ResultWriter::~ResultWriter() {
   try {
@@ -11,12 +14,6 @@ ResultWriter::~ResultWriter() {
   } catch (...) {
     // Already reported by finish() to whoever called it; a destructor must not throw.
   }
-}
-
-void ResultWriter::push_started(const std::string& key) {
-  std::lock_guard lock(mutex_);
-  queued_.started.push_back(key);
-  wake_.notify_one();
 }
 
 void ResultWriter::push_finished(JobResultRecord result) {
@@ -70,6 +67,7 @@ void ResultWriter::write_loop() {
     }
     if (!batch.started.empty() || !batch.finished.empty() || !batch.abandoned.empty()) {
       try {
+        batch.claim_owner = claim_owner_;
         store_.insert_job_batch(batch, sweep_name_);
         std::lock_guard lock(mutex_);
         ++batches_;

@@ -1,8 +1,8 @@
 #pragma once
-// The one thread that writes a sweep's results: workers push job events (started, finished,
-// abandoned) into a queue; the writer takes everything queued at once and commits it as one
-// transaction (ResultsStore::insert_job_batch), so batches grow when jobs finish faster than a
-// commit takes.
+// The one thread that writes a sweep's results: workers push job events (finished, abandoned;
+// a job's start is its claim, claim_keeper.hpp) into a queue; the writer takes everything
+// queued at once and commits it as one transaction (ResultsStore::insert_job_batch), so batches
+// grow when jobs finish faster than a commit takes.
 #include "results/results_store.hpp"
 
 #include <condition_variable>
@@ -18,12 +18,12 @@ class ResultWriter {
  public:
   /// Starts the thread. `store` must outlive the writer and must not be used by anyone else
   /// until finish() returns.
-  ResultWriter(ResultsStore& store, std::string sweep_name);
+  /// `claim_owner`: the owner whose job claims finished and abandoned jobs release (JobBatch).
+  ResultWriter(ResultsStore& store, std::string sweep_name, std::string claim_owner = {});
   ~ResultWriter();
   ResultWriter(const ResultWriter&) = delete;
   ResultWriter& operator=(const ResultWriter&) = delete;
 
-  void push_started(const std::string& key);
   void push_finished(JobResultRecord result);
   void push_abandoned(const std::string& key);
 
@@ -39,6 +39,7 @@ class ResultWriter {
 
   ResultsStore& store_;
   const std::string sweep_name_;
+  const std::string claim_owner_;
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   JobBatch queued_;

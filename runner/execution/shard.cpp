@@ -1,5 +1,7 @@
 #include "runner/execution/shard.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace armfarm {
@@ -22,10 +24,30 @@ Shard parse_shard(const std::string& text) {
   return shard;
 }
 
-int calc_shard_of(const std::string& key, int count) {
-  if (key.size() < 16) throw std::invalid_argument("job key " + key + " is too short");
-  const unsigned long long high = std::stoull(key.substr(0, 16), nullptr, 16);
-  return static_cast<int>(high % static_cast<unsigned long long>(count)) + 1;
+std::vector<int> calc_shard_assignment(const std::vector<std::string>& keys, const std::vector<double>& costs,
+                                       int count) {
+  if (!costs.empty() && costs.size() != keys.size()) {
+    throw std::invalid_argument("shard assignment: " + std::to_string(costs.size()) + " costs for " +
+                                std::to_string(keys.size()) + " jobs");
+  }
+  for (double c : costs) {
+    if (!(c > 0.0) || !std::isfinite(c)) throw std::invalid_argument("shard assignment: a job cost of " + std::to_string(c));
+  }
+  std::vector<std::size_t> order(keys.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto cost = [&](std::size_t i) { return costs.empty() ? 1.0 : costs[i]; };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (cost(a) != cost(b)) return cost(a) > cost(b);
+    return keys[a] < keys[b];
+  });
+  std::vector<double> load(static_cast<std::size_t>(std::max(count, 1)), 0.0);
+  std::vector<int> shard_of(keys.size(), 1);
+  for (std::size_t i : order) {
+    const auto least = std::min_element(load.begin(), load.end());  // the first among equals
+    *least += cost(i);
+    shard_of[i] = static_cast<int>(least - load.begin()) + 1;
+  }
+  return shard_of;
 }
 
 }  // namespace armfarm

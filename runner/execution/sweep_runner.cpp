@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 #include <mutex>
 #include <thread>
@@ -39,9 +40,12 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   summary.jobs_in_sweep = static_cast<int>(sweep.jobs.size());
 
   std::vector<const ExpandedJob*> shard_jobs;
-  for (const ExpandedJob& job : sweep.jobs) {
-    if (options.shard.count == 1 || calc_shard_of(job.key, options.shard.count) == options.shard.index) {
-      shard_jobs.push_back(&job);
+  {
+    std::vector<std::string> keys;
+    for (const ExpandedJob& job : sweep.jobs) keys.push_back(job.key);
+    const std::vector<int> shard_of = calc_shard_assignment(keys, options.job_costs, options.shard.count);
+    for (std::size_t i = 0; i < sweep.jobs.size(); ++i) {
+      if (shard_of[i] == options.shard.index) shard_jobs.push_back(&sweep.jobs[i]);
     }
   }
   summary.jobs_in_shard = static_cast<int>(shard_jobs.size());
@@ -71,25 +75,41 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
     }
   }
 
+  ClaimKeeper claims(options.db_path, make_claim_owner(options.provenance.host, registered.run_id, sweep.spec.name),
+                     options.claims, options.force, registration.started_at);
+  summary.taken_over = claims.stale_at_start().claims_interrupted;
+
   const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   ProgressReporter progress(options.progress_out, options.progress, static_cast<int>(to_run.size()));
   std::mutex summary_mutex;
   {
-    ResultWriter writer(store, sweep.spec.name);
+    ResultWriter writer(store, sweep.spec.name, claims.owner().owner);
+    std::vector<const ExpandedJob*> elsewhere;  // held by another live runner: looked at again
     auto run_one = [&](const ExpandedJob& job) {
-      if (stop_requested.load() || writer.failed()) {
+      if (stop_requested.load() || writer.failed() || claims.failed()) {
         std::lock_guard lock(summary_mutex);
         ++summary.abandoned;
         return;
       }
-      writer.push_started(job.key);
+      const ClaimAttempt claim = claims.claim(job.key);
+      if (claim.result != ClaimResult::claimed) {
+        std::lock_guard lock(summary_mutex);
+        if (claim.result == ClaimResult::done) ++summary.done_elsewhere;
+        if (claim.result == ClaimResult::claimed_elsewhere) elsewhere.push_back(&job);
+        return;
+      }
       const std::string started_at = make_utc_timestamp();
       const auto job_start = std::chrono::steady_clock::now();
       bool stopped_by_request = false;
       bool stopped_by_timeout = false;
+      bool claim_lost = false;
       JobControl control;
       control.should_stop = [&] {
-        if (stop_requested.load() || writer.failed()) {
+        if (claims.lost(job.key)) {
+          claim_lost = true;
+          return true;
+        }
+        if (stop_requested.load() || writer.failed() || claims.failed()) {
           stopped_by_request = true;
           return true;
         }
@@ -113,6 +133,13 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
         outcome.message = "unknown exception";
       }
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - job_start).count();
+      claims.forget(job.key);  // before the writer releases the claim
+      if (claim_lost && outcome.status != JobStatus::done) {
+        writer.push_abandoned(job.key);  // another runner took it over: wait for its result
+        std::lock_guard lock(summary_mutex);
+        elsewhere.push_back(&job);
+        return;
+      }
       if (stopped_by_request && outcome.status != JobStatus::done) {
         writer.push_abandoned(job.key);
         std::lock_guard lock(summary_mutex);
@@ -143,17 +170,33 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
 
     tbb::global_control allow(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
     tbb::task_arena arena(threads);
-    arena.execute([&] {
-      tbb::parallel_for(
-          tbb::blocked_range<std::size_t>(0, to_run.size(), 1),
-          [&](const tbb::blocked_range<std::size_t>& range) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) run_one(*to_run[i]);
-          },
-          tbb::simple_partitioner());
-    });
+    // Rounds: every job is claimed and run, or found done, or held by another live runner; those
+    // are looked at again after a poll interval until done elsewhere or their claim goes stale.
+    std::vector<const ExpandedJob*> round = to_run;
+    while (!round.empty()) {
+      arena.execute([&] {
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, round.size(), 1),
+            [&](const tbb::blocked_range<std::size_t>& range) {
+              for (std::size_t i = range.begin(); i != range.end(); ++i) run_one(*round[i]);
+            },
+            tbb::simple_partitioner());
+      });
+      round.swap(elsewhere);
+      elsewhere.clear();
+      std::sort(round.begin(), round.end());  // expansion order (pointers into sweep.jobs)
+      if (round.empty()) break;
+      if (stop_requested.load() || writer.failed() || claims.failed()) {
+        summary.abandoned += static_cast<int>(round.size());
+        break;
+      }
+      claims.wait_poll(stop_requested);
+    }
     progress.finish();
     writer.finish();  // throws the store's error, if any
+    claims.rethrow_error();
   }
+  summary.taken_over += claims.taken_over();
   summary.interrupted = stop_requested.load();
   store.update_run_finished(registered.run_id, summary.interrupted ? "interrupted" : "complete", summary.run,
                             summary.skipped, make_utc_timestamp());

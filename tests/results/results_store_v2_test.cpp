@@ -196,7 +196,7 @@ TEST_F(ResultsStoreV2Test, VersionOneDatabaseOpensReadOnlyAndMigratesWhenWritten
   }
   {
     ResultsStore writer = ResultsStore::open(path("v1.db"), ResultsStore::Mode::read_write);
-    EXPECT_EQ(writer.schema_version(), 2);
+    EXPECT_EQ(writer.schema_version(), kResultsSchemaVersion);
   }
   EXPECT_EQ(query_as_user(path("v1.db"), "SELECT value FROM metrics WHERE joint = 1"), std::vector<std::string>{"0.25"});
   EXPECT_EQ(query_as_user(path("v1.db"), "SELECT count(*) FROM metric_info"), std::vector<std::string>{"0"});

@@ -1,13 +1,17 @@
 // Physics and control choices a job makes visible (issue 12): whether a gain scale keeps the
 // damping ratio, and the armature switched per job. Checked against the closed form of the
 // default gain rule kp = M_jj·ω², kd = 2ζ·M_jj·ω.
+#include "engine/control/pd_gains.hpp"
 #include "engine/experiment/job_setup.hpp"
+#include "engine/experiment/run_experiment.hpp"
 #include "../physics/test_arms.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 
 namespace armfarm {
 namespace {
@@ -57,6 +61,63 @@ TEST(PhysicsChoices, ArmatureScaleChangesTheMassMatrixDiagonalByTheArmature) {
   const Eigen::VectorXd full = with.nominal().calc_mass_matrix(q).diagonal();
   for (int j = 0; j < difference.size(); ++j) std::printf(" %.2f", difference[j] / full[j]);
   std::printf("\n");
+}
+
+// The gain set's numbers are the paramfile's: checked against the thesis's facts file, which
+// was typed from appendix D separately.
+TEST(PhysicsChoices, AppendixDGainsAreThePublishedPidLines) {
+  std::ifstream file(std::string(ARMFARM_SOURCE_DIR) + "/sweeps/thesis/thesis_results.json");
+  const nlohmann::json facts = nlohmann::json::parse(file);
+  const nlohmann::json& rows = facts.at("appendix_d").at("pid").at("rows");
+  const PdGains gains = make_appendix_d_gains({1, 2, 3, 4, 5, 6, 7});
+  ASSERT_EQ(rows.size(), 6u);
+  for (std::size_t line = 0; line < rows.size(); ++line) {
+    EXPECT_EQ(rows[line][0].get<int>(), static_cast<int>(line));
+    EXPECT_EQ(gains.kp[static_cast<Eigen::Index>(line)], rows[line][1].get<double>()) << "joint " << line + 1;
+    EXPECT_EQ(rows[line][2].get<double>(), 0.0);  // I = 0: armfarm has no integral term
+    EXPECT_EQ(gains.kd[static_cast<Eigen::Index>(line)], rows[line][3].get<double>()) << "joint " << line + 1;
+  }
+  EXPECT_EQ(gains.kp[6], gains.kp[5]);  // the thesis's arm had six joints: joint 7 takes joint 6's line
+  const PdGains subset = make_appendix_d_gains({2, 4});
+  EXPECT_EQ(subset.kp, Eigen::Vector2d(70.0, 60.0));
+  EXPECT_EQ(subset.kd, Eigen::Vector2d(80.0, 50.0));
+
+  // Through a job: the gain set applies where kp / kd are not given.
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config;
+  config.active_joints = {1, 2, 4};
+  config.control.gain_set = GainSet::appendix_d;
+  config.control.kd = Eigen::VectorXd::Constant(1, 5.0);
+  JobSetup setup(model, config);
+  EXPECT_EQ(setup.gains().kp, Eigen::Vector3d(60.0, 70.0, 60.0));
+  EXPECT_EQ(setup.gains().kd, Eigen::Vector3d::Constant(5.0));
+}
+
+// Held damping over a period h is stable only while kd·h/I < 2. The LWR III's wrist has
+// kd·h/I ≈ 6.8 under appendix D's gains at h = 10 ms, so they diverge within a few ticks; a
+// PD loop of 10 substeps (h = 1 ms, kd·h/I ≈ 0.68) runs them.
+TEST(PhysicsChoices, AppendixDGainsDivergeAtTenMillisecondsAndRunWithPdSubsteps) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config;
+  config.active_joints = {1, 2, 3, 4, 5, 6};
+  config.control.mode = ControlMode::feedback;
+  config.control.feed_forward = FeedForwardSource::none;
+  config.control.gain_set = GainSet::appendix_d;
+  config.trajectory.sine.duration = 1.0;
+  config.learning.heldout = false;
+  {
+    JobSetup setup(model, config);
+    const Eigen::VectorXd inertia = setup.nominal().calc_mass_matrix(setup.nominal().start_positions()).diagonal();
+    const double ratio = setup.gains().kd[4] * config.simulation.dt / inertia[4];
+    EXPECT_GT(ratio, 2.0) << "joint 5: kd·h/I at 10 ms";
+    std::printf("appendix D, joint 5: kd·h/I = %.2f at h = 10 ms, %.2f at 1 ms\n", ratio, ratio / 10.0);
+  }
+  const JobOutcome held = run_experiment(model, config);
+  EXPECT_EQ(held.status, JobStatus::diverged) << held.message;
+  EXPECT_LT(held.end_time, 0.2);
+  config.simulation.pd_substeps = 10;
+  const JobOutcome substeps = run_experiment(model, config);
+  EXPECT_EQ(substeps.status, JobStatus::done) << substeps.message;
 }
 
 }  // namespace

@@ -105,7 +105,7 @@ TEST(SharedTrajectory, TrajectoryInputsAreKeys) {
   for (const JobConfigKey& key : job_config_keys()) {
     if (is_trajectory_input(key.path) && key.path.rfind("trajectory.", 0) != 0) inputs.insert(key.path);
   }
-  EXPECT_EQ(inputs, (std::set<std::string>{"dt", "seed", "active_joints", "armature_scale", "learning.mode", "learning.heldout",
+  EXPECT_EQ(inputs, (std::set<std::string>{"dt", "seed", "active_joints", "armature_scale", "end_effector.link", "end_effector.offset", "learning.mode", "learning.heldout",
                                            "learning.heldout_amplitude_scale", "learning.heldout_phase_step",
                                            "learning.heldout_segments", "learning.heldout_recorded_fraction"}));
 }

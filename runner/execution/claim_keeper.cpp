@@ -1,0 +1,113 @@
+#include "runner/execution/claim_keeper.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+
+namespace armfarm {
+
+ClaimOwner make_claim_owner(const std::string& host, std::int64_t run_id, const std::string& sweep) {
+  ClaimOwner owner;
+  owner.host = host;
+  if (owner.host.empty()) {
+    char name[256] = {};
+    if (gethostname(name, sizeof name - 1) == 0) owner.host = name;
+  }
+  owner.pid = static_cast<std::int64_t>(getpid());
+  owner.owner = make_claim_owner_id(owner.host, owner.pid);
+  owner.run_id = run_id;
+  owner.sweep = sweep;
+  return owner;
+}
+
+ClaimKeeper::ClaimKeeper(const std::string& db_path, const ClaimOwner& owner, const ClaimConfig& config, bool force,
+                         const std::string& run_started_at)
+    : owner_(owner),
+      config_(config),
+      redo_done_before_(force ? std::optional<std::string>(run_started_at) : std::nullopt),
+      store_(ResultsStore::open(db_path, ResultsStore::Mode::read_write)) {
+  stale_at_start_ = store_.interrupt_stale_claims(make_utc_timestamp(), config_.timeout_seconds, owner_.owner);
+  store_.refresh_claims(owner_, make_utc_timestamp());
+  thread_ = std::thread([this] { heartbeat_loop(); });
+}
+
+ClaimKeeper::~ClaimKeeper() {
+  {
+    std::lock_guard lock(mutex_);
+    closing_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+ClaimAttempt ClaimKeeper::claim(const std::string& key) {
+  std::lock_guard store_lock(store_mutex_);
+  const ClaimAttempt attempt =
+      store_.claim_job(key, owner_, make_utc_timestamp(), config_.timeout_seconds, redo_done_before_);
+  std::lock_guard lock(mutex_);
+  if (attempt.result == ClaimResult::claimed) {
+    held_.insert(key);
+    lost_.erase(key);
+  }
+  if (!attempt.taken_over.empty()) ++taken_over_;
+  return attempt;
+}
+
+bool ClaimKeeper::lost(const std::string& key) const {
+  std::lock_guard lock(mutex_);
+  return lost_.count(key) > 0;
+}
+
+void ClaimKeeper::forget(const std::string& key) {
+  std::lock_guard lock(mutex_);
+  held_.erase(key);
+}
+
+bool ClaimKeeper::failed() const {
+  std::lock_guard lock(mutex_);
+  return error_ != nullptr;
+}
+
+void ClaimKeeper::rethrow_error() const {
+  std::lock_guard lock(mutex_);
+  if (error_) std::rethrow_exception(error_);
+}
+
+int ClaimKeeper::taken_over() const {
+  std::lock_guard lock(mutex_);
+  return taken_over_;
+}
+
+void ClaimKeeper::wait_poll(const std::atomic<bool>& stop) const {
+  const double interval = std::min(config_.poll_seconds, config_.timeout_seconds / config_.heartbeats_per_timeout);
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(interval);
+  while (!stop.load() && std::chrono::steady_clock::now() < end) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
+void ClaimKeeper::heartbeat_loop() {
+  const auto interval = std::chrono::duration<double>(config_.timeout_seconds / config_.heartbeats_per_timeout);
+  for (;;) {
+    {
+      std::unique_lock lock(mutex_);
+      if (wake_.wait_for(lock, interval, [&] { return closing_; })) return;
+    }
+    try {
+      // Compared under the store lock, so that no claim lands between the refresh and the check.
+      std::lock_guard store_lock(store_mutex_);
+      const std::vector<std::string> still_held = store_.refresh_claims(owner_, make_utc_timestamp());
+      std::lock_guard lock(mutex_);
+      for (const std::string& key : held_) {
+        if (!std::binary_search(still_held.begin(), still_held.end(), key)) lost_.insert(key);
+      }
+    } catch (...) {
+      std::lock_guard lock(mutex_);
+      if (!error_) error_ = std::current_exception();
+      return;
+    }
+  }
+}
+
+}  // namespace armfarm

@@ -1,0 +1,128 @@
+#include "runner/execution/job_cost.hpp"
+
+#include "engine/experiment/job_config_validation.hpp"
+#include "engine/model/model_loading.hpp"
+#include "runner/config/job_config_json.hpp"
+#include "runner/spec/input_files.hpp"
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+
+namespace armfarm {
+namespace {
+
+const char* mode_name(LearningMode mode) {
+  switch (mode) {
+    case LearningMode::none: return "none";
+    case LearningMode::online: return "online";
+    case LearningMode::batch: return "batch";
+  }
+  return "?";
+}
+
+const char* trajectory_name(TrajectoryKind kind) {
+  switch (kind) {
+    case TrajectoryKind::sine: return "sine";
+    case TrajectoryKind::figure_eight: return "figure_eight";
+    case TrajectoryKind::reaching: return "reaching";
+    case TrajectoryKind::recorded: return "recorded";
+  }
+  return "?";
+}
+
+}  // namespace
+
+JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
+  struct JointCounts {
+    std::mutex mutex;
+    std::map<std::string, int> by_path;
+  };
+  auto counts = std::make_shared<JointCounts>();
+  return [model, counts](const nlohmann::json& recorded) {
+    const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
+    const std::string path = config.at("model").get<std::string>();
+    int movable = 0;
+    {
+      std::lock_guard lock(counts->mutex);
+      auto found = counts->by_path.find(path);
+      if (found == counts->by_path.end()) {
+        found = counts->by_path.emplace(path, static_cast<int>(load_arm_model(path).movable_joints().size())).first;
+      }
+      movable = found->second;
+    }
+    const JobConfig job = parse_job_config(config, movable);
+    const int n = job.active_joints.empty() ? movable : static_cast<int>(job.active_joints.size());
+    const LearningConfig& learning = job.learning;
+    // Passes as the validation counts them (job_config_validation.cpp: check_cost).
+    const double passes = 1.0 + (learning.mode == LearningMode::batch ? learning.collect_repeats : 0);
+    const double heldout_ticks = calc_heldout_ticks_per_pass(job, n);
+    const double heldout_passes =
+        heldout_ticks > 0.0 ? 1.0 + static_cast<double>(std::max<std::size_t>(1, learning.heldout_checkpoints.size())) : 0.0;
+    const double ticks = std::max(1.0, calc_ticks_per_pass(job) * passes + heldout_ticks * heldout_passes);
+    const double factor = learning.mode == LearningMode::none     ? model.none_factor
+                          : learning.mode == LearningMode::online ? model.online_factor
+                                                                  : model.batch_factor;
+    JobCostEstimate estimate;
+    estimate.cost = ticks * job.simulation.dt * std::max(1, n) * factor;
+    estimate.kind = std::string(mode_name(learning.mode)) + " " + trajectory_name(job.trajectory.kind) + " " +
+                    std::to_string(n) + " joints";
+    return estimate;
+  };
+}
+
+std::vector<double> calc_job_costs(const ExpandedSweep& sweep, const JobCostFunction& estimate,
+                                   const ResultsStore* reference) {
+  std::vector<JobCostEstimate> estimates;
+  estimates.reserve(sweep.jobs.size());
+  for (const ExpandedJob& job : sweep.jobs) estimates.push_back(estimate(job.config()));
+  std::vector<double> costs;
+  for (const JobCostEstimate& e : estimates) costs.push_back(e.cost);
+  if (reference == nullptr) return costs;
+
+  // Measured: wall seconds of the reference file's done jobs (each key once), and per kind the
+  // sums of wall seconds and of estimates.
+  std::map<std::string, double> measured_by_key;
+  struct Rate {
+    double wall = 0.0, estimated = 0.0;
+  };
+  std::map<std::string, Rate> by_kind;
+  Rate all;
+  std::set<std::string> seen;
+  for (const SweepRecord& other : reference->find_sweeps()) {
+    for (const JobRecord& job : reference->find_jobs(other.name)) {
+      if (job.status != "done" || !job.wall_seconds || !(*job.wall_seconds > 0.0) || !seen.insert(job.key).second) {
+        continue;
+      }
+      measured_by_key[job.key] = *job.wall_seconds;
+      JobCostEstimate e;
+      try {
+        e = estimate(job.config);
+      } catch (const std::exception&) {
+        continue;  // e.g. its model file is not on this machine: its time still counts for its own key
+      }
+      by_kind[e.kind].wall += *job.wall_seconds;
+      by_kind[e.kind].estimated += e.cost;
+      all.wall += *job.wall_seconds;
+      all.estimated += e.cost;
+    }
+  }
+  if (measured_by_key.empty()) return costs;
+  for (std::size_t i = 0; i < costs.size(); ++i) {
+    const auto measured = measured_by_key.find(sweep.jobs[i].key);
+    if (measured != measured_by_key.end()) {
+      costs[i] = measured->second;
+      continue;
+    }
+    const auto kind = by_kind.find(estimates[i].kind);
+    const Rate& rate = kind != by_kind.end() ? kind->second : all;
+    // With no estimate to calibrate against (every finished job unreadable), the mean wall time.
+    costs[i] = rate.estimated > 0.0 ? estimates[i].cost * rate.wall / rate.estimated
+                                    : all.wall / static_cast<double>(measured_by_key.size());
+  }
+  return costs;
+}
+
+}  // namespace armfarm

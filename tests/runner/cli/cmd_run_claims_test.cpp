@@ -1,0 +1,191 @@
+// Runners sharing one database through job claims (processes of the built binary, fake jobs):
+// two runners started together on a fresh file split 24 jobs with every job run once; a runner
+// killed with SIGKILL has its claims taken over after the (test-short) --claim-timeout and every
+// job ends done exactly once; `status` lists the live claims with owner, host, pid and ages.
+#include "results/results_store.hpp"
+
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <thread>
+
+namespace armfarm {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Process {
+  pid_t pid = 0;
+  std::string output_path;
+};
+
+// Starts `armfarm ARGS` with fake jobs, stdout and stderr into `output_path`.
+Process start(const std::vector<std::string>& arguments, const std::string& output_path) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    setenv("ARMFARM_FAKE_JOBS", "1", 1);
+    freopen(output_path.c_str(), "w", stdout);
+    dup2(fileno(stdout), fileno(stderr));
+    std::vector<char*> argv = {const_cast<char*>(ARMFARM_BINARY)};
+    for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(ARMFARM_BINARY, argv.data());
+    _exit(127);
+  }
+  return {pid, output_path};
+}
+
+int wait_exit_code(const Process& process) {
+  int status = 0;
+  waitpid(process.pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// "sweep s24: 13 done, ..." -> 13.
+int parse_done(const std::string& output) {
+  std::smatch match;
+  if (!std::regex_search(output, match, std::regex(R"(sweep s24: (\d+) done,)"))) return -1;
+  return std::stoi(match[1]);
+}
+
+int count_status(const std::string& db, const std::string& status) {
+  try {
+    const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+    const auto counts = store.count_jobs_by_status("s24");
+    return counts.count(status) ? counts.at(status) : 0;
+  } catch (const StoreError&) {
+    return 0;  // not created yet
+  }
+}
+
+class CmdRunClaimsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() / ("armfarm_claims_" + std::to_string(::getpid()) + "_" +
+                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+    std::ofstream(path("s24.json")) << R"({"name": "s24", "base": {"fake": {"sleep_ms": 40}},
+        "sweep": {"grid": {"learning.lwpr.init_D": [10, 20, 30, 40, 50, 60]}, "repeat": 4}})";
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  std::string path(const std::string& name) const { return (folder_ / name).string(); }
+  fs::path folder_;
+};
+
+TEST_F(CmdRunClaimsTest, TwoRunnersOnOneFreshDatabaseRunEveryJobOnce) {
+  const std::string db = path("shared.db");
+  // Started together: both also create the schema of the fresh file at the same moment.
+  const Process a = start({"run", path("s24.json"), "--db", db, "-j", "2"}, path("a.txt"));
+  const Process b = start({"run", path("s24.json"), "--db", db, "-j", "2"}, path("b.txt"));
+  EXPECT_EQ(wait_exit_code(a), 0) << read_text(a.output_path);
+  EXPECT_EQ(wait_exit_code(b), 0) << read_text(b.output_path);
+  const std::string out_a = read_text(a.output_path), out_b = read_text(b.output_path);
+  // Each job was run by one of them: the two summaries add up to the sweep.
+  EXPECT_EQ(parse_done(out_a) + parse_done(out_b), 24) << out_a << out_b;
+
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  const std::vector<JobRecord> jobs = store.find_jobs("s24");
+  ASSERT_EQ(jobs.size(), 24u);
+  for (const JobRecord& job : jobs) {
+    EXPECT_EQ(job.status, "done") << job.key;
+    EXPECT_EQ(job.attempts, 1) << job.key;
+  }
+  EXPECT_TRUE(store.find_job_claims(make_utc_timestamp(), false).empty());  // all released, none taken over
+  EXPECT_EQ(store.check_integrity(), "ok");
+}
+
+TEST_F(CmdRunClaimsTest, AKilledRunnersClaimsAreTakenOverAfterTheTimeout) {
+  const std::string db = path("killed.db");
+  const Process victim = start({"run", path("s24.json"), "--db", db, "-j", "2", "--claim-timeout", "1"}, path("v.txt"));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (count_status(db, "done") < 4 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  kill(victim.pid, SIGKILL);
+  ASSERT_EQ(wait_exit_code(victim), 128 + SIGKILL) << "the sweep ended before it could be killed";
+  std::vector<std::string> held;  // the jobs the killed runner was running
+  {
+    const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+    for (const JobClaimRecord& claim : store.find_job_claims(make_utc_timestamp())) {
+      EXPECT_EQ(claim.pid, victim.pid);
+      held.push_back(claim.key);
+    }
+  }
+  ASSERT_FALSE(held.empty()) << "killed between jobs: nothing to take over";
+  EXPECT_EQ(count_status(db, "running"), static_cast<int>(held.size()));
+
+  // Started at once, the survivor sees the claims live, waits out the 1 s timeout, takes them over.
+  const auto start_time = std::chrono::steady_clock::now();
+  const Process survivor = start({"run", path("s24.json"), "--db", db, "-j", "2", "--claim-timeout", "1"}, path("s.txt"));
+  const int survivor_exit = wait_exit_code(survivor);
+  const std::string out = read_text(survivor.output_path);
+  EXPECT_EQ(survivor_exit, 0) << out;
+  EXPECT_NE(out.find(std::to_string(held.size()) + " stale claims of stopped runners taken over"), std::string::npos) << out;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count(), 15.0);
+
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  const std::vector<JobRecord> jobs = store.find_jobs("s24");
+  ASSERT_EQ(jobs.size(), 24u);
+  for (const JobRecord& job : jobs) {
+    EXPECT_EQ(job.status, "done") << job.key;
+    const bool was_held = std::find(held.begin(), held.end(), job.key) != held.end();
+    EXPECT_EQ(job.attempts, was_held ? 2 : 1) << job.key;  // started twice only when killed mid-job
+  }
+  const std::vector<JobClaimRecord> claims = store.find_job_claims(make_utc_timestamp(), false);
+  ASSERT_EQ(claims.size(), held.size());
+  for (const JobClaimRecord& claim : claims) {
+    EXPECT_EQ(claim.state, "interrupted");
+    EXPECT_EQ(claim.pid, victim.pid);
+  }
+  const Process query = start({"status", db}, path("status.txt"));
+  EXPECT_EQ(wait_exit_code(query), 0);
+  const std::string status = read_text(query.output_path);
+  EXPECT_NE(status.find("interrupted claims: " + std::to_string(held.size())), std::string::npos) << status;
+  EXPECT_EQ(status.find("live claims"), std::string::npos) << status;
+}
+
+TEST_F(CmdRunClaimsTest, StatusShowsTheLiveClaimsOfARunningSweep) {
+  std::ofstream(path("slow.json")) << R"({"name": "slow", "base": {"fake": {"sleep_ms": 5000}},
+      "sweep": {"grid": {"learning.lwpr.init_D": [10, 20]}}})";
+  const std::string db = path("slow.db");
+  const Process runner = start({"run", path("slow.json"), "--db", db, "-j", "2"}, path("r.txt"));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  std::string status;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const Process query = start({"status", db}, path("status.txt"));
+    wait_exit_code(query);
+    status = read_text(query.output_path);
+    if (status.find("live claims: 2") != std::string::npos) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  kill(runner.pid, SIGINT);
+  EXPECT_EQ(wait_exit_code(runner), 1);
+  EXPECT_NE(status.find("live claims: 2"), std::string::npos) << status;
+  EXPECT_NE(status.find(" pid " + std::to_string(runner.pid) + ": running "), std::string::npos) << status;
+  EXPECT_NE(status.find(" owner "), std::string::npos) << status;
+  EXPECT_NE(status.find(" host "), std::string::npos) << status;
+  EXPECT_NE(status.find("heartbeat "), std::string::npos) << status;
+  // Ctrl-C released them: nothing live afterwards, both jobs back to pending.
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  EXPECT_TRUE(store.find_job_claims(make_utc_timestamp()).empty());
+  EXPECT_EQ(store.count_jobs_by_status("slow").at("pending"), 2);
+}
+
+}  // namespace
+}  // namespace armfarm
