@@ -19,11 +19,13 @@ endif
 
 ARMFARM = $(BUILD_DIR)/runner/armfarm
 
+# make test-sanitize-subset : the parser and store tests under ASan+UBSan (run by .ci/run)
+SANITIZE_SUBSET = ^(InputFileTest|ConfinedPath|DcgMeshPath|NumberText|StrictObj|StrictDcg|StrictCsv|RecordedLimits|BoundedExpansion|SpecInputFiles|SweepSpec|SweepExpansion|JsonDocument|ConfigPath|CanonicalJson|CsvReader|SyntheticRecordings|TriangleMesh|MassProperties|DcgLoading|UrdfLoading|ModelValidation|ModelInputFiles|LwprModelFile|SsgprModelFile|LwprParamsJson|JobConfigJson|SeriesCodec|[A-Za-z]*Store[A-Za-z]*)\.
 # make fuzz  : build the libFuzzer targets (clang) and run each for FUZZ_SECONDS (tests/fuzz/README.md)
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS ?= spec urdf dcg obj csv model_file
 
-.PHONY: all deps configure build run test test-slurm bench fuzz clean
+.PHONY: all deps configure build run test test-sanitize-subset test-slurm bench fuzz clean
 
 all: build
 
@@ -53,6 +55,11 @@ bench: deps
 	cmake -S . -B build-bench -DCMAKE_BUILD_TYPE=Release -DARMFARM_BUILD_BENCH=ON
 	cmake --build build-bench -j $(JOBS)
 	@for b in build-bench/tests/bench/bench_*; do echo "== $$b"; $$b || exit 1; done
+
+test-sanitize-subset: deps
+	cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DARMFARM_SANITIZE=ON
+	cmake --build build-sanitize -j $(JOBS) --target engine_tests results_tests runner_tests
+	cd build-sanitize && ctest --output-on-failure -j $(JOBS) -R '$(SANITIZE_SUBSET)'
 
 fuzz: deps
 	@command -v clang++ >/dev/null || { echo "armfarm: make fuzz needs clang and libFuzzer: apt-get install -y clang libclang-rt-dev" >&2; exit 1; }

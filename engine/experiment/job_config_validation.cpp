@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -69,6 +70,34 @@ class Checker {
 
 bool has_problem_under(const std::vector<ConfigProblem>& problems, const std::string& prefix) {
   return std::any_of(problems.begin(), problems.end(), [&](const ConfigProblem& p) { return p.path.rfind(prefix, 0) == 0; });
+}
+
+// A joint-space recording must stay within the model's position limits: the first sample
+// outside them is named by its file line (its row when the samples did not come from a file).
+void check_recorded_limits(const JobConfig& config, const ModelFacts& facts, Checker& checker) {
+  const RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
+  if (facts.lower_limits.size() != static_cast<std::size_t>(facts.movable_joints) ||
+      facts.upper_limits.size() != facts.lower_limits.size()) {
+    return;
+  }
+  for (Eigen::Index r = 0; r < recorded.samples.rows(); ++r) {
+    for (Eigen::Index c = 0; c < recorded.samples.cols(); ++c) {
+      const int joint = config.active_joints.empty() ? static_cast<int>(c) + 1 : config.active_joints[c];
+      if (joint < 1 || joint > facts.movable_joints) return;  // check_joints reports it
+      const double lower = facts.lower_limits[joint - 1], upper = facts.upper_limits[joint - 1];
+      const double q = recorded.samples(r, c);
+      if (q >= lower && q <= upper) continue;
+      const bool from_file = recorded.sample_lines.size() == static_cast<std::size_t>(recorded.samples.rows());
+      char text[160];
+      std::snprintf(text, sizeof text, "joint %d angle %.6g rad (column %d) is outside its limits [%.6g, %.6g] rad", joint,
+                    q, static_cast<int>(c) + 1, lower, upper);
+      checker.add("trajectory.recorded.file",
+                  (from_file ? recorded.file + ":" + std::to_string(recorded.sample_lines[r])
+                             : std::string("the samples, row ") + std::to_string(r + 1)) +
+                      ": " + text + " (the first sample outside them)");
+      return;
+    }
+  }
 }
 
 void check_joints(const JobConfig& config, const ModelFacts& facts, Checker& checker) {
@@ -374,6 +403,19 @@ double calc_ticks_per_pass(const JobConfig& config) {
   return 0.0;
 }
 
+ModelFacts make_model_facts(const ArmModel& model) {
+  ModelFacts facts;
+  const std::vector<int> movable = model.movable_joints();
+  facts.movable_joints = static_cast<int>(movable.size());
+  for (int index : movable) {
+    const Joint& joint = model.joints[index];
+    const double infinity = std::numeric_limits<double>::infinity();
+    facts.lower_limits.push_back(joint.has_position_limits ? joint.lower : -infinity);
+    facts.upper_limits.push_back(joint.has_position_limits ? joint.upper : infinity);
+  }
+  return facts;
+}
+
 std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& facts, const JobCostLimits& limits) {
   std::vector<ConfigProblem> problems;
   Checker checker(problems);
@@ -385,6 +427,11 @@ std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& f
   if (n >= 1) check_lwpr(config, n, problems, checker);
   if (n >= 1 && config.learning.learner == LearnerKind::ssgpr) check_ssgpr(config, n, problems, checker);
   check_cross_fields(config, n, checker);
+  // Limits once the recording's shape and values are known good.
+  if (config.trajectory.kind == TrajectoryKind::recorded && !config.trajectory.recorded.task_space &&
+      !has_problem_under(problems, "trajectory.recorded") && !has_problem_under(problems, "active_joints")) {
+    check_recorded_limits(config, facts, checker);
+  }
   // The cost needs sane counts and a sane dt; a range problem there is reported already.
   if (!has_problem_under(problems, "dt") && !has_problem_under(problems, "trajectory.") && !has_problem_under(problems, "learning.")) {
     check_cost(config, n, limits, checker);

@@ -5,6 +5,7 @@
 // (through parse_job_config) for every job of a sweep before the database is opened; the
 // engine's run_experiment() calls it again so that no unchecked configuration runs.
 #include "engine/experiment/job_config.hpp"
+#include "engine/model/arm_model.hpp"
 
 #include <string>
 #include <vector>
@@ -21,7 +22,12 @@ struct ConfigProblem {
 /// What the configuration is checked against, from the model it will run on.
 struct ModelFacts {
   int movable_joints = 0;
+  /// Position limits per movable joint (rad or m; ±inf where unlimited); empty: not checked.
+  std::vector<double> lower_limits, upper_limits;
 };
+
+/// The facts of `model`: its movable joints and their position limits.
+ModelFacts make_model_facts(const ArmModel& model);
 
 /// Bounds on a job's cost, so that a typo cannot occupy a core for days. At the measured
 /// 45 simulated seconds per wall second of the default job (dt = 0.01 s, 7 joints, online LWPR;

@@ -58,7 +58,7 @@ std::vector<int> resolve_checkpoints(const LearningConfig& learning, int last, c
 }
 
 void check_config(const ArmModel& model, const JobConfig& config) {
-  const std::vector<ConfigProblem> problems = validate(config, ModelFacts{static_cast<int>(model.movable_joints().size())});
+  const std::vector<ConfigProblem> problems = validate(config, make_model_facts(model));
   if (!problems.empty()) throw std::invalid_argument(make_problems_text(problems));
 }
 

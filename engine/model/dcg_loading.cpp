@@ -12,6 +12,7 @@
 // sliders move along it. `#` starts a comment. A synthetic root link "world" carries every
 // `fix` body through a fixed joint.
 #include "engine/io/input_file.hpp"
+#include "engine/io/number_text.hpp"
 #include "engine/model/mass_properties.hpp"
 #include "engine/model/model_file.hpp"
 #include "engine/model/model_loaders.hpp"
@@ -140,13 +141,13 @@ class DcgParser {
     std::vector<double> values;
     std::string token;
     while (tokens >> token) {
-      char* end = nullptr;
-      errno = 0;
-      const double value = std::strtod(token.c_str(), &end);
-      if (end == token.c_str() || *end != '\0' || errno == ERANGE || !std::isfinite(value)) {
-        fail(line, "tag " + tag + ": '" + token + "' is not a finite number");
+      // All of the token (an embedded NUL or control character is not a number), finite.
+      const std::optional<double> value = parse_finite_number(token);
+      if (!value) {
+        fail(line, "tag " + tag + ": value " + std::to_string(values.size() + 1) + " is not a finite number" +
+                       describe_token(token));
       }
-      values.push_back(value);
+      values.push_back(*value);
     }
     return values;
   }

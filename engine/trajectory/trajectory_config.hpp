@@ -76,6 +76,7 @@ const std::vector<ConfigKey<ReachingConfig>>& reaching_config_keys();
 struct RecordedTrajectoryConfig {
   std::string file;            ///< where the samples came from (for messages)
   Eigen::MatrixXd samples;     ///< n_rows × (3 or n_active); not a key: the runner reads `file`
+  std::vector<int> sample_lines;  ///< the file line of each row of `samples` (for messages); may be empty
   bool task_space = true;      ///< columns are x, y, z (m) rather than joint angles (rad)
   double sample_rate = 100.0;  ///< Hz of the file's rows
   RecordedFilter filter = RecordedFilter::savitzky_golay;

@@ -20,6 +20,7 @@ RunFunction setup_expand(CLI::App& parent) {
     bool json = false;
     std::string db;
     std::string stage;
+    ExpansionLimits limits;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand("expand", "List the jobs of a sweep spec with their keys and parameters");
@@ -27,6 +28,8 @@ RunFunction setup_expand(CLI::App& parent) {
   app->add_flag("--json", options->json, "Print {\"jobs\": [{\"key\", \"params\", \"config\"}]}");
   app->add_option("--db", options->db, "Results database whose stored models learning.initial_model references name");
   app->add_option("--stage", options->stage, "The stage of a staged spec to expand (default: the first)");
+  app->add_option("--max-jobs", options->limits.max_jobs, "Refuse a sweep of more jobs than this")
+      ->capture_default_str()->check(CLI::PositiveNumber);
 
   return [options] {
     const JobKind kind = make_job_kind_from_environment(options->db);
@@ -47,7 +50,7 @@ RunFunction setup_expand(CLI::App& parent) {
           throw SpecError({options->spec + ": --stage " + options->stage + ": no such stage (the spec's sweeps: " + names + ")"});
         }
       }
-      sweep = expand_sweep(std::move(stages[chosen]), kind.schema);
+      sweep = expand_sweep(std::move(stages[chosen]), kind.schema, options->limits);
     } catch (const SpecError& e) {
       for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
       return 2;
@@ -58,7 +61,7 @@ RunFunction setup_expand(CLI::App& parent) {
       out["spec_hash"] = sweep.spec_hash;
       out["jobs"] = nlohmann::json::array();
       for (const ExpandedJob& job : sweep.jobs) {
-        out["jobs"].push_back({{"key", job.key}, {"params", job.params}, {"config", job.config}});
+        out["jobs"].push_back({{"key", job.key}, {"params", job.params}, {"config", job.config()}});
       }
       std::cout << out.dump(2) << "\n";
       return 0;

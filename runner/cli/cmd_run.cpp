@@ -32,6 +32,7 @@ RunFunction setup_run(CLI::App& parent) {
     double claim_timeout = ClaimConfig{}.timeout_seconds;
     bool quiet = false;
     double heartbeat = ProgressConfig{}.heartbeat_seconds;
+    ExpansionLimits limits;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand("run", "Run a sweep's jobs into a results database (resumes by default)");
@@ -56,6 +57,8 @@ RunFunction setup_run(CLI::App& parent) {
                   "When standard error is not a terminal: a progress line every this many seconds (0: none)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app->add_option("--max-jobs", options->limits.max_jobs, "Refuse a sweep of more jobs than this")
+      ->capture_default_str()->check(CLI::PositiveNumber);
 
   return [options] {
     const JobKind kind = make_job_kind_from_environment(options->db);
@@ -101,7 +104,7 @@ RunFunction setup_run(CLI::App& parent) {
     for (std::size_t s = 0; s < stages.size(); ++s) {
       ExpandedSweep sweep;
       try {
-        sweep = expand_sweep(std::move(stages[s]), kind.schema);
+        sweep = expand_sweep(std::move(stages[s]), kind.schema, options->limits);
         run.job_costs.clear();
         if (run.shard.count > 1) {
           run.job_costs = calc_job_costs(sweep, kind.estimate_cost, cost_reference ? &*cost_reference : nullptr);

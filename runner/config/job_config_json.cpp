@@ -76,6 +76,11 @@ nlohmann::json make_job_config_types() {
 
 JobConfig parse_job_config(const nlohmann::json& c, int movable_joints,
                            const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
+  return parse_job_config(c, ModelFacts{movable_joints, {}, {}}, stored_model_bytes);
+}
+
+JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
+                           const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
   JobConfig config;
   for (const JobConfigKey& key : job_config_keys()) {
     const json* value = find_value(c, key.path);
@@ -88,7 +93,9 @@ JobConfig parse_job_config(const nlohmann::json& c, int movable_joints,
   RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
   if (config.trajectory.kind == TrajectoryKind::recorded && !recorded.file.empty()) {
     try {
-      recorded.samples = io::load_csv(recorded.file).values;
+      io::CsvTable table = io::load_csv(recorded.file);
+      recorded.samples = std::move(table.values);
+      recorded.sample_lines = std::move(table.lines);
     } catch (const std::exception& error) {
       throw ConfigError("trajectory.recorded.file", error.what());
     }
@@ -107,7 +114,7 @@ JobConfig parse_job_config(const nlohmann::json& c, int movable_joints,
       throw ConfigError("learning.initial_model", error.what());
     }
   }
-  const std::vector<ConfigProblem> problems = validate(config, ModelFacts{movable_joints});
+  const std::vector<ConfigProblem> problems = validate(config, facts);
   if (!problems.empty()) {
     const std::string text = make_problems_text(problems);
     const std::string& path = problems.front().path;

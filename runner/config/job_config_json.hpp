@@ -5,6 +5,7 @@
 // key through the same table, then runs the engine's validate() (job_config_validation.hpp).
 // sweeps/README.md documents every key; a test keeps the two in step.
 #include "engine/experiment/job_config.hpp"
+#include "engine/experiment/job_config_validation.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -41,6 +42,11 @@ nlohmann::json make_job_config_types();
 /// `stored_model_bytes(hash)`, which throws std::exception when it cannot (unset: such a
 /// configuration is refused).
 JobConfig parse_job_config(const nlohmann::json& config, int movable_joints,
+                           const std::function<std::string(const std::string& hash)>& stored_model_bytes = {});
+
+/// The same, checked against everything known of the model: a joint-space recorded trajectory
+/// must also stay within the joints' position limits (the first line outside them is named).
+JobConfig parse_job_config(const nlohmann::json& config, const ModelFacts& facts,
                            const std::function<std::string(const std::string& hash)>& stored_model_bytes = {});
 
 }  // namespace armfarm

@@ -71,8 +71,6 @@ class ModelCache {
   std::map<std::string, std::shared_ptr<const ArmModel>> chosen_;  // path, link, offset
 };
 
-int count_movable_joints(const ArmModel& model) { return static_cast<int>(model.movable_joints().size()); }
-
 // Where the default model (and any other default path) resolves: $ARMFARM_DATA_DIR, else the
 // source tree armfarm was built from.
 std::string find_data_folder() {
@@ -97,7 +95,7 @@ JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stor
   schema.validate = [models, stored](const nlohmann::json& recorded) {
     const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
     const std::string path = config.at("model").get<std::string>();
-    const JobConfig job = parse_job_config(config, count_movable_joints(*models->get_file(path)), make_stored_model_reader(stored));
+    const JobConfig job = parse_job_config(config, make_model_facts(*models->get_file(path)), make_stored_model_reader(stored));
     models->get(path, job.end_effector);
   };
   schema.resolve_references = [stored](nlohmann::json& config) { resolve_stored_model_reference(config, stored.get()); };
@@ -136,7 +134,7 @@ JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored) {
   return [models, trajectories, stored](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
     const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
     const std::string path = config.at("model").get<std::string>();
-    const JobConfig job = parse_job_config(config, count_movable_joints(*models->get_file(path)), make_stored_model_reader(stored));
+    const JobConfig job = parse_job_config(config, make_model_facts(*models->get_file(path)), make_stored_model_reader(stored));
     const auto model = models->get(path, job.end_effector);
     JobOutcome outcome;
     try {

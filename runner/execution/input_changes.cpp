@@ -61,19 +61,20 @@ InputChangeReport find_input_changes(const ExpandedSweep& sweep, const std::stri
       const auto [first, last] = stored_by_params.equal_range(calc_canonical_json(job.params));
       for (auto it = first; it != last; ++it) {
         const nlohmann::json& old = it->second.config;
-        std::set<std::string> fields = find_file_inputs(job.config);
+        const nlohmann::json config = job.config();
+        std::set<std::string> fields = find_file_inputs(config);
         const std::set<std::string> old_fields = find_file_inputs(old);
         fields.insert(old_fields.begin(), old_fields.end());
-        if (calc_text_without(old, fields) != calc_text_without(job.config, fields)) continue;
+        if (calc_text_without(old, fields) != calc_text_without(config, fields)) continue;
         ++report.changed;
         std::set<std::string> names;
-        for (const auto& config : {job.config, old}) {
-          if (config.contains("inputs") && config["inputs"].is_object()) {
-            for (const auto& item : config["inputs"].items()) names.insert(item.key());
+        for (const auto& either : {config, old}) {
+          if (either.contains("inputs") && either["inputs"].is_object()) {
+            for (const auto& item : either["inputs"].items()) names.insert(item.key());
           }
         }
         for (const std::string& name : names) {
-          if (find_hash(job.config, name) != find_hash(old, name)) ++report.inputs[name];
+          if (find_hash(config, name) != find_hash(old, name)) ++report.inputs[name];
         }
         break;
       }

@@ -77,7 +77,7 @@ std::vector<double> calc_job_costs(const ExpandedSweep& sweep, const JobCostFunc
                                    const ResultsStore* reference) {
   std::vector<JobCostEstimate> estimates;
   estimates.reserve(sweep.jobs.size());
-  for (const ExpandedJob& job : sweep.jobs) estimates.push_back(estimate(job.config));
+  for (const ExpandedJob& job : sweep.jobs) estimates.push_back(estimate(job.config()));
   std::vector<double> costs;
   for (const JobCostEstimate& e : estimates) costs.push_back(e.cost);
   if (reference == nullptr) return costs;

@@ -64,7 +64,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   registration.provenance = options.provenance;
   registration.metric_info = make_metric_info_records();
   std::vector<JobRegistration> jobs;
-  for (const ExpandedJob* job : shard_jobs) jobs.push_back({job->key, job->params, job->config, job->seed});
+  for (const ExpandedJob* job : shard_jobs) jobs.push_back({job->key, job->params, job->config(), job->seed});
   const RegisteredRun registered = store.insert_sweep_run(registration, jobs);
 
   std::vector<const ExpandedJob*> to_run;
@@ -83,7 +83,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<ProgressJob> progress_jobs;
   for (const ExpandedJob* job : to_run) {
-    progress_jobs.push_back({make_job_label(*job), job->key.substr(0, 8), estimate_job_cost(job->config)});
+    progress_jobs.push_back({make_job_label(*job), job->key.substr(0, 8), estimate_job_cost(job->config())});
   }
   ProgressReporter progress(options.progress_out, options.progress, std::move(progress_jobs), threads);
   std::mutex summary_mutex;
@@ -91,14 +91,28 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   {
     ResultWriter writer(store, sweep.spec.name, claims.owner().owner);
     std::vector<std::size_t> elsewhere;  // indices into to_run held by another live runner: looked at again
+    std::string claim_error;  // the first claim that could not be written (guarded by summary_mutex)
+    const auto claim_failed = [&] {
+      std::lock_guard lock(summary_mutex);
+      return !claim_error.empty();
+    };
     auto run_one = [&](std::size_t index) {
       const ExpandedJob& job = *to_run[index];
-      if (stop_requested.load() || writer.failed() || claims.failed()) {
+      if (stop_requested.load() || writer.failed() || claims.failed() || claim_failed()) {
         std::lock_guard lock(summary_mutex);
         ++summary.abandoned;
         return;
       }
-      const ClaimAttempt claim = claims.claim(job.key);
+      ClaimAttempt claim;
+      try {
+        claim = claims.claim(job.key);
+      } catch (const StoreError& e) {
+        // A claim that cannot be written (a full disk) stops the run like a failed commit.
+        std::lock_guard lock(summary_mutex);
+        if (claim_error.empty()) claim_error = e.what();
+        ++summary.abandoned;
+        return;
+      }
       if (claim.result != ClaimResult::claimed) {
         std::lock_guard lock(summary_mutex);
         if (claim.result == ClaimResult::done) ++summary.done_elsewhere;
@@ -130,7 +144,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
       };
       JobOutcome outcome;
       try {
-        outcome = executor(job.config, control);
+        outcome = executor(job.config(), control);
       } catch (const std::exception& e) {
         outcome = JobOutcome{};
         outcome.status = JobStatus::failed;
@@ -205,7 +219,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
       elsewhere.clear();
       std::sort(round.begin(), round.end());  // expansion order
       if (round.empty()) break;
-      if (stop_requested.load() || writer.failed() || claims.failed()) {
+      if (stop_requested.load() || writer.failed() || claims.failed() || claim_failed()) {
         summary.abandoned += static_cast<int>(round.size());
         break;
       }
@@ -219,7 +233,8 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
     progress.finish();
     summary.not_saved = writer.finished_not_saved();
     summary.write_error = writer.error_text();
-    claims.rethrow_error();
+    if (summary.write_error.empty() && !claim_error.empty()) summary.write_error = claim_error;
+    if (summary.write_error.empty()) claims.rethrow_error();
   }
   summary.taken_over += claims.taken_over();
   summary.interrupted = stop_requested.load();

@@ -2,10 +2,11 @@
 #include "runner/io/csv_reader.hpp"
 
 #include "engine/io/input_file.hpp"
+#include "engine/io/number_text.hpp"
 
-#include <cerrno>
-#include <cmath>
-#include <cstdlib>
+#include <algorithm>
+#include <cctype>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -19,7 +20,7 @@ std::vector<std::string> split(const std::string& line) {
     if (c == ',') {
       fields.push_back(field);
       field.clear();
-    } else if (c != '\r') {
+    } else {
       field += c;
     }
   }
@@ -32,6 +33,15 @@ std::vector<std::string> split(const std::string& line) {
   return fields;
 }
 
+// "column 'q3'" when the header name is a plain identifier, else "column 3": a message never
+// quotes a file that is not the CSV it should be.
+std::string describe_column(const std::vector<std::string>& header, std::size_t i) {
+  const std::string& name = header[i];
+  bool plain = !name.empty() && name.size() <= 32 && !std::isdigit(static_cast<unsigned char>(name[0]));
+  for (char c : name) plain = plain && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.');
+  return plain ? "column '" + name + "'" : "column " + std::to_string(i + 1);
+}
+
 }  // namespace
 
 CsvTable load_csv(const std::string& path) {
@@ -42,11 +52,18 @@ CsvTable load_csv(const std::string& path) {
   std::vector<std::vector<double>> rows;
   while (std::getline(in, line)) {
     ++line_number;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const std::vector<std::string> fields = split(line);
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // CRLF line ends; a CR elsewhere is refused
     auto fail = [&](const std::string& what) {
       throw std::runtime_error(path + ":" + std::to_string(line_number) + ": " + what);
     };
+    const std::size_t control = find_control_character(line);
+    if (control != std::string::npos) {
+      const auto field = std::count(line.begin(), line.begin() + static_cast<std::ptrdiff_t>(control), ',') + 1;
+      fail(describe_control_character(line[control]) + " in field " + std::to_string(field) + " (byte " +
+           std::to_string(control + 1) + " of the line)");
+    }
+    if (line.find_first_not_of(" \t") == std::string::npos) continue;
+    const std::vector<std::string> fields = split(line);
     if (table.header.empty()) {
       for (const auto& f : fields) {
         if (f.empty()) fail("empty column name in the header");
@@ -59,16 +76,12 @@ CsvTable load_csv(const std::string& path) {
     }
     std::vector<double> row;
     for (std::size_t i = 0; i < fields.size(); ++i) {
-      const char* text = fields[i].c_str();
-      char* end = nullptr;
-      errno = 0;
-      const double value = std::strtod(text, &end);
-      if (fields[i].empty() || *end != '\0' || errno == ERANGE || !std::isfinite(value)) {
-        fail("column '" + table.header[i] + "': '" + fields[i] + "' is not a finite number");
-      }
-      row.push_back(value);
+      const std::optional<double> value = parse_finite_number(fields[i]);
+      if (!value) fail(describe_column(table.header, i) + ": not a finite number" + describe_token(fields[i]));
+      row.push_back(*value);
     }
     rows.push_back(std::move(row));
+    table.lines.push_back(line_number);
   }
   if (table.header.empty()) throw std::runtime_error(path + ":1: empty file (expected a header row)");
   table.values.resize(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(table.header.size()));

@@ -12,10 +12,13 @@ namespace armfarm::io {
 struct CsvTable {
   std::vector<std::string> header;
   Eigen::MatrixXd values;  ///< rows × header.size()
+  std::vector<int> lines;  ///< the file line (1-based) of each row of `values`
 };
 
-/// Loads `path`. Throws std::runtime_error "path:line: what" for a missing file, an empty file,
-/// a row with the wrong number of fields, or a field that is not a finite number.
+/// Loads `path` (a regular file under the CSV cap, engine/io/input_file.hpp). Throws
+/// std::runtime_error "path:line: what" for a missing file, an empty file, a row with the wrong
+/// number of fields, a field that is not entirely a finite decimal number (NaN, Inf, hex, text),
+/// or a control character anywhere (NUL, a CR that does not end the line, ...).
 CsvTable load_csv(const std::string& path);
 
 }  // namespace armfarm::io

@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <set>
 #include <unordered_set>
 
@@ -107,12 +109,64 @@ std::string locate_input(const std::string& field, const SweepSpec& spec, const 
   return spec.file + ": " + field + " (the default, resolved against " + folder->second + ")";
 }
 
+std::uint64_t multiply_saturating(std::uint64_t a, std::uint64_t b) {
+  if (a != 0 && b > std::numeric_limits<std::uint64_t>::max() / a) return std::numeric_limits<std::uint64_t>::max();
+  return a * b;
+}
+
 }  // namespace
 
-ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
+nlohmann::json ExpandedJob::config() const {
+  if (full) return *full;
+  nlohmann::json config = base ? *base : nlohmann::json::object();
+  for (const auto& [path, value] : params.items()) set_config_element(config, parse_config_path(path), value);
+  if (inputs) {
+    config["inputs"] = *inputs;
+  } else {
+    config.erase("inputs");
+  }
+  return config;
+}
+
+ExpandedJob ExpandedJob::from_config(const nlohmann::json& config) {
+  ExpandedJob job;
+  nlohmann::json base = config;
+  if (base.contains("inputs")) {
+    job.inputs = std::make_shared<const nlohmann::json>(base["inputs"]);
+    base.erase("inputs");
+  }
+  job.base = std::make_shared<const nlohmann::json>(std::move(base));
+  job.params = nlohmann::json::object();
+  job.key = calc_job_key(config);
+  if (config.contains("seed") && config["seed"].is_number_integer()) job.seed = config["seed"].get<std::int64_t>();
+  return job;
+}
+
+std::uint64_t calc_expansion_count(const SweepSpec& spec) {
+  std::uint64_t count = 1;
+  for (const SpecAxis& axis : spec.grid) count = multiply_saturating(count, axis.values.size());
+  for (const SpecZipGroup& group : spec.zip) {
+    count = multiply_saturating(count, group.axes.empty() ? 1 : group.axes.front().values.size());
+  }
+  if (spec.random) count = multiply_saturating(count, static_cast<std::uint64_t>(spec.random->samples));
+  if (!spec.repeat_seeds.empty()) count = multiply_saturating(count, spec.repeat_seeds.size());
+  return count;
+}
+
+ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const ExpansionLimits& limits) {
+  // Count first: a sweep over the limit is refused before any job (or random sample) is made.
+  const std::uint64_t count = calc_expansion_count(spec);
+  if (count > limits.max_jobs) {
+    const std::string shown = count == std::numeric_limits<std::uint64_t>::max() ? "more than 1.8e19" : std::to_string(count);
+    throw SpecError({spec.file + ": sweep: expands to " + shown + " jobs, over the limit of " +
+                     std::to_string(limits.max_jobs) + " (--max-jobs N raises it)"});
+  }
   ExpandedSweep sweep;
   const std::vector<PathSegment> seed_segments = {{"seed", std::nullopt}};
   const std::vector<Factor> factors = make_factors(spec, seed_segments);
+  const auto shared_base = std::make_shared<const nlohmann::json>(spec.base);
+  // Jobs mostly record the same inputs: one copy per distinct "inputs" object.
+  std::map<std::string, std::shared_ptr<const nlohmann::json>> shared_inputs;
 
   std::vector<std::size_t> counter(factors.size(), 0);
   std::vector<std::string> errors;
@@ -125,7 +179,13 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
       const FactorEntry& entry = factors[f][counter[f]];
       assignments.insert(assignments.end(), entry.begin(), entry.end());
     }
-    ExpandedJob job;
+    // The job as it is checked; what the sweep keeps of it is compact (ExpandedJob).
+    struct {
+      std::string key;
+      nlohmann::json params;
+      nlohmann::json config;
+      std::int64_t seed = 0;
+    } job;
     job.config = spec.base;
     job.params = nlohmann::json::object();
     for (const Assignment& a : assignments) {
@@ -134,9 +194,12 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
     }
     // Stored results the job starts from (a learned model), by hash.
     bool unresolved = false;
+    bool resolved_changed = false;
     if (schema.resolve_references) {
       try {
+        const nlohmann::json before = job.config;
         schema.resolve_references(job.config);
+        resolved_changed = job.config != before;
       } catch (const std::runtime_error& e) {
         const std::string what = e.what();
         const std::size_t colon = what.find(": ");
@@ -194,7 +257,21 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema) {
       if (job.config.contains("seed") && job.config["seed"].is_number_integer()) {
         job.seed = job.config["seed"].get<std::int64_t>();
       }
-      if (seen_keys.insert(job.key).second) sweep.jobs.push_back(std::move(job));
+      if (seen_keys.insert(job.key).second) {
+        ExpandedJob compact;
+        compact.key = std::move(job.key);
+        compact.params = std::move(job.params);
+        compact.seed = job.seed;
+        compact.base = shared_base;
+        if (job.config.contains("inputs")) {
+          const nlohmann::json& inputs = job.config["inputs"];
+          auto& slot = shared_inputs[inputs.dump()];
+          if (!slot) slot = std::make_shared<const nlohmann::json>(inputs);
+          compact.inputs = slot;
+        }
+        if (resolved_changed) compact.full = std::make_shared<const nlohmann::json>(job.config);
+        sweep.jobs.push_back(std::move(compact));
+      }
     }
     // Odometer: the last factor varies fastest.
     more = false;

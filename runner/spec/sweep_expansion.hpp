@@ -9,17 +9,44 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace armfarm {
 
+/// One job, kept compact: a sweep holds only its key, the values its axes set and pointers to
+/// parts every job shares (about 0.5 KB per job, tests/bench/bench_expansion.cpp); the full
+/// configuration (a ~15 KB JSON tree) is built when asked for.
 struct ExpandedJob {
-  std::string key;         ///< calc_job_key(config)
+  std::string key;         ///< calc_job_key(config())
   nlohmann::json params;   ///< the values the axes set, {"dotted.path": value}
-  nlohmann::json config;   ///< the full resolved configuration
-  std::int64_t seed = 0;   ///< config["seed"], 0 when the configuration has none
+  std::int64_t seed = 0;   ///< config()["seed"], 0 when the configuration has none
+  std::shared_ptr<const nlohmann::json> base;    ///< the sweep's base configuration (shared)
+  std::shared_ptr<const nlohmann::json> inputs;  ///< its "inputs" object (shared by equal ones); null: none
+  /// The whole configuration, kept only when base + params + inputs cannot rebuild it (a
+  /// reference resolved at expansion, e.g. learning.initial_model → "stored:<hash>"); null otherwise.
+  std::shared_ptr<const nlohmann::json> full;
+
+  /// The full resolved configuration: `base` with every `params` value set and `inputs`.
+  nlohmann::json config() const;
+  /// A job whose configuration is `config` as it is (no axes): for callers that build one.
+  static ExpandedJob from_config(const nlohmann::json& config);
 };
+
+/// How large a sweep may be; `armfarm run` and `expand` take `--max-jobs`. The default, 10^5
+/// jobs, is far beyond what finishes on one machine (the quick start's jobs take about 7 core
+/// seconds each: 10^5 of them are 8 core-days), so a larger count is almost surely a typo
+/// (two 1000-value axes); expanding 10^5 jobs takes seconds and well under 1 GB. Raise it for
+/// a sharded cluster run.
+struct ExpansionLimits {
+  std::uint64_t max_jobs = 100000;
+};
+
+/// How many configurations `spec` expands into before duplicates merge: the product of the grid
+/// axes' sizes, the zip groups' lengths, the random samples and the repeat seeds (1 with no
+/// axes); saturates at UINT64_MAX instead of overflowing.
+std::uint64_t calc_expansion_count(const SweepSpec& spec);
 
 struct ExpandedSweep {
   SweepSpec spec;
@@ -28,7 +55,9 @@ struct ExpandedSweep {
 };
 
 /// Expands and checks every job with schema.validate. Throws SpecError naming the spec location
-/// of the value that failed (or the base configuration).
-ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema);
+/// of the value that failed (or the base configuration), and, before expanding anything, when
+/// calc_expansion_count(spec) exceeds limits.max_jobs ("FILE: sweep: expands to N jobs, over
+/// the limit of M; --max-jobs raises it").
+ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const ExpansionLimits& limits = {});
 
 }  // namespace armfarm

@@ -26,10 +26,8 @@ nlohmann::json make_config(double gain, const std::string& model_hash) {
 }
 
 ExpandedJob make_job(double gain, const std::string& model_hash) {
-  ExpandedJob job;
-  job.config = make_config(gain, model_hash);
-  job.params = {{"control.gain_scale", gain}};
-  job.key = calc_job_key(job.config);
+  ExpandedJob job = ExpandedJob::from_config(make_config(gain, model_hash));
+  job.params = {{"control.gain_scale", gain}};  // the value the configuration already has
   return job;
 }
 
@@ -49,7 +47,7 @@ class InputChangesTest : public ::testing::Test {
     sweep.name = "s";
     sweep.started_at = make_utc_timestamp();
     std::vector<JobRegistration> registrations;
-    for (const ExpandedJob& job : jobs) registrations.push_back({job.key, job.params, job.config, 0});
+    for (const ExpandedJob& job : jobs) registrations.push_back({job.key, job.params, job.config(), 0});
     store.insert_sweep_run(sweep, registrations);
   }
 
@@ -81,9 +79,10 @@ TEST_F(InputChangesTest, OtherChangesAndMissingDatabasesAreNotInputChanges) {
   sweep.jobs = {make_job(0.5, "bbbb")};
   EXPECT_EQ(find_input_changes(sweep, db_).changed, 0);  // no database yet
   EXPECT_FALSE(fs::exists(db_));                          // and none created
-  ExpandedJob other = make_job(0.5, "aaaa");
-  other.config["control"]["limit_torque"] = false;  // a configuration change, same params
-  other.key = calc_job_key(other.config);
+  nlohmann::json changed = make_config(0.5, "aaaa");
+  changed["control"]["limit_torque"] = false;  // a configuration change, same params
+  ExpandedJob other = ExpandedJob::from_config(changed);
+  other.params = {{"control.gain_scale", 0.5}};
   store({other});
   EXPECT_EQ(find_input_changes(sweep, db_).changed, 0);
   EXPECT_EQ(make_input_change_text(find_input_changes(sweep, db_)), "");

@@ -94,14 +94,14 @@ TEST_F(ExperimentShardTest, TheEstimateIsDurationTimesJointsTimesTheModeFactor) 
                 "grid": {"active_joints": [[2], [1, 2, 4], []]}}})");
   ASSERT_EQ(sweep.jobs.size(), 9u);
   for (const ExpandedJob& job : sweep.jobs) {
-    const std::string mode = job.config.at("learning").at("mode");
-    const std::size_t listed = job.config.at("active_joints").size();
+    const std::string mode = job.config().at("learning").at("mode");
+    const std::size_t listed = job.config().at("active_joints").size();
     const double joints = listed == 0 ? 7.0 : static_cast<double>(listed);  // [] = all 7 of the DLR LWR III
     // batch: collect_repeats (2) passes under feedback, then the control pass.
     const double expected = mode == "none"     ? 10.0 * joints * model.none_factor
                             : mode == "online" ? 10.0 * joints * model.online_factor
                                                : 3.0 * 10.0 * joints * model.batch_factor;
-    const JobCostEstimate e = estimate(job.config);
+    const JobCostEstimate e = estimate(job.config());
     EXPECT_NEAR(e.cost, expected, 1e-9 * expected) << job.params.dump();
     EXPECT_EQ(e.kind, mode + " sine " + std::to_string(static_cast<int>(joints)) + " joints");
   }
@@ -149,15 +149,15 @@ TEST(JobCosts, AReferenceDatabaseCalibratesTheEstimatesByKind) {
     registration.spec_hash = "h";
     registration.started_at = make_utc_timestamp();
     std::vector<JobRegistration> jobs;
-    for (const ExpandedJob& job : sweep.jobs) jobs.push_back({job.key, job.params, job.config, job.seed});
+    for (const ExpandedJob& job : sweep.jobs) jobs.push_back({job.key, job.params, job.config(), job.seed});
     store.insert_sweep_run(registration, jobs);
     JobBatch batch;
     for (const ExpandedJob& job : sweep.jobs) {
-      if (job.config.at("simulation").at("duration") != 1.0) continue;
+      if (job.config().at("simulation").at("duration") != 1.0) continue;
       JobResultRecord result;
       result.key = job.key;
       result.status = "done";
-      result.wall_seconds = job.config.at("control").at("kp").size() == 2 ? 3.0 : 0.5;
+      result.wall_seconds = job.config().at("control").at("kp").size() == 2 ? 3.0 : 0.5;
       result.started_at = result.finished_at = make_utc_timestamp();
       batch.finished.push_back(result);
     }
@@ -167,17 +167,17 @@ TEST(JobCosts, AReferenceDatabaseCalibratesTheEstimatesByKind) {
   const std::vector<double> costs = calc_job_costs(sweep, estimate, &reference);
   for (std::size_t i = 0; i < sweep.jobs.size(); ++i) {
     const ExpandedJob& job = sweep.jobs[i];
-    const double duration = job.config.at("simulation").at("duration");
-    const bool two = job.config.at("control").at("kp").size() == 2;
+    const double duration = job.config().at("simulation").at("duration");
+    const bool two = job.config().at("control").at("kp").size() == 2;
     const double measured = two ? 3.0 : 0.5;
     // Done there: its own wall time. Otherwise: its estimate × (wall / estimate) of its kind's done job.
     const double expected =
-        duration == 1.0 ? measured : estimate(job.config).cost * measured / estimate(sweep.jobs[two ? 0 : 1].config).cost;
+        duration == 1.0 ? measured : estimate(job.config()).cost * measured / estimate(sweep.jobs[two ? 0 : 1].config()).cost;
     EXPECT_NEAR(costs[i], expected, 1e-12) << job.params.dump();
   }
   // Without the reference: the estimates themselves.
   const std::vector<double> raw = calc_job_costs(sweep, estimate);
-  for (std::size_t i = 0; i < sweep.jobs.size(); ++i) EXPECT_EQ(raw[i], estimate(sweep.jobs[i].config).cost);
+  for (std::size_t i = 0; i < sweep.jobs.size(); ++i) EXPECT_EQ(raw[i], estimate(sweep.jobs[i].config()).cost);
   fs::remove_all(folder);
 }
 

@@ -36,25 +36,25 @@ TEST(TrajectoryCache, KeyIsTheTrajectoryInputsAndTheModel) {
   std::set<std::string> keys;
   std::map<std::int64_t, std::set<std::string>> keys_by_seed;
   for (const ExpandedJob& job : sweep.jobs) {
-    const std::string key = make_trajectory_key(job.config);
+    const std::string key = make_trajectory_key(job.config());
     keys.insert(key);
-    keys_by_seed[job.config.at("seed").get<std::int64_t>()].insert(key);
+    keys_by_seed[job.config().at("seed").get<std::int64_t>()].insert(key);
     EXPECT_EQ(key.find("gain_scale"), std::string::npos) << key;
     EXPECT_NE(key.find("xxh3-128:"), std::string::npos) << "the model enters by its content hash: " << key;
   }
   EXPECT_EQ(keys.size(), 2u);  // one per seed: the seed draws the reaching targets
   EXPECT_EQ(keys_by_seed[0].size(), 1u);
   EXPECT_EQ(keys_by_seed[1].size(), 1u);
-  nlohmann::json other_model = sweep.jobs[0].config;
+  nlohmann::json other_model = sweep.jobs[0].config();
   other_model["inputs"]["model"]["hash"] = "00000000000000000000000000000000";
-  EXPECT_NE(make_trajectory_key(other_model), make_trajectory_key(sweep.jobs[0].config));
-  nlohmann::json other_dt = sweep.jobs[0].config;
+  EXPECT_NE(make_trajectory_key(other_model), make_trajectory_key(sweep.jobs[0].config()));
+  nlohmann::json other_dt = sweep.jobs[0].config();
   other_dt["dt"] = 0.005;
-  EXPECT_NE(make_trajectory_key(other_dt), make_trajectory_key(sweep.jobs[0].config));
+  EXPECT_NE(make_trajectory_key(other_dt), make_trajectory_key(sweep.jobs[0].config()));
   // Task-space targets are solved for the end effector: another point, another trajectory.
-  nlohmann::json other_tip = sweep.jobs[0].config;
+  nlohmann::json other_tip = sweep.jobs[0].config();
   other_tip["end_effector"]["offset"] = {0.0, 0.0, 0.05};
-  EXPECT_NE(make_trajectory_key(other_tip), make_trajectory_key(sweep.jobs[0].config));
+  EXPECT_NE(make_trajectory_key(other_tip), make_trajectory_key(sweep.jobs[0].config()));
 }
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -64,8 +64,8 @@ TEST(TrajectoryCache, SweepOnSharedTrajectoriesMatchesFreshExecutorsBitForBit) {
   const JobExecutor shared = make_experiment_executor();  // one for the sweep: shares builds
   for (std::size_t i = 0; i < 4; ++i) {
     const ExpandedJob& job = sweep.jobs[i];
-    const JobOutcome a = shared(job.config, JobControl{});
-    const JobOutcome b = make_experiment_executor()(job.config, JobControl{});  // builds its own
+    const JobOutcome a = shared(job.config(), JobControl{});
+    const JobOutcome b = make_experiment_executor()(job.config(), JobControl{});  // builds its own
     ASSERT_EQ(a.status, JobStatus::done) << a.message;
     ASSERT_EQ(a.metrics.size(), b.metrics.size());
     for (std::size_t m = 0; m < a.metrics.size(); ++m) {

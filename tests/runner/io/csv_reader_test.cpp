@@ -36,7 +36,7 @@ TEST(CsvReader, ErrorsNameFileAndLine) {
   const std::string short_row = write_temp("short.csv", "a,b\n1,2\n3\n");
   EXPECT_EQ(error_of(short_row), short_row + ":3: 1 fields, expected 2");
   const std::string text = write_temp("text.csv", "a,b\n1,x\n");
-  EXPECT_NE(error_of(text).find(text + ":2: column 'b': 'x'"), std::string::npos) << error_of(text);
+  EXPECT_EQ(error_of(text), text + ":2: column 'b': not a finite number (a 1-byte token, not shown)");
   const std::string nan = write_temp("nan.csv", "a\nnan\n");
   EXPECT_NE(error_of(nan).find(":2:"), std::string::npos);
   EXPECT_NE(error_of(write_temp("empty.csv", "")).find("empty file"), std::string::npos);

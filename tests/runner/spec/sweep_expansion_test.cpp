@@ -41,10 +41,10 @@ TEST(SweepExpansion, CountIsTheProductOfGridZipAndRepeat) {
     // Zipped values stay together; params and config agree; key is the config's.
     EXPECT_DOUBLE_EQ(job.params["learning.lwpr.init_alpha"].get<double>(),
                      10.0 * job.params["learning.lwpr.init_D"].get<double>());
-    EXPECT_EQ(job.config["learning"]["lwpr"]["init_D"], job.params["learning.lwpr.init_D"]);
-    EXPECT_EQ(job.config["seed"], job.params["seed"]);
+    EXPECT_EQ(job.config()["learning"]["lwpr"]["init_D"], job.params["learning.lwpr.init_D"]);
+    EXPECT_EQ(job.config()["seed"], job.params["seed"]);
     EXPECT_EQ(job.seed, job.params["seed"].get<std::int64_t>());
-    EXPECT_EQ(job.key, calc_job_key(job.config));
+    EXPECT_EQ(job.key, calc_job_key(job.config()));
   }
   // The first axis varies slowest, repeat fastest.
   EXPECT_EQ(sweep.jobs[0].params["seed"], 3);
@@ -110,7 +110,7 @@ TEST(SweepExpansion, ChangingOneValueChangesOnlyTheJobsItTouches) {
 TEST(SweepExpansion, ArrayElementsCanBeSwept) {
   const ExpandedSweep sweep = expand_text(R"({"name": "n", "sweep": {"grid": {"control.kp[1]": [5, 6, 7]}}})");
   ASSERT_EQ(sweep.jobs.size(), 3u);
-  EXPECT_EQ(sweep.jobs[2].config["control"]["kp"], nlohmann::json({100.0, 7.0}));
+  EXPECT_EQ(sweep.jobs[2].config()["control"]["kp"], nlohmann::json({100.0, 7.0}));
 }
 
 }  // namespace
