@@ -105,10 +105,8 @@ RunFunction setup_run(CLI::App& parent) {
       ExpandedSweep sweep;
       try {
         sweep = expand_sweep(std::move(stages[s]), kind.schema, options->limits);
-        run.job_costs.clear();
-        if (run.shard.count > 1) {
-          run.job_costs = calc_job_costs(sweep, kind.estimate_cost, cost_reference ? &*cost_reference : nullptr);
-        }
+        // The jobs' estimated costs deal the shards and weight the progress ETA.
+        run.job_costs = calc_job_costs(sweep, kind.estimate_cost, cost_reference ? &*cost_reference : nullptr);
       } catch (const StoreError& e) {
         std::cerr << "armfarm: " << e.what() << "\n";
         return 2;

@@ -53,7 +53,8 @@ JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
       }
       movable = found->second;
     }
-    const JobConfig job = parse_job_config(config, movable);
+    // The model a job starts from does not change its cost: a stored one is not fetched here.
+    const JobConfig job = parse_job_config(config, movable, [](const std::string&) { return std::string(); });
     const int n = job.active_joints.empty() ? movable : static_cast<int>(job.active_joints.size());
     const LearningConfig& learning = job.learning;
     // Passes as the validation counts them (job_config_validation.cpp: check_cost).

@@ -29,7 +29,7 @@ struct ProgressConfig {
 struct ProgressJob {
   std::string label;      ///< short key and varying parameters (make_job_label)
   std::string short_key;  ///< first 8 hex digits of the key
-  double cost = 1.0;      ///< relative cost estimate (estimate_job_cost), > 0
+  double cost = 1.0;      ///< relative cost estimate (RunOptions::job_costs, job_cost.hpp), > 0
 };
 
 /// The figures of a status line, at one moment.

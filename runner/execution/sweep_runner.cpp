@@ -1,6 +1,5 @@
 #include "runner/execution/sweep_runner.hpp"
 
-#include "runner/execution/job_cost_estimate.hpp"
 #include "runner/execution/outcome_record.hpp"
 #include "runner/execution/result_writer.hpp"
 
@@ -83,7 +82,9 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   const int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<ProgressJob> progress_jobs;
   for (const ExpandedJob* job : to_run) {
-    progress_jobs.push_back({make_job_label(*job), job->key.substr(0, 8), estimate_job_cost(job->config())});
+    const auto index = static_cast<std::size_t>(job - sweep.jobs.data());
+    const double cost = index < options.job_costs.size() ? options.job_costs[index] : 1.0;
+    progress_jobs.push_back({make_job_label(*job), job->key.substr(0, 8), cost > 0.0 ? cost : 1.0});
   }
   ProgressReporter progress(options.progress_out, options.progress, std::move(progress_jobs), threads);
   std::mutex summary_mutex;

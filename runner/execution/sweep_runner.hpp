@@ -28,7 +28,7 @@ struct RunOptions {
   std::optional<double> timeout_seconds;   ///< per job, wall clock, s
   bool force = false;                      ///< run done jobs again
   Shard shard;
-  std::vector<double> job_costs;           ///< per job of the sweep, to deal shards (job_cost.hpp); empty: 1 each
+  std::vector<double> job_costs;           ///< per job of the sweep (job_cost.hpp): deals the shards, weights the ETA; empty: 1 each
   ClaimConfig claims;                      ///< runners sharing the database (claim_keeper.hpp)
   ProgressConfig progress;                 ///< style quiet by default
   std::ostream* progress_out = nullptr;    ///< required unless quiet

@@ -1,11 +1,12 @@
 // Progress a person can read: the ETA against its closed form, the status figures as jobs
 // start and commit, heartbeat lines in a log, the terminal line, the run's headline metric and
 // the cost estimate that weighs the ETA.
-#include "runner/execution/job_cost_estimate.hpp"
 #include "runner/execution/progress_reporter.hpp"
 #include "runner/execution/run_headline.hpp"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include <regex>
 #include <sstream>
@@ -149,21 +150,6 @@ TEST(RunHeadline, TheFirstCatalogResultMetricMostJobsDefineWithItsDirection) {
   // Timing metrics and metrics without a direction never lead.
   EXPECT_FALSE(choose_run_headline({{"a", {{"learner_us_per_update", 3.0}, {"ff_abs_avg", 1.0}}}}));
   EXPECT_FALSE(choose_run_headline({}));
-}
-
-TEST(JobCostEstimate, TicksTimesPasses) {
-  const nlohmann::json sine = {{"dt", 0.01},
-                               {"trajectory", {{"kind", "sine"}, {"sine", {{"duration", 20.0}}}}},
-                               {"learning", {{"mode", "online"}, {"heldout", false}}}};
-  EXPECT_DOUBLE_EQ(estimate_job_cost(sine), 2000.0);
-  nlohmann::json batch = sine;
-  batch["learning"] = {{"mode", "batch"}, {"collect_repeats", 2}, {"heldout", true}};
-  EXPECT_DOUBLE_EQ(estimate_job_cost(batch), 2000.0 * 3 * 2);
-  const nlohmann::json reaching = {{"trajectory", {{"kind", "reaching"}, {"reaching", {{"points_per_reach", 100}, {"reaches", 30}}}}},
-                                   {"learning", {{"mode", "online"}, {"heldout", false}}}};
-  EXPECT_DOUBLE_EQ(estimate_job_cost(reaching), 3000.0);
-  EXPECT_DOUBLE_EQ(estimate_job_cost({{"fake", {{"sleep_ms", 40.0}, {"work", 0}}}}), 40.0);
-  EXPECT_DOUBLE_EQ(estimate_job_cost(nlohmann::json::object()), 1.0);
 }
 
 }  // namespace
