@@ -12,28 +12,6 @@
 #include <set>
 
 namespace armfarm {
-namespace {
-
-const char* mode_name(LearningMode mode) {
-  switch (mode) {
-    case LearningMode::none: return "none";
-    case LearningMode::online: return "online";
-    case LearningMode::batch: return "batch";
-  }
-  return "?";
-}
-
-const char* trajectory_name(TrajectoryKind kind) {
-  switch (kind) {
-    case TrajectoryKind::sine: return "sine";
-    case TrajectoryKind::figure_eight: return "figure_eight";
-    case TrajectoryKind::reaching: return "reaching";
-    case TrajectoryKind::recorded: return "recorded";
-  }
-  return "?";
-}
-
-}  // namespace
 
 JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
   struct JointCounts {
@@ -63,12 +41,15 @@ JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
     const double heldout_passes =
         heldout_ticks > 0.0 ? 1.0 + static_cast<double>(std::max<std::size_t>(1, learning.heldout_checkpoints.size())) : 0.0;
     const double ticks = std::max(1.0, calc_ticks_per_pass(job) * passes + heldout_ticks * heldout_passes);
-    const double factor = learning.mode == LearningMode::none     ? model.none_factor
+    // A frozen learner predicts but never updates: costed as no learning.
+    const bool learns = learning.mode == LearningMode::online || learning.mode == LearningMode::batch;
+    const double factor = !learns                                ? model.none_factor
                           : learning.mode == LearningMode::online ? model.online_factor
                                                                   : model.batch_factor;
     JobCostEstimate estimate;
     estimate.cost = ticks * job.simulation.dt * std::max(1, n) * factor;
-    estimate.kind = std::string(mode_name(learning.mode)) + " " + trajectory_name(job.trajectory.kind) + " " +
+    estimate.kind = std::string(find_enum_name(learning_mode_names(), static_cast<int>(learning.mode))) + " " +
+                    find_enum_name(trajectory_kind_names(), static_cast<int>(job.trajectory.kind)) + " " +
                     std::to_string(n) + " joints";
     return estimate;
   };
