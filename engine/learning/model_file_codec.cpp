@@ -15,6 +15,20 @@ std::uint64_t calc_model_file_checksum(const std::string& bytes) {
   return hash;
 }
 
+void write_model_file_frame(std::ostream& out, const char (&magic)[8], std::uint32_t version,
+                            const ModelFileWriter& payload, const char* format) {
+  ModelFileWriter header;
+  header.put_u32(version);
+  header.put_u64(payload.bytes().size());
+  ModelFileWriter trailer;
+  trailer.put_u64(calc_model_file_checksum(payload.bytes()));
+  out.write(magic, sizeof magic);
+  out.write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
+  out.write(payload.bytes().data(), static_cast<std::streamsize>(payload.bytes().size()));
+  out.write(trailer.bytes().data(), static_cast<std::streamsize>(trailer.bytes().size()));
+  if (!out) throw std::runtime_error(std::string(format) + " model file: write failed");
+}
+
 void ModelFileWriter::put_u64(std::uint64_t v) {
   for (int i = 0; i < 8; ++i) bytes_.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
 }

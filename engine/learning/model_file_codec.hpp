@@ -7,12 +7,21 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <ostream>
 #include <string>
 
 namespace armfarm {
 
 /// 64-bit FNV-1a of a byte string (the payload checksum).
 std::uint64_t calc_model_file_checksum(const std::string& bytes);
+
+class ModelFileWriter;
+
+/// Writes a whole model file: the 8-byte `magic`, the header (format `version` u32, payload size
+/// u64), `payload` and its checksum (u64). Throws std::runtime_error "<format> model file:
+/// write failed" when the stream fails.
+void write_model_file_frame(std::ostream& out, const char (&magic)[8], std::uint32_t version,
+                            const ModelFileWriter& payload, const char* format);
 
 /// Appends encoded values to a byte string.
 class ModelFileWriter {

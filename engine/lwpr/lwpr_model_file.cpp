@@ -161,16 +161,7 @@ void write_lwpr_model(const LwprModel& model, std::ostream& out) {
     payload.put_u64(model.fields(o).size());
     for (const ReceptiveField& rf : model.fields(o)) put_field(payload, rf);
   }
-  ModelFileWriter header;
-  header.put_u32(kLwprModelFormatVersion);
-  header.put_u64(payload.bytes().size());
-  ModelFileWriter trailer;
-  trailer.put_u64(calc_model_file_checksum(payload.bytes()));
-  out.write(kMagic, sizeof kMagic);
-  out.write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
-  out.write(payload.bytes().data(), static_cast<std::streamsize>(payload.bytes().size()));
-  out.write(trailer.bytes().data(), static_cast<std::streamsize>(trailer.bytes().size()));
-  if (!out) throw std::runtime_error("LWPR model file: write failed");
+  write_model_file_frame(out, kMagic, kLwprModelFormatVersion, payload, "LWPR");
 }
 
 LwprModel load_lwpr_model(std::istream& in) {

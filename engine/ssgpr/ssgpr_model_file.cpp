@@ -53,16 +53,7 @@ void write_ssgpr_model(const SsgprModel& model, std::ostream& out) {
   payload.put_lower(s.factor);
   payload.put_matrix(s.rhs);
   payload.put_matrix(s.weights);
-  ModelFileWriter header;
-  header.put_u32(kSsgprModelFormatVersion);
-  header.put_u64(payload.bytes().size());
-  ModelFileWriter trailer;
-  trailer.put_u64(calc_model_file_checksum(payload.bytes()));
-  out.write(kMagic, sizeof kMagic);
-  out.write(header.bytes().data(), static_cast<std::streamsize>(header.bytes().size()));
-  out.write(payload.bytes().data(), static_cast<std::streamsize>(payload.bytes().size()));
-  out.write(trailer.bytes().data(), static_cast<std::streamsize>(trailer.bytes().size()));
-  if (!out) throw std::runtime_error("SSGPR model file: write failed");
+  write_model_file_frame(out, kMagic, kSsgprModelFormatVersion, payload, "SSGPR");
 }
 
 SsgprModel load_ssgpr_model(std::istream& in) {
