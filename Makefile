@@ -19,8 +19,10 @@ endif
 
 ARMFARM = $(BUILD_DIR)/runner/armfarm
 
-# make test-sanitize-subset : the parser and store tests under ASan+UBSan (to join .ci/run once seen passing within CI time)
-SANITIZE_SUBSET = ^(InputFileTest|ConfinedPath|DcgMeshPath|NumberText|StrictObj|StrictDcg|StrictCsv|RecordedLimits|BoundedExpansion|SpecInputFiles|SweepSpec|SweepExpansion|JsonDocument|ConfigPath|CanonicalJson|CsvReader|SyntheticRecordings|TriangleMesh|MassProperties|DcgLoading|UrdfLoading|ModelValidation|ModelInputFiles|LwprModelFile|SsgprModelFile|LwprParamsJson|JobConfigJson|SeriesCodec|DamagedDatabase[A-Za-z]*|JobClaims[A-Za-z]*|[A-Za-z]*Store[A-Za-z]*)\.
+# make test-sanitize-subset : the parser and store tests under ASan+UBSan (.ci/run): one binary,
+# sanitize_subset_tests, whose source files tests/CMakeLists.txt lists. The first sanitizer
+# report stops the test process with a non-zero status (UBSan through -fno-sanitize-recover).
+SANITIZER_ENV = ASAN_OPTIONS=halt_on_error=1:detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 # make fuzz  : build the libFuzzer targets (clang) and run each for FUZZ_SECONDS (tests/fuzz/README.md)
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS ?= spec urdf dcg obj csv model_file
@@ -45,7 +47,7 @@ run: build
 	$(ARMFARM) table $(DB)
 
 test: build
-	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	cd $(BUILD_DIR) && $(if $(filter 1,$(SANITIZE)),$(SANITIZER_ENV)) ctest --output-on-failure -j $(JOBS)
 
 # A private one-node Slurm on this machine (root; installs slurm-wlm and munge if missing).
 test-slurm: build
@@ -58,8 +60,8 @@ bench: deps
 
 test-sanitize-subset: deps
 	cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DARMFARM_SANITIZE=ON
-	cmake --build build-sanitize -j $(JOBS) --target engine_tests results_tests runner_tests
-	cd build-sanitize && ctest --output-on-failure -j $(JOBS) -R '$(SANITIZE_SUBSET)'
+	cmake --build build-sanitize -j $(JOBS) --target sanitize_subset_tests
+	cd build-sanitize/tests && $(SANITIZER_ENV) ./sanitize_subset_tests --gtest_brief=1
 
 fuzz: deps
 	@command -v clang++ >/dev/null || { echo "armfarm: make fuzz needs clang and libFuzzer: apt-get install -y clang libclang-rt-dev" >&2; exit 1; }
