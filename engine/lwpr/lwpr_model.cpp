@@ -124,11 +124,15 @@ inline double LwprModel::calc_field_activation(int output, std::size_t i, const 
                                                FieldScratch& scratch) const {
   const ScanData& scan = scan_[output];
   const double* centre = scan.centres.data() + i * stride_;
-  const double* metric = scan.metrics.data() + i * metric_stride_;
   double q;
-  if (diagonal_scan_) {
-    q = calc_diagonal_distance(x_padded, centre, metric, stride_, q_limit_);
-  } else if (n_in_ == 2) {
+  if (diagonal_scan_) {  // metric_stride_ = stride_
+    q = calc_diagonal_distance(x_padded, centre, scan.metrics.data() + i * stride_, stride_, q_limit_);
+    if (q >= q_limit_) return 0.0;
+    const double w = calc_kernel(params_.kernel, q);
+    return w <= params_.cutoff ? 0.0 : w;
+  }
+  const double* metric = scan.metrics.data() + i * metric_stride_;
+  if (n_in_ == 2) {
     q = calc_full_distance<2>(x_padded, centre, metric, 2, q_limit_, scratch.diff.data());
   } else if (n_in_ == 3) {
     q = calc_full_distance<3>(x_padded, centre, metric, 3, q_limit_, scratch.diff.data());
