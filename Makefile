@@ -19,13 +19,15 @@ endif
 
 ARMFARM = $(BUILD_DIR)/runner/armfarm
 
-# make test-sanitize-subset : the parser and store tests under ASan+UBSan (to join .ci/run once seen passing within CI time)
-SANITIZE_SUBSET = ^(InputFileTest|ConfinedPath|DcgMeshPath|NumberText|StrictObj|StrictDcg|StrictCsv|RecordedLimits|BoundedExpansion|SpecInputFiles|SweepSpec|SweepExpansion|JsonDocument|ConfigPath|CanonicalJson|CsvReader|SyntheticRecordings|TriangleMesh|MassProperties|DcgLoading|UrdfLoading|ModelValidation|ModelInputFiles|LwprModelFile|SsgprModelFile|LwprParamsJson|JobConfigJson|SeriesCodec|DamagedDatabase[A-Za-z]*|JobClaims[A-Za-z]*|[A-Za-z]*Store[A-Za-z]*)\.
+# make test-sanitize-subset : the parser and store tests under ASan+UBSan (.ci/run): one binary,
+# sanitize_subset_tests, whose source files tests/CMakeLists.txt lists. The first sanitizer
+# report stops the test process with a non-zero status (UBSan through -fno-sanitize-recover).
+SANITIZER_ENV = ASAN_OPTIONS=halt_on_error=1:detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 # make fuzz  : build the libFuzzer targets (clang) and run each for FUZZ_SECONDS (tests/fuzz/README.md)
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS ?= spec urdf dcg obj csv model_file
 
-.PHONY: all deps configure build run test test-sanitize-subset test-slurm bench fuzz clean
+.PHONY: all deps configure build run test test-sanitize-subset test-slurm bench fuzz fuzz-build clean
 
 all: build
 
@@ -45,7 +47,7 @@ run: build
 	$(ARMFARM) table $(DB)
 
 test: build
-	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	cd $(BUILD_DIR) && $(if $(filter 1,$(SANITIZE)),$(SANITIZER_ENV)) ctest --output-on-failure -j $(JOBS)
 
 # A private one-node Slurm on this machine (root; installs slurm-wlm and munge if missing).
 test-slurm: build
@@ -58,20 +60,29 @@ bench: deps
 
 test-sanitize-subset: deps
 	cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DARMFARM_SANITIZE=ON
-	cmake --build build-sanitize -j $(JOBS) --target engine_tests results_tests runner_tests
-	cd build-sanitize && ctest --output-on-failure -j $(JOBS) -R '$(SANITIZE_SUBSET)'
+	cmake --build build-sanitize -j $(JOBS) --target sanitize_subset_tests
+	cd build-sanitize/tests && $(SANITIZER_ENV) ./sanitize_subset_tests --gtest_brief=1
 
-fuzz: deps
+# `make -j2 fuzz` runs two targets at a time; each target's output goes to build-fuzz/logs/<target>.log
+# and its final libFuzzer statistics are printed when it ends.
+fuzz: $(addprefix fuzz-run-,$(FUZZ_TARGETS))
+
+fuzz-build: deps
 	@command -v clang++ >/dev/null || { echo "armfarm: make fuzz needs clang and libFuzzer: apt-get install -y clang libclang-rt-dev" >&2; exit 1; }
 	cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
 	  -DARMFARM_FUZZ=ON -DARMFARM_BUILD_TESTS=OFF
 	cmake --build build-fuzz -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
-	@for t in $(FUZZ_TARGETS); do \
-	  mkdir -p build-fuzz/corpus/$$t build-fuzz/crashes; \
-	  echo "== fuzz_$$t for $(FUZZ_SECONDS) s"; \
-	  build-fuzz/tests/fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -timeout=10 \
-	    -print_final_stats=1 -artifact_prefix=build-fuzz/crashes/$$t- build-fuzz/corpus/$$t tests/data/fuzz/$$t || exit 1; \
-	done
+
+fuzz-run-%: fuzz-build
+	@mkdir -p build-fuzz/corpus/$* build-fuzz/crashes build-fuzz/logs
+	@echo "== fuzz_$* for $(FUZZ_SECONDS) s (log: build-fuzz/logs/$*.log)"
+	@build-fuzz/tests/fuzz/fuzz_$* -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -rss_limit_mb=2048 -timeout=10 \
+	  -print_final_stats=1 -artifact_prefix=build-fuzz/crashes/$*- build-fuzz/corpus/$* tests/data/fuzz/$* \
+	  > build-fuzz/logs/$*.log 2>&1; status=$$?; \
+	  echo "== fuzz_$* exit $$status: $$(ls build-fuzz/corpus/$* | wc -l) files in build-fuzz/corpus/$*"; \
+	  grep -E '^(stat::|#[0-9]+[[:space:]]+DONE|INFO: (seed corpus|-max_total_time)|Done |==[0-9]+==|SUMMARY|artifact_prefix|Test unit written)' build-fuzz/logs/$*.log \
+	    | sed 's/^/fuzz_$*: /'; \
+	  exit $$status
 
 clean:
 	rm -rf build build-sanitize build-bench build-fuzz

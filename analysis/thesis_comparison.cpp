@@ -133,7 +133,7 @@ class Reader {
 void merge_into(ThesisMapping& merged, const ThesisMapping& level) {
   if (level.sweep) merged.sweep = level.sweep;
   for (const auto& [path, value] : level.where) {
-    auto it = std::find_if(merged.where.begin(), merged.where.end(), [&](const auto& entry) { return entry.first == path; });
+    auto it = std::find_if(merged.where.begin(), merged.where.end(), [&key = path](const auto& entry) { return entry.first == key; });
     if (it != merged.where.end()) it->second = value;
     else merged.where.emplace_back(path, value);
   }
