@@ -104,7 +104,7 @@ void PassStatistics::write_window_metrics(MetricWriter& writer, const ErrorFloor
     const NormalisedError& error = errors[static_cast<std::size_t>(axis)];
     const std::string reason = empty_reason.empty() ? error.reason : empty_reason;
     writer.add(*nmse[axis], error.nmse ? *error.nmse : std::nan(""), reason);
-    writer.add(*rmse[axis], error.rmse, reason);
+    writer.add(*rmse[axis], error.rmse, empty_reason);  // the RMSE is defined whenever a tick fell in the window
   }
 }
 

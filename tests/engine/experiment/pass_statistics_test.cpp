@@ -68,6 +68,7 @@ TEST(PassStatisticsWindow, PerSegmentWindowMatchesAHandComputedValue) {
   EXPECT_FALSE(metrics.at(names::window_tracking_nmse_z).value);
   EXPECT_NE(metrics.at(names::window_tracking_nmse_z).reason.find("below the nMSE floor"), std::string::npos);
   EXPECT_EQ(*metrics.at(names::window_tracking_rmse_z).value, 0.0);
+  EXPECT_TRUE(metrics.at(names::window_tracking_rmse_z).reason.empty()) << metrics.at(names::window_tracking_rmse_z).reason;
 }
 
 TEST(PassStatisticsWindow, PassWindowCountsAcrossSegments) {
