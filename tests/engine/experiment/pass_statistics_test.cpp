@@ -179,5 +179,31 @@ TEST(PassStatisticsWindow, FigureEightJobMatchesARecomputationFromPosAndPosD) {
   EXPECT_NEAR(whole_metrics[names::window_tracking_rmse_z], whole_metrics[names::tracking_rmse_z], 1e-15);
 }
 
+// The held-out pass scores the same window (heldout_window_*), catalogued like every metric; a
+// window over every point of each held-out loop equals the held-out whole-pass figure.
+TEST(PassStatisticsWindow, HeldOutPassWritesTheWindowToo) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config;
+  config.trajectory.kind = TrajectoryKind::figure_eight;
+  config.trajectory.figure_eight.points_per_loop = 200;
+  config.trajectory.figure_eight.loops = 1;
+  config.learning.mode = LearningMode::batch;
+  config.learning.collect_repeats = 1;
+  config.learning.heldout_segments = 2;
+  config.control.gain_scale = 0.2;
+  config.statistics.window = {1, 200};
+  const JobOutcome outcome = run_experiment(model, config);
+  ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
+  std::map<std::string, double> heldout;
+  for (const Metric& metric : outcome.metrics) {
+    EXPECT_NO_THROW(find_metric_info(metric.name)) << metric.name;
+    if (metric.checkpoint && !metric.joint && metric.value) heldout[metric.name] = *metric.value;
+  }
+  const std::string prefix = names::heldout_prefix;
+  ASSERT_EQ(heldout.count(prefix + names::window_tracking_nmse_z), 1u);
+  EXPECT_DOUBLE_EQ(heldout[prefix + names::window_tracking_nmse_z], heldout[prefix + names::tracking_nmse_z]);
+  EXPECT_DOUBLE_EQ(heldout[prefix + names::window_tracking_rmse_y], heldout[prefix + names::tracking_rmse_y]);
+}
+
 }  // namespace
 }  // namespace armfarm
