@@ -39,8 +39,9 @@ struct JobConfigSchema {
   std::vector<InputFileField> input_files;
   /// Resolves values that name stored results (learning.initial_model's stored-model references,
   /// runner/execution/stored_models.hpp) in a job's configuration when the sweep expands, before
-  /// its input files are recorded. Throws std::runtime_error "dotted.path: problem". Unset: none.
-  std::function<void(nlohmann::json& config)> resolve_references;
+  /// its input files are recorded; returns whether it changed `config`. Throws
+  /// std::runtime_error "dotted.path: problem". Unset: none.
+  std::function<bool(nlohmann::json& config)> resolve_references;
   /// Where input paths that no file wrote (the defaults) resolve: the armfarm data directory.
   std::string default_folder = ".";
 };

@@ -5,9 +5,11 @@
 #include "runner/config/config_value_json.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/io/csv_reader.hpp"
+#include "runner/spec/input_files.hpp"
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace armfarm {
@@ -26,18 +28,22 @@ std::vector<std::string> split_path(const std::string& path) {
   return parts;
 }
 
-/// The value at a dotted path, nullptr when absent.
+/// The value at a dotted path, nullptr when absent (no allocation: it runs for every key of
+/// every job a sweep expands).
 const json* find_value(const json& root, const std::string& path) {
   const json* node = &root;
-  for (const std::string& part : split_path(path)) {
+  std::string_view rest = path;
+  while (true) {
+    const std::size_t dot = rest.find('.');
+    const std::string_view part = rest.substr(0, dot);
     if (!node->is_object()) return nullptr;
     const auto found = node->find(part);
     if (found == node->end()) return nullptr;
     node = &*found;
+    if (dot == std::string_view::npos) return node;
+    rest.remove_prefix(dot + 1);
   }
-  return node;
 }
-
 
 void set_value(json& root, const std::string& path, json value) {
   json* node = &root;
@@ -79,11 +85,15 @@ JobConfig parse_job_config(const nlohmann::json& c, int movable_joints,
   return parse_job_config(c, ModelFacts{movable_joints, {}, {}}, stored_model_bytes);
 }
 
-JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
-                           const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
+namespace {
+
+// parse_job_config with each key's value found by `lookup(path)` (nullptr: the default).
+template <typename Lookup>
+JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
+                     const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
   JobConfig config;
   for (const JobConfigKey& key : job_config_keys()) {
-    const json* value = find_value(c, key.path);
+    const json* value = lookup(key.path);
     if (value == nullptr || value->is_null()) continue;  // the default
     std::string suffix;
     const std::string problem = read_field_json(*value, key.field(config), suffix);
@@ -121,6 +131,27 @@ JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
     throw ConfigError(path, path.empty() ? text : text.substr(path.size() + 2));
   }
   return config;
+}
+
+}  // namespace
+
+JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
+                           const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
+  return parse_with([&](const std::string& path) { return find_value(c, path); }, facts, stored_model_bytes);
+}
+
+JobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelFacts& facts,
+                                    const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
+  const auto inputs = recorded.find("inputs");
+  const bool records = inputs != recorded.end() && inputs->is_object() && !inputs->empty();
+  return parse_with(
+      [&](const std::string& path) -> const json* {
+        if (records && inputs->contains(path)) {
+          if (const json* resolved = find_resolved_input(recorded, path)) return resolved;
+        }
+        return find_value(recorded, path);
+      },
+      facts, stored_model_bytes);
 }
 
 }  // namespace armfarm

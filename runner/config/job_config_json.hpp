@@ -49,4 +49,11 @@ JobConfig parse_job_config(const nlohmann::json& config, int movable_joints,
 JobConfig parse_job_config(const nlohmann::json& config, const ModelFacts& facts,
                            const std::function<std::string(const std::string& hash)>& stored_model_bytes = {});
 
+/// The same for a configuration with its inputs recorded (runner/spec/input_files.hpp): each
+/// recorded input field is read from its resolved path, i.e. it parses
+/// calc_config_with_resolved_inputs(recorded) without copying the tree (the sweep check runs it
+/// for every job).
+JobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelFacts& facts,
+                                    const std::function<std::string(const std::string& hash)>& stored_model_bytes = {});
+
 }  // namespace armfarm

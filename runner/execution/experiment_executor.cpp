@@ -93,12 +93,21 @@ JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stor
   schema.defaults = make_job_config_defaults();
   schema.types = make_job_config_types();
   schema.validate = [models, stored](const nlohmann::json& recorded) {
-    const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
-    const std::string path = config.at("model").get<std::string>();
-    const JobConfig job = parse_job_config(config, make_model_facts(*models->get_file(path)), make_stored_model_reader(stored));
+    const nlohmann::json* model = find_resolved_input(recorded, "model");
+    const std::string path = (model != nullptr ? *model : recorded.at("model")).get<std::string>();
+    const JobConfig job =
+        parse_recorded_job_config(recorded, make_model_facts(*models->get_file(path)), make_stored_model_reader(stored));
     models->get(path, job.end_effector);
   };
-  schema.resolve_references = [stored](nlohmann::json& config) { resolve_stored_model_reference(config, stored.get()); };
+  schema.resolve_references = [stored](nlohmann::json& config) {
+    // Only a reference object (or null, which means none and is removed) is rewritten.
+    const auto learning = config.find("learning");
+    if (learning == config.end() || !learning->is_object()) return false;
+    const auto initial = learning->find("initial_model");
+    if (initial == learning->end() || !(initial->is_object() || initial->is_null())) return false;
+    resolve_stored_model_reference(config, stored.get());
+    return true;
+  };
   InputFileField model_field;
   model_field.path = "model";
   model_field.list_files = [models](const std::string& resolved) {

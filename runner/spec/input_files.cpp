@@ -109,6 +109,26 @@ nlohmann::json calc_config_with_resolved_inputs(const nlohmann::json& config) {
   return result;
 }
 
+const nlohmann::json* find_resolved_input(const nlohmann::json& config, const std::string& field) {
+  const auto inputs = config.find("inputs");
+  if (inputs == config.end() || !inputs->is_object()) return nullptr;
+  const auto entry = inputs->find(field);
+  if (entry == inputs->end() || !entry->is_object() || entry->value("kind", "file") != "file") return nullptr;
+  const auto path = entry->find("path");
+  const auto resolved = entry->find("resolved");
+  if (path == entry->end() || resolved == entry->end()) return nullptr;
+  std::vector<PathSegment> segments;
+  try {
+    segments = parse_config_path(field);
+  } catch (const std::invalid_argument&) {
+    return nullptr;
+  }
+  std::string problem;
+  const nlohmann::json* element = find_config_element(config, segments, problem);
+  if (element == nullptr || !element->is_string() || *element != *path) return nullptr;
+  return &*resolved;
+}
+
 nlohmann::json make_job_key_document(const nlohmann::json& config) {
   const auto inputs = config.find("inputs");
   if (inputs == config.end()) return config;

@@ -63,6 +63,10 @@ std::vector<InputProblem> record_input_files(nlohmann::json& config, const std::
 /// set to its resolved path.
 nlohmann::json calc_config_with_resolved_inputs(const nlohmann::json& config);
 
+/// The resolved path `config` records for its input field `field` (the value
+/// calc_config_with_resolved_inputs sets there), or nullptr when it records none for it.
+const nlohmann::json* find_resolved_input(const nlohmann::json& config, const std::string& field);
+
 /// What the job key hashes: `config` with each recorded input's path replaced by
 /// "xxh3-128:<hash>" and "inputs" reduced to {name: hash}; `config` itself when it records none.
 nlohmann::json make_job_key_document(const nlohmann::json& config);
