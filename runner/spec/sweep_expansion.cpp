@@ -13,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <string_view>
 #include <unordered_set>
 
 namespace armfarm {
@@ -164,7 +165,7 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const 
                      std::to_string(limits.max_jobs) + " (--max-jobs N raises it)"});
   }
   ExpandedSweep sweep;
-  sweep.jobs.reserve(static_cast<std::size_t>(count));
+  sweep.jobs.reserve(static_cast<std::size_t>(count));  // never reallocated below: seen_keys views its keys
   const std::vector<PathSegment> seed_segments = {{"seed", std::nullopt}};
   const std::vector<Factor> factors = make_factors(spec, seed_segments);
   const auto shared_base = std::make_shared<const nlohmann::json>(spec.base);
@@ -202,7 +203,7 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const 
   std::vector<std::size_t> counter(factors.size(), 0);
   std::vector<std::string> errors;
   std::set<std::string> seen_errors;
-  std::unordered_set<std::string> seen_keys;
+  std::unordered_set<std::string_view> seen_keys;
   InputFileReader reader;
   std::vector<const Assignment*> slots;
   FactorEntry assignments;
@@ -309,11 +310,13 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const 
       compact.key = key_template ? key_template->calc_key(key_values, key_scratch) : calc_job_key(work);
       const auto seed = work.find("seed");
       if (seed != work.end() && seed->is_number_integer()) compact.seed = seed->get<std::int64_t>();
-      if (seen_keys.insert(compact.key).second) {
+      // The set views the kept jobs' keys: `jobs` holds its reserved `count` places, so they stay put.
+      if (seen_keys.count(compact.key) == 0) {
         compact.params = std::move(params);
         compact.base = shared_base;
         if (resolved_changed) compact.full = std::make_shared<const nlohmann::json>(work);
         sweep.jobs.push_back(std::move(compact));
+        seen_keys.insert(sweep.jobs.back().key);
       }
     }
     // Back to the base for the next job.
@@ -343,9 +346,17 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const 
   sorted_keys.reserve(sweep.jobs.size());
   for (const ExpandedJob& job : sweep.jobs) sorted_keys.push_back(&job.key);
   std::sort(sorted_keys.begin(), sorted_keys.end(), [](const std::string* a, const std::string* b) { return *a < *b; });
-  nlohmann::json keys = nlohmann::json::array();
-  for (const std::string* key : sorted_keys) keys.push_back(*key);
-  sweep.spec_hash = calc_text_hash(calc_canonical_json(keys));
+  // calc_canonical_json of the sorted keys as a JSON array (hex digits need no escaping).
+  std::string keys = "[";
+  keys.reserve(2 + sorted_keys.size() * 35);
+  for (const std::string* key : sorted_keys) {
+    if (keys.size() > 1) keys += ',';
+    keys += '"';
+    keys += *key;
+    keys += '"';
+  }
+  keys += ']';
+  sweep.spec_hash = calc_text_hash(keys);
   sweep.spec = std::move(spec);
   return sweep;
 }
