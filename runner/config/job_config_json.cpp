@@ -45,6 +45,32 @@ const json* find_value(const json& root, const std::string& path) {
   }
 }
 
+/// find_value for keys read in table order: keys of one parent object follow each other
+/// (learning.lwpr.*), so the parent found for the last key is reused.
+class ValueFinder {
+ public:
+  explicit ValueFinder(const json& root) : root_(root) {}
+  const json* find(const std::string& path) {
+    const std::size_t dot = path.rfind('.');
+    if (dot == std::string::npos) return find_value(root_, path);
+    const std::string_view parent(path.data(), dot);
+    if (parent != parent_path_ || !have_parent_) {
+      parent_ = find_value(root_, std::string(parent));
+      parent_path_ = parent;
+      have_parent_ = true;
+    }
+    if (parent_ == nullptr || !parent_->is_object()) return nullptr;
+    const auto found = parent_->find(std::string_view(path).substr(dot + 1));
+    return found == parent_->end() ? nullptr : &*found;
+  }
+
+ private:
+  const json& root_;
+  std::string_view parent_path_;  // views a key's path in job_config_keys()
+  const json* parent_ = nullptr;
+  bool have_parent_ = false;
+};
+
 void set_value(json& root, const std::string& path, json value) {
   json* node = &root;
   for (const std::string& part : split_path(path)) node = &(*node)[part];
@@ -137,19 +163,21 @@ JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
 
 JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
                            const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
-  return parse_with([&](const std::string& path) { return find_value(c, path); }, facts, stored_model_bytes);
+  ValueFinder finder(c);
+  return parse_with([&](const std::string& path) { return finder.find(path); }, facts, stored_model_bytes);
 }
 
 JobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelFacts& facts,
                                     const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
   const auto inputs = recorded.find("inputs");
   const bool records = inputs != recorded.end() && inputs->is_object() && !inputs->empty();
+  ValueFinder finder(recorded);
   return parse_with(
       [&](const std::string& path) -> const json* {
         if (records && inputs->contains(path)) {
           if (const json* resolved = find_resolved_input(recorded, path)) return resolved;
         }
-        return find_value(recorded, path);
+        return finder.find(path);
       },
       facts, stored_model_bytes);
 }

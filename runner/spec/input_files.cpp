@@ -70,6 +70,13 @@ const InputFileReader::Content& InputFileReader::read(const InputFileField& fiel
   return cache_.emplace(cache_key, std::move(content)).first->second;
 }
 
+const std::string& InputFileReader::resolve(const std::string& path, const std::string& folder) {
+  auto key = std::make_pair(path, folder);
+  const auto found = resolved_.find(key);
+  if (found != resolved_.end()) return found->second;
+  return resolved_.emplace(std::move(key), calc_resolved_path(path, folder)).first->second;
+}
+
 std::vector<InputProblem> record_input_files(nlohmann::json& config, const std::vector<InputFileField>& fields,
                                              const std::function<std::string(const std::string&)>& folder_of,
                                              InputFileReader& reader) {
@@ -82,7 +89,7 @@ std::vector<InputProblem> record_input_files(nlohmann::json& config, const std::
     if (element == nullptr || !element->is_string() || element->get<std::string>().empty()) continue;
     if (field.is_read && !field.is_read(config)) continue;
     const std::string written = element->get<std::string>();
-    const std::string resolved = calc_resolved_path(written, folder_of(field.path));
+    const std::string resolved = reader.resolve(written, folder_of(field.path));
     try {
       const InputFileReader::Content& content = reader.read(field, resolved);
       inputs[field.path] = {{"path", written}, {"resolved", resolved}, {"hash", content.hash}, {"files", content.files}};

@@ -40,9 +40,12 @@ class InputFileReader {
   };
   /// Throws std::exception with a one-line message when the input cannot be read.
   const Content& read(const InputFileField& field, const std::string& resolved_path);
+  /// calc_resolved_path(path, folder), computed once per pair.
+  const std::string& resolve(const std::string& path, const std::string& folder);
 
  private:
   std::map<std::pair<std::string, std::string>, Content> cache_;
+  std::map<std::pair<std::string, std::string>, std::string> resolved_;
 };
 
 /// A problem with one input: the field's dotted path and the message.
