@@ -151,8 +151,6 @@ std::string describe_error_bars(bool log_y) {
   return log_y ? "geometric mean ×/÷ geometric std over seeds" : "mean ± std over seeds";
 }
 
-std::string last_segment(const std::string& path) { return last_segment_of(path); }
-
 std::vector<const JobResult*> choose_jobs(const ResultsStore& store, const SweepData& data,
                                           const std::vector<std::string>& keys, const std::vector<std::string>& series) {
   std::vector<const JobResult*> chosen;
@@ -227,7 +225,7 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
     panel.log_x = log_x;
     panel.log_y = log_y;
     panel.curves = make_error_bar_curves(collect_points(data, request.kernel_param, request.adaptation_param,
-                                                        MetricId{"same_run_test_nmse", joint}),
+                                                        MetricId{"same_run_test_nmse", joint, std::nullopt}),
                                          log_y, "same_run_test_nmse");
     if (panel.curves.empty()) {
       undefined += (undefined.empty() ? "" : ", ") + std::to_string(joint);  // nMSE undefined (NULL) in every job
@@ -243,7 +241,7 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   fields.title = "receptive fields";
   fields.x_label = request.kernel_param + " (kernel width, 1/input²)";
   const auto field_points = collect_points(data, request.kernel_param, request.adaptation_param,
-                                           MetricId{"n_receptive_fields", std::nullopt});
+                                           MetricId{"n_receptive_fields", std::nullopt, std::nullopt});
   const bool fields_log = request.log_y.value_or(spans_decades(all_values(field_points, false)));
   fields.y_label = make_metric_axis_label(data.metric_info, "n_receptive_fields");
   figure.title += "\nerror bars: nMSE " + describe_error_bars(log_y) + ", receptive fields " + describe_error_bars(fields_log);
@@ -258,7 +256,7 @@ Figure make_metric_vs_param(const SweepData& data, const PlotRequest& request) {
   if (request.metric.empty() || request.param.empty()) {
     throw AnalysisError("metric-vs-param needs --metric NAME and --param PATH");
   }
-  const MetricId metric{request.metric, request.joint};
+  const MetricId metric{request.metric, request.joint, std::nullopt};
   Panel panel;
   panel.title = make_metric_label(metric);
   panel.x_label = request.param;

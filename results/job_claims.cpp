@@ -151,7 +151,8 @@ std::vector<std::string> ResultsStore::refresh_claims(const ClaimOwner& owner, c
 }
 
 StaleClaimReport ResultsStore::interrupt_stale_claims(const std::string& now, double timeout_seconds,
-                                                      const std::string& by_owner) {
+                                                      const std::string& by_owner,
+                                                      const std::vector<std::string>& dead_owners) {
   SqliteTransaction transaction(*db_);
   StaleClaimReport report;
   struct Stale {
@@ -166,6 +167,17 @@ StaleClaimReport ResultsStore::interrupt_stale_claims(const std::string& now, do
     while (find.step()) {
       stale.push_back({find.column_int(0), find.column_int(1),
                        find.is_null(2) ? std::nullopt : std::optional<std::int64_t>(find.column_int(2))});
+    }
+    // The dead owners' claims that are not stale already (those are in the list above).
+    SqliteStatement dead = db_->prepare(std::string("SELECT id, job_id, run_id FROM job_claims WHERE state = 'live' AND ") +
+                                        kAgeOfHeartbeat + " <= ?2 AND owner = ?3 ORDER BY id");
+    for (const std::string& owner : dead_owners) {
+      dead.reset();
+      dead.bind(1, now).bind(2, timeout_seconds).bind(3, owner);
+      while (dead.step()) {
+        stale.push_back({dead.column_int(0), dead.column_int(1),
+                         dead.is_null(2) ? std::nullopt : std::optional<std::int64_t>(dead.column_int(2))});
+      }
     }
   }
   for (const Stale& s : stale) interrupt_claim(*db_, s.claim_id, s.job_id, s.run_id, now, by_owner, false);
@@ -182,6 +194,14 @@ StaleClaimReport ResultsStore::interrupt_stale_claims(const std::string& now, do
       .bind(2, timeout_seconds)
       .execute();
   report.runs_interrupted = db_->changes();
+  for (const std::string& owner : dead_owners) {
+    db_->prepare(
+           "UPDATE runs SET status = 'interrupted' WHERE status = 'running' AND id IN "
+           "(SELECT run_id FROM job_claims WHERE owner = ? AND run_id IS NOT NULL)")
+        .bind(1, owner)
+        .execute();
+    report.runs_interrupted += db_->changes();
+  }
   transaction.commit();
   return report;
 }

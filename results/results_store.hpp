@@ -256,8 +256,11 @@ class ResultsStore {
   std::vector<std::string> refresh_claims(const ClaimOwner& owner, const std::string& now);
   /// Marks every live claim whose heartbeat is older than `timeout_seconds` at `now` interrupted
   /// (its job back to pending, its run interrupted), and `running` runs rows with a stale
-  /// heartbeat interrupted; `running` jobs without a live claim go back to pending.
-  StaleClaimReport interrupt_stale_claims(const std::string& now, double timeout_seconds, const std::string& by_owner);
+  /// heartbeat interrupted; `running` jobs without a live claim go back to pending. Claims and
+  /// runs of `dead_owners` (owners the caller knows have stopped, e.g. a pid gone on this host)
+  /// count as stale whatever their heartbeat's age.
+  StaleClaimReport interrupt_stale_claims(const std::string& now, double timeout_seconds, const std::string& by_owner,
+                                          const std::vector<std::string>& dead_owners = {});
   /// Claims (live only, or interrupted ones as well) with their heartbeat ages at `now`.
   std::vector<JobClaimRecord> find_job_claims(const std::string& now, bool live_only = true) const;
 

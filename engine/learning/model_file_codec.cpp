@@ -29,6 +29,39 @@ void write_model_file_frame(std::ostream& out, const char (&magic)[8], std::uint
   if (!out) throw std::runtime_error(std::string(format) + " model file: write failed");
 }
 
+ModelFileFrame read_model_file_frame(const std::string& all, const char (&magic)[8], std::uint32_t newest_version,
+                                     const char* format) {
+  const std::string name(format);
+  if (all.size() < sizeof magic || std::memcmp(all.data(), magic, sizeof magic) != 0) {
+    throw std::runtime_error(name + " model file: byte 0: not an armfarm " + name + " model (bad magic)");
+  }
+  constexpr std::size_t kHeaderBytes = 12;  // version u32 + payload size u64
+  ModelFileReader head(all.substr(sizeof magic, kHeaderBytes), sizeof magic, name);
+  ModelFileFrame frame;
+  frame.version = head.get_u32();
+  if (frame.version > newest_version) {
+    throw std::runtime_error(name + " model file: format version " + std::to_string(frame.version) +
+                             " is newer than this armfarm reads (" + std::to_string(newest_version) + "); upgrade armfarm");
+  }
+  if (frame.version == 0) head.fail("format version 0 is invalid");
+  const std::uint64_t length = head.get_u64();
+  const std::size_t start = sizeof magic + kHeaderBytes;
+  // Compared without adding to `length`, so a huge size in a damaged header cannot wrap around.
+  if (all.size() < start + 8 || length != all.size() - start - 8) {
+    const std::string expected = length > all.size() ? "more than the file holds" : std::to_string(start + length + 8);
+    throw std::runtime_error(name + " model file: size " + std::to_string(all.size()) + " bytes, expected " + expected +
+                             " (truncated or corrupt)");
+  }
+  frame.payload = all.substr(start, length);
+  frame.payload_offset = start;
+  ModelFileReader tail(all.substr(start + length), start + length, name);
+  if (tail.get_u64() != calc_model_file_checksum(frame.payload)) {
+    throw std::runtime_error(name + " model file: byte " + std::to_string(start + length) +
+                             ": checksum mismatch (corrupt file)");
+  }
+  return frame;
+}
+
 void ModelFileWriter::put_u64(std::uint64_t v) {
   for (int i = 0; i < 8; ++i) bytes_.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
 }

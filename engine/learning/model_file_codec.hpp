@@ -23,6 +23,19 @@ class ModelFileWriter;
 void write_model_file_frame(std::ostream& out, const char (&magic)[8], std::uint32_t version,
                             const ModelFileWriter& payload, const char* format);
 
+/// A model file's frame, checked: its format version and its payload (checksum verified).
+struct ModelFileFrame {
+  std::uint32_t version = 0;
+  std::string payload;
+  std::size_t payload_offset = 0;  ///< byte of the file where the payload starts
+};
+
+/// Checks the frame that write_model_file_frame writes around `all` (a whole file): the magic,
+/// a version in [1, newest_version], the payload size against the file size, and the checksum.
+/// Throws std::runtime_error "<format> model file: ..." naming the byte or the sizes.
+ModelFileFrame read_model_file_frame(const std::string& all, const char (&magic)[8], std::uint32_t newest_version,
+                                     const char* format);
+
 /// Appends encoded values to a byte string.
 class ModelFileWriter {
  public:

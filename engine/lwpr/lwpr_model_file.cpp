@@ -3,7 +3,6 @@
 
 #include "engine/learning/model_file_codec.hpp"
 
-#include <cstring>
 #include <istream>
 #include <iterator>
 #include <ostream>
@@ -166,32 +165,9 @@ void write_lwpr_model(const LwprModel& model, std::ostream& out) {
 
 LwprModel load_lwpr_model(std::istream& in) {
   const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (all.size() < sizeof kMagic || std::memcmp(all.data(), kMagic, sizeof kMagic) != 0) {
-    throw std::runtime_error("LWPR model file: byte 0: not an armfarm LWPR model (bad magic)");
-  }
-  const std::string header = all.substr(sizeof kMagic, 12);
-  ModelFileReader head(header, sizeof kMagic, "LWPR");
-  const std::uint32_t version = head.get_u32();
-  if (version > kLwprModelFormatVersion) {
-    throw std::runtime_error("LWPR model file: format version " + std::to_string(version) +
-                             " is newer than this armfarm reads (" + std::to_string(kLwprModelFormatVersion) +
-                             "); upgrade armfarm");
-  }
-  if (version == 0) head.fail("format version 0 is invalid");
-  const std::uint64_t length = head.get_u64();
-  const std::size_t start = sizeof kMagic + 12;
-  if (all.size() != start + length + 8) {
-    throw std::runtime_error("LWPR model file: size " + std::to_string(all.size()) + " bytes, expected " +
-                             std::to_string(start + length + 8) + " (truncated or corrupt)");
-  }
-  const std::string payload = all.substr(start, length);
-  const std::string trailer = all.substr(start + length);
-  ModelFileReader tail(trailer, start + length, "LWPR");
-  if (tail.get_u64() != calc_model_file_checksum(payload)) {
-    throw std::runtime_error("LWPR model file: byte " + std::to_string(start + length) +
-                             ": checksum mismatch (corrupt file)");
-  }
-  ModelFileReader r(payload, start, "LWPR");
+  const ModelFileFrame frame = read_model_file_frame(all, kMagic, kLwprModelFormatVersion, "LWPR");
+  const std::string& payload = frame.payload;
+  ModelFileReader r(payload, frame.payload_offset, "LWPR");
   const int n_in = static_cast<int>(r.get_dimension("n_in", 1, kMaxDimension));
   const int n_out = static_cast<int>(r.get_dimension("n_out", 1, kMaxDimension));
   const std::uint64_t n_updates = r.get_u64();

@@ -4,7 +4,6 @@
 #include "engine/learning/model_file_codec.hpp"
 
 #include <cmath>
-#include <cstring>
 #include <istream>
 #include <iterator>
 #include <ostream>
@@ -17,7 +16,6 @@ namespace {
 
 constexpr char kMagic[8] = {'A', 'F', 'S', 'S', 'G', 'P', '\r', '\n'};
 constexpr std::uint32_t kMaxDimension = 1u << 16;
-constexpr std::size_t kHeaderBytes = 12;  // version + payload length
 
 
 void put_vector(ModelFileWriter& w, const Eigen::VectorXd& v) { w.put_matrix(v); }
@@ -58,32 +56,9 @@ void write_ssgpr_model(const SsgprModel& model, std::ostream& out) {
 
 SsgprModel load_ssgpr_model(std::istream& in) {
   const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (all.size() < sizeof kMagic || std::memcmp(all.data(), kMagic, sizeof kMagic) != 0) {
-    throw std::runtime_error("SSGPR model file: byte 0: not an armfarm SSGPR model (bad magic)");
-  }
-  const std::string header = all.substr(sizeof kMagic, kHeaderBytes);
-  ModelFileReader head(header, sizeof kMagic, "SSGPR");
-  const std::uint32_t version = head.get_u32();
-  if (version > kSsgprModelFormatVersion) {
-    throw std::runtime_error("SSGPR model file: format version " + std::to_string(version) +
-                             " is newer than this armfarm reads (" + std::to_string(kSsgprModelFormatVersion) +
-                             "); upgrade armfarm");
-  }
-  if (version == 0) head.fail("format version 0 is invalid");
-  const std::uint64_t length = head.get_u64();
-  const std::size_t start = sizeof kMagic + kHeaderBytes;
-  if (length > all.size() || all.size() != start + length + 8) {
-    throw std::runtime_error("SSGPR model file: size " + std::to_string(all.size()) + " bytes, expected " +
-                             std::to_string(start + length + 8) + " (truncated or corrupt)");
-  }
-  const std::string payload = all.substr(start, length);
-  const std::string trailer = all.substr(start + length);
-  ModelFileReader tail(trailer, start + length, "SSGPR");
-  if (tail.get_u64() != calc_model_file_checksum(payload)) {
-    throw std::runtime_error("SSGPR model file: byte " + std::to_string(start + length) +
-                             ": checksum mismatch (corrupt file)");
-  }
-  ModelFileReader r(payload, start, "SSGPR");
+  const ModelFileFrame frame = read_model_file_frame(all, kMagic, kSsgprModelFormatVersion, "SSGPR");
+  const std::string& payload = frame.payload;
+  ModelFileReader r(payload, frame.payload_offset, "SSGPR");
   const int n_in = static_cast<int>(r.get_dimension("n_in", 1, kMaxDimension));
   const int n_out = static_cast<int>(r.get_dimension("n_out", 1, kMaxDimension));
   SsgprState s;

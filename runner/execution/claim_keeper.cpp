@@ -1,8 +1,10 @@
 #include "runner/execution/claim_keeper.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 
 namespace armfarm {
@@ -21,13 +23,31 @@ ClaimOwner make_claim_owner(const std::string& host, std::int64_t run_id, const 
   return owner;
 }
 
+namespace {
+
+// Owners of live claims that ran on this host under a pid that no longer exists (a runner killed
+// or stopped after a failed commit): their claims need not wait for the heartbeat timeout. A
+// reused pid only makes a dead owner look alive, which falls back to the timeout.
+std::vector<std::string> find_dead_local_owners(const ResultsStore& store, const ClaimOwner& self, const std::string& now) {
+  std::set<std::string> dead;
+  for (const JobClaimRecord& claim : store.find_job_claims(now, true)) {
+    if (claim.host != self.host || claim.owner == self.owner || claim.pid <= 0) continue;
+    if (kill(static_cast<pid_t>(claim.pid), 0) == -1 && errno == ESRCH) dead.insert(claim.owner);
+  }
+  return {dead.begin(), dead.end()};
+}
+
+}  // namespace
+
 ClaimKeeper::ClaimKeeper(const std::string& db_path, const ClaimOwner& owner, const ClaimConfig& config, bool force,
                          const std::string& run_started_at)
     : owner_(owner),
       config_(config),
       redo_done_before_(force ? std::optional<std::string>(run_started_at) : std::nullopt),
       store_(ResultsStore::open(db_path, ResultsStore::Mode::read_write)) {
-  stale_at_start_ = store_.interrupt_stale_claims(make_utc_timestamp(), config_.timeout_seconds, owner_.owner);
+  const std::string now = make_utc_timestamp();
+  stale_at_start_ =
+      store_.interrupt_stale_claims(now, config_.timeout_seconds, owner_.owner, find_dead_local_owners(store_, owner_, now));
   store_.refresh_claims(owner_, make_utc_timestamp());
   thread_ = std::thread([this] { heartbeat_loop(); });
 }

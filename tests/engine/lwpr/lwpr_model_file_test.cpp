@@ -89,6 +89,9 @@ TEST(LwprModelFile, RejectsCorruptTruncatedAndFutureFiles) {
   future[8] = 2;  // version field, little-endian
   EXPECT_NE(error_of(future).find("newer"), std::string::npos) << error_of(future);
   EXPECT_NE(error_of("").find("bad magic"), std::string::npos);
+  std::string huge = good;
+  for (int i = 12; i < 20; ++i) huge[i] = '\xff';  // payload size field: 2^64 - 1
+  EXPECT_NE(error_of(huge).find("more than the file holds"), std::string::npos) << error_of(huge);
 }
 
 }  // namespace

@@ -10,24 +10,20 @@
 #include <fstream>
 #include <string>
 
+#include "support/command_line.hpp"
+
+using armfarm::test_support::CommandResult;
+using armfarm::test_support::run_command_line;
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int exit_code;
-  std::string output;
-};
-
 CommandResult run_armfarm(const std::string& arguments) {
   // The experiment job (no ARMFARM_FAKE_JOBS), from the source tree so the model path resolves.
   const std::string command =
-      "cd " + std::string(ARMFARM_SOURCE_DIR) + " && env -u ARMFARM_FAKE_JOBS " + ARMFARM_BINARY + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  return {WEXITSTATUS(pclose(pipe)), output};
+      "cd " + std::string(ARMFARM_SOURCE_DIR) + " && env -u ARMFARM_FAKE_JOBS " + ARMFARM_BINARY + " " + arguments;
+  return run_command_line(command);
 }
 
 fs::path make_dir() {

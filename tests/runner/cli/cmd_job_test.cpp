@@ -11,20 +11,16 @@
 #include <fstream>
 #include <string>
 
+#include "support/command_line.hpp"
+
+using armfarm::test_support::CommandResult;
+using armfarm::test_support::run_command_line;
+
 namespace {
 
-struct CommandResult {
-  int exit_code;
-  std::string output;
-};
-
 CommandResult run_job(const std::string& arguments) {
-  const std::string command = "cd " + std::string(ARMFARM_SOURCE_DIR) + " && " + ARMFARM_BINARY + " job " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  return {WEXITSTATUS(pclose(pipe)), output};
+  const std::string command = "cd " + std::string(ARMFARM_SOURCE_DIR) + " && " + ARMFARM_BINARY + " job " + arguments;
+  return run_command_line(command);
 }
 
 std::string write_config(const std::string& name, const std::string& text) {

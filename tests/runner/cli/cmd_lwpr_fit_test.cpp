@@ -14,21 +14,16 @@
 #include <fstream>
 #include <random>
 
+#include "support/command_line.hpp"
+
+using armfarm::test_support::CommandResult;
+using armfarm::test_support::run_command_line;
+
 namespace {
 
-struct CommandResult {
-  int exit_code;
-  std::string output;
-};
-
 CommandResult run_command(const std::string& arguments) {
-  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  const int status = pclose(pipe);
-  return {WEXITSTATUS(status), output};
+  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments;
+  return run_command_line(command);
 }
 
 class LwprFitCommand : public ::testing::Test {

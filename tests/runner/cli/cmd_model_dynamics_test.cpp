@@ -11,20 +11,16 @@
 #include <string>
 #include <sys/wait.h>
 
+#include "support/command_line.hpp"
+
+using armfarm::test_support::CommandResult;
+using armfarm::test_support::run_command_line;
+
 namespace {
 
-struct CommandResult {
-  int exit_code;
-  std::string output;
-};
-
 CommandResult run_armfarm(const std::string& arguments) {
-  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  return {WEXITSTATUS(pclose(pipe)), output};
+  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments;
+  return run_command_line(command);
 }
 
 const std::string kPlanar = std::string(ARMFARM_SOURCE_DIR) + "/models/planar2.urdf";

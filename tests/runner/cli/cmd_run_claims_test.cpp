@@ -5,6 +5,7 @@
 #include "results/results_store.hpp"
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -85,6 +86,7 @@ class CmdRunClaimsTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(folder_); }
   std::string path(const std::string& name) const { return (folder_ / name).string(); }
+  std::pair<pid_t, std::vector<std::string>> kill_a_runner_mid_sweep(const std::string& db);
   fs::path folder_;
 };
 
@@ -110,25 +112,51 @@ TEST_F(CmdRunClaimsTest, TwoRunnersOnOneFreshDatabaseRunEveryJobOnce) {
   EXPECT_EQ(store.check_integrity(), "ok");
 }
 
-TEST_F(CmdRunClaimsTest, AKilledRunnersClaimsAreTakenOverAfterTheTimeout) {
-  const std::string db = path("killed.db");
+// Starts a runner on `db` and SIGKILLs it after 4 jobs are done; returns its pid and the keys of
+// the jobs it held (claimed and running) when it died.
+std::pair<pid_t, std::vector<std::string>> CmdRunClaimsTest::kill_a_runner_mid_sweep(const std::string& db) {
   const Process victim = start({"run", path("s24.json"), "--db", db, "-j", "2", "--claim-timeout", "1"}, path("v.txt"));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (count_status(db, "done") < 4 && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   kill(victim.pid, SIGKILL);
-  ASSERT_EQ(wait_exit_code(victim), 128 + SIGKILL) << "the sweep ended before it could be killed";
-  std::vector<std::string> held;  // the jobs the killed runner was running
-  {
-    const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
-    for (const JobClaimRecord& claim : store.find_job_claims(make_utc_timestamp())) {
-      EXPECT_EQ(claim.pid, victim.pid);
-      held.push_back(claim.key);
-    }
+  EXPECT_EQ(wait_exit_code(victim), 128 + SIGKILL) << "the sweep ended before it could be killed";
+  std::vector<std::string> held;
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  for (const JobClaimRecord& claim : store.find_job_claims(make_utc_timestamp())) {
+    EXPECT_EQ(claim.pid, victim.pid);
+    held.push_back(claim.key);
   }
-  ASSERT_FALSE(held.empty()) << "killed between jobs: nothing to take over";
   EXPECT_EQ(count_status(db, "running"), static_cast<int>(held.size()));
+  return {victim.pid, held};
+}
+
+TEST_F(CmdRunClaimsTest, AKilledRunnersClaimsOnThisHostAreTakenOverWithoutWaitingForTheTimeout) {
+  const std::string db = path("killed_local.db");
+  const auto [victim_pid, held] = kill_a_runner_mid_sweep(db);
+  ASSERT_FALSE(held.empty()) << "killed between jobs: nothing to take over";
+  // The default timeout is 60 s: the dead pid on this host, not the heartbeat's age, frees the claims.
+  const auto start_time = std::chrono::steady_clock::now();
+  const Process survivor = start({"run", path("s24.json"), "--db", db, "-j", "2"}, path("s.txt"));
+  const int survivor_exit = wait_exit_code(survivor);
+  const std::string out = read_text(survivor.output_path);
+  EXPECT_EQ(survivor_exit, 0) << out;
+  EXPECT_NE(out.find(std::to_string(held.size()) + " stale claims of stopped runners taken over"), std::string::npos) << out;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count(), 45.0);
+  EXPECT_EQ(count_status(db, "done"), 24);
+}
+
+TEST_F(CmdRunClaimsTest, AKilledRunnersClaimsAreTakenOverAfterTheTimeout) {
+  const std::string db = path("killed.db");
+  const auto [victim_pid, held] = kill_a_runner_mid_sweep(db);
+  const pid_t victim_pid_copy = victim_pid;
+  ASSERT_FALSE(held.empty()) << "killed between jobs: nothing to take over";
+  // As if the killed runner had run on another machine: only the heartbeat's age can free its claims.
+  sqlite3* raw = nullptr;
+  ASSERT_EQ(sqlite3_open(db.c_str(), &raw), SQLITE_OK);
+  EXPECT_EQ(sqlite3_exec(raw, "UPDATE job_claims SET host = 'another-machine'", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(raw);
 
   // Started at once, the survivor sees the claims live, waits out the 1 s timeout, takes them over.
   const auto start_time = std::chrono::steady_clock::now();
@@ -151,7 +179,7 @@ TEST_F(CmdRunClaimsTest, AKilledRunnersClaimsAreTakenOverAfterTheTimeout) {
   ASSERT_EQ(claims.size(), held.size());
   for (const JobClaimRecord& claim : claims) {
     EXPECT_EQ(claim.state, "interrupted");
-    EXPECT_EQ(claim.pid, victim.pid);
+    EXPECT_EQ(claim.pid, victim_pid_copy);
   }
   const Process query = start({"status", db}, path("status.txt"));
   EXPECT_EQ(wait_exit_code(query), 0);

@@ -19,24 +19,19 @@
 #include <map>
 #include <thread>
 
+#include "support/command_line.hpp"
+
+using armfarm::test_support::CommandResult;
+using armfarm::test_support::run_command_line;
+
 namespace armfarm {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int exit_code;
-  std::string output;
-};
-
 CommandResult run_command(const std::string& arguments) {
-  const std::string command = "ARMFARM_FAKE_JOBS=1 " + std::string(ARMFARM_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  const int status = pclose(pipe);
-  return {WEXITSTATUS(status), output};
+  const std::string command = "ARMFARM_FAKE_JOBS=1 " + std::string(ARMFARM_BINARY) + " " + arguments;
+  return run_command_line(command);
 }
 
 // Starts `armfarm run` in its own process, output discarded; returns its pid.

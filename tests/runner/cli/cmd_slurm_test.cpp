@@ -18,25 +18,20 @@
 #include <fstream>
 #include <map>
 
+#include "support/command_line.hpp"
+
+using armfarm::test_support::CommandResult;
+using armfarm::test_support::run_command_line;
+
 namespace armfarm::cli {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int exit_code;
-  std::string output;
-};
-
 /// Runs a shell command line (fake jobs), stdout and stderr together.
 CommandResult run_shell(const std::string& command_line) {
-  const std::string command = "ARMFARM_FAKE_JOBS=1 " + command_line + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, output};
+  const std::string command = "ARMFARM_FAKE_JOBS=1 " + command_line;
+  return run_command_line(command);
 }
 
 CommandResult run_armfarm(const std::string& arguments) { return run_shell(std::string(ARMFARM_BINARY) + " " + arguments); }

@@ -17,26 +17,21 @@
 #include <set>
 #include <sstream>
 
+#include "support/command_line.hpp"
+
+using armfarm::test_support::CommandResult;
+using armfarm::test_support::run_command_line;
+
 namespace armfarm {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int exit_code;
-  std::string output;
-};
-
 // Runs armfarm in `directory` (the real experiment job), stdout and stderr together.
 CommandResult run_armfarm(const fs::path& directory, const std::string& arguments) {
   const std::string command = "cd '" + directory.string() + "' && env -u ARMFARM_FAKE_JOBS " + std::string(ARMFARM_BINARY) + " " +
-                              arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  const int status = pclose(pipe);
-  return {WEXITSTATUS(status), output};
+                              arguments;
+  return run_command_line(command);
 }
 
 std::string read_file(const fs::path& path) {

@@ -18,6 +18,11 @@
 #include <regex>
 #include <sstream>
 
+#include "support/command_line.hpp"
+
+using armfarm::test_support::CommandResult;
+using armfarm::test_support::run_command_line;
+
 namespace armfarm {
 namespace {
 
@@ -90,21 +95,11 @@ std::vector<std::string> find_make_recipe(const std::string& makefile, const std
   return recipe;
 }
 
-struct CommandResult {
-  int exit_code;
-  std::string output;
-};
-
 CommandResult run_in(const fs::path& folder, const fs::path& bin, const std::string& line) {
   const fs::path script = folder / ".readme_command.sh";
   std::ofstream(script) << "cd '" << folder.string() << "' && export PATH='" << bin.string() << "':\"$PATH\" && " << line
                         << "\n";
-  FILE* pipe = popen(("bash " + script.string() + " 2>&1").c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  return run_command_line("bash " + script.string());
 }
 
 TEST(Readme, EveryCommandRunsAsWritten) {

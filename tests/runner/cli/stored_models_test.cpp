@@ -17,24 +17,19 @@
 #include <fstream>
 #include <sstream>
 
+#include "support/command_line.hpp"
+
+using armfarm::test_support::CommandResult;
+using armfarm::test_support::run_command_line;
+
 namespace armfarm {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int exit_code;
-  std::string output;
-};
-
 CommandResult run_command(const std::string& arguments) {
-  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  const int status = pclose(pipe);
-  return {WEXITSTATUS(status), output};
+  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments;
+  return run_command_line(command);
 }
 
 // Train: one online job on two joints over the default sine (TRAIN_DURATION s), storing its
@@ -105,7 +100,9 @@ TEST_F(StoredModelsCli, TwoStagesRunInOrderFromTheStoredModelAndResume) {
     EXPECT_EQ(job.config["learning"]["initial_model"], "stored:" + model->hash);
     // Frozen: each test job ends with exactly the model it started from.
     const std::optional<StoredModelRecord> after = store.find_job_model(job.id);
-    if (after) EXPECT_EQ(after->hash, model->hash);
+    if (after) {
+      EXPECT_EQ(after->hash, model->hash);
+    }
     EXPECT_GE(*job.started_at, *train[0].finished_at);
   }
 
