@@ -36,6 +36,10 @@ struct JobConfigSchema {
   nlohmann::json types;
   const nlohmann::json& type_reference() const { return types.is_null() ? defaults : types; }
   std::function<void(const nlohmann::json& config)> validate;
+  /// A `validate` for many configurations in a row (one sweep's expansion), made once for it and
+  /// dropped after: it may keep what the configurations share (files they read) between calls.
+  /// Unset: `validate`.
+  std::function<std::function<void(const nlohmann::json& config)>()> make_sweep_validate;
   std::vector<InputFileField> input_files;
   /// Resolves values that name stored results (learning.initial_model's stored-model references,
   /// runner/execution/stored_models.hpp) in a job's configuration when the sweep expands, before

@@ -114,9 +114,25 @@ JobConfig parse_job_config(const nlohmann::json& c, int movable_joints,
 namespace {
 
 // parse_job_config with each key's value found by `lookup(path)` (nullptr: the default).
+// The content hash `recorded` records for its input `field`, "" when none (or when the value is
+// not the path it records, so that another file is read).
+std::string recorded_hash(const json* recorded, const char* field) {
+  // Only an input read from the path it records: the hash is that file's.
+  if (recorded == nullptr || find_resolved_input(*recorded, field) == nullptr) return "";
+  const auto inputs = recorded->find("inputs");
+  if (inputs == recorded->end() || !inputs->is_object()) return "";
+  const auto entry = inputs->find(field);
+  if (entry == inputs->end() || !entry->is_object()) return "";
+  const auto hash = entry->find("hash");
+  return hash != entry->end() && hash->is_string() ? hash->get<std::string>() : "";
+}
+
+// `recorded` and `contents`: the recorded configuration whose input hashes key `contents`
+// (nullptr: read every file).
 template <typename Lookup>
 JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
-                     const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
+                     const std::function<std::string(const std::string& hash)>& stored_model_bytes,
+                     const json* recorded_config = nullptr, JobFileContents* contents = nullptr) {
   JobConfig config;
   for (const JobConfigKey& key : job_config_keys()) {
     const json* value = lookup(key.path);
@@ -128,10 +144,21 @@ JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
   // The runner reads files; the engine receives their content.
   RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
   if (config.trajectory.kind == TrajectoryKind::recorded && !recorded.file.empty()) {
+    const std::string hash = contents ? recorded_hash(recorded_config, "trajectory.recorded.file") : "";
     try {
-      io::CsvTable table = io::load_csv(recorded.file);
-      recorded.samples = std::move(table.values);
-      recorded.sample_lines = std::move(table.lines);
+      if (!hash.empty() && hash == contents->recorded_hash) {
+        recorded.samples = contents->recorded_samples;
+        recorded.sample_lines = contents->recorded_lines;
+      } else {
+        io::CsvTable table = io::load_csv(recorded.file);
+        recorded.samples = std::move(table.values);
+        recorded.sample_lines = std::move(table.lines);
+        if (!hash.empty()) {
+          contents->recorded_hash = hash;
+          contents->recorded_samples = recorded.samples;
+          contents->recorded_lines = recorded.sample_lines;
+        }
+      }
     } catch (const std::exception& error) {
       throw ConfigError("trajectory.recorded.file", error.what());
     }
@@ -144,7 +171,16 @@ JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
         if (!stored_model_bytes) throw std::runtime_error("a stored model is read from its results database (armfarm run --db)");
         config.learning.initial_model_bytes = stored_model_bytes(initial.substr(prefix.size()));
       } else {
-        config.learning.initial_model_bytes = read_input_file(initial, InputFileKind::learner_model);
+        const std::string hash = contents ? recorded_hash(recorded_config, "learning.initial_model") : "";
+        if (!hash.empty() && hash == contents->model_hash) {
+          config.learning.initial_model_bytes = contents->model_bytes;
+        } else {
+          config.learning.initial_model_bytes = read_input_file(initial, InputFileKind::learner_model);
+          if (!hash.empty()) {
+            contents->model_hash = hash;
+            contents->model_bytes = config.learning.initial_model_bytes;
+          }
+        }
       }
     } catch (const std::exception& error) {
       throw ConfigError("learning.initial_model", error.what());
@@ -168,7 +204,8 @@ JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
 }
 
 JobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelFacts& facts,
-                                    const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
+                                    const std::function<std::string(const std::string& hash)>& stored_model_bytes,
+                                    JobFileContents* contents) {
   const auto inputs = recorded.find("inputs");
   const bool records = inputs != recorded.end() && inputs->is_object() && !inputs->empty();
   ValueFinder finder(recorded);
@@ -179,7 +216,7 @@ JobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelF
         }
         return finder.find(path);
       },
-      facts, stored_model_bytes);
+      facts, stored_model_bytes, &recorded, contents);
 }
 
 }  // namespace armfarm

@@ -200,6 +200,9 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const 
   }
   const auto base_inputs = shared_base->find("inputs");
 
+  const std::function<void(const nlohmann::json&)> validate =
+      schema.make_sweep_validate ? schema.make_sweep_validate() : schema.validate;
+
   std::vector<std::size_t> counter(factors.size(), 0);
   std::vector<std::string> errors;
   std::set<std::string> seen_errors;
@@ -279,7 +282,7 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const 
       }
     }
     try {
-      if (schema.validate && check_config != nullptr) schema.validate(*check_config);
+      if (validate && check_config != nullptr) validate(*check_config);
     } catch (const ConfigError& e) {
       const std::string where = locate_error(e.json_path(), located());
       const std::string what = e.what();
