@@ -54,6 +54,7 @@ PassResult train_in_batch(Learner& learner, const std::vector<Sample>& samples, 
     accuracy.add(samples[index].y, calc_trusted_part(prediction));
   }
   result.same_run_test = accuracy;
+  result.test_indices = test;
   return PassResult{};
 }
 

@@ -20,6 +20,7 @@ namespace armfarm {
 struct BatchTrainingResult {
   NmseAccumulator same_run_test;  ///< prediction against torque on the withheld samples (count 0: none)
   long training_samples = 0;
+  std::vector<std::size_t> test_indices;  ///< the withheld samples: indices into the collected samples, as scored
 };
 
 /// Trains `learner` as above. `after_epoch(e)` runs after epoch e (1-based) and after the split

@@ -67,7 +67,9 @@ std::vector<MetricInfo> make_job_entries() {
        S::joint, K::result},
       {n::same_run_test_nmse, "1",
        "batch learner on the collected samples withheld from training (a random shuffle of 10 ms samples of the same "
-       "runs, not held-out data): torque MSE over var(torque); NULL where the torque's std < 0.1 % of 2 x effort limit",
+       "runs, not held-out data): torque MSE over var(torque); NULL where the torque's std < 0.1 % of 2 x effort limit. "
+       "Includes the start transients of the perturbed repeats (learning.collect_start_spread), where no field is "
+       "trusted and the prediction is 0: they can dominate it and make it worse than heldout_test_nmse",
        D::lower, S::joint, K::result},
       {n::same_run_test_rmse, "N·m", "batch learner on the withheld samples of the same runs: root mean squared torque error",
        D::lower, S::joint, K::result},

@@ -6,6 +6,177 @@
 #include <limits>
 
 namespace armfarm::lwpr {
+namespace {
+
+// The full-metric loops below reproduce the evaluation order of the Eigen expressions they
+// replaced, so the results are the same bits: Eigen's triangular matrix-vector product handles a
+// factor of up to 8 columns as one panel, summing each row in ascending column order, and its
+// MᵀM of up to 3 columns sums each coefficient in ascending order (from 4 columns on it sums in
+// SIMD-width-dependent order, so those sizes call Eigen itself, as before).
+constexpr int kTrmvPanel = 8;
+constexpr int kOrderedProductMax = 3;
+
+// Full metrics: the helpers take N > 0 for an input dimension known at compile time (the loops
+// unroll: the cross benchmark's 2-D fields spend most of a dynamic loop's time in its control) or
+// N = 0 for n at run time; the same operations in the same order either way.
+template <int N>
+inline int dim(int n) {
+  return N > 0 ? N : n;
+}
+
+// md = M·d for an upper triangular M (n×n, column-major), n ≤ kTrmvPanel.
+template <int N>
+inline void multiply_factor(const double* m, const double* d, int n_runtime, double* md) {
+  const int n = dim<N>(n_runtime);
+  for (int r = 0; r < n; ++r) {
+    double v = 0.0;
+    for (int k = r; k < n; ++k) v += m[r + k * n] * d[k];
+    md[r] = v;
+  }
+}
+
+// D = MᵀM (n×n, column-major) for n ≤ kOrderedProductMax: the upper triangle summed in ascending
+// order and mirrored (M_iᵀM_j and M_jᵀM_i are the same products in the same order).
+template <int N>
+inline void multiply_factor_transposed(const double* m, int n_runtime, double* D) {
+  const int n = dim<N>(n_runtime);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i <= j; ++i) {
+      double v = m[i * n] * m[j * n];
+      for (int k = 1; k < n; ++k) v += m[k + i * n] * m[k + j * n];
+      D[i + j * n] = v;
+      D[j + i * n] = v;
+    }
+  }
+}
+
+// Gradient (and with c ≠ nullptr the IDBD curvature) of J w.r.t. the full factor M (n×n, upper
+// triangle filled, lower set to 0), given md = M·diff. Row r's sums run over all n columns in
+// ascending order (M's lower zeros included), as Eigen's row products did; |M_r|² once per row.
+template <int N>
+void calc_full_gradient(const LwprParams& params, const ReceptiveField& rf, const double* d, const double* md,
+                        const MetricSample& sample, double dJ1_dw, double d2J1_dw2, double* g, double* c) {
+  const int n = dim<N>(rf.input_dim());
+  const double* m = rf.metric_factor.data();
+  const double* dd = rf.metric.data();
+  const KernelSlopes slopes = calc_kernel_slopes(params.kernel, sample.q);
+  const double dw_dq = slopes.dw_dq;
+  const double d2w_dq2 = slopes.d2w_dq2;
+  const double penalty = params.penalty / n;  // γ/n
+  const double penalty_weight = sample.w / sample.W;
+  // q = |M d|²: ∂q/∂M_rl = 2(Md)_r d_l;  J2 = (γ/n)·tr(D²): ∂J2/∂M = 4(γ/n)·M D.
+  for (int r = 0; r < n; ++r) {
+    double row2 = m[r] * m[r];
+    for (int k = 1; k < n; ++k) row2 += m[r + k * n] * m[r + k * n];
+    for (int l = 0; l < r; ++l) {
+      g[r + l * n] = 0.0;
+      if (c != nullptr) c[r + l * n] = 0.0;
+    }
+    for (int l = r; l < n; ++l) {
+      const double* D_l = dd + l * n;
+      double dot = m[r] * D_l[0];
+      for (int k = 1; k < n; ++k) dot += m[r + k * n] * D_l[k];
+      const double dJ2 = 4.0 * penalty * dot;
+      const double d2J2 = 4.0 * penalty * (m[r + l * n] * m[r + l * n] + row2 + D_l[l]);
+      const double dq = 2.0 * md[r] * d[l];
+      const double d2q = 2.0 * d[l] * d[l];
+      const double dw = dw_dq * dq;
+      g[r + l * n] = dJ1_dw * dw + penalty_weight * dJ2;
+      if (c != nullptr) {
+        const double d2w = d2w_dq2 * dq * dq + dw_dq * d2q;
+        c[r + l * n] = d2J1_dw2 * dw * dw + dJ1_dw * d2w + penalty_weight * d2J2;
+      }
+    }
+  }
+}
+
+// One gradient (or IDBD) step on a full factor: the general step below for the upper triangle,
+// then D = MᵀM; the metric is kept if the gradient or the new D is not finite.
+template <int N>
+void update_full_metric(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
+                        double dJ1_dw, double transient, ReceptiveField& rf, FieldScratch& scratch) {
+  const int n = dim<N>(rf.input_dim());
+  const double d2J1_dw2 = 2.0 * sample.e_cv.head(rf.n_reg()).squaredNorm() / (sample.W * sample.W);
+  scratch.grad.resize(n, n);
+  scratch.old_factor.resize(n, n);
+  scratch.new_metric.resize(n, n);
+  if (params.meta) scratch.curvature.resize(n, n);
+  scratch.md.resize(n);
+  double* m = rf.metric_factor.data();
+  double* md = scratch.md.data();
+  if (N > 0 || n <= kTrmvPanel) {
+    multiply_factor<N>(m, diff.data(), n, md);
+  } else {
+    scratch.md.noalias() = rf.metric_factor.triangularView<Eigen::Upper>() * diff;
+  }
+  double* g = scratch.grad.data();
+  double* curvature = params.meta ? scratch.curvature.data() : nullptr;
+  calc_full_gradient<N>(params, rf, diff.data(), md, sample, dJ1_dw, d2J1_dw2, g, curvature);
+
+  bool finite = true;
+  double max_abs = 0.0;
+  for (int col = 0; col < n; ++col) {
+    for (int row = 0; row <= col; ++row) {
+      finite = finite && std::isfinite(g[row + col * n]);
+      max_abs = std::max(max_abs, std::abs(m[row + col * n]));
+    }
+  }
+  if (!finite) return;  // a degenerate sample: keep the metric as it is
+
+  double* old = scratch.old_factor.data();
+  for (int i = 0; i < n * n; ++i) old[i] = m[i];
+  const double bound = 0.1 * max_abs;
+  const double log_half = std::log(0.5);
+  double* log_alpha_data = rf.log_alpha.data();
+  double* trace = rf.meta_trace.data();
+  // Without meta learning the rates only change when a step is too large, so neighbouring elements
+  // nearly always share one log-rate: exp() is evaluated only when the log-rate differs from the
+  // previous element's (the same value, bit for bit, as evaluating it every time).
+  double last_log_alpha = std::numeric_limits<double>::quiet_NaN();
+  double last_alpha = 0.0;
+  for (int col = 0; col < n; ++col) {
+    for (int row = 0; row <= col; ++row) {
+      const int at = row + col * n;
+      const double grad = g[at];
+      double& log_alpha = log_alpha_data[at];
+      if (params.meta) {
+        const double change = std::clamp(-params.meta_rate * grad * trace[at], -0.1, 0.1);
+        log_alpha = std::clamp(log_alpha + change, -10.0, 10.0);
+      }
+      if (!(log_alpha == last_log_alpha)) {
+        last_log_alpha = log_alpha;
+        last_alpha = std::exp(log_alpha);
+      }
+      const double alpha = last_alpha;
+      const double step = alpha * transient * grad;
+      double applied = 0.0;
+      if (std::abs(step) > bound) {
+        log_alpha += log_half;  // too large a step: halve the rate, skip this element
+      } else {
+        m[at] -= step;
+        applied = -step;
+      }
+      if (params.meta) {
+        const double decay = std::max(0.0, 1.0 - alpha * curvature[at]);
+        trace[at] = trace[at] * decay + applied;
+      }
+    }
+  }
+  double* D_new = scratch.new_metric.data();
+  if (N > 0 || n <= kOrderedProductMax) {
+    multiply_factor_transposed<N>(m, n, D_new);
+  } else {
+    scratch.new_metric.noalias() = rf.metric_factor.transpose() * rf.metric_factor;
+  }
+  for (int i = 0; i < n * n; ++i) finite = finite && std::isfinite(D_new[i]) && std::isfinite(m[i]);
+  if (!finite) {
+    for (int i = 0; i < n * n; ++i) m[i] = old[i];  // never leave a field with a NaN metric
+    return;
+  }
+  rf.metric.swap(scratch.new_metric);
+}
+
+}  // namespace
 
 double calc_press_dw(const ReceptiveField& rf, const MetricSample& sample) {
   // J1 sums the leave-one-out errors of the R univariate regressions. Per projection r, with
@@ -20,48 +191,52 @@ double calc_press_dw(const ReceptiveField& rf, const MetricSample& sample) {
   return -sample.E / (sample.W * sample.W) + sum / sample.W;
 }
 
+void calc_factor_product(const Eigen::MatrixXd& M, const Eigen::VectorXd& diff, Eigen::VectorXd& md) {
+  const int n = static_cast<int>(M.rows());
+  if (n > kTrmvPanel) {
+    md.noalias() = M.triangularView<Eigen::Upper>() * diff;
+    return;
+  }
+  md.resize(n);
+  switch (n) {
+    case 2: multiply_factor<2>(M.data(), diff.data(), n, md.data()); break;
+    case 3: multiply_factor<3>(M.data(), diff.data(), n, md.data()); break;
+    default: multiply_factor<0>(M.data(), diff.data(), n, md.data()); break;
+  }
+}
+
 void calc_metric_gradient(const LwprParams& params, const ReceptiveField& rf, const Eigen::VectorXd& diff,
                           const MetricSample& sample, double dJ1_dw, double d2J1_dw2, Eigen::MatrixXd& grad,
                           Eigen::MatrixXd* curvature, Eigen::VectorXd& md) {
   const int n = rf.input_dim();
   const Eigen::MatrixXd& M = rf.metric_factor;
-  const Eigen::MatrixXd& D = rf.metric;
-  const double dw_dq = calc_kernel_dq(params.kernel, sample.q);
-  const double d2w_dq2 = calc_kernel_dq2(params.kernel, sample.q);
-  const double penalty = params.penalty / n;  // γ/n
-  const double penalty_weight = sample.w / sample.W;
   grad.resize(M.rows(), M.cols());
   if (curvature != nullptr) curvature->resize(M.rows(), M.cols());
-
-  auto accumulate = [&](int row, int col, double dq, double d2q, double dJ2, double d2J2) {
-    const double dw = dw_dq * dq;
-    grad(row, col) = dJ1_dw * dw + penalty_weight * dJ2;
-    if (curvature != nullptr) {
-      const double d2w = d2w_dq2 * dq * dq + dw_dq * d2q;
-      (*curvature)(row, col) = d2J1_dw2 * dw * dw + dJ1_dw * d2w + penalty_weight * d2J2;
-    }
-  };
-
-  if (rf.diagonal()) {
-    // q = Σ_i M_i² d_i²;  J2 = (γ/n)·Σ_i M_i⁴.
-    for (int i = 0; i < n; ++i) {
-      const double m = M(i, 0);
-      const double d2 = diff(i) * diff(i);
-      accumulate(i, 0, 2.0 * m * d2, 2.0 * d2, 4.0 * penalty * m * m * m, 12.0 * penalty * m * m);
+  double* g = grad.data();
+  double* c = curvature != nullptr ? curvature->data() : nullptr;
+  if (!rf.diagonal()) {
+    calc_factor_product(M, diff, md);
+    switch (n) {
+      case 2: calc_full_gradient<2>(params, rf, diff.data(), md.data(), sample, dJ1_dw, d2J1_dw2, g, c); break;
+      case 3: calc_full_gradient<3>(params, rf, diff.data(), md.data(), sample, dJ1_dw, d2J1_dw2, g, c); break;
+      default: calc_full_gradient<0>(params, rf, diff.data(), md.data(), sample, dJ1_dw, d2J1_dw2, g, c); break;
     }
     return;
   }
-  // q = |M d|²: ∂q/∂M_rl = 2(Md)_r d_l;  J2 = (γ/n)·tr(D²): ∂J2/∂M = 4(γ/n)·M D.
-  md.noalias() = M.triangularView<Eigen::Upper>() * diff;
-  for (int l = 0; l < n; ++l) {
-    for (int r = 0; r <= l; ++r) {
-      const double dJ2 = 4.0 * penalty * M.row(r).dot(D.col(l));
-      const double d2J2 = 4.0 * penalty * (M(r, l) * M(r, l) + M.row(r).squaredNorm() + D(l, l));
-      accumulate(r, l, 2.0 * md(r) * diff(l), 2.0 * diff(l) * diff(l), dJ2, d2J2);
-    }
-    for (int r = l + 1; r < n; ++r) {
-      grad(r, l) = 0.0;
-      if (curvature != nullptr) (*curvature)(r, l) = 0.0;
+  // q = Σ_i M_i² d_i²;  J2 = (γ/n)·Σ_i M_i⁴.
+  const KernelSlopes slopes = calc_kernel_slopes(params.kernel, sample.q);
+  const double penalty = params.penalty / n;  // γ/n
+  const double penalty_weight = sample.w / sample.W;
+  for (int i = 0; i < n; ++i) {
+    const double mi = M(i, 0);
+    const double d2 = diff(i) * diff(i);
+    const double dq = 2.0 * mi * d2, d2q = 2.0 * d2;
+    const double dJ2 = 4.0 * penalty * mi * mi * mi, d2J2 = 12.0 * penalty * mi * mi;
+    const double dw = slopes.dw_dq * dq;
+    g[i] = dJ1_dw * dw + penalty_weight * dJ2;
+    if (c != nullptr) {
+      const double d2w = slopes.d2w_dq2 * dq * dq + slopes.dw_dq * d2q;
+      c[i] = d2J1_dw2 * dw * dw + dJ1_dw * d2w + penalty_weight * d2J2;
     }
   }
 }
@@ -71,7 +246,13 @@ void calc_metric_from_factor(const Eigen::MatrixXd& M, Eigen::MatrixXd& D) {
     D = M.array().square().matrix();
     return;
   }
-  D.noalias() = M.transpose() * M;
+  const int n = static_cast<int>(M.rows());
+  if (n > kOrderedProductMax) {
+    D.noalias() = M.transpose() * M;
+    return;
+  }
+  D.resize(n, n);
+  multiply_factor_transposed<0>(M.data(), n, D.data());
 }
 
 namespace {
@@ -133,56 +314,58 @@ void update_diagonal_metric(const LwprParams& params, const Eigen::VectorXd& dif
 void update_distance_metric(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
                             double transient, ReceptiveField& rf, FieldScratch& scratch) {
   const double dJ1_dw = calc_press_dw(rf, sample);
-  if (rf.diagonal() && !params.meta) {
+  if (!rf.diagonal()) {
+    switch (rf.input_dim()) {
+      case 2: update_full_metric<2>(params, diff, sample, dJ1_dw, transient, rf, scratch); break;
+      case 3: update_full_metric<3>(params, diff, sample, dJ1_dw, transient, rf, scratch); break;
+      default: update_full_metric<0>(params, diff, sample, dJ1_dw, transient, rf, scratch); break;
+    }
+    return;
+  }
+  if (!params.meta) {
     update_diagonal_metric(params, diff, sample, dJ1_dw, transient, rf, scratch);
     return;
   }
+  // A diagonal metric with meta learning: IDBD log-rates per element, then D = M².
   const double d2J1_dw2 = 2.0 * sample.e_cv.head(rf.n_reg()).squaredNorm() / (sample.W * sample.W);
-  calc_metric_gradient(params, rf, diff, sample, dJ1_dw, d2J1_dw2, scratch.grad,
-                       params.meta ? &scratch.curvature : nullptr, scratch.md);
-  if (!scratch.grad.allFinite()) return;  // a degenerate sample: keep the metric as it is
-
-  Eigen::MatrixXd& M = rf.metric_factor;
-  scratch.old_factor = M;
-  const double bound = 0.1 * M.cwiseAbs().maxCoeff();
-  const bool full = !rf.diagonal();
-  const double log_half = std::log(0.5);
-  // Without meta learning the rates only change when a step is too large, so neighbouring elements
-  // nearly always share one log-rate: exp() is evaluated only when the log-rate differs from the
-  // previous element's (the same value, bit for bit, as evaluating it every time).
-  double last_log_alpha = std::numeric_limits<double>::quiet_NaN();
-  double last_alpha = 0.0;
-  for (Eigen::Index col = 0; col < M.cols(); ++col) {
-    const Eigen::Index last_row = full ? col : M.rows() - 1;
-    for (Eigen::Index row = 0; row <= last_row; ++row) {
-      const double g = scratch.grad(row, col);
-      double& log_alpha = rf.log_alpha(row, col);
-      if (params.meta) {
-        const double change = std::clamp(-params.meta_rate * g * rf.meta_trace(row, col), -0.1, 0.1);
-        log_alpha = std::clamp(log_alpha + change, -10.0, 10.0);
-      }
-      if (!(log_alpha == last_log_alpha)) {
-        last_log_alpha = log_alpha;
-        last_alpha = std::exp(log_alpha);
-      }
-      const double alpha = last_alpha;
-      const double step = alpha * transient * g;
-      double applied = 0.0;
-      if (std::abs(step) > bound) {
-        log_alpha += log_half;  // too large a step: halve the rate, skip this element
-      } else {
-        M(row, col) -= step;
-        applied = -step;
-      }
-      if (params.meta) {
-        const double decay = std::max(0.0, 1.0 - alpha * scratch.curvature(row, col));
-        rf.meta_trace(row, col) = rf.meta_trace(row, col) * decay + applied;
-      }
-    }
+  calc_metric_gradient(params, rf, diff, sample, dJ1_dw, d2J1_dw2, scratch.grad, &scratch.curvature, scratch.md);
+  const int n = rf.input_dim();
+  const double* g = scratch.grad.data();
+  const double* curvature = scratch.curvature.data();
+  double* m = rf.metric_factor.data();
+  bool finite = true;
+  double max_abs = 0.0;
+  for (int i = 0; i < n; ++i) {
+    finite = finite && std::isfinite(g[i]);
+    max_abs = std::max(max_abs, std::abs(m[i]));
   }
-  calc_metric_from_factor(M, scratch.new_metric);
-  if (!scratch.new_metric.allFinite() || !M.allFinite()) {
-    M = scratch.old_factor;  // never leave a field with a NaN metric
+  if (!finite) return;  // a degenerate sample: keep the metric as it is
+
+  scratch.old_factor.resize(n, 1);
+  double* old = scratch.old_factor.data();
+  std::copy(m, m + n, old);
+  const double bound = 0.1 * max_abs;
+  const double log_half = std::log(0.5);
+  double* log_alpha = rf.log_alpha.data();
+  double* trace = rf.meta_trace.data();
+  for (int i = 0; i < n; ++i) {
+    const double change = std::clamp(-params.meta_rate * g[i] * trace[i], -0.1, 0.1);
+    log_alpha[i] = std::clamp(log_alpha[i] + change, -10.0, 10.0);
+    const double alpha = std::exp(log_alpha[i]);
+    const double step = alpha * transient * g[i];
+    double applied = 0.0;
+    if (std::abs(step) > bound) {
+      log_alpha[i] += log_half;  // too large a step: halve the rate, skip this element
+    } else {
+      m[i] -= step;
+      applied = -step;
+    }
+    const double decay = std::max(0.0, 1.0 - alpha * curvature[i]);
+    trace[i] = trace[i] * decay + applied;
+  }
+  calc_metric_from_factor(rf.metric_factor, scratch.new_metric);
+  if (!scratch.new_metric.allFinite() || !rf.metric_factor.allFinite()) {
+    std::copy(old, old + n, m);  // never leave a field with a NaN metric
     return;
   }
   rf.metric.swap(scratch.new_metric);

@@ -44,6 +44,9 @@ void calc_metric_gradient(const LwprParams& params, const ReceptiveField& rf, co
 void update_distance_metric(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
                             double transient, ReceptiveField& rf, FieldScratch& scratch);
 
+/// md = M·diff for an upper triangular n×n factor M (n): the full metric's part of q = |M·diff|².
+void calc_factor_product(const Eigen::MatrixXd& M, const Eigen::VectorXd& diff, Eigen::VectorXd& md);
+
 /// D = MᵀM for the field's storage layout (full or diagonal).
 void calc_metric_from_factor(const Eigen::MatrixXd& M, Eigen::MatrixXd& D);
 

@@ -59,6 +59,27 @@ void copy_padded(const double* from, int n, double* to, int stride) {
   std::fill(to + n, to + stride, 0.0);
 }
 
+// q = |M(x − c)|² for a full metric's upper triangular factor M stored row by row (row r holds
+// M_r,r … M_r,n−1: n(n+1)/2 doubles), or +∞ as soon as a row ends with q ≥ q_limit. Each row's
+// product is summed in ascending column order, as the field-wise calc_activation_within() does,
+// so both give the same bits. N > 0 fixes n at compile time (unrolled), N = 0 takes n_runtime;
+// `diff` is scratch for x − c (n).
+template <int N>
+inline double calc_full_distance(const double* x, const double* c, const double* m, int n_runtime, double q_limit,
+                                 double* diff) {
+  const int n = N > 0 ? N : n_runtime;
+  for (int k = 0; k < n; ++k) diff[k] = x[k] - c[k];
+  double q = 0.0;
+  for (int r = 0; r < n; ++r) {
+    double v = m[0] * diff[r];
+    for (int k = r + 1; k < n; ++k) v += m[k - r] * diff[k];
+    m += n - r;
+    q += v * v;
+    if (q >= q_limit) return std::numeric_limits<double>::infinity();
+  }
+  return q;
+}
+
 }  // namespace
 
 LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
@@ -71,6 +92,8 @@ LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
   fields_.resize(n_out);
   scan_.resize(n_out);
   stride_ = (n_in + kScanBlock - 1) / kScanBlock * kScanBlock;
+  diagonal_scan_ = params_.diag_only || n_in == 1;  // a 1×1 metric is its own diagonal (ReceptiveField::diagonal)
+  metric_stride_ = diagonal_scan_ ? stride_ : n_in * (n_in + 1) / 2;
   q_limit_ = calc_q_limit(params_.kernel, params_.cutoff);
   x_normalised_.resize(n_in);
   x_padded_.assign(stride_, 0.0);
@@ -81,25 +104,43 @@ void LwprModel::append_to_scan(int output, const ReceptiveField& rf) {
   ScanData& scan = scan_[output];
   scan.centres.resize(scan.centres.size() + stride_);
   copy_padded(rf.center.data(), n_in_, scan.centres.data() + scan.centres.size() - stride_, stride_);
-  if (rf.diagonal()) {
-    scan.metrics.resize(scan.metrics.size() + stride_);
-    copy_padded(rf.metric.data(), n_in_, scan.metrics.data() + scan.metrics.size() - stride_, stride_);
-  }
+  scan.metrics.resize(scan.metrics.size() + metric_stride_);
+  write_scan_metric(rf, scan.metrics.data() + scan.metrics.size() - metric_stride_);
   scan.trusted.push_back(rf.trustworthy ? 1 : 0);
 }
 
-inline double LwprModel::calc_field_activation(int output, std::size_t i, const Eigen::VectorXd& x, const double* x_padded,
-                                        FieldScratch& scratch) const {
-  double w;
-  if (params_.diag_only) {
-    const ScanData& scan = scan_[output];
-    const double q = calc_diagonal_distance(x_padded, scan.centres.data() + i * stride_,
-                                            scan.metrics.data() + i * stride_, stride_, q_limit_);
-    if (q >= q_limit_) return 0.0;
-    w = calc_kernel(params_.kernel, q);
-  } else {
-    w = calc_activation_within(fields_[output][i], params_.kernel, x, q_limit_, scratch);
+void LwprModel::write_scan_metric(const ReceptiveField& rf, double* to) const {
+  if (diagonal_scan_) {
+    copy_padded(rf.metric.data(), n_in_, to, stride_);
+    return;
   }
+  const Eigen::MatrixXd& M = rf.metric_factor;
+  for (int r = 0; r < n_in_; ++r) {
+    for (int k = r; k < n_in_; ++k) *to++ = M(r, k);
+  }
+}
+
+inline double LwprModel::calc_field_activation(int output, std::size_t i, const double* x_padded,
+                                               FieldScratch& scratch) const {
+  const ScanData& scan = scan_[output];
+  const double* centre = scan.centres.data() + i * stride_;
+  double q;
+  if (diagonal_scan_) {  // metric_stride_ = stride_
+    q = calc_diagonal_distance(x_padded, centre, scan.metrics.data() + i * stride_, stride_, q_limit_);
+    if (q >= q_limit_) return 0.0;
+    const double w = calc_kernel(params_.kernel, q);
+    return w <= params_.cutoff ? 0.0 : w;
+  }
+  const double* metric = scan.metrics.data() + i * metric_stride_;
+  if (n_in_ == 2) {
+    q = calc_full_distance<2>(x_padded, centre, metric, 2, q_limit_, scratch.diff.data());
+  } else if (n_in_ == 3) {
+    q = calc_full_distance<3>(x_padded, centre, metric, 3, q_limit_, scratch.diff.data());
+  } else {
+    q = calc_full_distance<0>(x_padded, centre, metric, n_in_, q_limit_, scratch.diff.data());
+  }
+  if (q >= q_limit_) return 0.0;
+  const double w = calc_kernel(params_.kernel, q);
   return w <= params_.cutoff ? 0.0 : w;
 }
 
@@ -152,7 +193,7 @@ void LwprModel::update_output(int output, double y) {
   int prune_b = -1;
   ScanData& scan = scan_[output];
   for (std::size_t i = 0; i < fields.size(); ++i) {
-    const double w = calc_field_activation(output, i, x, x_padded_.data(), scratch_);
+    const double w = calc_field_activation(output, i, x_padded_.data(), scratch_);
     if (w <= 0.0) continue;
     ReceptiveField& rf = fields[i];
     if (w > w_max) {
@@ -167,7 +208,7 @@ void LwprModel::update_output(int output, double y) {
       }
     }
     update_receptive_field(params_, trust_n_data_, x, y, w, rf, scratch_);
-    if (params_.update_D && rf.diagonal()) std::copy(rf.metric.data(), rf.metric.data() + n_in_, &scan.metrics[i * stride_]);
+    if (params_.update_D) write_scan_metric(rf, &scan.metrics[i * metric_stride_]);
     scan.trusted[i] = rf.trustworthy ? 1 : 0;
   }
 
@@ -191,7 +232,8 @@ void LwprModel::update_output(int output, double y) {
     fields.erase(fields.begin() + victim);
     const auto block = static_cast<std::ptrdiff_t>(victim) * stride_;
     scan.centres.erase(scan.centres.begin() + block, scan.centres.begin() + block + stride_);
-    if (!scan.metrics.empty()) scan.metrics.erase(scan.metrics.begin() + block, scan.metrics.begin() + block + stride_);
+    const auto metric_block = static_cast<std::ptrdiff_t>(victim) * metric_stride_;
+    scan.metrics.erase(scan.metrics.begin() + metric_block, scan.metrics.begin() + metric_block + metric_stride_);
     scan.trusted.erase(scan.trusted.begin() + victim);
   }
 }
@@ -234,7 +276,7 @@ Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& wor
     const std::vector<unsigned char>& trusted = scan_[o].trusted;
     for (std::size_t i = 0; i < trusted.size(); ++i) {
       if (trusted[i] == 0) continue;
-      const double w = calc_field_activation(o, i, xn, ws->x_padded.data(), ws->scratch);
+      const double w = calc_field_activation(o, i, ws->x_padded.data(), ws->scratch);
       if (w <= 0.0) continue;
       const ReceptiveField& rf = fields_[o][i];
       double leverage = 0.0;

@@ -77,15 +77,18 @@ class LwprModel final : public Learner {
   void update_output(int output, double y);
   // Appends field `i` of `output` to that output's scan data.
   void append_to_scan(int output, const ReceptiveField& rf);
-  // The activation of field i of `output` at the normalised x (padded copy x_padded for the
-  // contiguous diagonal scan), 0 at or below the cutoff.
-  double calc_field_activation(int output, std::size_t i, const Eigen::VectorXd& x, const double* x_padded,
-                               FieldScratch& scratch) const;
+  // Writes the field's metric in the scan layout (metric_stride_ doubles) at `to`.
+  void write_scan_metric(const ReceptiveField& rf, double* to) const;
+  // The activation of field i of `output` at the normalised x, given as x_padded (zero-padded to
+  // stride_), 0 at or below the cutoff.
+  double calc_field_activation(int output, std::size_t i, const double* x_padded, FieldScratch& scratch) const;
 
   // The activation scan's data of one output, in the order of fields_[o] and kept in step with it
-  // on every create, update and prune: centres and (diagonal metrics) the metric diagonals, one
-  // block of stride_ doubles per field, zero-padded; and the trust flags. Contiguous, so the scan
-  // over hundreds of fields streams through memory instead of chasing each field's heap blocks.
+  // on every create, update and prune: the centres, one block of stride_ doubles per field,
+  // zero-padded; the metrics, one block of metric_stride_ doubles per field (a diagonal metric's
+  // diagonal zero-padded to stride_, or a full metric's factor M as its upper triangle row by row,
+  // n(n+1)/2); and the trust flags. Contiguous, so the scan over hundreds of fields streams through
+  // memory instead of chasing each field's heap blocks.
   struct ScanData {
     std::vector<double> centres;
     std::vector<double> metrics;
@@ -102,6 +105,8 @@ class LwprModel final : public Learner {
   std::vector<std::vector<ReceptiveField>> fields_;
   std::vector<ScanData> scan_;
   int stride_;       // n_in rounded up to a multiple of the scan block
+  bool diagonal_scan_;  // metrics scanned as diagonals: diag_only, or n_in = 1
+  int metric_stride_;  // doubles per field in ScanData::metrics: stride_ (diagonal) or n_in(n_in+1)/2
   double q_limit_;   // calc_q_limit(kernel, cutoff)
   std::uint64_t n_updates_ = 0;
   // Update scratch (update() is not const; predict() uses the caller's workspace instead).

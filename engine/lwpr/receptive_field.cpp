@@ -138,6 +138,15 @@ double calc_kernel_dq2(Kernel kernel, double q) {
   return 0.125;
 }
 
+KernelSlopes calc_kernel_slopes(Kernel kernel, double q) {
+  if (kernel == Kernel::kGaussian) {
+    const double w = std::exp(-0.5 * q);
+    return {-0.5 * w, 0.25 * w};
+  }
+  if (q >= 4.0) return {0.0, 0.0};
+  return {-0.5 * (1.0 - 0.25 * q), 0.125};
+}
+
 double calc_activation(const ReceptiveField& rf, Kernel kernel, const Eigen::VectorXd& x, double cutoff,
                        FieldScratch& scratch) {
   return calc_activation_within(rf, kernel, x, calc_q_limit(kernel, cutoff), scratch);
@@ -227,12 +236,18 @@ double calc_field_noise_variance(const ReceptiveField& rf) {
   return rf.sum_e_cv2(last) / rf.sum_w(last);
 }
 
-void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
-                            double w, ReceptiveField& rf, FieldScratch& scratch) {
+namespace {
+
+// The forgetting-weighted sums, means and PLS statistics of update_receptive_field() for one
+// sample; leaves s_r, the residuals, 1 − h_r and e_cv,r in `scratch`. N > 0 fixes the input
+// dimension at compile time (the loops unroll; most of a 2-D field's update went to loop control),
+// N = 0 takes it from the field; the same operations in the same order either way.
+template <int N>
+void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveField& rf, FieldScratch& scratch) {
   const double lambda = rf.lambda;
   const double lambda_slow = 1.0 - (1.0 - lambda) / 10.0;  // PLS directions forget more slowly
   const int n_reg = rf.n_reg();
-  const int n = rf.input_dim();
+  const int n = N > 0 ? N : rf.input_dim();
 
   // Forgetting-weighted sums: Σλw (the weights, for the means and the MSE normalisation) and
   // n_data = Σλ·1, the discounted number of samples each projection has seen (the algorithm counts
@@ -306,6 +321,19 @@ void update_receptive_field(const LwprParams& params, double trust_n_data, const
     scratch.one_minus_h(r) = std::max(1.0 - ws * s * inv_ss2, kMinOneMinusH);
     scratch.e_cv(r) = res / scratch.one_minus_h(r);
   }
+}
+
+}  // namespace
+
+void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
+                            double w, ReceptiveField& rf, FieldScratch& scratch) {
+  const double lambda = rf.lambda;
+  const int n_reg = rf.n_reg();
+  switch (rf.input_dim()) {
+    case 2: update_statistics<2>(x, y, w, rf, scratch); break;
+    case 3: update_statistics<3>(x, y, w, rf, scratch); break;
+    default: update_statistics<0>(x, y, w, rf, scratch); break;
+  }
 
   // Leave-one-out statistics and the metric update wait until the field has some data: the
   // library waits for n_data > 0.1/(1−λ) (100 samples at λ = 0.999); we also accept 4·(R+1)
@@ -329,8 +357,12 @@ void update_receptive_field(const LwprParams& params, double trust_n_data, const
       MetricSample sample(scratch.s, scratch.residual, scratch.e_cv);
       sample.w = w;
       scratch.diff = x - rf.center;
-      sample.q = rf.diagonal() ? rf.metric.col(0).dot(scratch.diff.cwiseAbs2())
-                               : (rf.metric_factor.triangularView<Eigen::Upper>() * scratch.diff).squaredNorm();
+      if (rf.diagonal()) {
+        sample.q = rf.metric.col(0).dot(scratch.diff.cwiseAbs2());
+      } else {
+        calc_factor_product(rf.metric_factor, scratch.diff, scratch.md);
+        sample.q = scratch.md.squaredNorm();
+      }
       sample.W = rf.sum_w(0);
       sample.E = rf.press_E;
       // The library's transient multiplier: small steps while the leave-one-out error is still

@@ -74,6 +74,14 @@ double calc_kernel(Kernel kernel, double q);
 double calc_kernel_dq(Kernel kernel, double q);
 double calc_kernel_dq2(Kernel kernel, double q);
 
+/// dw/dq and d²w/dq² at q together (one exp for the Gaussian): the same values as
+/// calc_kernel_dq() and calc_kernel_dq2().
+struct KernelSlopes {
+  double dw_dq = 0.0;
+  double d2w_dq2 = 0.0;
+};
+KernelSlopes calc_kernel_slopes(Kernel kernel, double q);
+
 /// Smallest q at which the activation is at most `cutoff` (+∞ when cutoff = 0): the distance
 /// scan stops a field's sum there. Depends only on the parameters; compute it once per model.
 double calc_q_limit(Kernel kernel, double cutoff);

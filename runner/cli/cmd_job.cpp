@@ -1,7 +1,10 @@
-// `armfarm job CONFIG.json [--json]`: runs one experiment job outside any sweep and prints its
-// metrics. The file holds any subset of a job configuration; the rest takes the defaults. The
-// configuration is validated first (the same checks as `expand` and `run`); the job then runs
-// under a wall-time limit (--timeout, default one hour) and stops on Ctrl-C.
+// `armfarm job CONFIG.json [--json] [--db DB]`: runs one experiment job outside any sweep and
+// prints its metrics. The file holds any subset of a job configuration; the rest takes the
+// defaults. A stored-model reference in learning.initial_model ({"job": KEY} or {"sweep": NAME,
+// "params": {...}}) is resolved from DB, read-only, by the resolver sweep expansion uses
+// (runner/execution/stored_models.hpp). The configuration is validated first (the same checks as
+// `expand` and `run`); the job then runs under a wall-time limit (--timeout, default one hour)
+// and stops on Ctrl-C.
 #include "engine/experiment/job_outcome.hpp"
 #include "engine/model/end_effector.hpp"
 #include "engine/model/model_loading.hpp"
@@ -9,6 +12,7 @@
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/execution/stop_signal.hpp"
+#include "runner/execution/stored_models.hpp"
 #include "runner/spec/canonical_json.hpp"
 #include "runner/spec/config_check.hpp"
 #include "runner/spec/config_path.hpp"
@@ -33,12 +37,50 @@
 namespace armfarm::cli {
 namespace {
 
+// The stored model learning.initial_model names, resolved by the schema's resolver (from --db).
+// A recorded "stored:<hash>" is resolved again from the reference recorded beside it; a note
+// says when the database's model is no longer the recorded one (the job key differs).
+void resolve_initial_model(nlohmann::json& config, const nlohmann::json& recorded, const JsonDocument& document,
+                           const std::string& path, const JobConfigSchema& schema) {
+  static const char* const kField = "learning.initial_model";
+  static const char* const kStoredEntry = "learning.initial_model (stored)";
+  nlohmann::json* value = nullptr;
+  if (config.contains("learning") && config["learning"].is_object() && config["learning"].contains("initial_model")) {
+    value = &config["learning"]["initial_model"];
+  }
+  std::string recorded_hash;
+  if (value && value->is_string() && value->get<std::string>().rfind(kStoredModelPrefix, 0) == 0) {
+    const auto entry = recorded.find(kStoredEntry);
+    if (entry == recorded.end() || !entry->is_object() || !entry->contains("reference")) {
+      throw std::runtime_error(path + ": " + kField + ": " + value->get<std::string>() + " is a resolved stored model but inputs[\"" +
+                               kStoredEntry + "\"] does not record its reference");
+    }
+    recorded_hash = value->get<std::string>().substr(std::string(kStoredModelPrefix).size());
+    *value = (*entry)["reference"];
+  }
+  if (!schema.resolve_references) return;
+  try {
+    schema.resolve_references(config);
+  } catch (const std::runtime_error& error) {
+    const std::string where = document.describe_position(kField);
+    throw std::runtime_error(path + ": " + error.what() + (where.empty() ? "" : " (" + where + ")"));
+  }
+  if (recorded_hash.empty() || !config.contains("inputs") || !config["inputs"].contains(kStoredEntry)) return;
+  const nlohmann::json& now = config["inputs"][kStoredEntry];
+  if (now.value("hash", "") != recorded_hash) {
+    std::cerr << "armfarm: note: " << path << ": " << kField << ": the stored model of job " << now.value("job", "").substr(0, 8)
+              << " changed since the configuration was recorded (the job key differs)\n";
+  }
+}
+
 // Reads a job configuration file: any subset of the keys (the rest take their defaults), or a
 // stored configuration with its "inputs" (from `armfarm expand --json` or the results database).
 // Input paths written in the file resolve against its folder; an input whose recorded entry
 // still matches and whose resolved file exists is read from there; defaults resolve against the
 // data folder. Every problem is a std::runtime_error naming the file.
-// `end_effector` (from --ee) replaces the file's end_effector block.
+// `end_effector` (from --ee) replaces the file's end_effector block. A stored-model reference is
+// resolved by schema.resolve_references; a configuration recorded with a resolved one
+// ("stored:<hash>" and its inputs entry) is resolved again from the reference it records.
 nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& schema,
                                const std::optional<EndEffectorConfig>& end_effector) {
   const std::string text = read_input_file(path, InputFileKind::json);
@@ -74,6 +116,7 @@ nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& s
   for (const auto& [name, entry] : recorded.items()) {
     if (entry.is_object() && entry.value("kind", "file") == "include") config["inputs"][name] = entry;
   }
+  resolve_initial_model(config, recorded, document, path, schema);
   std::string folder = std::filesystem::path(path).parent_path().string();
   if (folder.empty()) folder = ".";
   std::map<std::string, std::string> written;
@@ -129,11 +172,15 @@ RunFunction setup_job(CLI::App& parent) {
   command->add_option("--ee", *ee, "End effector LINK[:x,y,z] (offset in m, link frame); sets end_effector.link and .offset");
   auto strict = std::make_shared<bool>(false);
   command->add_flag("--strict", *strict, "Refuse non-URDF elements inside the model's <link>/<joint> (by default skipped with a warning)");
+  auto db = std::make_shared<std::string>();
+  command->add_option("--db", *db, "Results database (read only) whose stored models learning.initial_model references name");
   command->add_option("--timeout", *timeout, "Stop the job after this many seconds of wall clock (0: none)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  return [path, as_json, timeout, ee, strict] {
-    const JobConfigSchema schema = make_experiment_config_schema();
+  return [path, as_json, timeout, ee, strict, db] {
+    // Without --db a reference fails in the resolver with its "needs a results database" line.
+    const auto stored = std::make_shared<StoredModels>(*db);
+    const JobConfigSchema schema = make_experiment_config_schema(stored);
     std::optional<EndEffectorConfig> end_effector;
     if (!ee->empty()) end_effector = parse_end_effector_text(*ee);
     const nlohmann::json config = load_job_config(*path, schema, end_effector);
@@ -154,7 +201,7 @@ RunFunction setup_job(CLI::App& parent) {
       return timed_out || interrupted.load();
     };
     try {
-      outcome = make_experiment_executor()(config, control);
+      outcome = make_experiment_executor(stored)(config, control);
     } catch (const ConfigError& error) {
       throw std::runtime_error(*path + ": " + error.what());
     }

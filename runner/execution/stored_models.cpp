@@ -40,7 +40,7 @@ StoredModels::Resolved StoredModels::resolve(const nlohmann::json& reference) {
   if (reference.contains("params") && (!by_sweep || !reference["params"].is_object())) {
     throw std::runtime_error(describe(reference) + ": \"params\" is an object of swept values and goes with \"sweep\"");
   }
-  if (db_path_.empty()) throw std::runtime_error(describe(reference) + ": a stored model needs a results database (armfarm run --db)");
+  if (db_path_.empty()) throw std::runtime_error(describe(reference) + ": a stored model needs a results database (--db of armfarm run, expand or job)");
   if (!std::filesystem::exists(db_path_)) throw std::runtime_error(describe(reference) + ": " + db_path_ + ": no such database file");
 
   const ResultsStore store = ResultsStore::open(db_path_, ResultsStore::Mode::read_only);
@@ -100,7 +100,7 @@ void resolve_stored_model_reference(nlohmann::json& config, StoredModels* models
   }
   if (!value.is_object()) return;
   try {
-    if (models == nullptr) throw std::runtime_error("a stored model needs a results database (armfarm run --db)");
+    if (models == nullptr) throw std::runtime_error("a stored model needs a results database (--db of armfarm run, expand or job)");
     const StoredModels::Resolved resolved = models->resolve(value);
     config["inputs"]["learning.initial_model (stored)"] = {
         {"kind", "stored_model"}, {"reference", value}, {"job", resolved.job_key}, {"hash", resolved.hash}};

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 
 namespace armfarm::lwpr {
 namespace {
@@ -134,6 +135,29 @@ TEST(DistanceMetric, DiagonalStepIsTheGradientStepWithTheSafeguard) {
   }
   EXPECT_GE(skipped, 1);
   EXPECT_GE(applied, 1);
+}
+
+// The full metric's products M·d (any n; loops up to 8 columns, Eigen beyond) and D = MᵀM (loops up
+// to 3 columns, Eigen beyond) against Eigen's dense expressions, at random upper triangular M.
+TEST(DistanceMetric, FactorProductsMatchEigen) {
+  std::srand(5);
+  for (int n = 1; n <= 10; ++n) {
+    const Eigen::MatrixXd M = Eigen::MatrixXd::Random(n, n).triangularView<Eigen::Upper>();
+    const Eigen::VectorXd d = Eigen::VectorXd::Random(n);
+    Eigen::VectorXd md;
+    calc_factor_product(M, d, md);
+    const Eigen::VectorXd md_eigen = M * d;
+    ASSERT_EQ(md.size(), n);
+    for (int r = 0; r < n; ++r) EXPECT_NEAR(md(r), md_eigen(r), 1e-14 * n) << "n " << n << " row " << r;
+    if (n == 1) continue;  // a 1×1 factor is stored as a diagonal
+    Eigen::MatrixXd D;
+    calc_metric_from_factor(M, D);
+    const Eigen::MatrixXd D_eigen = M.transpose() * M;
+    ASSERT_EQ(D.rows(), n);
+    ASSERT_EQ(D.cols(), n);
+    EXPECT_LE((D - D_eigen).cwiseAbs().maxCoeff(), 1e-14 * n) << "n " << n;
+    if (n <= 3) EXPECT_EQ(D, D.transpose()) << "n " << n;  // computed once per pair and mirrored
+  }
 }
 
 }  // namespace

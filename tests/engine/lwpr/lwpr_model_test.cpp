@@ -244,10 +244,13 @@ TEST(LwprModel, FieldCapIsRespected) {
 
 // The contiguous scan data must follow every create, metric update and prune: the largest
 // activation a prediction reports equals the brute-force maximum of calc_activation over the
-// output's trustworthy fields, for diagonal metrics (scan data) and with pruning active.
-TEST(LwprModel, ScanDataFollowsFieldsThroughUpdatesAndPruning) {
+// output's trustworthy fields, with pruning active, for diagonal metrics (padded diagonals in the
+// scan) and full ones (the factor's upper triangle in the scan, with meta learning).
+void check_scan_data_follows_fields(bool diag_only) {
   std::mt19937_64 rng(9);
   LwprParams params;
+  params.diag_only = diag_only;
+  params.meta = !diag_only;
   params.init_D = Eigen::MatrixXd::Constant(1, 1, 30.0);
   params.w_prune = 0.15;
   params.norm_in = Eigen::Vector3d(1.0, 2.0, 0.5);
@@ -263,7 +266,7 @@ TEST(LwprModel, ScanDataFollowsFieldsThroughUpdatesAndPruning) {
   ASSERT_GT(prunes, 0) << "no field was pruned";
   auto workspace = model.make_workspace();
   FieldScratch scratch;
-  scratch.resize(3, true);
+  scratch.resize(3, diag_only);
   int active = 0;
   for (int k = 0; k < 300; ++k) {
     const Eigen::Vector3d x(uniform(rng), uniform(rng), uniform(rng));
@@ -283,6 +286,9 @@ TEST(LwprModel, ScanDataFollowsFieldsThroughUpdatesAndPruning) {
   }
   EXPECT_GT(active, 300);
 }
+
+TEST(LwprModel, ScanDataFollowsFieldsThroughUpdatesAndPruning) { check_scan_data_follows_fields(true); }
+TEST(LwprModel, ScanDataFollowsFullMetricFieldsThroughUpdatesAndPruning) { check_scan_data_follows_fields(false); }
 
 TEST(LwprModel, FlagsPredictionsWithoutTrustworthyFields) {
   LwprModel model(2, 2, cross_params(2));

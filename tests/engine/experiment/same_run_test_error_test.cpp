@@ -1,0 +1,177 @@
+// Why same_run_test_nmse is worse than heldout_test_nmse on table 6.1's figure-eight
+// (sweeps/thesis/README.md, table 6.1): the error of the same-run test split sits in the start
+// transients of the perturbed collection repeats (learning.collect_start_spread under full-gain
+// collection feedback), samples far outside the eight's inputs that no receptive field covers,
+// so the learner predicts 0 there. Leave those out and the same-run split scores below the
+// held-out eight; collect without the perturbation and the gap is gone.
+//
+// The configuration is sweeps/thesis/table6_1_figure_eight.json's with fewer repeats.
+// ARMFARM_SAME_RUN_REPEATS=53 gives the spec's own size (the figures in the README; about 90 s).
+#include "engine/experiment/batch_training.hpp"
+#include "engine/experiment/collection_pass.hpp"
+#include "engine/experiment/feed_forward_source.hpp"
+#include "engine/experiment/heldout_evaluation.hpp"
+#include "engine/experiment/job_setup.hpp"
+#include "engine/experiment/signal_statistics.hpp"
+#include "engine/learning/learner_factory.hpp"
+#include "../physics/test_arms.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+namespace armfarm {
+namespace {
+
+constexpr int kTransientTicks = 50;  ///< 0.5 s at the 10 ms control period: "the start" of a pass
+
+/// learning.collect_repeats: ARMFARM_SAME_RUN_REPEATS when set (> 1), else `fallback`.
+int read_repeats(int fallback) {
+  const char* text = std::getenv("ARMFARM_SAME_RUN_REPEATS");
+  return text != nullptr && std::atoi(text) > 1 ? std::atoi(text) : fallback;
+}
+
+JobConfig make_table6_1_config(int repeats, double start_spread) {
+  JobConfig config;
+  config.active_joints = {1, 2, 3, 4, 5, 6};
+  config.trajectory.kind = TrajectoryKind::figure_eight;
+  config.trajectory.figure_eight.points_per_loop = 750;
+  config.trajectory.figure_eight.loops = 1;
+  config.control.mode = ControlMode::composite;
+  config.control.feed_forward = FeedForwardSource::learner;
+  config.control.gain_scale = 0.2;
+  config.control.keep_damping_ratio = true;
+  config.learning.mode = LearningMode::batch;
+  config.learning.collect_repeats = repeats;
+  config.learning.train_fraction = 0.75;
+  config.learning.collect_start_spread = start_spread;
+  config.learning.lwpr.update_D = false;
+  return config;
+}
+
+struct Diagnosis {
+  NmseAccumulator same_run;                 ///< the job's same_run_test figure
+  NmseAccumulator same_run_after_start;     ///< its samples outside the perturbed passes' first 0.5 s
+  NmseAccumulator heldout;                  ///< the job's heldout_test figure
+  long test_samples = 0;
+  long untrusted = 0;                       ///< test samples with any output untrusted
+  long untrusted_unperturbed = 0;           ///< ... of them in the first, unperturbed pass
+  int last_untrusted_tick = -1;             ///< the latest tick of a pass that had one
+  std::size_t receptive_fields = 0;
+  double squared_error = 0.0, squared_error_at_start = 0.0;  ///< N²m², summed over joints
+  double max_abs_qdd = 0.0, max_abs_qdd_desired = 0.0;       ///< rad/s², collected samples and the eight
+};
+
+// Collects, trains and scores as run_experiment does for a batch job, then scores the same
+// learner on the withheld samples again, by where in its pass each sample lies.
+Diagnosis diagnose(const JobConfig& config) {
+  const ArmModel model = testing::load_lwr3();
+  JobSetup setup(model, config);
+  const JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());
+  const int n = setup.dof(), ticks = trajectories.training.size();
+  const auto learner = make_learner(config.learning, 3 * n, n, calc_trajectory_input_scale(trajectories.training));
+  ArmSimulation plant = setup.make_plant();
+  std::vector<Sample> samples;
+  const PassResult collected =
+      collect_samples(setup, plant, CollectionPlan{&trajectories.training, config.learning.collect_repeats, "collection"}, samples, {});
+  EXPECT_TRUE(collected.ok()) << collected.message;
+  EXPECT_EQ(static_cast<int>(samples.size()), config.learning.collect_repeats * ticks);
+  BatchTrainingResult batch;
+  EXPECT_TRUE(train_in_batch(*learner, samples, config.learning, config.seed, nullptr, {}, batch).ok());
+
+  Diagnosis result;
+  result.same_run = batch.same_run_test;
+  result.same_run_after_start = NmseAccumulator(n);
+  const auto workspace = learner->make_workspace();
+  for (std::size_t index : batch.test_indices) {
+    const Sample& sample = samples[index];
+    const int tick = static_cast<int>(index % ticks);
+    const bool perturbed = static_cast<int>(index / ticks) > 0;
+    const Prediction prediction = learner->predict(sample.x, *workspace);
+    const Eigen::VectorXd estimate = calc_trusted_part(prediction);
+    const double error = (estimate - sample.y).squaredNorm();
+    ++result.test_samples;
+    result.squared_error += error;
+    if (perturbed && tick < kTransientTicks) {
+      result.squared_error_at_start += error;
+    } else {
+      result.same_run_after_start.add(sample.y, estimate);
+    }
+    bool trusted = true;
+    for (int j = 0; j < n; ++j) trusted = trusted && is_output_trusted(prediction, j);
+    if (!trusted) {
+      ++result.untrusted;
+      if (!perturbed) ++result.untrusted_unperturbed;
+      result.last_untrusted_tick = std::max(result.last_untrusted_tick, tick);
+    }
+  }
+  for (const Sample& sample : samples) result.max_abs_qdd = std::max(result.max_abs_qdd, sample.x.tail(n).cwiseAbs().maxCoeff());
+  result.max_abs_qdd_desired = trajectories.training.qdd.cwiseAbs().maxCoeff();
+  result.receptive_fields = learner->size();
+
+  // The held-out eight, collected and scored as HeldoutEvaluation does.
+  ArmSimulation heldout_plant = setup.make_plant();
+  std::vector<Sample> heldout;
+  EXPECT_TRUE(collect_samples(setup, heldout_plant, CollectionPlan{&*trajectories.heldout, 1, "heldout"}, heldout, {}).ok());
+  result.heldout = NmseAccumulator(n);
+  for (const Sample& sample : heldout) result.heldout.add(sample.y, calc_trusted_part(learner->predict(sample.x, *workspace)));
+  return result;
+}
+
+std::string format_row(const Eigen::VectorXd& values) {
+  std::string text;
+  char cell[32];
+  for (Eigen::Index j = 0; j < values.size(); ++j) {
+    std::snprintf(cell, sizeof cell, " %.3g", values[j]);
+    text += cell;
+  }
+  return text;
+}
+
+TEST(SameRunTestError, SitsInTheStartTransientsOfThePerturbedRepeats) {
+  const int repeats = read_repeats(6);  // with 4 the model is still poor on the held-out eight too
+  const Diagnosis d = diagnose(make_table6_1_config(repeats, 0.05));
+  const Eigen::VectorXd same_run = d.same_run.calc_nmse(), after_start = d.same_run_after_start.calc_nmse(),
+                        heldout = d.heldout.calc_nmse();
+  std::printf("%d repeats, %zu receptive fields: %ld test samples, %ld (%.2f %%) with an untrusted output (%ld in the unperturbed pass), the latest at tick %d; the perturbed passes' first 0.5 s hold %.1f %% "
+              "of the squared error; max |qdd| collected %.1f, desired %.1f rad/s^2\n"
+              "  nMSE per joint, same-run split:%s\n  same-run without the perturbed starts:%s\n  held-out eight:%s\n"
+              "  var(torque) same-run:%s\n  without the starts:%s\n  held-out:%s\n",
+              repeats, d.receptive_fields, d.test_samples, d.untrusted, 100.0 * d.untrusted / d.test_samples, d.untrusted_unperturbed,
+              d.last_untrusted_tick,
+              100.0 * d.squared_error_at_start / d.squared_error, d.max_abs_qdd, d.max_abs_qdd_desired, format_row(same_run).c_str(),
+              format_row(after_start).c_str(), format_row(heldout).c_str(), format_row(d.same_run.calc_target_variance()).c_str(),
+              format_row(d.same_run_after_start.calc_target_variance()).c_str(), format_row(d.heldout.calc_target_variance()).c_str());
+  // The oddity itself: on every joint the same-run split scores worse than the held-out eight.
+  for (int j = 0; j < same_run.size(); ++j) EXPECT_GT(same_run[j], 2.0 * heldout[j]) << "joint " << j + 1;
+  // Its cause: the few samples no field covers lie in the first 0.2 s of a pass, nearly all in
+  // perturbed ones, whose accelerations are far beyond the eight's; the perturbed starts hold
+  // nearly all of the error.
+  EXPECT_GT(d.untrusted, 0);
+  EXPECT_LT(d.untrusted, d.test_samples / 50);
+  EXPECT_LT(d.last_untrusted_tick, 20);  // 0.2 s
+  EXPECT_LE(d.untrusted_unperturbed, d.untrusted / 20);
+  EXPECT_GT(d.max_abs_qdd, 3.0 * d.max_abs_qdd_desired);
+  EXPECT_GT(d.squared_error_at_start, 0.95 * d.squared_error);
+  // Without them the same runs are easy: below 0.05 on every joint, and on average below the
+  // held-out eight, as data the learner saw the like of should be.
+  for (int j = 0; j < after_start.size(); ++j) EXPECT_LT(after_start[j], 0.05) << "joint " << j + 1;
+  EXPECT_LT(after_start.mean(), heldout.mean());
+}
+
+TEST(SameRunTestError, IsSmallWhenTheRepeatsStartOnTheTrajectory) {
+  // The counterfactual: unperturbed repeats (identical copies, which issue 12 rules out for the
+  // shipped specs) have no start transients and the same-run split scores below 0.05.
+  const Diagnosis d = diagnose(make_table6_1_config(read_repeats(4), 0.0));
+  const Eigen::VectorXd same_run = d.same_run.calc_nmse();
+  std::printf("unperturbed repeats: same-run nMSE per joint%s; held-out%s\n", format_row(same_run).c_str(),
+              format_row(d.heldout.calc_nmse()).c_str());
+  EXPECT_EQ(d.untrusted, 0);
+  for (int j = 0; j < same_run.size(); ++j) EXPECT_LT(same_run[j], 0.05) << "joint " << j + 1;
+}
+
+}  // namespace
+}  // namespace armfarm
