@@ -138,7 +138,7 @@ PassResult HeldoutEvaluation::evaluate(const Learner& learner, int checkpoint, s
   const JobConfig& config = setup_.config();
   const CompositeController controller = setup_.make_controller();
   FeedForwardProvider feed_forward(config.control, setup_.nominal(), &learner, nullptr);
-  PassStatistics statistics(setup_.dof(), plant_.time());
+  PassStatistics statistics(setup_.dof(), plant_.time(), config.statistics);
   PassOptions options;
   options.controller = &controller;
   options.feed_forward = &feed_forward;

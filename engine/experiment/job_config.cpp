@@ -45,6 +45,7 @@ std::vector<JobConfigKey> make_job_config_keys() {
   append_keys(keys, "mismatch.", mismatch_config_keys(), [](JobConfig& c) -> MismatchConfig& { return c.mismatch; });
   append_keys(keys, "recording.", recording_config_keys(), [](JobConfig& c) -> RecordingConfig& { return c.recording; });
   append_keys(keys, "divergence.", divergence_config_keys(), [](JobConfig& c) -> DivergenceConfig& { return c.divergence; });
+  append_keys(keys, "statistics.", statistics_config_keys(), [](JobConfig& c) -> StatisticsConfig& { return c.statistics; });
   return keys;
 }
 

@@ -7,7 +7,7 @@
 //   trajectory  engine/trajectory/trajectory_config.hpp
 //   learning    engine/learning/learning_config.hpp     (learning.lwpr: LWPR's parameter block;
 //                                                        learning.ssgpr: ssgpr_learning_config.hpp)
-//   mismatch, recording, divergence  engine/experiment/*_config.hpp
+//   mismatch, recording, divergence, statistics  engine/experiment/*_config.hpp
 //   end_effector  engine/model/end_effector.hpp (the runner applies it when it loads the model)
 // job_config_keys() concatenates their tables under their dotted prefixes; the runner's JSON
 // reader and writer, validate() (job_config_validation.hpp) and the documentation check use it.
@@ -21,6 +21,7 @@
 #include "engine/experiment/divergence_config.hpp"
 #include "engine/experiment/mismatch_config.hpp"
 #include "engine/experiment/recording_config.hpp"
+#include "engine/experiment/statistics_config.hpp"
 #include "engine/learning/learning_config.hpp"
 #include "engine/model/end_effector.hpp"
 #include "engine/physics/simulation_config.hpp"
@@ -44,6 +45,7 @@ struct JobConfig {
   MismatchConfig mismatch;
   RecordingConfig recording;
   DivergenceConfig divergence;
+  StatisticsConfig statistics;
 };
 
 /// One key of a job configuration with its full dotted path ("trajectory.sine.duration").

@@ -244,6 +244,7 @@ void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
                                      name(feed_forward_source_names(), FeedForwardSource::none) + ")");
   }
   check_initial_model(config.learning, n, checker);
+  if (const std::string problem = check_statistics_config(config.statistics); !problem.empty()) checker.add("statistics.window", problem);
   const std::vector<int>& checkpoints = config.learning.heldout_checkpoints;
   for (std::size_t i = 0; i < checkpoints.size(); ++i) {
     if (i > 0 && checkpoints[i] <= checkpoints[i - 1]) {

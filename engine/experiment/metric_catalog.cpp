@@ -58,6 +58,25 @@ std::vector<MetricInfo> make_job_entries() {
       {n::tracking_rmse_z, "m", "root mean squared end-effector z error", D::lower, S::task_axis, K::result},
       {n::task_rmse, "m", "root mean squared end-effector distance from the desired point", D::lower, S::job,
        K::result},
+      {n::window_tracking_nmse_x, "1",
+       "end-effector x error over the trajectory points of statistics.window only (counted per loop or reach, or over "
+       "the pass: statistics.window_counting): MSE over var(x_d) within the window; NULL where that std < 0.1 % of 2 x "
+       "reach or no tick fell in the window",
+       D::lower, S::task_axis, K::result},
+      {n::window_tracking_nmse_y, "1",
+       "end-effector y error over the trajectory points of statistics.window only (thesis table 6.3: points 325-750): "
+       "MSE over var(y_d) within the window; NULL where that std < 0.1 % of 2 x reach or no tick fell in the window",
+       D::lower, S::task_axis, K::result},
+      {n::window_tracking_nmse_z, "1",
+       "end-effector z error over the trajectory points of statistics.window only (thesis table 6.3: points 325-750): "
+       "MSE over var(z_d) within the window; NULL where that std < 0.1 % of 2 x reach or no tick fell in the window",
+       D::lower, S::task_axis, K::result},
+      {n::window_tracking_rmse_x, "m", "root mean squared end-effector x error over statistics.window's trajectory points",
+       D::lower, S::task_axis, K::result},
+      {n::window_tracking_rmse_y, "m", "root mean squared end-effector y error over statistics.window's trajectory points",
+       D::lower, S::task_axis, K::result},
+      {n::window_tracking_rmse_z, "m", "root mean squared end-effector z error over statistics.window's trajectory points",
+       D::lower, S::task_axis, K::result},
       {n::ff_fb_ratio_avg, "1", "mean of |ff|/(|ff|+|fb|), the feed-forward share of the torque (thesis tables 6.1-6.7)",
        D::higher, S::joint, K::result},
       {n::ff_fb_ratio_var, "1", "variance of |ff|/(|ff|+|fb|) over the ticks", D::lower, S::joint, K::result},
@@ -167,7 +186,9 @@ const std::vector<std::string>& heldout_control_metric_names() {
   namespace n = metric_names;
   static const std::vector<std::string> names = {
       n::tracking_nmse, n::tracking_rmse, n::tracking_nmse_x, n::tracking_nmse_y, n::tracking_nmse_z,
-      n::tracking_rmse_x, n::tracking_rmse_y, n::tracking_rmse_z, n::task_rmse, n::ff_fb_ratio_avg,
+      n::tracking_rmse_x, n::tracking_rmse_y, n::tracking_rmse_z, n::task_rmse, n::window_tracking_nmse_x,
+      n::window_tracking_nmse_y, n::window_tracking_nmse_z, n::window_tracking_rmse_x, n::window_tracking_rmse_y,
+      n::window_tracking_rmse_z, n::ff_fb_ratio_avg,
       n::ff_fb_ratio_var, n::ff_abs_avg, n::fb_abs_avg, n::torque_saturation_fraction, n::id_nmse, n::id_rmse,
       n::ff_untrusted_fraction};
   return names;

@@ -60,6 +60,13 @@ inline const std::string tracking_rmse_x = "tracking_rmse_x";
 inline const std::string tracking_rmse_y = "tracking_rmse_y";
 inline const std::string tracking_rmse_z = "tracking_rmse_z";
 inline const std::string task_rmse = "task_rmse";
+// Over statistics.window's trajectory points only (statistics_config.hpp); written when it is set.
+inline const std::string window_tracking_nmse_x = "window_tracking_nmse_x";
+inline const std::string window_tracking_nmse_y = "window_tracking_nmse_y";
+inline const std::string window_tracking_nmse_z = "window_tracking_nmse_z";
+inline const std::string window_tracking_rmse_x = "window_tracking_rmse_x";
+inline const std::string window_tracking_rmse_y = "window_tracking_rmse_y";
+inline const std::string window_tracking_rmse_z = "window_tracking_rmse_z";
 inline const std::string ff_fb_ratio_avg = "ff_fb_ratio_avg";
 inline const std::string ff_fb_ratio_var = "ff_fb_ratio_var";
 inline const std::string ff_abs_avg = "ff_abs_avg";

@@ -136,7 +136,7 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
   // checkpoints after chosen segments).
   const CompositeController controller = setup.make_controller();
   FeedForwardProvider feed_forward(config.control, setup.nominal(), learner.get(), &learner_clock);
-  PassStatistics statistics(n, plant.time());
+  PassStatistics statistics(n, plant.time(), config.statistics);
   PassOptions options;
   options.controller = &controller;
   options.feed_forward = &feed_forward;

@@ -36,11 +36,16 @@ struct JobConfigSchema {
   nlohmann::json types;
   const nlohmann::json& type_reference() const { return types.is_null() ? defaults : types; }
   std::function<void(const nlohmann::json& config)> validate;
+  /// A `validate` for many configurations in a row (one sweep's expansion), made once for it and
+  /// dropped after: it may keep what the configurations share (files they read) between calls.
+  /// Unset: `validate`.
+  std::function<std::function<void(const nlohmann::json& config)>()> make_sweep_validate;
   std::vector<InputFileField> input_files;
   /// Resolves values that name stored results (learning.initial_model's stored-model references,
   /// runner/execution/stored_models.hpp) in a job's configuration when the sweep expands, before
-  /// its input files are recorded. Throws std::runtime_error "dotted.path: problem". Unset: none.
-  std::function<void(nlohmann::json& config)> resolve_references;
+  /// its input files are recorded; returns whether it changed `config`. Throws
+  /// std::runtime_error "dotted.path: problem". Unset: none.
+  std::function<bool(nlohmann::json& config)> resolve_references;
   /// Where input paths that no file wrote (the defaults) resolve: the armfarm data directory.
   std::string default_folder = ".";
 };

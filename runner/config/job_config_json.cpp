@@ -5,9 +5,11 @@
 #include "runner/config/config_value_json.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/io/csv_reader.hpp"
+#include "runner/spec/input_files.hpp"
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace armfarm {
@@ -26,18 +28,48 @@ std::vector<std::string> split_path(const std::string& path) {
   return parts;
 }
 
-/// The value at a dotted path, nullptr when absent.
+/// The value at a dotted path, nullptr when absent (no allocation: it runs for every key of
+/// every job a sweep expands).
 const json* find_value(const json& root, const std::string& path) {
   const json* node = &root;
-  for (const std::string& part : split_path(path)) {
+  std::string_view rest = path;
+  while (true) {
+    const std::size_t dot = rest.find('.');
+    const std::string_view part = rest.substr(0, dot);
     if (!node->is_object()) return nullptr;
     const auto found = node->find(part);
     if (found == node->end()) return nullptr;
     node = &*found;
+    if (dot == std::string_view::npos) return node;
+    rest.remove_prefix(dot + 1);
   }
-  return node;
 }
 
+/// find_value for keys read in table order: keys of one parent object follow each other
+/// (learning.lwpr.*), so the parent found for the last key is reused.
+class ValueFinder {
+ public:
+  explicit ValueFinder(const json& root) : root_(root) {}
+  const json* find(const std::string& path) {
+    const std::size_t dot = path.rfind('.');
+    if (dot == std::string::npos) return find_value(root_, path);
+    const std::string_view parent(path.data(), dot);
+    if (parent != parent_path_ || !have_parent_) {
+      parent_ = find_value(root_, std::string(parent));
+      parent_path_ = parent;
+      have_parent_ = true;
+    }
+    if (parent_ == nullptr || !parent_->is_object()) return nullptr;
+    const auto found = parent_->find(std::string_view(path).substr(dot + 1));
+    return found == parent_->end() ? nullptr : &*found;
+  }
+
+ private:
+  const json& root_;
+  std::string_view parent_path_;  // views a key's path in job_config_keys()
+  const json* parent_ = nullptr;
+  bool have_parent_ = false;
+};
 
 void set_value(json& root, const std::string& path, json value) {
   json* node = &root;
@@ -79,11 +111,31 @@ JobConfig parse_job_config(const nlohmann::json& c, int movable_joints,
   return parse_job_config(c, ModelFacts{movable_joints, {}, {}}, stored_model_bytes);
 }
 
-JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
-                           const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
+namespace {
+
+// parse_job_config with each key's value found by `lookup(path)` (nullptr: the default).
+// The content hash `recorded` records for its input `field`, "" when none (or when the value is
+// not the path it records, so that another file is read).
+std::string recorded_hash(const json* recorded, const char* field) {
+  // Only an input read from the path it records: the hash is that file's.
+  if (recorded == nullptr || find_resolved_input(*recorded, field) == nullptr) return "";
+  const auto inputs = recorded->find("inputs");
+  if (inputs == recorded->end() || !inputs->is_object()) return "";
+  const auto entry = inputs->find(field);
+  if (entry == inputs->end() || !entry->is_object()) return "";
+  const auto hash = entry->find("hash");
+  return hash != entry->end() && hash->is_string() ? hash->get<std::string>() : "";
+}
+
+// `recorded` and `contents`: the recorded configuration whose input hashes key `contents`
+// (nullptr: read every file).
+template <typename Lookup>
+JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
+                     const std::function<std::string(const std::string& hash)>& stored_model_bytes,
+                     const json* recorded_config = nullptr, JobFileContents* contents = nullptr) {
   JobConfig config;
   for (const JobConfigKey& key : job_config_keys()) {
-    const json* value = find_value(c, key.path);
+    const json* value = lookup(key.path);
     if (value == nullptr || value->is_null()) continue;  // the default
     std::string suffix;
     const std::string problem = read_field_json(*value, key.field(config), suffix);
@@ -92,10 +144,21 @@ JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
   // The runner reads files; the engine receives their content.
   RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
   if (config.trajectory.kind == TrajectoryKind::recorded && !recorded.file.empty()) {
+    const std::string hash = contents ? recorded_hash(recorded_config, "trajectory.recorded.file") : "";
     try {
-      io::CsvTable table = io::load_csv(recorded.file);
-      recorded.samples = std::move(table.values);
-      recorded.sample_lines = std::move(table.lines);
+      if (!hash.empty() && hash == contents->recorded_hash) {
+        recorded.samples = contents->recorded_samples;
+        recorded.sample_lines = contents->recorded_lines;
+      } else {
+        io::CsvTable table = io::load_csv(recorded.file);
+        recorded.samples = std::move(table.values);
+        recorded.sample_lines = std::move(table.lines);
+        if (!hash.empty()) {
+          contents->recorded_hash = hash;
+          contents->recorded_samples = recorded.samples;
+          contents->recorded_lines = recorded.sample_lines;
+        }
+      }
     } catch (const std::exception& error) {
       throw ConfigError("trajectory.recorded.file", error.what());
     }
@@ -108,7 +171,16 @@ JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
         if (!stored_model_bytes) throw std::runtime_error("a stored model is read from its results database (armfarm run --db)");
         config.learning.initial_model_bytes = stored_model_bytes(initial.substr(prefix.size()));
       } else {
-        config.learning.initial_model_bytes = read_input_file(initial, InputFileKind::learner_model);
+        const std::string hash = contents ? recorded_hash(recorded_config, "learning.initial_model") : "";
+        if (!hash.empty() && hash == contents->model_hash) {
+          config.learning.initial_model_bytes = contents->model_bytes;
+        } else {
+          config.learning.initial_model_bytes = read_input_file(initial, InputFileKind::learner_model);
+          if (!hash.empty()) {
+            contents->model_hash = hash;
+            contents->model_bytes = config.learning.initial_model_bytes;
+          }
+        }
       }
     } catch (const std::exception& error) {
       throw ConfigError("learning.initial_model", error.what());
@@ -121,6 +193,30 @@ JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
     throw ConfigError(path, path.empty() ? text : text.substr(path.size() + 2));
   }
   return config;
+}
+
+}  // namespace
+
+JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
+                           const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
+  ValueFinder finder(c);
+  return parse_with([&](const std::string& path) { return finder.find(path); }, facts, stored_model_bytes);
+}
+
+JobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelFacts& facts,
+                                    const std::function<std::string(const std::string& hash)>& stored_model_bytes,
+                                    JobFileContents* contents) {
+  const auto inputs = recorded.find("inputs");
+  const bool records = inputs != recorded.end() && inputs->is_object() && !inputs->empty();
+  ValueFinder finder(recorded);
+  return parse_with(
+      [&](const std::string& path) -> const json* {
+        if (records && inputs->contains(path)) {
+          if (const json* resolved = find_resolved_input(recorded, path)) return resolved;
+        }
+        return finder.find(path);
+      },
+      facts, stored_model_bytes, &recorded, contents);
 }
 
 }  // namespace armfarm

@@ -49,4 +49,24 @@ JobConfig parse_job_config(const nlohmann::json& config, int movable_joints,
 JobConfig parse_job_config(const nlohmann::json& config, const ModelFacts& facts,
                            const std::function<std::string(const std::string& hash)>& stored_model_bytes = {});
 
+/// The same for a configuration with its inputs recorded (runner/spec/input_files.hpp): each
+/// recorded input field is read from its resolved path, i.e. it parses
+/// calc_config_with_resolved_inputs(recorded) without copying the tree (the sweep check runs it
+/// for every job).
+/// The files parse_recorded_job_config reads (a recorded trajectory, a learner model to start
+/// from), the last one of each kind kept by the content hash its configuration records: the jobs
+/// of a sweep mostly name the same files, which are then read and parsed once for the sweep's
+/// check instead of once a job. Holds at most one file of each kind; not thread-safe.
+struct JobFileContents {
+  std::string recorded_hash;
+  Eigen::MatrixXd recorded_samples;
+  std::vector<int> recorded_lines;
+  std::string model_hash;
+  std::string model_bytes;
+};
+
+JobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelFacts& facts,
+                                    const std::function<std::string(const std::string& hash)>& stored_model_bytes = {},
+                                    JobFileContents* contents = nullptr);
+
 }  // namespace armfarm

@@ -85,6 +85,17 @@ std::function<std::string(const std::string&)> make_stored_model_reader(const st
   return [stored](const std::string& hash) { return stored->find_bytes(hash); };
 }
 
+// The check of a configuration with its inputs recorded: parsed and validated against its model,
+// the end effector chosen. ConfigError naming the path of the first problem.
+void check_config(const nlohmann::json& recorded, ModelCache& models, const std::shared_ptr<StoredModels>& stored,
+                  JobFileContents* contents) {
+  const nlohmann::json* model = find_resolved_input(recorded, "model");
+  const std::string path = (model != nullptr ? *model : recorded.at("model")).get<std::string>();
+  const JobConfig job = parse_recorded_job_config(recorded, make_model_facts(*models.get_file(path)),
+                                                  make_stored_model_reader(stored), contents);
+  models.get(path, job.end_effector);
+}
+
 }  // namespace
 
 JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stored) {
@@ -92,13 +103,22 @@ JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stor
   JobConfigSchema schema;
   schema.defaults = make_job_config_defaults();
   schema.types = make_job_config_types();
-  schema.validate = [models, stored](const nlohmann::json& recorded) {
-    const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
-    const std::string path = config.at("model").get<std::string>();
-    const JobConfig job = parse_job_config(config, make_model_facts(*models->get_file(path)), make_stored_model_reader(stored));
-    models->get(path, job.end_effector);
+  schema.validate = [models, stored](const nlohmann::json& recorded) { check_config(recorded, *models, stored, nullptr); };
+  schema.make_sweep_validate = [models, stored] {
+    auto contents = std::make_shared<JobFileContents>();  // the sweep's recorded trajectory and initial model, read once
+    return std::function<void(const nlohmann::json&)>([models, stored, contents](const nlohmann::json& recorded) {
+      check_config(recorded, *models, stored, contents.get());
+    });
   };
-  schema.resolve_references = [stored](nlohmann::json& config) { resolve_stored_model_reference(config, stored.get()); };
+  schema.resolve_references = [stored](nlohmann::json& config) {
+    // Only a reference object (or null, which means none and is removed) is rewritten.
+    const auto learning = config.find("learning");
+    if (learning == config.end() || !learning->is_object()) return false;
+    const auto initial = learning->find("initial_model");
+    if (initial == learning->end() || !(initial->is_object() || initial->is_null())) return false;
+    resolve_stored_model_reference(config, stored.get());
+    return true;
+  };
   InputFileField model_field;
   model_field.path = "model";
   model_field.list_files = [models](const std::string& resolved) {

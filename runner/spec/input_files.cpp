@@ -70,6 +70,13 @@ const InputFileReader::Content& InputFileReader::read(const InputFileField& fiel
   return cache_.emplace(cache_key, std::move(content)).first->second;
 }
 
+const std::string& InputFileReader::resolve(const std::string& path, const std::string& folder) {
+  auto key = std::make_pair(path, folder);
+  const auto found = resolved_.find(key);
+  if (found != resolved_.end()) return found->second;
+  return resolved_.emplace(std::move(key), calc_resolved_path(path, folder)).first->second;
+}
+
 std::vector<InputProblem> record_input_files(nlohmann::json& config, const std::vector<InputFileField>& fields,
                                              const std::function<std::string(const std::string&)>& folder_of,
                                              InputFileReader& reader) {
@@ -82,7 +89,7 @@ std::vector<InputProblem> record_input_files(nlohmann::json& config, const std::
     if (element == nullptr || !element->is_string() || element->get<std::string>().empty()) continue;
     if (field.is_read && !field.is_read(config)) continue;
     const std::string written = element->get<std::string>();
-    const std::string resolved = calc_resolved_path(written, folder_of(field.path));
+    const std::string resolved = reader.resolve(written, folder_of(field.path));
     try {
       const InputFileReader::Content& content = reader.read(field, resolved);
       inputs[field.path] = {{"path", written}, {"resolved", resolved}, {"hash", content.hash}, {"files", content.files}};
@@ -107,6 +114,26 @@ nlohmann::json calc_config_with_resolved_inputs(const nlohmann::json& config) {
   });
   result.erase("inputs");
   return result;
+}
+
+const nlohmann::json* find_resolved_input(const nlohmann::json& config, const std::string& field) {
+  const auto inputs = config.find("inputs");
+  if (inputs == config.end() || !inputs->is_object()) return nullptr;
+  const auto entry = inputs->find(field);
+  if (entry == inputs->end() || !entry->is_object() || entry->value("kind", "file") != "file") return nullptr;
+  const auto path = entry->find("path");
+  const auto resolved = entry->find("resolved");
+  if (path == entry->end() || resolved == entry->end()) return nullptr;
+  std::vector<PathSegment> segments;
+  try {
+    segments = parse_config_path(field);
+  } catch (const std::invalid_argument&) {
+    return nullptr;
+  }
+  std::string problem;
+  const nlohmann::json* element = find_config_element(config, segments, problem);
+  if (element == nullptr || !element->is_string() || *element != *path) return nullptr;
+  return &*resolved;
 }
 
 nlohmann::json make_job_key_document(const nlohmann::json& config) {

@@ -40,9 +40,12 @@ class InputFileReader {
   };
   /// Throws std::exception with a one-line message when the input cannot be read.
   const Content& read(const InputFileField& field, const std::string& resolved_path);
+  /// calc_resolved_path(path, folder), computed once per pair.
+  const std::string& resolve(const std::string& path, const std::string& folder);
 
  private:
   std::map<std::pair<std::string, std::string>, Content> cache_;
+  std::map<std::pair<std::string, std::string>, std::string> resolved_;
 };
 
 /// A problem with one input: the field's dotted path and the message.
@@ -62,6 +65,10 @@ std::vector<InputProblem> record_input_files(nlohmann::json& config, const std::
 /// The configuration a job runs from: `config` without "inputs", with every recorded input field
 /// set to its resolved path.
 nlohmann::json calc_config_with_resolved_inputs(const nlohmann::json& config);
+
+/// The resolved path `config` records for its input field `field` (the value
+/// calc_config_with_resolved_inputs sets there), or nullptr when it records none for it.
+const nlohmann::json* find_resolved_input(const nlohmann::json& config, const std::string& field);
 
 /// What the job key hashes: `config` with each recorded input's path replaced by
 /// "xxh3-128:<hash>" and "inputs" reduced to {name: hash}; `config` itself when it records none.

@@ -3,6 +3,7 @@
 #include "runner/spec/canonical_json.hpp"
 #include "runner/spec/config_check.hpp"
 #include "runner/spec/input_files.hpp"
+#include "runner/spec/job_key_template.hpp"
 #include "runner/spec/spec_error.hpp"
 
 #include "engine/random/random_stream.hpp"
@@ -12,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <string_view>
 #include <unordered_set>
 
 namespace armfarm {
@@ -23,6 +25,7 @@ struct Assignment {
   const std::vector<PathSegment>* segments;
   nlohmann::json value;
   std::string location;
+  std::string canonical = calc_canonical_json(value);  ///< what the job key hashes of it
 };
 using FactorEntry = std::vector<Assignment>;
 using Factor = std::vector<FactorEntry>;
@@ -162,115 +165,172 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const 
                      std::to_string(limits.max_jobs) + " (--max-jobs N raises it)"});
   }
   ExpandedSweep sweep;
+  sweep.jobs.reserve(static_cast<std::size_t>(count));  // never reallocated below: seen_keys views its keys
   const std::vector<PathSegment> seed_segments = {{"seed", std::nullopt}};
   const std::vector<Factor> factors = make_factors(spec, seed_segments);
   const auto shared_base = std::make_shared<const nlohmann::json>(spec.base);
   // Jobs mostly record the same inputs: one copy per distinct "inputs" object.
   std::map<std::string, std::shared_ptr<const nlohmann::json>> shared_inputs;
+  std::shared_ptr<const nlohmann::json> last_inputs;
+  nlohmann::json include_inputs = nlohmann::json::object();
+  for (std::size_t i = 0; i < spec.includes.size(); ++i) {
+    const SpecInclude& include = spec.includes[i];
+    include_inputs["include[" + std::to_string(i) + "]"] = {
+        {"path", include.path}, {"resolved", include.resolved}, {"hash", include.hash}, {"kind", "include"}};
+  }
+  // Every job sets the same elements (one entry of each factor); the key of a job hashes the
+  // canonical text of its configuration, which differs from job to job only there: one cut-up
+  // text (JobKeyTemplate) per distinct "inputs" serves every job that records them.
+  std::vector<std::vector<PathSegment>> holes;
+  for (const Factor& factor : factors) {
+    for (const Assignment& a : factor.front()) holes.push_back(*a.segments);
+  }
+  std::map<const nlohmann::json*, std::unique_ptr<const JobKeyTemplate>> key_templates;
+  std::string key_scratch;
+  std::vector<const std::string*> key_values(holes.size());
+
+  // The job being checked, in place: the base with this job's values set and its inputs recorded;
+  // afterwards its elements are set back to the base's (or the whole tree when something else
+  // changed), so a job costs no copy of the ~15 KB tree.
+  nlohmann::json work = spec.base;
+  std::vector<const nlohmann::json*> base_values;
+  for (const std::vector<PathSegment>& hole : holes) {
+    std::string unused;
+    base_values.push_back(find_config_element(*shared_base, hole, unused));
+  }
+  const auto base_inputs = shared_base->find("inputs");
+
+  const std::function<void(const nlohmann::json&)> validate =
+      schema.make_sweep_validate ? schema.make_sweep_validate() : schema.validate;
 
   std::vector<std::size_t> counter(factors.size(), 0);
   std::vector<std::string> errors;
   std::set<std::string> seen_errors;
-  std::unordered_set<std::string> seen_keys;
+  std::unordered_set<std::string_view> seen_keys;
   InputFileReader reader;
+  std::vector<const Assignment*> slots;
+  FactorEntry assignments;
   for (bool more = true; more;) {
-    FactorEntry assignments;
+    slots.clear();
     for (std::size_t f = 0; f < factors.size(); ++f) {
-      const FactorEntry& entry = factors[f][counter[f]];
-      assignments.insert(assignments.end(), entry.begin(), entry.end());
+      for (const Assignment& a : factors[f][counter[f]]) slots.push_back(&a);
     }
-    // The job as it is checked; what the sweep keeps of it is compact (ExpandedJob).
-    struct {
-      std::string key;
-      nlohmann::json params;
-      nlohmann::json config;
-      std::int64_t seed = 0;
-    } job;
-    job.config = spec.base;
-    job.params = nlohmann::json::object();
-    for (const Assignment& a : assignments) {
-      set_config_element(job.config, *a.segments, a.value);
-      job.params[a.path] = a.value;
+    bool dirty = false;  // changed beyond the holes and "inputs": restore the whole tree
+    nlohmann::json params = nlohmann::json::object();
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+      const Assignment& a = *slots[i];
+      set_config_element(work, *a.segments, a.value);
+      params[a.path] = a.value;
+      key_values[i] = &a.canonical;
     }
+    // Spec locations for messages (built only when a message needs them).
+    auto located = [&]() -> const FactorEntry& {
+      assignments.clear();
+      for (const Assignment* a : slots) assignments.push_back(*a);
+      return assignments;
+    };
     // Stored results the job starts from (a learned model), by hash.
     bool unresolved = false;
     bool resolved_changed = false;
     if (schema.resolve_references) {
       try {
-        const nlohmann::json before = job.config;
-        schema.resolve_references(job.config);
-        resolved_changed = job.config != before;
+        resolved_changed = schema.resolve_references(work);
       } catch (const std::runtime_error& e) {
         const std::string what = e.what();
         const std::size_t colon = what.find(": ");
         const std::string path = colon == std::string::npos ? std::string() : what.substr(0, colon);
-        const std::string line = spec.file + ": " + locate_error(path, assignments) + ": " + what;
+        const std::string line = spec.file + ": " + locate_error(path, located()) + ": " + what;
         if (seen_errors.insert(line).second && errors.size() < 20) errors.push_back(line);
         unresolved = true;
       }
+      dirty = resolved_changed || unresolved;
     }
     // Input files: includes first, then every file field, resolved against the file that wrote it.
-    for (std::size_t i = 0; i < spec.includes.size(); ++i) {
-      const SpecInclude& include = spec.includes[i];
-      job.config["inputs"]["include[" + std::to_string(i) + "]"] = {
-          {"path", include.path}, {"resolved", include.resolved}, {"hash", include.hash}, {"kind", "include"}};
+    if (!include_inputs.empty()) {
+      nlohmann::json& inputs = work["inputs"];
+      if (!inputs.is_object()) inputs = nlohmann::json::object();
+      for (const auto& [name, entry] : include_inputs.items()) inputs[name] = entry;
     }
     auto folder_of = [&](const std::string& field) {
       const auto found = spec.input_folders.find(field);
       return found == spec.input_folders.end() ? schema.default_folder : found->second;
     };
-    const std::vector<InputProblem> problems = record_input_files(job.config, schema.input_files, folder_of, reader);
+    const std::vector<InputProblem> problems = record_input_files(work, schema.input_files, folder_of, reader);
     // A file that cannot be read must not hide the job's other problems: check the rest against
     // the field's default (said so in the message), and keep the job out of the sweep.
-    nlohmann::json check_config = unresolved ? nlohmann::json() : job.config;
+    const nlohmann::json* check_config = unresolved ? nullptr : &work;
+    nlohmann::json stand_in;
     std::string stand_in_note;
+    if (!problems.empty() && check_config != nullptr) {
+      stand_in = work;
+      check_config = &stand_in;
+    }
     for (const InputProblem& problem : problems) {
-      const std::string line = locate_input(problem.field, spec, assignments) + ": " + problem.message;
+      const std::string line = locate_input(problem.field, spec, located()) + ": " + problem.message;
       if (seen_errors.insert(line).second && errors.size() < 20) errors.push_back(line);
       std::string unused;
       const std::vector<PathSegment> segments = parse_config_path(problem.field);
       const nlohmann::json* fallback = find_config_element(schema.defaults, segments, unused);
-      if (fallback != nullptr && !check_config.is_null()) set_config_element(check_config, segments, *fallback);
+      if (fallback != nullptr && check_config != nullptr) set_config_element(stand_in, segments, *fallback);
       stand_in_note += (stand_in_note.empty() ? " (checked with the default " : ", ") + problem.field;
     }
-    if (!problems.empty() && !check_config.is_null()) {
+    if (!problems.empty() && check_config != nullptr) {
       stand_in_note += ", since the file cannot be read)";
-      if (!record_input_files(check_config, schema.input_files, [&](const std::string&) { return schema.default_folder; },
+      if (!record_input_files(stand_in, schema.input_files, [&](const std::string&) { return schema.default_folder; },
                               reader).empty()) {
-        check_config = nlohmann::json();  // even the default cannot be read: nothing more to check
+        check_config = nullptr;  // even the default cannot be read: nothing more to check
       }
     }
     try {
-      if (schema.validate && !check_config.is_null()) schema.validate(check_config);
+      if (validate && check_config != nullptr) validate(*check_config);
     } catch (const ConfigError& e) {
-      const std::string where = locate_error(e.json_path(), assignments);
+      const std::string where = locate_error(e.json_path(), located());
       const std::string what = e.what();
       const std::string bare = e.json_path().empty() ? what : what.substr(e.json_path().size() + 2);
       const bool on_axis = where.rfind("base", 0) != 0;
       const std::string line = spec.file + ": " + where + ": " + (on_axis && !e.json_path().empty() ? e.json_path() + ": " : "") +
                                bare + stand_in_note;
       if (seen_errors.insert(line).second && errors.size() < 20) errors.push_back(line);
-      check_config = nlohmann::json();
+      check_config = nullptr;
     }
-    if (problems.empty() && !check_config.is_null()) {
-      job.key = calc_job_key(job.config);
-      if (job.config.contains("seed") && job.config["seed"].is_number_integer()) {
-        job.seed = job.config["seed"].get<std::int64_t>();
-      }
-      if (seen_keys.insert(job.key).second) {
-        ExpandedJob compact;
-        compact.key = std::move(job.key);
-        compact.params = std::move(job.params);
-        compact.seed = job.seed;
-        compact.base = shared_base;
-        if (job.config.contains("inputs")) {
-          const nlohmann::json& inputs = job.config["inputs"];
-          auto& slot = shared_inputs[inputs.dump()];
-          if (!slot) slot = std::make_shared<const nlohmann::json>(inputs);
-          compact.inputs = slot;
+    if (problems.empty() && check_config != nullptr) {
+      ExpandedJob compact;
+      const auto inputs = work.find("inputs");
+      if (inputs != work.end()) {
+        if (!last_inputs || *last_inputs != *inputs) {
+          auto& slot = shared_inputs[inputs->dump()];
+          if (!slot) slot = std::make_shared<const nlohmann::json>(*inputs);
+          last_inputs = slot;
         }
-        if (resolved_changed) compact.full = std::make_shared<const nlohmann::json>(job.config);
+        compact.inputs = last_inputs;
+      }
+      const JobKeyTemplate* key_template = nullptr;
+      if (!resolved_changed && key_templates.size() < 64) {
+        auto& entry = key_templates[compact.inputs.get()];
+        if (!entry) entry = std::make_unique<const JobKeyTemplate>(work, holes);
+        if (entry->usable()) key_template = entry.get();
+      }
+      compact.key = key_template ? key_template->calc_key(key_values, key_scratch) : calc_job_key(work);
+      const auto seed = work.find("seed");
+      if (seed != work.end() && seed->is_number_integer()) compact.seed = seed->get<std::int64_t>();
+      // The set views the kept jobs' keys: `jobs` holds its reserved `count` places, so they stay put.
+      if (seen_keys.count(compact.key) == 0) {
+        compact.params = std::move(params);
+        compact.base = shared_base;
+        if (resolved_changed) compact.full = std::make_shared<const nlohmann::json>(work);
         sweep.jobs.push_back(std::move(compact));
+        seen_keys.insert(sweep.jobs.back().key);
+      }
+    }
+    // Back to the base for the next job.
+    if (dirty) {
+      work = *shared_base;
+    } else {
+      for (std::size_t i = 0; i < slots.size(); ++i) set_config_element(work, holes[i], *base_values[i]);
+      if (base_inputs == shared_base->end()) {
+        work.erase("inputs");
+      } else {
+        work["inputs"] = *base_inputs;
       }
     }
     // Odometer: the last factor varies fastest.
@@ -285,12 +345,21 @@ ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const 
   }
   if (!errors.empty()) throw SpecError(errors);
 
-  nlohmann::json keys = nlohmann::json::array();
-  std::vector<std::string> sorted_keys;
-  for (const ExpandedJob& job : sweep.jobs) sorted_keys.push_back(job.key);
-  std::sort(sorted_keys.begin(), sorted_keys.end());
-  for (const std::string& key : sorted_keys) keys.push_back(key);
-  sweep.spec_hash = calc_text_hash(calc_canonical_json(keys));
+  std::vector<const std::string*> sorted_keys;
+  sorted_keys.reserve(sweep.jobs.size());
+  for (const ExpandedJob& job : sweep.jobs) sorted_keys.push_back(&job.key);
+  std::sort(sorted_keys.begin(), sorted_keys.end(), [](const std::string* a, const std::string* b) { return *a < *b; });
+  // calc_canonical_json of the sorted keys as a JSON array (hex digits need no escaping).
+  std::string keys = "[";
+  keys.reserve(2 + sorted_keys.size() * 35);
+  for (const std::string* key : sorted_keys) {
+    if (keys.size() > 1) keys += ',';
+    keys += '"';
+    keys += *key;
+    keys += '"';
+  }
+  keys += ']';
+  sweep.spec_hash = calc_text_hash(keys);
   sweep.spec = std::move(spec);
   return sweep;
 }

@@ -156,7 +156,9 @@ TEST(DistanceMetric, FactorProductsMatchEigen) {
     ASSERT_EQ(D.rows(), n);
     ASSERT_EQ(D.cols(), n);
     EXPECT_LE((D - D_eigen).cwiseAbs().maxCoeff(), 1e-14 * n) << "n " << n;
-    if (n <= 3) EXPECT_EQ(D, D.transpose()) << "n " << n;  // computed once per pair and mirrored
+    if (n <= 3) {
+      EXPECT_EQ(D, D.transpose()) << "n " << n;  // computed once per pair and mirrored
+    }
   }
 }
 

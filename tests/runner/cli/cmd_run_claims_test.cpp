@@ -117,8 +117,9 @@ TEST_F(CmdRunClaimsTest, TwoRunnersOnOneFreshDatabaseRunEveryJobOnce) {
 std::pair<pid_t, std::vector<std::string>> CmdRunClaimsTest::kill_a_runner_mid_sweep(const std::string& db) {
   const Process victim = start({"run", path("s24.json"), "--db", db, "-j", "2", "--claim-timeout", "1"}, path("v.txt"));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (count_status(db, "done") < 4 && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  // Killed while it holds a job: after 4 are done, at a moment a job is running.
+  while ((count_status(db, "done") < 4 || count_status(db, "running") == 0) && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   kill(victim.pid, SIGKILL);
   EXPECT_EQ(wait_exit_code(victim), 128 + SIGKILL) << "the sweep ended before it could be killed";
