@@ -36,7 +36,8 @@ ModelFileFrame read_model_file_frame(const std::string& all, const char (&magic)
     throw std::runtime_error(name + " model file: byte 0: not an armfarm " + name + " model (bad magic)");
   }
   constexpr std::size_t kHeaderBytes = 12;  // version u32 + payload size u64
-  ModelFileReader head(all.substr(sizeof magic, kHeaderBytes), sizeof magic, name);
+  const std::string header = all.substr(sizeof magic, kHeaderBytes);  // the reader keeps a reference
+  ModelFileReader head(header, sizeof magic, name);
   ModelFileFrame frame;
   frame.version = head.get_u32();
   if (frame.version > newest_version) {
@@ -54,7 +55,8 @@ ModelFileFrame read_model_file_frame(const std::string& all, const char (&magic)
   }
   frame.payload = all.substr(start, length);
   frame.payload_offset = start;
-  ModelFileReader tail(all.substr(start + length), start + length, name);
+  const std::string trailer = all.substr(start + length);
+  ModelFileReader tail(trailer, start + length, name);
   if (tail.get_u64() != calc_model_file_checksum(frame.payload)) {
     throw std::runtime_error(name + " model file: byte " + std::to_string(start + length) +
                              ": checksum mismatch (corrupt file)");

@@ -53,12 +53,14 @@ class ModelFileWriter {
   std::string bytes_;
 };
 
-/// Reads encoded values from `bytes`, which start at byte `base` of the file. Errors throw
+/// Reads encoded values from `bytes` (kept by reference: it must outlive the reader), which start
+/// at byte `base` of the file. Errors throw
 /// std::runtime_error "<format> model file: byte N: what", N where the offending value starts.
 class ModelFileReader {
  public:
   ModelFileReader(const std::string& bytes, std::size_t base, std::string format)
       : bytes_(bytes), base_(base), format_(std::move(format)) {}
+  ModelFileReader(std::string&&, std::size_t, std::string) = delete;  // would dangle
 
   [[noreturn]] void fail(const std::string& what) const { fail_at(pos_, what); }
   [[noreturn]] void fail_at(std::size_t pos, const std::string& what) const;
