@@ -39,7 +39,7 @@ const std::vector<ConfigKey<LearningConfig>>& learning_config_keys() {
        [](C& c) { return make_field(c.train_fraction); }},
       {"epochs", "", closed(1, 1000), ListSize::any, "batch: passes over the shuffled training samples",
        [](C& c) { return make_integer_field(c.epochs); }},
-      {"collect_repeats", "", closed(1, 100), ListSize::any, "batch: trajectory passes collected under feedback",
+      {"collect_repeats", "", closed(1, 1000), ListSize::any, "batch: trajectory passes collected under feedback",
        [](C& c) { return make_integer_field(c.collect_repeats); }},
       {"collect_gain_scale", "", closed(0.0, 100.0), ListSize::any, "batch: gain scale of the feedback controller while collecting",
        [](C& c) { return make_field(c.collect_gain_scale); }},
