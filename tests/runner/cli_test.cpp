@@ -10,17 +10,12 @@
 #include "support/command_line.hpp"
 
 using armfarm::test_support::CommandResult;
-using armfarm::test_support::run_command_line;
+using armfarm::test_support::run_armfarm;
 
 namespace {
 
-CommandResult run_command(const std::string& arguments) {
-  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments;
-  return run_command_line(command);
-}
-
 TEST(Cli, HelpListsEverySubcommand) {
-  const CommandResult result = run_command("--help");
+  const CommandResult result = run_armfarm("--help");
   EXPECT_EQ(result.exit_code, 0);
   for (const auto& entry : armfarm::cli::all_subcommands()) {
     EXPECT_NE(result.output.find(entry.name), std::string::npos) << entry.name;
@@ -29,13 +24,13 @@ TEST(Cli, HelpListsEverySubcommand) {
 
 TEST(Cli, EverySubcommandHasHelp) {
   for (const auto& entry : armfarm::cli::all_subcommands()) {
-    const CommandResult result = run_command(std::string(entry.name) + " --help");
+    const CommandResult result = run_armfarm(std::string(entry.name) + " --help");
     EXPECT_EQ(result.exit_code, 0) << entry.name << ": " << result.output;
   }
 }
 
 TEST(Cli, UnknownSubcommandExitsTwo) {
-  const CommandResult result = run_command("no-such-command");
+  const CommandResult result = run_armfarm("no-such-command");
   EXPECT_EQ(result.exit_code, 2) << result.output;
 }
 

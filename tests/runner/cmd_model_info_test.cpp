@@ -12,14 +12,9 @@
 #include "support/command_line.hpp"
 
 using armfarm::test_support::CommandResult;
-using armfarm::test_support::run_command_line;
+using armfarm::test_support::run_armfarm;
 
 namespace {
-
-CommandResult run_armfarm(const std::string& arguments) {
-  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments;
-  return run_command_line(command);
-}
 
 const std::string kModels = std::string(ARMFARM_SOURCE_DIR) + "/models/";
 

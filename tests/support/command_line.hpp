@@ -27,4 +27,11 @@ inline CommandResult run_command_line(const std::string& command_line) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, output};
 }
 
+#ifdef ARMFARM_BINARY
+/// Runs the armfarm binary under test with `arguments` (a shell-quoted argument string).
+inline CommandResult run_armfarm(const std::string& arguments) {
+  return run_command_line(std::string(ARMFARM_BINARY) + " " + arguments);
+}
+#endif
+
 }  // namespace armfarm::test_support

@@ -17,14 +17,9 @@
 #include "support/command_line.hpp"
 
 using armfarm::test_support::CommandResult;
-using armfarm::test_support::run_command_line;
+using armfarm::test_support::run_armfarm;
 
 namespace {
-
-CommandResult run_command(const std::string& arguments) {
-  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments;
-  return run_command_line(command);
-}
 
 class FitCommand : public ::testing::Test {
  protected:
@@ -52,7 +47,7 @@ class FitCommand : public ::testing::Test {
 
 TEST_F(FitCommand, SsgprFitsReportsAndSavesALoadableModel) {
   std::ofstream(path("params.json")) << R"({"features": 80, "fit_samples": 200, "fit_iterations": 40})";
-  const CommandResult r = run_command("fit --learner ssgpr --train " + path("train.csv") + " --test " + path("test.csv") +
+  const CommandResult r = run_armfarm("fit --learner ssgpr --train " + path("train.csv") + " --test " + path("test.csv") +
                                       " --inputs 2 --params " + path("params.json") + " --epochs 2 --shuffle 1 --json --save " +
                                       path("model.ssgpr"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -74,7 +69,7 @@ TEST_F(FitCommand, SsgprFitsReportsAndSavesALoadableModel) {
 
 TEST_F(FitCommand, LwprIsTheDefaultAndTheAliasAgrees) {
   const std::string args = " --train " + path("train.csv") + " --test " + path("test.csv") + " --inputs 2 --shuffle 3 --json";
-  const CommandResult fit = run_command("fit" + args), alias = run_command("lwpr fit" + args);
+  const CommandResult fit = run_armfarm("fit" + args), alias = run_armfarm("lwpr fit" + args);
   ASSERT_EQ(fit.exit_code, 0) << fit.output;
   ASSERT_EQ(alias.exit_code, 0) << alias.output;
   const auto a = nlohmann::json::parse(fit.output), b = nlohmann::json::parse(alias.output);
@@ -86,22 +81,22 @@ TEST_F(FitCommand, LwprIsTheDefaultAndTheAliasAgrees) {
 
 TEST_F(FitCommand, BadInputExitsTwoWithOneLine) {
   std::ofstream(path("bad.json")) << R"({"features": 0})";
-  CommandResult r = run_command("fit --learner ssgpr --train " + path("train.csv") + " --test " + path("test.csv") +
+  CommandResult r = run_armfarm("fit --learner ssgpr --train " + path("train.csv") + " --test " + path("test.csv") +
                                 " --inputs 2 --params " + path("bad.json"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("bad.json: features: 0 is outside the allowed range [1, 2000]"), std::string::npos) << r.output;
   std::ofstream(path("unknown.json")) << R"({"feature": 10})";
-  r = run_command("fit --learner ssgpr --train " + path("train.csv") + " --test " + path("test.csv") + " --inputs 2 --params " +
+  r = run_armfarm("fit --learner ssgpr --train " + path("train.csv") + " --test " + path("test.csv") + " --inputs 2 --params " +
                   path("unknown.json"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("unknown.json: feature: unknown parameter"), std::string::npos) << r.output;
   std::ofstream(path("big_fit.json")) << R"({"fit_samples": 1000})";
-  r = run_command("fit --learner ssgpr --train " + path("train.csv") + " --test " + path("test.csv") + " --inputs 2 --params " +
+  r = run_armfarm("fit --learner ssgpr --train " + path("train.csv") + " --test " + path("test.csv") + " --inputs 2 --params " +
                   path("big_fit.json") + " --save " + path("never.ssgpr"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("fewer than fit_samples = 1000"), std::string::npos) << r.output;
   EXPECT_FALSE(std::filesystem::exists(path("never.ssgpr")));
-  r = run_command("fit --learner gp --train " + path("train.csv") + " --test " + path("test.csv") + " --inputs 2");
+  r = run_armfarm("fit --learner gp --train " + path("train.csv") + " --test " + path("test.csv") + " --inputs 2");
   EXPECT_EQ(r.exit_code, 2) << r.output;
 }
 

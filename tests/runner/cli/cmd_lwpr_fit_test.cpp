@@ -17,14 +17,9 @@
 #include "support/command_line.hpp"
 
 using armfarm::test_support::CommandResult;
-using armfarm::test_support::run_command_line;
+using armfarm::test_support::run_armfarm;
 
 namespace {
-
-CommandResult run_command(const std::string& arguments) {
-  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments;
-  return run_command_line(command);
-}
 
 class LwprFitCommand : public ::testing::Test {
  protected:
@@ -51,7 +46,7 @@ class LwprFitCommand : public ::testing::Test {
 
 TEST_F(LwprFitCommand, FitsAndReportsJson) {
   std::ofstream(path("params.json")) << R"({"init_D": 4, "w_gen": 0.2, "norm_in": "std"})";
-  const CommandResult r = run_command("lwpr fit --train " + path("train.csv") + " --test " + path("test.csv") +
+  const CommandResult r = run_armfarm("lwpr fit --train " + path("train.csv") + " --test " + path("test.csv") +
                                       " --inputs 2 --params " + path("params.json") +
                                       " --epochs 5 --shuffle 1 --json --save " + path("model.lwpr"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -69,15 +64,15 @@ TEST_F(LwprFitCommand, FitsAndReportsJson) {
 
 TEST_F(LwprFitCommand, BadInputExitsTwoWithOneLine) {
   std::ofstream(path("bad_params.json")) << R"({"w_gem": 0.2})";
-  CommandResult r = run_command("lwpr fit --train " + path("train.csv") + " --test " + path("test.csv") +
+  CommandResult r = run_armfarm("lwpr fit --train " + path("train.csv") + " --test " + path("test.csv") +
                                 " --inputs 2 --params " + path("bad_params.json"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("w_gem: unknown parameter (did you mean 'w_gen'?)"), std::string::npos) << r.output;
   std::ofstream(path("broken.csv")) << "x1,x2,y1\n1,2,3\n4,5\n";
-  r = run_command("lwpr fit --train " + path("broken.csv") + " --test " + path("test.csv") + " --inputs 2");
+  r = run_armfarm("lwpr fit --train " + path("broken.csv") + " --test " + path("test.csv") + " --inputs 2");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("broken.csv:3:"), std::string::npos) << r.output;
-  r = run_command("lwpr fit --train " + path("train.csv") + " --test " + path("test.csv") + " --inputs 4");
+  r = run_armfarm("lwpr fit --train " + path("train.csv") + " --test " + path("test.csv") + " --inputs 4");
   EXPECT_EQ(r.exit_code, 2) << r.output;
 }
 

@@ -14,14 +14,9 @@
 #include "support/command_line.hpp"
 
 using armfarm::test_support::CommandResult;
-using armfarm::test_support::run_command_line;
+using armfarm::test_support::run_armfarm;
 
 namespace {
-
-CommandResult run_armfarm(const std::string& arguments) {
-  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments;
-  return run_command_line(command);
-}
 
 const std::string kPlanar = std::string(ARMFARM_SOURCE_DIR) + "/models/planar2.urdf";
 

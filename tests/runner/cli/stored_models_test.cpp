@@ -20,17 +20,12 @@
 #include "support/command_line.hpp"
 
 using armfarm::test_support::CommandResult;
-using armfarm::test_support::run_command_line;
+using armfarm::test_support::run_armfarm;
 
 namespace armfarm {
 namespace {
 
 namespace fs = std::filesystem;
-
-CommandResult run_command(const std::string& arguments) {
-  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments;
-  return run_command_line(command);
-}
 
 // Train: one online job on two joints over the default sine (TRAIN_DURATION s), storing its
 // model. Test: two frozen jobs starting from it, on 4 s of the sine and of a smaller one.
@@ -70,12 +65,12 @@ TEST_F(StoredModelsCli, TwoStagesRunInOrderFromTheStoredModelAndResume) {
   write_spec("staged.json", "4");
   const std::string db = path("staged.db");
   // The train job cannot finish within a microsecond: the test stage must not run.
-  const CommandResult cut = run_command("run " + path("staged.json") + " --db " + db + " -j 2 --timeout 0.000001");
+  const CommandResult cut = run_armfarm("run " + path("staged.json") + " --db " + db + " -j 2 --timeout 0.000001");
   EXPECT_EQ(cut.exit_code, 1) << cut.output;
   EXPECT_NE(cut.output.find("later stages did not run"), std::string::npos) << cut.output;
   EXPECT_EQ(cut.output.find("sweep twostage.test"), std::string::npos) << cut.output;
 
-  const CommandResult first = run_command("run " + path("staged.json") + " --db " + db + " -j 2");
+  const CommandResult first = run_armfarm("run " + path("staged.json") + " --db " + db + " -j 2");
   ASSERT_EQ(first.exit_code, 0) << first.output;
   const std::size_t train_at = first.output.find("sweep twostage.train (stage 1 of 2)");
   const std::size_t test_at = first.output.find("sweep twostage.test (stage 2 of 2)");
@@ -107,7 +102,7 @@ TEST_F(StoredModelsCli, TwoStagesRunInOrderFromTheStoredModelAndResume) {
   }
 
   // Resume: everything is done, nothing runs again.
-  const CommandResult again = run_command("run " + path("staged.json") + " --db " + db + " -j 2");
+  const CommandResult again = run_armfarm("run " + path("staged.json") + " --db " + db + " -j 2");
   EXPECT_EQ(again.exit_code, 0) << again.output;
   EXPECT_NE(again.output.find("sweep twostage.train: 0 done, 0 failed, 0 diverged, 0 timed out, 1 already done"), std::string::npos)
       << again.output;
@@ -117,7 +112,7 @@ TEST_F(StoredModelsCli, TwoStagesRunInOrderFromTheStoredModelAndResume) {
   // A different training run (only the train stage changed) stores a different model: the test
   // jobs, whose configurations differ only in the model's hash, get new keys and run again.
   write_spec("staged.json", "6");
-  const CommandResult changed = run_command("run " + path("staged.json") + " --db " + db + " -j 2");
+  const CommandResult changed = run_armfarm("run " + path("staged.json") + " --db " + db + " -j 2");
   EXPECT_EQ(changed.exit_code, 0) << changed.output;
   EXPECT_NE(changed.output.find("sweep twostage.test: 2 done, 0 failed, 0 diverged, 0 timed out, 0 already done"), std::string::npos)
       << changed.output;
@@ -126,7 +121,7 @@ TEST_F(StoredModelsCli, TwoStagesRunInOrderFromTheStoredModelAndResume) {
 TEST_F(StoredModelsCli, LwprVerbsInspectPredictAndExportAStoredModel) {
   write_spec("staged.json", "4");
   const std::string db = path("verbs.db");
-  const CommandResult run = run_command("run " + path("staged.json") + " --db " + db + " -j 2");
+  const CommandResult run = run_armfarm("run " + path("staged.json") + " --db " + db + " -j 2");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   std::string key;
   std::string bytes;
@@ -138,14 +133,14 @@ TEST_F(StoredModelsCli, LwprVerbsInspectPredictAndExportAStoredModel) {
   }
   const auto learner = decode_learner_model(bytes);
 
-  const CommandResult exported = run_command("lwpr export --db " + db + " --job " + key.substr(0, 8) + " -o " + path("m.lwpr"));
+  const CommandResult exported = run_armfarm("lwpr export --db " + db + " --job " + key.substr(0, 8) + " -o " + path("m.lwpr"));
   ASSERT_EQ(exported.exit_code, 0) << exported.output;
   std::ifstream in(path("m.lwpr"), std::ios::binary);
   std::ostringstream file;
   file << in.rdbuf();
   EXPECT_EQ(file.str(), bytes);
 
-  const CommandResult inspected = run_command("lwpr inspect " + path("m.lwpr") + " --json");
+  const CommandResult inspected = run_armfarm("lwpr inspect " + path("m.lwpr") + " --json");
   ASSERT_EQ(inspected.exit_code, 0) << inspected.output;
   const nlohmann::json info = nlohmann::json::parse(inspected.output);
   EXPECT_EQ(info["inputs"], 6);
@@ -154,7 +149,7 @@ TEST_F(StoredModelsCli, LwprVerbsInspectPredictAndExportAStoredModel) {
   ASSERT_EQ(info["per_output"].size(), 2u);
   EXPECT_EQ(info["per_output"][0]["fields"].get<std::size_t>() + info["per_output"][1]["fields"].get<std::size_t>(), learner->size());
   EXPECT_GT(info["per_output"][0]["n_data"]["max"].get<double>(), 0.0);
-  const CommandResult text = run_command("lwpr inspect --db " + db + " --job " + key);
+  const CommandResult text = run_armfarm("lwpr inspect --db " + db + " --job " + key);
   EXPECT_EQ(text.exit_code, 0) << text.output;
   EXPECT_NE(text.output.find("lwpr model, 6 inputs -> 2 outputs"), std::string::npos) << text.output;
 
@@ -165,8 +160,8 @@ TEST_F(StoredModelsCli, LwprVerbsInspectPredictAndExportAStoredModel) {
   auto workspace = learner->make_workspace();
   const Prediction expected = learner->predict(x, *workspace);
   const std::string point = "--x 0.1,0.2,-0.3,0.05,0.1,-0.2";
-  const CommandResult from_file = run_command("lwpr predict " + path("m.lwpr") + " " + point);
-  const CommandResult from_db = run_command("lwpr predict --db " + db + " --job " + key + " " + point);
+  const CommandResult from_file = run_armfarm("lwpr predict " + path("m.lwpr") + " " + point);
+  const CommandResult from_db = run_armfarm("lwpr predict --db " + db + " --job " + key + " " + point);
   ASSERT_EQ(from_file.exit_code, 0) << from_file.output;
   EXPECT_EQ(from_file.output, from_db.output);
   std::istringstream lines(from_file.output);
@@ -184,15 +179,15 @@ TEST_F(StoredModelsCli, LwprVerbsInspectPredictAndExportAStoredModel) {
     EXPECT_EQ(std::stod(cells[7 + 2 * o]), expected.confidence(o)) << o;
   }
   std::ofstream(path("points.csv")) << "q2,q4,qd2,qd4,qdd2,qdd4\n0.1,0.2,-0.3,0.05,0.1,-0.2\n";
-  const CommandResult from_csv = run_command("lwpr predict " + path("m.lwpr") + " --csv " + path("points.csv"));
+  const CommandResult from_csv = run_armfarm("lwpr predict " + path("m.lwpr") + " --csv " + path("points.csv"));
   ASSERT_EQ(from_csv.exit_code, 0) << from_csv.output;
   EXPECT_EQ(from_csv.output.substr(from_csv.output.find('\n')), from_file.output.substr(from_file.output.find('\n')));
 
   // Bad input: one line, exit 2.
-  const CommandResult wrong_size = run_command("lwpr predict " + path("m.lwpr") + " --x 1,2");
+  const CommandResult wrong_size = run_armfarm("lwpr predict " + path("m.lwpr") + " --x 1,2");
   EXPECT_EQ(wrong_size.exit_code, 2);
   EXPECT_NE(wrong_size.output.find("the model has 6 inputs"), std::string::npos) << wrong_size.output;
-  const CommandResult no_job = run_command("lwpr inspect --db " + db + " --job ffffffff");
+  const CommandResult no_job = run_armfarm("lwpr inspect --db " + db + " --job ffffffff");
   EXPECT_EQ(no_job.exit_code, 2);
   EXPECT_NE(no_job.output.find("no job with that key"), std::string::npos) << no_job.output;
 
@@ -200,17 +195,17 @@ TEST_F(StoredModelsCli, LwprVerbsInspectPredictAndExportAStoredModel) {
   std::ofstream(path("from_file.json")) << R"({"name": "from_file", "base": {"active_joints": [2, 4],
       "trajectory": {"kind": "sine", "sine": {"duration": 2}}, "control": {"gain_scale": 0.2},
       "learning": {"mode": "frozen", "heldout": false, "initial_model": "m.lwpr"}}})";
-  const CommandResult expanded = run_command("expand " + path("from_file.json") + " --json");
+  const CommandResult expanded = run_armfarm("expand " + path("from_file.json") + " --json");
   ASSERT_EQ(expanded.exit_code, 0) << expanded.output;
   EXPECT_NE(expanded.output.find("\"learning.initial_model\""), std::string::npos) << expanded.output;
-  const CommandResult ran = run_command("run " + path("from_file.json") + " --db " + db);
+  const CommandResult ran = run_armfarm("run " + path("from_file.json") + " --db " + db);
   EXPECT_EQ(ran.exit_code, 0) << ran.output;
 }
 
 TEST_F(StoredModelsCli, BadReferencesAreOneLineErrors) {
   std::ofstream(path("bad.json")) << R"({"name": "bad", "base": {"active_joints": [2, 4],
       "learning": {"mode": "frozen", "initial_model": {"sweep": "nothing"}}}})";
-  const CommandResult no_db = run_command("run " + path("bad.json") + " --db " + path("none.db"));
+  const CommandResult no_db = run_armfarm("run " + path("bad.json") + " --db " + path("none.db"));
   EXPECT_EQ(no_db.exit_code, 2);
   EXPECT_NE(no_db.output.find("bad.json: base.learning.initial_model: learning.initial_model: "), std::string::npos) << no_db.output;
   EXPECT_NE(no_db.output.find("no such database file"), std::string::npos) << no_db.output;
@@ -218,7 +213,7 @@ TEST_F(StoredModelsCli, BadReferencesAreOneLineErrors) {
 
   std::ofstream(path("forward.json")) << R"({"name": "fw", "stages": [
       {"name": "a", "base": {"learning": {"initial_model": {"stage": "b"}}}}, {"name": "b"}]})";
-  const CommandResult forward = run_command("run " + path("forward.json") + " --db " + path("none.db"));
+  const CommandResult forward = run_armfarm("run " + path("forward.json") + " --db " + path("none.db"));
   EXPECT_EQ(forward.exit_code, 2);
   EXPECT_NE(forward.output.find("stages[0] (a): {\"stage\":\"b\"}: \"stage\" names an earlier stage"), std::string::npos)
       << forward.output;
