@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -13,7 +15,7 @@ namespace {
 
 // The ModelError of loading a one-box DCG whose box size tag is s(SIZE), after the file name.
 std::string dcg_problem(const std::string& size) {
-  const std::string path = ::testing::TempDir() + "strict.dcg";
+  const std::string path = test_support::scratch_file("strict.dcg");
   std::ofstream(path, std::ios::binary) << "<DCGraph>\nB ground <t(0 0 0)> o(1) s(1 1 0.1) fix;\nB arm <> o(1) s(" + size +
                                                ") w(1) ee(0 0 0);\nJ ground-arm <t(0 0 0.1)>;\n</DCGraph>\n";
   std::string problem = "(loaded)";

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -16,7 +18,7 @@ const std::string kTriangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
 
 // The ModelError of reading `text` as an OBJ file, after the file name; "(read)" if it reads.
 std::string obj_problem(const std::string& text) {
-  const std::string path = ::testing::TempDir() + "strict.obj";
+  const std::string path = test_support::scratch_file("strict.obj");
   std::ofstream(path, std::ios::binary) << text;
   std::string problem = "(read)";
   try {

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <cstdio>
 #include <fstream>
 
@@ -13,7 +15,7 @@ namespace armfarm {
 namespace {
 
 std::string write_temporary_obj(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name;
+  const std::string path = test_support::scratch_file(name);
   std::ofstream(path) << text;
   return path;
 }

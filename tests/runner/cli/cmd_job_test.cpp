@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -24,9 +26,9 @@ CommandResult run_job(const std::string& arguments) {
 }
 
 std::string write_config(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("armfarm_cmd_job_" + name + ".json");
+  const std::string path = armfarm::test_support::scratch_file("cmd_job_" + name + ".json");
   std::ofstream(path) << text;
-  return path.string();
+  return path;
 }
 
 TEST(CmdJob, PrintsStatusMetricsAndOneObjectPerActiveJoint) {

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -17,7 +19,7 @@ namespace {
 // A 7-column joint-space recording of 20 rows at 0.1 rad, with `bad_row` (0-based data row,
 // -1 for none) set to `value` in column `column`; a comment-free header on line 1.
 std::string write_recording(const std::string& name, int bad_row, int column, double value) {
-  const std::string path = ::testing::TempDir() + name;
+  const std::string path = test_support::scratch_file(name);
   std::ofstream out(path);
   out << "q1,q2,q3,q4,q5,q6,q7\n";
   for (int r = 0; r < 20; ++r) {
@@ -76,7 +78,7 @@ TEST(RecordedLimits, ARecordingWithinTheLimitsIsAccepted) {
 
 TEST(RecordedLimits, ActiveJointsMapColumnsToTheirJoints) {
   // Two active joints, 2 and 5: column 2 is joint 5, whose limit here is 0.5 rad.
-  const std::string path = ::testing::TempDir() + "limits_active.csv";
+  const std::string path = test_support::scratch_file("limits_active.csv");
   {
     std::ofstream out(path);
     out << "a,b\n";

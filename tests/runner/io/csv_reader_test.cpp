@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <filesystem>
 #include <fstream>
 
@@ -10,9 +12,9 @@ namespace armfarm::io {
 namespace {
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / ("armfarm_csv_" + name);
+  const auto path = test_support::scratch_file("csv_" + name);
   std::ofstream(path) << text;
-  return path.string();
+  return path;
 }
 
 std::string error_of(const std::string& path) {

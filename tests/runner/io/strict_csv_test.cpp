@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -14,7 +16,7 @@ namespace {
 
 // The error of reading `bytes` as a CSV file, after the file name; "(read)" if it reads.
 std::string csv_problem(const std::string& bytes) {
-  const std::string path = ::testing::TempDir() + "strict.csv";
+  const std::string path = test_support::scratch_file("strict.csv");
   std::ofstream(path, std::ios::binary) << bytes;
   std::string problem = "(read)";
   try {
@@ -57,7 +59,7 @@ TEST(StrictCsv, AFileThatIsNotACsvIsNotQuoted) {
 }
 
 TEST(StrictCsv, RowsRememberTheirFileLines) {
-  const std::string path = ::testing::TempDir() + "lines.csv";
+  const std::string path = test_support::scratch_file("lines.csv");
   std::ofstream(path, std::ios::binary) << "a\n1\n\n2\n";
   const CsvTable table = load_csv(path);
   std::remove(path.c_str());

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -101,7 +103,7 @@ TEST(BoundedExpansion, FromConfigKeepsAConfigurationAsItIs) {
 }
 
 TEST(BoundedExpansion, ExpandRefusesFromTheCommandLineWithExitTwo) {
-  const std::string spec = ::testing::TempDir() + "armfarm_bounded_expansion.json";
+  const std::string spec = test_support::scratch_file("bounded_expansion.json");
   {
     FILE* file = std::fopen(spec.c_str(), "w");
     ASSERT_NE(file, nullptr);
