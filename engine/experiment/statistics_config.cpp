@@ -16,8 +16,8 @@ const std::vector<ConfigKey<StatisticsConfig>>& statistics_config_keys() {
   using C = StatisticsConfig;
   static const std::vector<ConfigKey<C>> keys = {
       {"window", "", closed(1, 1e9), ListSize::any,
-       "[first, last] trajectory points (1-based, inclusive; one point per control tick) scored by the window_tracking_* "
-       "metrics; [] = none",
+       "[first, last] trajectory points, first <= last (1-based, inclusive; one point per control tick) scored by the "
+       "window_tracking_* metrics; [] = none",
        [](C& c) { return make_field(c.window); }},
       {"window_counting", "", {}, ListSize::any,
        "where window's points are counted from: segment (each loop or reach, the window repeats) or pass (the whole pass)",

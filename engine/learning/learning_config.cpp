@@ -57,7 +57,8 @@ const std::vector<ConfigKey<LearningConfig>>& learning_config_keys() {
       {"heldout", "", {}, ListSize::any, "score the frozen learner on a held-out realisation of the trajectory (heldout_* metrics)",
        [](C& c) { return make_field(c.heldout); }},
       {"heldout_checkpoints", "", closed(0, 1e9), ListSize::any,
-       "online: after this many completed segments (0 = before learning); batch: after this many epochs; [] = once at the end",
+       "increasing; online: after this many completed segments (0 = before learning); batch: after this many epochs; "
+       "[] = once at the end",
        [](C& c) { return make_field(c.heldout_checkpoints); }},
       {"heldout_segments", "", closed(0, 100000), ListSize::any,
        "held-out trajectory length in reaches, periods or loops; 0 = 9 reaches or 1 period / loop",

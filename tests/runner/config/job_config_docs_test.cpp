@@ -56,7 +56,7 @@ std::string describe_allowed(const JobConfigKey& key, const FieldRef& field) {
     case ValueKind::name_list: return "names listed";
     case ValueKind::integer: return key.range.describe() + ", integer";
     case ValueKind::integer_list:
-      return key.size == ListSize::joint_numbers ? "joints 1..n, each once" : key.range.describe() + " each, integers, increasing";
+      return key.size == ListSize::joint_numbers ? "joints 1..n, each once" : key.range.describe() + " each, integers";
     case ValueKind::point: return key.range.describe() + " each";
     case ValueKind::real_matrix: return key.range.describe() + " each, or SPD";
     case ValueKind::real_list:
