@@ -23,8 +23,17 @@ std::string make_duration_text(double seconds) {
 std::string make_progress_text(const ProgressFigures& figures) {
   std::string text = std::to_string(figures.done) + "/" + std::to_string(figures.total) + " done, " +
                      std::to_string(figures.failed) + " failed, " + std::to_string(figures.running) +
-                     " running, elapsed " + make_duration_text(figures.elapsed_seconds) + ", ETA " +
-                     (figures.eta_seconds ? make_duration_text(*figures.eta_seconds) : std::string("?"));
+                     " running, elapsed " + make_duration_text(figures.elapsed_seconds) + ", ETA ";
+  if (!figures.eta_seconds) {
+    text += "?";
+  } else if (figures.overdue == 0) {
+    text += make_duration_text(*figures.eta_seconds);
+  } else {
+    // The overdue jobs' rest is unknown (counted as 0), so the figure is only a lower bound.
+    text += (*figures.eta_seconds >= 1.0 ? "over " + make_duration_text(*figures.eta_seconds) : std::string("?")) +
+            " (" + std::to_string(figures.overdue) + (figures.overdue == 1 ? " job" : " jobs") + " past " +
+            (figures.overdue == 1 ? "its" : "their") + " estimate)";
+  }
   if (!figures.running_keys.empty()) {
     text += "; running";
     for (const std::string& key : figures.running_keys) text += " " + key;
@@ -127,8 +136,9 @@ ProgressFigures ProgressReporter::calc_figures_locked(std::chrono::steady_clock:
     figures.running_keys.push_back(jobs_[index].short_key);
   }
   if (committed_ > 0 && finished_cost_ > 0.0) {
-    figures.eta_seconds =
-        calc_eta_seconds(finished_wall_ / finished_cost_, std::max(0.0, pending_cost_), running, threads_);
+    const double seconds_per_cost = finished_wall_ / finished_cost_;
+    figures.eta_seconds = calc_eta_seconds(seconds_per_cost, std::max(0.0, pending_cost_), running, threads_);
+    for (const auto& [cost, elapsed] : running) figures.overdue += elapsed >= cost * seconds_per_cost ? 1 : 0;
   }
   return figures;
 }

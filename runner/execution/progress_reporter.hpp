@@ -40,6 +40,7 @@ struct ProgressFigures {
   int running = 0;
   double elapsed_seconds = 0.0;
   std::optional<double> eta_seconds;  ///< none before the first job finished
+  int overdue = 0;  ///< running jobs already past their estimate: the ETA is then a lower bound
   std::vector<std::string> running_keys;  ///< short keys, in start order
 };
 
@@ -92,7 +93,8 @@ class ProgressReporter {
 std::string make_duration_text(double seconds);
 
 /// "3/12 done, 1 failed, 2 running, elapsed 4 min 05 s, ETA 1 min 10 s" (ETA "?" before the
-/// first job finished), then "; running 3f2a1b7c 9ab01234" when jobs run.
+/// first job finished), then "; running 3f2a1b7c 9ab01234" when jobs run. With jobs past
+/// their estimate: "ETA over 1 min 10 s (1 job past its estimate)", or "ETA ? (…)" below 1 s.
 std::string make_progress_text(const ProgressFigures& figures);
 
 /// Remaining wall time of a sweep: the finished jobs' seconds per unit cost times the cost

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
-
 #include <regex>
 #include <sstream>
 #include <thread>
@@ -122,6 +122,27 @@ TEST(ProgressText, DurationsAndTheStatusLine) {
   figures.eta_seconds.reset();
   figures.running_keys.clear();
   EXPECT_EQ(make_progress_text(figures), "3/12 done, 1 failed, 2 running, elapsed 4 min 05 s, ETA ?");
+  // Jobs past their estimate make the ETA a lower bound, and a "0.000 s" no answer at all.
+  figures.eta_seconds = 70.0;
+  figures.overdue = 1;
+  EXPECT_EQ(make_progress_text(figures),
+            "3/12 done, 1 failed, 2 running, elapsed 4 min 05 s, ETA over 1 min 10 s (1 job past its estimate)");
+  figures.eta_seconds = 0.0;
+  figures.overdue = 2;
+  EXPECT_EQ(make_progress_text(figures), "3/12 done, 1 failed, 2 running, elapsed 4 min 05 s, ETA ? (2 jobs past their estimate)");
+}
+
+TEST(ProgressReporter, CountsTheRunningJobsPastTheirEstimate) {
+  std::vector<ProgressJob> jobs = {{"a", "aaaaaaaa", 1.0}, {"b", "bbbbbbbb", 1.0}};
+  ProgressReporter reporter(nullptr, ProgressConfig{}, jobs, 1);
+  reporter.job_started(0);
+  reporter.job_committed(0, "done", 1e-6, "");  // 1 µs per unit cost: b is overdue at once
+  reporter.job_started(1);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  const ProgressFigures figures = reporter.figures();
+  EXPECT_EQ(figures.overdue, 1);
+  ASSERT_TRUE(figures.eta_seconds);
+  EXPECT_EQ(*figures.eta_seconds, 0.0);
 }
 
 TEST(RunHeadline, TheFirstCatalogResultMetricMostJobsDefineWithItsDirection) {
