@@ -5,6 +5,7 @@
 #include "runner/config/config_value_json.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/io/csv_reader.hpp"
+#include "runner/spec/canonical_json.hpp"
 #include "runner/spec/input_files.hpp"
 
 #include <stdexcept>
@@ -127,8 +128,17 @@ std::string recorded_hash(const json* recorded, const char* field) {
   return hash != entry->end() && hash->is_string() ? hash->get<std::string>() : "";
 }
 
-// `recorded` and `contents`: the recorded configuration whose input hashes key `contents`
-// (nullptr: read every file).
+// Throws when `bytes`, just read from `path`, are not those whose hash the job key recorded
+// ("" = none recorded): the file changed after the sweep expanded, and the job would store
+// results under a key that names other bytes.
+void check_recorded_hash(const std::string& path, const std::string& bytes, const std::string& hash) {
+  if (hash.empty()) return;
+  const std::string now = calc_text_hash(bytes);
+  if (now != hash) throw std::runtime_error(make_input_changed_text(path, hash, now));
+}
+
+// `recorded`: the recorded configuration, whose input hashes every file read is checked
+// against; `contents`: a cache of those files keyed by their hashes (nullptr: read every file).
 template <typename Lookup>
 JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
                      const std::function<std::string(const std::string& hash)>& stored_model_bytes,
@@ -144,16 +154,18 @@ JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
   // The runner reads files; the engine receives their content.
   RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
   if (config.trajectory.kind == TrajectoryKind::recorded && !recorded.file.empty()) {
-    const std::string hash = contents ? recorded_hash(recorded_config, "trajectory.recorded.file") : "";
+    const std::string hash = recorded_hash(recorded_config, "trajectory.recorded.file");
     try {
-      if (!hash.empty() && hash == contents->recorded_hash) {
+      if (contents && !hash.empty() && hash == contents->recorded_hash) {
         recorded.samples = contents->recorded_samples;
         recorded.sample_lines = contents->recorded_lines;
       } else {
-        io::CsvTable table = io::load_csv(recorded.file);
+        const std::string bytes = read_input_file(recorded.file, InputFileKind::table);
+        check_recorded_hash(recorded.file, bytes, hash);
+        io::CsvTable table = io::parse_csv(bytes, recorded.file);
         recorded.samples = std::move(table.values);
         recorded.sample_lines = std::move(table.lines);
-        if (!hash.empty()) {
+        if (contents && !hash.empty()) {
           contents->recorded_hash = hash;
           contents->recorded_samples = recorded.samples;
           contents->recorded_lines = recorded.sample_lines;
@@ -171,12 +183,13 @@ JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
         if (!stored_model_bytes) throw std::runtime_error("a stored model is read from its results database (armfarm run --db)");
         config.learning.initial_model_bytes = stored_model_bytes(initial.substr(prefix.size()));
       } else {
-        const std::string hash = contents ? recorded_hash(recorded_config, "learning.initial_model") : "";
-        if (!hash.empty() && hash == contents->model_hash) {
+        const std::string hash = recorded_hash(recorded_config, "learning.initial_model");
+        if (contents && !hash.empty() && hash == contents->model_hash) {
           config.learning.initial_model_bytes = contents->model_bytes;
         } else {
           config.learning.initial_model_bytes = read_input_file(initial, InputFileKind::learner_model);
-          if (!hash.empty()) {
+          check_recorded_hash(initial, config.learning.initial_model_bytes, hash);
+          if (contents && !hash.empty()) {
             contents->model_hash = hash;
             contents->model_bytes = config.learning.initial_model_bytes;
           }

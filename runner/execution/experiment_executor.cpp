@@ -71,6 +71,51 @@ class ModelCache {
   std::map<std::string, std::shared_ptr<const ArmModel>> chosen_;  // path, link, offset
 };
 
+// The "model" input: the model file and every file it reads (meshes), as `models` loads them.
+InputFileField make_model_field(const std::shared_ptr<ModelCache>& models) {
+  InputFileField field;
+  field.path = "model";
+  field.list_files = [models](const std::string& resolved) {
+    try {
+      return models->get_file(resolved)->input_files;
+    } catch (const ConfigError& error) {
+      const std::string message = error.what();  // "model: FILE: problem"
+      throw std::runtime_error(message.substr(error.json_path().empty() ? 0 : error.json_path().size() + 2));
+    }
+  };
+  return field;
+}
+
+/// The content hash of each model file as the executor loaded it, computed once per file right
+/// after its first load, so that a job never runs on a model whose bytes differ from those its
+/// key names. Thread-safe.
+class ModelHashCheck {
+ public:
+  explicit ModelHashCheck(const std::shared_ptr<ModelCache>& models) : field_(make_model_field(models)) {}
+
+  /// Throws ConfigError at "model" when `recorded` names a model hash that the loaded file's is not.
+  void check(const nlohmann::json& recorded, const std::string& resolved_path) {
+    const auto inputs = recorded.find("inputs");
+    if (inputs == recorded.end() || !inputs->is_object()) return;
+    const auto entry = inputs->find("model");
+    if (entry == inputs->end() || !entry->is_object() || !entry->contains("hash")) return;
+    const std::string recorded_hash = entry->at("hash").get<std::string>();
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::string now;
+    try {
+      now = reader_.read(field_, resolved_path).hash;
+    } catch (const std::exception& error) {
+      throw ConfigError("model", error.what());
+    }
+    if (now != recorded_hash) throw ConfigError("model", make_input_changed_text(resolved_path, recorded_hash, now));
+  }
+
+ private:
+  std::mutex mutex_;
+  InputFileField field_;
+  InputFileReader reader_;  // caches each file's hash: the model is loaded once per run too
+};
+
 // Where the default model (and any other default path) resolves: $ARMFARM_DATA_DIR, else the
 // source tree armfarm was built from.
 std::string find_data_folder() {
@@ -119,16 +164,7 @@ JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stor
     resolve_stored_model_reference(config, stored.get());
     return true;
   };
-  InputFileField model_field;
-  model_field.path = "model";
-  model_field.list_files = [models](const std::string& resolved) {
-    try {
-      return models->get_file(resolved)->input_files;
-    } catch (const ConfigError& error) {
-      const std::string message = error.what();  // "model: FILE: problem"
-      throw std::runtime_error(message.substr(error.json_path().empty() ? 0 : error.json_path().size() + 2));
-    }
-  };
+  const InputFileField model_field = make_model_field(models);
   InputFileField recorded_field;
   recorded_field.path = "trajectory.recorded.file";
   recorded_field.is_read = [](const nlohmann::json& config) {
@@ -151,10 +187,15 @@ JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stor
 JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored) {
   auto models = std::make_shared<ModelCache>();
   auto trajectories = std::make_shared<TrajectoryCache>();
-  return [models, trajectories, stored](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
-    const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
-    const std::string path = config.at("model").get<std::string>();
-    const JobConfig job = parse_job_config(config, make_model_facts(*models->get_file(path)), make_stored_model_reader(stored));
+  auto model_hashes = std::make_shared<ModelHashCheck>(models);
+  return [models, trajectories, stored, model_hashes](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
+    // Every file the job reads is checked against the hash its key recorded (the recorded
+    // trajectory and the initial model by parse_recorded_job_config, the model here).
+    const nlohmann::json* resolved = find_resolved_input(recorded, "model");
+    const std::string path = (resolved != nullptr ? *resolved : recorded.at("model")).get<std::string>();
+    const ModelFacts facts = make_model_facts(*models->get_file(path));
+    model_hashes->check(recorded, path);
+    const JobConfig job = parse_recorded_job_config(recorded, facts, make_stored_model_reader(stored));
     const auto model = models->get(path, job.end_effector);
     JobOutcome outcome;
     try {

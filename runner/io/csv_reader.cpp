@@ -44,8 +44,10 @@ std::string describe_column(const std::vector<std::string>& header, std::size_t 
 
 }  // namespace
 
-CsvTable load_csv(const std::string& path) {
-  std::istringstream in(read_input_file(path, InputFileKind::table));
+CsvTable load_csv(const std::string& path) { return parse_csv(read_input_file(path, InputFileKind::table), path); }
+
+CsvTable parse_csv(const std::string& bytes, const std::string& path) {
+  std::istringstream in(bytes);
   CsvTable table;
   std::string line;
   int line_number = 0;

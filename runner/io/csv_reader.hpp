@@ -21,4 +21,7 @@ struct CsvTable {
 /// or a control character anywhere (NUL, a CR that does not end the line, ...).
 CsvTable load_csv(const std::string& path);
 
+/// The table in `bytes`, read as load_csv reads a file; `path` names it in errors.
+CsvTable parse_csv(const std::string& bytes, const std::string& path);
+
 }  // namespace armfarm::io

@@ -46,6 +46,11 @@ std::string calc_resolved_path(const std::string& path, const std::string& folde
 
 std::string calc_file_hash(const std::string& path) { return calc_text_hash(read_input_file(path, InputFileKind::any)); }
 
+std::string make_input_changed_text(const std::string& path, const std::string& recorded_hash, const std::string& now_hash) {
+  return path + ": changed since the sweep was expanded (content hash " + now_hash.substr(0, 8) + ", the job key has " +
+         recorded_hash.substr(0, 8) + "; run the sweep again and the job gets a new key)";
+}
+
 const InputFileReader::Content& InputFileReader::read(const InputFileField& field, const std::string& resolved_path) {
   const auto cache_key = std::make_pair(field.path, resolved_path);
   const auto found = cache_.find(cache_key);

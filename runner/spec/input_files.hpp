@@ -31,6 +31,10 @@ std::string calc_resolved_path(const std::string& path, const std::string& folde
 /// "PATH: problem" for anything but a regular file under the largest input cap.
 std::string calc_file_hash(const std::string& path);
 
+/// "PATH: changed since the sweep was expanded (content hash NOW, the job key has RECORDED; run
+/// the sweep again and the job gets a new key)": a job refuses to run on such bytes.
+std::string make_input_changed_text(const std::string& path, const std::string& recorded_hash, const std::string& now_hash);
+
 /// Reads and hashes inputs, once per (field, resolved path): one per expansion or command.
 class InputFileReader {
  public:
