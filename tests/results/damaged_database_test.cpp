@@ -5,6 +5,8 @@
 #include "results/results_store.hpp"
 
 #include <gtest/gtest.h>
+
+#include "support/scratch_file.hpp"
 #include <sqlite3.h>
 
 #include <filesystem>
@@ -17,10 +19,7 @@ namespace fs = std::filesystem;
 class DamagedDatabaseTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() / ("armfarm_damaged_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
+    folder_ = test_support::make_scratch_folder("damaged");
     write_sound_database(path("sound.db"));
   }
   void TearDown() override { fs::remove_all(folder_); }

@@ -6,6 +6,8 @@
 #include "results/results_store.hpp"
 
 #include <gtest/gtest.h>
+
+#include "support/scratch_file.hpp"
 #include <sqlite3.h>
 
 #include <atomic>
@@ -35,10 +37,7 @@ std::string query_text(const std::string& db_path, const std::string& sql) {
 class JobClaimsTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() / ("armfarm_claims_store_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
+    folder_ = test_support::make_scratch_folder("claims_store");
     db_ = (folder_ / "claims.db").string();
     ResultsStore store = ResultsStore::open(db_, ResultsStore::Mode::read_write);
     SweepRegistration sweep;

@@ -3,6 +3,8 @@
 #include "results/results_store.hpp"
 
 #include <gtest/gtest.h>
+
+#include "support/scratch_file.hpp"
 #include <sqlite3.h>
 
 #include <cstdio>
@@ -18,10 +20,7 @@ namespace fs = std::filesystem;
 class ModelStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() / ("armfarm_models_store_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
+    folder_ = test_support::make_scratch_folder("models_store");
   }
   void TearDown() override { fs::remove_all(folder_); }
   std::string path(const std::string& name) const { return (folder_ / name).string(); }

@@ -1,6 +1,7 @@
 // Scratch file names for tests that write an input file and read it back.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -13,6 +14,17 @@ namespace armfarm::test_support {
 /// so a fixed name shared by two cases of one file lets one case read the other's bytes.
 inline std::string scratch_file(const std::string& name) {
   return (std::filesystem::temp_directory_path() / ("armfarm-" + std::to_string(::getpid()) + "-" + name)).string();
+}
+
+/// A fresh, empty folder for the running test case: "armfarm_<prefix>_<pid>_<test name>" in the
+/// system's temporary folder, emptied first if a crashed run left it. The caller removes it.
+inline std::filesystem::path make_scratch_folder(const std::string& prefix) {
+  const std::filesystem::path folder =
+      std::filesystem::temp_directory_path() / ("armfarm_" + prefix + "_" + std::to_string(::getpid()) + "_" +
+                                                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  return folder;
 }
 
 }  // namespace armfarm::test_support

@@ -5,6 +5,8 @@
 #include "results/results_store.hpp"
 
 #include <gtest/gtest.h>
+
+#include "support/scratch_file.hpp"
 #include <sqlite3.h>
 
 #include <signal.h>
@@ -77,10 +79,7 @@ int count_status(const std::string& db, const std::string& status) {
 class CmdRunClaimsTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() / ("armfarm_claims_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
+    folder_ = test_support::make_scratch_folder("claims");
     std::ofstream(path("s24.json")) << R"({"name": "s24", "base": {"fake": {"sleep_ms": 40}},
         "sweep": {"grid": {"learning.lwpr.init_D": [10, 20, 30, 40, 50, 60]}, "repeat": 4}})";
   }

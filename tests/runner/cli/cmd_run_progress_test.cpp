@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -53,10 +55,7 @@ std::set<std::string> find_stored(const std::string& db, const std::string& swee
 class CmdRunProgressTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() / ("armfarm_progress_cli_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
+    folder_ = test_support::make_scratch_folder("progress_cli");
   }
   void TearDown() override { fs::remove_all(folder_); }
   std::string path(const std::string& name) const { return (folder_ / name).string(); }

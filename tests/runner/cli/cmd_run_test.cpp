@@ -5,6 +5,8 @@
 #include "results/results_store.hpp"
 
 #include <gtest/gtest.h>
+
+#include "support/scratch_file.hpp"
 #include <sqlite3.h>
 
 #include <signal.h>
@@ -76,10 +78,7 @@ std::map<std::string, std::pair<std::string, std::vector<double>>> read_results(
 class CmdRunTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    folder_ = fs::temp_directory_path() / ("armfarm_cli_" + std::to_string(::getpid()) + "_" +
-                                           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(folder_);
-    fs::create_directories(folder_);
+    folder_ = test_support::make_scratch_folder("cli");
     // 24 jobs of about 40 ms: long enough to be killed in the middle.
     std::ofstream(path("killme.json")) << R"({"name": "killme", "base": {"fake": {"sleep_ms": 40}},
         "sweep": {"grid": {"learning.lwpr.init_D": [10, 20, 30, 40, 50, 60]}, "repeat": 4}})";

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -67,10 +69,7 @@ std::map<std::string, std::vector<double>> read_metrics(const std::string& db, c
 class SlurmCommand : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("armfarm_slurm_" + std::to_string(getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test_support::make_scratch_folder("slurm");
     db_ = (dir_ / "merged.db").string();
     spec_ = std::string(ARMFARM_TEST_DATA_DIR) + "/specs/fake_small.json";
   }

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -50,10 +52,7 @@ void write_file(const fs::path& path, const std::string& text) {
 class InputFilesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("armfarm_inputs_" + std::to_string(getpid()) + "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(root_);
-    fs::create_directories(root_);
+    root_ = test_support::make_scratch_folder("inputs");
   }
   void TearDown() override { fs::remove_all(root_); }
 

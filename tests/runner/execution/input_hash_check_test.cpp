@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <unistd.h>
 
 #include <cmath>
@@ -23,10 +25,7 @@ namespace fs = std::filesystem;
 class InputHashCheck : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("armfarm_input_hash_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test_support::make_scratch_folder("input_hash");
     fs::copy_file(fs::path(ARMFARM_SOURCE_DIR) / "models" / "planar2.urdf", dir_ / "arm.urdf");
     std::ofstream csv(dir_ / "motion.csv");
     csv << "q1,q2\n";  // 1 s at 100 Hz, a slow swing of both joints

@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <malloc.h>
 #include <unistd.h>
 
@@ -37,10 +39,7 @@ void expect_keys_are_the_configurations(const ExpandedSweep& sweep) {
 class JobKeyTemplateSweep : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("armfarm_key_template_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test_support::make_scratch_folder("key_template");
   }
   void TearDown() override { fs::remove_all(dir_); }
 

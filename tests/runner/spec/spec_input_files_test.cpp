@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scratch_file.hpp"
+
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -22,10 +24,7 @@ namespace fs = std::filesystem;
 class SpecInputFiles : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("armfarm_spec_inputs_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test_support::make_scratch_folder("spec_inputs");
   }
   void TearDown() override { fs::remove_all(dir_); }
 
