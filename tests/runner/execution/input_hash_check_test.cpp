@@ -62,7 +62,7 @@ TEST_F(InputHashCheck, ARecordedTrajectoryChangedAfterTheExpansionIsRefused) {
   const nlohmann::json job = expand_job();
   std::ofstream(dir_ / "motion.csv", std::ios::app) << "0.2,0.1\n";  // one row more
   const std::string error = run_error(job);
-  const std::string file = fs::canonical(dir_ / "motion.csv").string();
+  const std::string file = (dir_ / "motion.csv").lexically_normal().string();
   EXPECT_EQ(error.rfind("trajectory.recorded.file: " + file + ": changed since the sweep was expanded (content hash ", 0), 0u)
       << error;
   EXPECT_NE(error.find("run the sweep again and the job gets a new key)"), std::string::npos) << error;
@@ -76,7 +76,7 @@ TEST_F(InputHashCheck, AModelChangedAfterTheExpansionIsRefused) {
   const nlohmann::json job = expand_job();
   std::ofstream(dir_ / "arm.urdf", std::ios::app) << "<!-- edited after the expansion -->\n";
   const std::string error = run_error(job);
-  const std::string file = fs::canonical(dir_ / "arm.urdf").string();
+  const std::string file = (dir_ / "arm.urdf").lexically_normal().string();
   EXPECT_EQ(error.rfind("model: " + file + ": changed since the sweep was expanded (content hash ", 0), 0u) << error;
 }
 
