@@ -114,20 +114,6 @@ JobConfig parse_job_config(const nlohmann::json& c, int movable_joints,
 
 namespace {
 
-// parse_job_config with each key's value found by `lookup(path)` (nullptr: the default).
-// The content hash `recorded` records for its input `field`, "" when none (or when the value is
-// not the path it records, so that another file is read).
-std::string recorded_hash(const json* recorded, const char* field) {
-  // Only an input read from the path it records: the hash is that file's.
-  if (recorded == nullptr || find_resolved_input(*recorded, field) == nullptr) return "";
-  const auto inputs = recorded->find("inputs");
-  if (inputs == recorded->end() || !inputs->is_object()) return "";
-  const auto entry = inputs->find(field);
-  if (entry == inputs->end() || !entry->is_object()) return "";
-  const auto hash = entry->find("hash");
-  return hash != entry->end() && hash->is_string() ? hash->get<std::string>() : "";
-}
-
 // Throws when `bytes`, just read from `path`, are not those whose hash the job key recorded
 // ("" = none recorded): the file changed after the sweep expanded, and the job would store
 // results under a key that names other bytes.
@@ -137,6 +123,7 @@ void check_recorded_hash(const std::string& path, const std::string& bytes, cons
   if (now != hash) throw std::runtime_error(make_input_changed_text(path, hash, now));
 }
 
+// parse_job_config with each key's value found by `lookup(path)` (nullptr: the default).
 // `recorded`: the recorded configuration, whose input hashes every file read is checked
 // against; `contents`: a cache of those files keyed by their hashes (nullptr: read every file).
 template <typename Lookup>
@@ -154,7 +141,7 @@ JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
   // The runner reads files; the engine receives their content.
   RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
   if (config.trajectory.kind == TrajectoryKind::recorded && !recorded.file.empty()) {
-    const std::string hash = recorded_hash(recorded_config, "trajectory.recorded.file");
+    const std::string hash = recorded_config ? find_recorded_input_hash(*recorded_config, "trajectory.recorded.file") : "";
     try {
       if (contents && !hash.empty() && hash == contents->recorded_hash) {
         recorded.samples = contents->recorded_samples;
@@ -183,7 +170,7 @@ JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
         if (!stored_model_bytes) throw std::runtime_error("a stored model is read from its results database (armfarm run --db)");
         config.learning.initial_model_bytes = stored_model_bytes(initial.substr(prefix.size()));
       } else {
-        const std::string hash = recorded_hash(recorded_config, "learning.initial_model");
+        const std::string hash = recorded_config ? find_recorded_input_hash(*recorded_config, "learning.initial_model") : "";
         if (contents && !hash.empty() && hash == contents->model_hash) {
           config.learning.initial_model_bytes = contents->model_bytes;
         } else {

@@ -95,11 +95,8 @@ class ModelHashCheck {
 
   /// Throws ConfigError at "model" when `recorded` names a model hash that the loaded file's is not.
   void check(const nlohmann::json& recorded, const std::string& resolved_path) {
-    const auto inputs = recorded.find("inputs");
-    if (inputs == recorded.end() || !inputs->is_object()) return;
-    const auto entry = inputs->find("model");
-    if (entry == inputs->end() || !entry->is_object() || !entry->contains("hash")) return;
-    const std::string recorded_hash = entry->at("hash").get<std::string>();
+    const std::string recorded_hash = find_recorded_input_hash(recorded, "model");
+    if (recorded_hash.empty()) return;
     std::lock_guard<std::mutex> lock(mutex_);
     std::string now;
     try {
@@ -130,12 +127,18 @@ std::function<std::string(const std::string&)> make_stored_model_reader(const st
   return [stored](const std::string& hash) { return stored->find_bytes(hash); };
 }
 
+// The model file a recorded configuration's job loads: the resolved path its inputs record, else
+// the value as written.
+std::string find_model_path(const nlohmann::json& recorded) {
+  const nlohmann::json* resolved = find_resolved_input(recorded, "model");
+  return (resolved != nullptr ? *resolved : recorded.at("model")).get<std::string>();
+}
+
 // The check of a configuration with its inputs recorded: parsed and validated against its model,
 // the end effector chosen. ConfigError naming the path of the first problem.
 void check_config(const nlohmann::json& recorded, ModelCache& models, const std::shared_ptr<StoredModels>& stored,
                   JobFileContents* contents) {
-  const nlohmann::json* model = find_resolved_input(recorded, "model");
-  const std::string path = (model != nullptr ? *model : recorded.at("model")).get<std::string>();
+  const std::string path = find_model_path(recorded);
   const JobConfig job = parse_recorded_job_config(recorded, make_model_facts(*models.get_file(path)),
                                                   make_stored_model_reader(stored), contents);
   models.get(path, job.end_effector);
@@ -191,8 +194,7 @@ JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored) {
   return [models, trajectories, stored, model_hashes](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
     // Every file the job reads is checked against the hash its key recorded (the recorded
     // trajectory and the initial model by parse_recorded_job_config, the model here).
-    const nlohmann::json* resolved = find_resolved_input(recorded, "model");
-    const std::string path = (resolved != nullptr ? *resolved : recorded.at("model")).get<std::string>();
+    const std::string path = find_model_path(recorded);
     const ModelFacts facts = make_model_facts(*models->get_file(path));
     model_hashes->check(recorded, path);
     const JobConfig job = parse_recorded_job_config(recorded, facts, make_stored_model_reader(stored));

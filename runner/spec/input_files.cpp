@@ -141,6 +141,13 @@ const nlohmann::json* find_resolved_input(const nlohmann::json& config, const st
   return &*resolved;
 }
 
+std::string find_recorded_input_hash(const nlohmann::json& config, const std::string& field) {
+  if (find_resolved_input(config, field) == nullptr) return "";
+  const nlohmann::json& entry = config.at("inputs").at(field);
+  const auto hash = entry.find("hash");
+  return hash != entry.end() && hash->is_string() ? hash->get<std::string>() : "";
+}
+
 nlohmann::json make_job_key_document(const nlohmann::json& config) {
   const auto inputs = config.find("inputs");
   if (inputs == config.end()) return config;

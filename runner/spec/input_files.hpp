@@ -74,6 +74,10 @@ nlohmann::json calc_config_with_resolved_inputs(const nlohmann::json& config);
 /// calc_config_with_resolved_inputs sets there), or nullptr when it records none for it.
 const nlohmann::json* find_resolved_input(const nlohmann::json& config, const std::string& field);
 
+/// The content hash `config` records for its input field `field`, "" when it records none or
+/// when the field's value is not the path it records (so that another file is read).
+std::string find_recorded_input_hash(const nlohmann::json& config, const std::string& field);
+
 /// What the job key hashes: `config` with each recorded input's path replaced by
 /// "xxh3-128:<hash>" and "inputs" reduced to {name: hash}; `config` itself when it records none.
 nlohmann::json make_job_key_document(const nlohmann::json& config);

@@ -4,6 +4,7 @@
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/experiment/run_experiment.hpp"
 #include "../physics/test_arms.hpp"
+#include "job_metrics.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,13 +15,7 @@
 namespace armfarm {
 namespace {
 
-std::map<std::string, double> job_metrics(const JobOutcome& outcome) {
-  std::map<std::string, double> metrics;
-  for (const Metric& metric : outcome.metrics) {
-    metrics[metric.joint ? metric.name + "_j" + std::to_string(*metric.joint) : metric.name] = metric.value.value_or(std::nan(""));
-  }
-  return metrics;
-}
+using testing::job_metrics;
 
 // Joints 2 and 4 (6 inputs, 2 outputs) on a 6 s sine at low gains.
 JobConfig make_ssgpr_config(LearningMode mode) {
