@@ -24,9 +24,19 @@ struct ModelFacts {
   int movable_joints = 0;
   /// Position limits per movable joint (rad or m; ±inf where unlimited); empty: not checked.
   std::vector<double> lower_limits, upper_limits;
+  /// Per movable joint: velocity limits (rad/s or m/s, +inf where none) and start positions
+  /// (rad or m); empty: trajectories are not checked against the velocity limits.
+  std::vector<double> velocity_limits, start_positions;
+  /// The step-stability facts at the start posture, every movable joint (job_steps.hpp): the
+  /// rigid-body mass matrix (armature not included; n × n), the armature and the viscous
+  /// damping (n); empty: the PD and integrator steps are not checked.
+  Eigen::MatrixXd rigid_mass;
+  Eigen::VectorXd armature, damping;
 };
 
-/// The facts of `model`: its movable joints and their position limits.
+/// The facts of `model`: its movable joints, their limits and start positions, and the
+/// mass matrix at the start posture (a Simbody system is built for it: callers that validate
+/// many jobs keep the facts of a model rather than making them per job).
 ModelFacts make_model_facts(const ArmModel& model);
 
 /// Bounds on a job's cost, so that a typo cannot occupy a core for days. At the measured

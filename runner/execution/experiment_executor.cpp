@@ -33,6 +33,16 @@ class ModelCache {
     return get_file_locked(path);
   }
 
+  /// What validate() checks a job against, made once per file (it builds a Simbody system).
+  std::shared_ptr<const ModelFacts> get_facts(const std::string& path) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto found = facts_.find(path);
+    if (found != facts_.end()) return found->second;
+    auto facts = std::make_shared<const ModelFacts>(make_model_facts(*get_file_locked(path)));
+    facts_.emplace(path, facts);
+    return facts;
+  }
+
   /// The arm with the end effector `choice` picks (end_effector.hpp). ConfigError at "model"
   /// when the file is bad, at "end_effector.link" when the choice is.
   std::shared_ptr<const ArmModel> get(const std::string& path, const EndEffectorConfig& choice) {
@@ -69,6 +79,7 @@ class ModelCache {
   std::mutex mutex_;
   std::map<std::string, std::shared_ptr<const ArmModel>> files_;
   std::map<std::string, std::shared_ptr<const ArmModel>> chosen_;  // path, link, offset
+  std::map<std::string, std::shared_ptr<const ModelFacts>> facts_;
 };
 
 // The "model" input: the model file and every file it reads (meshes), as `models` loads them.
@@ -139,7 +150,7 @@ std::string find_model_path(const nlohmann::json& recorded) {
 void check_config(const nlohmann::json& recorded, ModelCache& models, const std::shared_ptr<StoredModels>& stored,
                   JobFileContents* contents) {
   const std::string path = find_model_path(recorded);
-  const JobConfig job = parse_recorded_job_config(recorded, make_model_facts(*models.get_file(path)),
+  const JobConfig job = parse_recorded_job_config(recorded, *models.get_facts(path),
                                                   make_stored_model_reader(stored), contents);
   models.get(path, job.end_effector);
 }
@@ -195,9 +206,9 @@ JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored) {
     // Every file the job reads is checked against the hash its key recorded (the recorded
     // trajectory and the initial model by parse_recorded_job_config, the model here).
     const std::string path = find_model_path(recorded);
-    const ModelFacts facts = make_model_facts(*models->get_file(path));
+    const std::shared_ptr<const ModelFacts> facts = models->get_facts(path);
     model_hashes->check(recorded, path);
-    const JobConfig job = parse_recorded_job_config(recorded, facts, make_stored_model_reader(stored));
+    const JobConfig job = parse_recorded_job_config(recorded, *facts, make_stored_model_reader(stored));
     const auto model = models->get(path, job.end_effector);
     JobOutcome outcome;
     try {
