@@ -117,6 +117,9 @@ LoopStability calc_loop_stability(const LoopPlant& plant, const LoopGains* gains
     Eigen::MatrixXd feedback(n, 2 * n);
     feedback << Eigen::MatrixXd(gains->kp.asDiagonal()), Eigen::MatrixXd(gains->kd.asDiagonal());
     const Eigen::MatrixXd closed = map.phi - map.gamma * feedback;
+    const Eigen::MatrixXd kd = gains->kd.asDiagonal();
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(kd, plant.mass, Eigen::EigenvaluesOnly);
+    result.modal_kd_ratio = std::max(0.0, modes.eigenvalues().maxCoeff()) * period;
     const Eigen::EigenSolver<Eigen::MatrixXd> solver(closed, true);
     Eigen::Index worst = 0;
     solver.eigenvalues().cwiseAbs().maxCoeff(&worst);

@@ -71,6 +71,9 @@ struct LoopStability {
   double kd_ratio = 0.0;
   double kp_ratio = 0.0;
   double damping_ratio = 0.0;
+  /// λ_max(M⁻¹Kd)·h: kd·h/M of the fastest coupled mode (equals the largest joint's kd·h/M_jj
+  /// when M is diagonal; coupling through M can raise it well above).
+  double modal_kd_ratio = 0.0;
 
   bool loop_stable() const;
   bool integrator_stable() const;

@@ -60,7 +60,7 @@ std::string make_divergence_advice(JobSetup& setup, const CompositeController& c
                            (fixed_step ? ", integrator_steps_per_tick " + std::to_string(setup.integrator_steps()) : std::string()) +
                            ") unstable at the posture where it diverged (joint " + std::to_string(joint) + ": " +
                            (ran.integrator_stable() ? "the PD loop grows ×" + format_number(ran.spectral_radius) +
-                                                          " per period, kd·h/M = " + format_number(ran.kd_ratio)
+                                                          " per period, kd·h/M = " + format_number(ran.kd_ratio) + ", of its fastest coupled mode " + format_number(ran.modal_kd_ratio)
                                                     : "RK4's passive decay ratio " + format_number(ran.passive_step_ratio) +
                                                           " is above its bound " + format_number(kRk4RealBound)) +
                            ")";

@@ -153,6 +153,7 @@ void check_sine_limits(const JobConfig& config, const ModelFacts& facts, Checker
   const bool heldout = learning.mode != LearningMode::none && learning.heldout;
   const double scale = heldout ? std::max(1.0, learning.heldout_amplitude_scale) : 1.0;
   const bool set_amplitude = config.trajectory.sine.amplitude.size() > 0;
+  const bool set_frequency = config.trajectory.sine.frequency.size() > 0;
   for (int j = 0; j < n; ++j) {
     const double amplitude = sine.amplitude[j] * scale;
     const double omega = 2.0 * M_PI * sine.frequency[j];
@@ -160,7 +161,7 @@ void check_sine_limits(const JobConfig& config, const ModelFacts& facts, Checker
     const std::string joint = "joint " + std::to_string(numbers[static_cast<std::size_t>(j)]);
     const std::string variant = scale > 1.0 ? " (the held-out variant's amplitude, × learning.heldout_amplitude_scale " + format_number(scale) + ")" : "";
     if (speed > ranges.velocity[j]) {
-      checker.add(set_amplitude ? "trajectory.sine.amplitude" : "trajectory.sine.frequency",
+      checker.add(set_frequency || !set_amplitude ? "trajectory.sine.frequency" : "trajectory.sine.amplitude",
                   joint + " needs " + format_number(speed) + " rad/s (amplitude " + format_number(amplitude) + " rad × 2π × " +
                       format_number(sine.frequency[j]) + " Hz" + variant + "), above its velocity limit " +
                       format_number(ranges.velocity[j]) + " rad/s; at this frequency an amplitude of at most " +

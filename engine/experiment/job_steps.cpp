@@ -71,8 +71,9 @@ std::string describe_failure(const JobConfig& config, const Failure& failure, in
          format_number(period) + " s, kd·h/M = " + format_number(s.kd_ratio) + " (bound 2), kp·h²/M = " + format_number(s.kp_ratio) +
          " (bound 2·kd·h/M = " + format_number(2.0 * s.kd_ratio) + "), with M = " + format_number(s.inertia) +
          " kg·m² (mass-matrix diagonal, armature included), kd = " + format_number(kd) + " N·m·s/rad and kp = " + format_number(kp) +
-         " N·m/rad after " + controller.scale_key + " " + format_number(controller.scale) + "; the error grows ×" +
-         format_number(s.spectral_radius) + " per PD period";
+         " N·m/rad after " + controller.scale_key + " " + format_number(controller.scale) +
+         "; coupled through the mass matrix, the fastest mode has kd·h/M = " + format_number(s.modal_kd_ratio) +
+         " (λ_max(M⁻¹Kd)·h), and the error grows ×" + format_number(s.spectral_radius) + " per PD period";
 }
 
 }  // namespace

@@ -1,0 +1,119 @@
+// A job's PD and integrator steps (engine/experiment/job_steps.hpp) on real arms: the
+// armature-free KUKA LBR iiwa 14 of the arm corpus (damping 0.5 N·m·s/rad, last link
+// 0.001 kg·m²), whose default job diverged at the old fixed steps (1 PD period, 1 RK4 step per
+// tick), and the LWR III, whose default job must keep them.
+#include "engine/experiment/control_pass.hpp"
+#include "engine/experiment/heldout_evaluation.hpp"
+#include "engine/experiment/job_setup.hpp"
+#include "engine/experiment/job_steps.hpp"
+#include "engine/experiment/run_experiment.hpp"
+#include "engine/model/model_loading.hpp"
+#include "job_metrics.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace armfarm {
+namespace {
+
+ArmModel load_iiwa() {
+  EndEffectorConfig tip;
+  tip.link = "tool_tcp";  // two leaves: the job names one
+  return load_arm_model(std::string(ARMFARM_TEST_DATA_DIR) + "/arms/kuka_iiwa14.urdf", tip);
+}
+
+/// One feedback pass of `config` over its training sine with the steps the setup holds.
+PassResult run_feedback_pass(const ArmModel& model, const JobConfig& config) {
+  JobSetup setup(model, config);
+  const JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());
+  ArmSimulation plant = setup.make_plant();
+  const CompositeController controller = setup.make_controller();
+  PassOptions options;
+  options.controller = &controller;
+  return run_control_pass(setup, plant, trajectories.training, options);
+}
+
+TEST(JobSteps, AutoMakesTheArmatureFreeArmsDefaultJobFinish) {
+  const ArmModel model = load_iiwa();
+  JobConfig config;  // the default job: online LWPR on the 20 s sine, held-out evaluation
+  config.end_effector.link = "tool_tcp";
+  const JobOutcome outcome = run_experiment(model, config);
+  ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
+  const auto metrics = testing::job_metrics(outcome);
+  EXPECT_EQ(metrics.at("heldout_diverged"), 0.0);
+  EXPECT_GT(metrics.at("pd_substeps_used") * metrics.at("integrator_steps_used"), 1.0);
+  std::printf("iiwa 14 default job: pd_substeps %g, integrator_steps_per_tick %g, tracking_nmse %.4g\n",
+              metrics.at("pd_substeps_used"), metrics.at("integrator_steps_used"), metrics.at("tracking_nmse"));
+}
+
+TEST(JobSteps, TheOldFixedStepsDivergeOnThatArmAndAreRefused) {
+  const ArmModel model = load_iiwa();
+  JobConfig config;
+  config.end_effector.link = "tool_tcp";
+  config.trajectory.sine.duration = 2.0;
+  config.learning.mode = LearningMode::none;
+  config.control.mode = ControlMode::feedback;
+  config.control.feed_forward = FeedForwardSource::none;
+  // Run as they are (JobSetup takes explicit steps without judging them): the pass diverges.
+  config.simulation.pd_substeps = 1;
+  config.simulation.integrator_steps_per_tick = 1;
+  const PassResult old_steps = run_feedback_pass(model, config);
+  EXPECT_EQ(old_steps.status, JobStatus::diverged);
+  EXPECT_LT(old_steps.end_time, 0.5) << old_steps.message;
+  // The diverged pass says what to change.
+  EXPECT_NE(old_steps.message.find("set pd_substeps to"), std::string::npos) << old_steps.message;
+  // validate() refuses them, naming the key, the joint and a value that works.
+  try {
+    run_experiment(model, config);
+    ADD_FAILURE() << "the old steps ran";
+  } catch (const std::invalid_argument& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.rfind("integrator_steps_per_tick: 1 is unstable: ", 0), 0u) << message;
+    EXPECT_NE(message.find("joint 7"), std::string::npos) << message;
+    EXPECT_NE(message.find("are stable with the criterion's margin"), std::string::npos) << message;
+  }
+  // "auto" on both: the same pass finishes.
+  config.simulation.pd_substeps.reset();
+  config.simulation.integrator_steps_per_tick.reset();
+  const PassResult automatic = run_feedback_pass(model, config);
+  EXPECT_EQ(automatic.status, JobStatus::done) << automatic.message;
+}
+
+TEST(JobSteps, TheLwrIiiDefaultJobKeepsOnePdPeriodAndOneStepPerTick) {
+  const ArmModel model = load_arm_model(std::string(ARMFARM_SOURCE_DIR) + "/models/dlr_lwr3.urdf");
+  JobConfig config;
+  JobSetup setup(model, config);
+  const JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());
+  setup.choose_steps({&trajectories.training, &*trajectories.heldout});
+  EXPECT_EQ(setup.pd_substeps(), 1);
+  EXPECT_EQ(setup.integrator_steps(), 1);
+  const StepChoice start = calc_start_posture_steps(config, make_model_facts(model));
+  EXPECT_TRUE(start.found);
+  EXPECT_EQ(start.pd_substeps, 1);
+  EXPECT_EQ(start.integrator_steps, 1);
+  // Without armature its wrist's passive decay (b·h/M = 0.05 × 0.01 / 1.25e-4 = 4 on joint 7)
+  // is outside RK4's region at one step per tick: the criterion asks for finer steps.
+  config.simulation.armature_scale = 0.0;
+  const StepChoice bare = calc_start_posture_steps(config, make_model_facts(model));
+  EXPECT_TRUE(bare.found);
+  EXPECT_GT(bare.pd_substeps * bare.integrator_steps, 1);
+}
+
+TEST(JobSteps, CollectionUsesTheJobsGainsUnlessCollectGainScaleIsSet) {
+  JobConfig config;
+  config.control.gain_scale = 0.2;
+  config.learning.mode = LearningMode::batch;
+  EXPECT_EQ(calc_collect_gain_scale(config), 0.2);
+  const PdGains gains{Eigen::VectorXd::Constant(2, 100.0), Eigen::VectorXd::Constant(2, 10.0)};
+  EXPECT_EQ(make_job_controllers(config, gains).size(), 1u);  // one controller: the job's
+  config.learning.collect_gain_scale = 1.0;
+  EXPECT_EQ(calc_collect_gain_scale(config), 1.0);
+  const std::vector<JobController> both = make_job_controllers(config, gains);
+  ASSERT_EQ(both.size(), 2u);
+  EXPECT_EQ(both[1].scale_key, "learning.collect_gain_scale");
+  EXPECT_EQ(both[1].gains.kp[0], 100.0);
+}
+
+}  // namespace
+}  // namespace armfarm
