@@ -82,6 +82,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
   Eigen::VectorXd last_acceleration = Eigen::VectorXd::Zero(n);
   Measurement measured = measure(plant, options);
   Eigen::VectorXd last_finite_q = plant.q();  // where a diverged pass's advice judges the steps
+  Eigen::VectorXd last_desired_q = last_finite_q;
 
   // Stage timing (TickClock): `lap(slot)` adds the time since the previous lap to `slot`.
   using Clock = std::chrono::steady_clock;
@@ -120,9 +121,12 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
     const Eigen::VectorXd q = plant.q();
     const Eigen::VectorXd qd = plant.qd();
 
-    if (q.allFinite()) last_finite_q = q;
+    if (q.allFinite()) {
+      last_finite_q = q;
+      last_desired_q = q_desired;
+    }
     if (auto reason = divergence.check(t, q, qd, q_desired)) {
-      return end_pass(JobStatus::diverged, t, *reason + make_divergence_advice(setup, *options.controller, trajectory, last_finite_q), simulated);
+      return end_pass(JobStatus::diverged, t, *reason + make_divergence_advice(setup, *options.controller, trajectory, last_finite_q, last_desired_q), simulated);
     }
     lap(&TickClock::control);
 
@@ -156,7 +160,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
     } catch (const std::exception& failure) {
       return end_pass(JobStatus::diverged, t,
                       std::string("integrator failed: ") + failure.what() +
-                          make_divergence_advice(setup, *options.controller, trajectory, last_finite_q),
+                          make_divergence_advice(setup, *options.controller, trajectory, last_finite_q, last_desired_q),
                       simulated);
     }
     lap(&TickClock::physics);
@@ -165,7 +169,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
     const Eigen::VectorXd qdd_measured = (next.qd - measured.qd) / dt;  // the thesis's backward difference
     if (!qdd_measured.allFinite()) {
       return end_pass(JobStatus::diverged, plant.time(),
-                      "the state became NaN or Inf" + make_divergence_advice(setup, *options.controller, trajectory, last_finite_q),
+                      "the state became NaN or Inf" + make_divergence_advice(setup, *options.controller, trajectory, last_finite_q, last_desired_q),
                       simulated);
     }
     last_acceleration = qdd_measured;

@@ -15,6 +15,9 @@ std::string format_number(double value) {
   return text;
 }
 
+/// rad: an error this large at divergence with stable steps means the arm was not held.
+constexpr double kFarOff = 0.1;
+
 /// The share of a velocity limit a slowed trajectory is aimed at.
 constexpr double kSlowdownTarget = 0.8;
 
@@ -41,7 +44,7 @@ std::string make_slowdown(const TrajectoryConfig& trajectory, double factor) {
 }  // namespace
 
 std::string make_divergence_advice(JobSetup& setup, const CompositeController& controller, const JointTrajectory& trajectory,
-                                   const Eigen::VectorXd& q) {
+                                   const Eigen::VectorXd& q, const Eigen::VectorXd& q_desired) {
   const JobConfig& config = setup.config();
   const SimulationConfig& simulation = config.simulation;
   const bool fixed_step = simulation.integrator == IntegratorKind::runge_kutta_4;
@@ -91,7 +94,18 @@ std::string make_divergence_advice(JobSetup& setup, const CompositeController& c
            format_number(worst * limits[worst_joint]) + " rad/s, above its velocity limit " + format_number(limits[worst_joint]) +
            " rad/s: set " + make_slowdown(config.trajectory, worst / kSlowdownTarget);
   }
-  // (3) Nothing computable: name the keys.
+  // (3) Far off the desired motion with stable steps: the feedback is too weak to hold the arm.
+  if (q.size() == q_desired.size() && q.size() > 0 && q.allFinite()) {
+    Eigen::Index worst_error = 0;
+    const double error = (q - q_desired).cwiseAbs().maxCoeff(&worst_error);
+    if (error > kFarOff) {
+      return "; the arm is " + format_number(error) + " rad off the desired motion (joint " +
+             std::to_string(setup.joint_numbers().at(static_cast<std::size_t>(worst_error))) +
+             ") with stable steps: the feedback is too weak to hold it — raise control.gain_scale (now " +
+             format_number(config.control.gain_scale) + ") or add a feed-forward (control.feed_forward)";
+    }
+  }
+  // (4) Nothing computable: name the keys.
   return "; the step-stability criterion calls the steps stable where it diverged, so they are not the cause: other gains "
          "(control.gain_scale, now " + format_number(config.control.gain_scale) + "; control.bandwidth, control.damping_ratio), "
          "a finer PD loop (pd_substeps " + std::to_string(2 * setup.pd_substeps()) + ") or the divergence.* bounds";

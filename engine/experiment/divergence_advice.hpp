@@ -13,9 +13,9 @@
 
 namespace armfarm {
 
-/// "; change pd_substeps to 4 (…why…)" or "" when nothing can be said. `q`: the plant's last
-/// finite posture (n × 1; empty: unknown); `controller`: the pass's.
+/// "; … set pd_substeps to 4 (…why…)": what to change. `q`: the plant's last finite posture
+/// (n × 1; empty: unknown) and `q_desired` the desired posture then; `controller`: the pass's.
 std::string make_divergence_advice(JobSetup& setup, const CompositeController& controller, const JointTrajectory& trajectory,
-                                   const Eigen::VectorXd& q);
+                                   const Eigen::VectorXd& q, const Eigen::VectorXd& q_desired);
 
 }  // namespace armfarm
