@@ -209,6 +209,9 @@ void check_key(const JobConfigKey& key, JobConfig& config, int n, Checker& check
     case ValueKind::real_or_auto:
       if (field.optional_real()) checker.check_number(key, key.path, *field.optional_real());
       break;
+    case ValueKind::point_or_auto:
+      if (field.optional_point()) checker.check_elements(key, *field.optional_point());
+      break;
     case ValueKind::choice: {
       const int value = static_cast<int>(field.get_integer(field.field));
       if (std::string(find_enum_name(*field.choices, value)) == "?") {
@@ -340,12 +343,13 @@ void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
                   std::to_string(checkpoints[i]) + " must exceed the checkpoint before it (" + std::to_string(checkpoints[i - 1]) + ")");
     }
   }
+  // A box with one corner "auto" is checked once the arm's reach places it (build_reaching).
   const ReachingConfig& reaching = config.trajectory.reaching;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (!(reaching.box_min[axis] < reaching.box_max[axis])) {
+  for (int axis = 0; reaching.box_min && reaching.box_max && axis < 3; ++axis) {
+    if (!((*reaching.box_min)[axis] < (*reaching.box_max)[axis])) {
       checker.add("trajectory.reaching.box_max[" + std::to_string(axis) + "]",
-                  format_number(reaching.box_max[axis]) + " m must exceed box_min[" + std::to_string(axis) + "] = " +
-                      format_number(reaching.box_min[axis]) + " m");
+                  format_number((*reaching.box_max)[axis]) + " m must exceed box_min[" + std::to_string(axis) + "] = " +
+                      format_number((*reaching.box_min)[axis]) + " m");
     }
   }
   const RecordedTrajectoryConfig& recorded = config.trajectory.recorded;

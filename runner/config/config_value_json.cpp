@@ -76,6 +76,8 @@ json make_field_json(const FieldRef& field) {
       return field.optional_integer() ? json(*field.optional_integer()) : json(kAutoValue);
     case ValueKind::real_or_auto:
       return field.optional_real() ? json(*field.optional_real()) : json(kAutoValue);
+    case ValueKind::point_or_auto:
+      return field.optional_point() ? make_vector_json(*field.optional_point()) : json(kAutoValue);
     case ValueKind::real_matrix: {
       const Eigen::MatrixXd& m = field.matrix();
       if (m.rows() == 1 && m.cols() == 1) return m(0, 0);
@@ -119,6 +121,18 @@ std::string read_field_json(const json& value, const FieldRef& field, std::strin
       if (!value.is_number()) return std::string("expected a number or \"") + kAutoValue + "\", got " + show(value);
       field.optional_real() = value.get<double>();
       return "";
+    case ValueKind::point_or_auto: {
+      if (value.is_string() && value.get<std::string>() == kAutoValue) {
+        field.optional_point().reset();
+        return "";
+      }
+      Eigen::VectorXd v;
+      const std::string problem = value.is_array() ? read_vector(value, v, suffix) : "expected [x, y, z] or \"" + std::string(kAutoValue) + "\", got " + show(value);
+      if (!problem.empty()) return problem;
+      if (v.size() != 3) return std::string("expected 3 numbers [x, y, z] or \"") + kAutoValue + "\", got " + show(value);
+      field.optional_point() = Eigen::Vector3d(v);
+      return "";
+    }
     case ValueKind::boolean:
       if (value.is_boolean()) {
         field.boolean() = value.get<bool>();

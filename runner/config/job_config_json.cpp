@@ -101,7 +101,7 @@ nlohmann::json make_job_config_types() {
   for (const JobConfigKey& key : job_config_keys()) {
     const ValueKind kind = key.field(defaults).kind;
     if (kind == ValueKind::real_or_list || kind == ValueKind::real_matrix || kind == ValueKind::integer_or_auto ||
-        kind == ValueKind::real_or_auto) {
+        kind == ValueKind::real_or_auto || kind == ValueKind::point_or_auto) {
       set_value(tree, key.path, nullptr);
     }
   }

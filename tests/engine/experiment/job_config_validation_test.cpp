@@ -186,7 +186,8 @@ TEST(JobConfigValidation, CrossFieldAndShapeRules) {
   JobConfig config;
   config.active_joints = {2, 9, 2};
   config.learning.mode = LearningMode::none;  // while feed_forward is the learner
-  config.trajectory.reaching.box_min.x() = 0.8;
+  config.trajectory.reaching.box_min = Eigen::Vector3d(0.8, 0.2, 0.0);
+  config.trajectory.reaching.box_max = Eigen::Vector3d(0.7, 0.7, 0.5);
   config.learning.lwpr.init_D = Eigen::MatrixXd::Constant(2, 1, 1.0);  // neither 1 nor 3n elements
   config.recording.series = {"PHI", "TORQUE"};
   config.recording.every = 0;
