@@ -59,25 +59,41 @@ JointTrajectory build_figure_eight(const FigureEightConfig& config, Differentiat
   if (config.loops < 1) throw std::invalid_argument("trajectory.figure_eight.loops: must be at least 1");
   if (!(config.scale > 0.0)) throw std::invalid_argument("trajectory.figure_eight.scale: must be positive");
   const int points = config.points_per_loop;
-  const FigureEightShape shape = calc_figure_eight_shape(config, calc_reach(dynamics.model()));
-  Eigen::MatrixXd loop_targets(points, 3);
-  for (int i = 0; i < points; ++i) {
-    const double s = 2.0 * i / points;  // one loop: s ∈ [0, 2)
-    loop_targets.row(i) << shape.centre.x(), shape.centre.y() + config.scale * shape.a * std::sin(M_PI * s),
-        shape.centre.z() + config.scale * shape.b * std::sin(2.0 * M_PI * s);
-  }
   const SerialChain chain = make_end_effector_chain(dynamics);
+  FigureEightShape shape = calc_figure_eight_shape(config, calc_reach(dynamics.model()));
+  const auto make_targets = [&](const FigureEightShape& figure) {
+    Eigen::MatrixXd targets(points, 3);
+    for (int i = 0; i < points; ++i) {
+      const double s = 2.0 * i / points;  // one loop: s ∈ [0, 2)
+      targets.row(i) << figure.centre.x(), figure.centre.y() + config.scale * figure.a * std::sin(M_PI * s),
+          figure.centre.z() + config.scale * figure.b * std::sin(2.0 * M_PI * s);
+    }
+    return targets;
+  };
   // Start from the rest posture; repeat the loop until its joint path closes (the IK converges
   // to a function of the target, so one repeat normally suffices).
-  Eigen::VectorXd start = chain.start_positions();
-  Eigen::MatrixXd loop;
-  for (int attempt = 0; attempt < 10; ++attempt) {
-    loop = calc_joint_path(chain, loop_targets, start, "trajectory.figure_eight");
-    const Eigen::MatrixXd next_start = calc_joint_path(chain, loop_targets.topRows(1), loop.bottomRows(1).transpose(),
-                                                       "trajectory.figure_eight");
-    const double gap = (next_start.row(0) - loop.row(0)).cwiseAbs().maxCoeff();
-    start = next_start.row(0).transpose();
-    if (gap < 1e-6) break;
+  const auto solve_loop = [&](const Eigen::MatrixXd& targets) {
+    Eigen::VectorXd start = chain.start_positions();
+    Eigen::MatrixXd loop;
+    for (int attempt = 0; attempt < 10; ++attempt) {
+      loop = calc_joint_path(chain, targets, start, "trajectory.figure_eight");
+      const Eigen::MatrixXd next_start = calc_joint_path(chain, targets.topRows(1), loop.bottomRows(1).transpose(), "trajectory.figure_eight");
+      const double gap = (next_start.row(0) - loop.row(0)).cwiseAbs().maxCoeff();
+      start = next_start.row(0).transpose();
+      if (gap < 1e-6) break;
+    }
+    return loop;
+  };
+  Eigen::MatrixXd loop_targets = make_targets(shape), loop;
+  try {
+    loop = solve_loop(loop_targets);
+  } catch (const std::runtime_error&) {
+    // An "auto" centre the arm cannot follow the figure around moves to where the end effector
+    // is at the start posture (reachable by construction), the size kept.
+    if (config.centre) throw;
+    shape.centre = chain.calc_position(chain.start_positions());
+    loop_targets = make_targets(shape);
+    loop = solve_loop(loop_targets);
   }
   JointTrajectory trajectory;
   trajectory.dt = dt;

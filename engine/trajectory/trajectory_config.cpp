@@ -82,7 +82,7 @@ const std::vector<ConfigKey<FigureEightConfig>>& figure_eight_config_keys() {
   using C = FigureEightConfig;
   static const std::vector<ConfigKey<C>> keys = {
       {"centre", "m", closed(-3.0, 3.0), ListSize::any,
-       "centre [x, y, z] in the world frame; x stays constant; \"auto\" = (0.45, 0, 0.6) × the arm's reach / 1.018 m (the LWR III's)",
+       "centre [x, y, z] in the world frame; x stays constant; \"auto\" = (0.45, 0, 0.6) × the arm's reach / 1.018 m (the LWR III's), or the end effector's start position where the arm cannot follow the figure there",
        [](C& c) { return make_field(c.centre); }},
       {"a", "m", left_open(0.0, 2.0), ListSize::any, "half-width: y = centre.y + scale·a·sin(πs); \"auto\" = 0.15 × reach / 1.018 m",
        [](C& c) { return make_field(c.a); }},

@@ -54,7 +54,8 @@ inline constexpr double kReferenceReach = 1.018;
 /// x = centre.x, y = centre.y + scale·a·sin(πs), z = centre.z + scale·b·sin(2πs) for s in
 /// [0, 2) per loop, sampled at points_per_loop points (one per control tick), loops times,
 /// converted to joint space by inverse kinematics. Empty centre, a, b ("auto"): the thesis's
-/// (0.45, 0, 0.6) m, 0.15 m and 0.10 m scaled by reach / kReferenceReach.
+/// (0.45, 0, 0.6) m, 0.15 m and 0.10 m scaled by reach / kReferenceReach; an "auto" centre
+/// the arm cannot follow the figure around moves to the end effector's start position.
 struct FigureEightConfig {
   std::optional<Eigen::Vector3d> centre;  ///< m, world frame
   std::optional<double> a;  ///< m, half-width along y
