@@ -2,6 +2,7 @@
 
 #include "engine/model/model_loading.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -11,9 +12,12 @@
 namespace armfarm {
 namespace {
 
+// "'a', 'b', 'c'"; past kListedLeaves names, "… and N more" (a message stays one short line).
 std::string quoted_names(const ArmModel& model, const std::vector<int>& links) {
   std::string text;
-  for (int l : links) text += (text.empty() ? "'" : ", '") + model.links[l].name + "'";
+  const std::size_t shown = std::min(links.size(), kListedLeaves);
+  for (std::size_t i = 0; i < shown; ++i) text += (text.empty() ? "'" : ", '") + model.links[links[i]].name + "'";
+  if (links.size() > shown) text += " … and " + std::to_string(links.size() - shown) + " more";
   return text;
 }
 
@@ -83,7 +87,7 @@ void choose_end_effector(ArmModel& model, const EndEffectorConfig& choice) {
   if (!choice.link.empty()) {
     const int link = model.find_link(choice.link);
     if (link < 0) {
-      throw ModelError(model.source_file + ": end effector: no link '" + choice.link + "' (leaf links: " +
+      throw ModelError(model.source_file + ": end_effector.link: no link '" + choice.link + "' (leaf links: " +
                        quoted_names(model, find_leaf_links(model)) + ")");
     }
     model.end_effector = {link, choice.offset};
@@ -97,8 +101,8 @@ void choose_end_effector(ArmModel& model, const EndEffectorConfig& choice) {
   }
   if (leaves.empty()) throw ModelError(model.source_file + ": no leaf link to serve as the end effector (nothing moves)");
   throw ModelError(model.source_file + ": " + std::to_string(leaves.size()) + " leaf links (" + quoted_names(model, leaves) +
-                   "): choose the end effector with end_effector.link (and .offset) in the job configuration, or --ee "
-                   "LINK[:x,y,z] on armfarm job and the model commands");
+                   "): set end_effector.link to the one that tracks the targets (in a spec's base or as a grid axis; "
+                   "--ee LINK[:x,y,z] on armfarm job and the model commands)");
 }
 
 }  // namespace armfarm

@@ -29,6 +29,9 @@ std::string check_end_effector_config(const EndEffectorConfig& choice);
 /// text when it is malformed.
 EndEffectorConfig parse_end_effector_text(const std::string& text);
 
+/// Messages list at most this many leaf links, then "… and N more".
+inline constexpr std::size_t kListedLeaves = 10;
+
 /// Indices of the links no joint hangs from, other than the root and links fixed to the world:
 /// the tips of the tree, in link order.
 std::vector<int> find_leaf_links(const ArmModel& model);

@@ -8,6 +8,7 @@
 #include "engine/model/model_loaders.hpp"
 #include "engine/model/model_loading.hpp"
 #include "engine/model/model_validation.hpp"
+#include "engine/model/start_posture.hpp"
 
 #include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
@@ -436,6 +437,9 @@ ArmModel load_urdf_model(const std::string& path) {
     if (const auto it = extras.armature.find(name); it != extras.armature.end()) joint.armature = it->second;
     if (const auto it = extras.start_position.find(name); it != extras.start_position.end()) {
       joint.start_position = it->second;
+      joint.start_position_from_file = true;
+    } else {
+      joint.start_position = calc_default_start_position(joint);
     }
     model.joints.push_back(joint);
   }
