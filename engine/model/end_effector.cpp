@@ -74,9 +74,15 @@ EndEffectorConfig parse_end_effector_text(const std::string& text) {
 std::vector<int> find_leaf_links(const ArmModel& model) {
   std::set<int> parents;
   for (const Joint& joint : model.joints) parents.insert(joint.parent_link);
+  // Whether some joint moves the link: a movable joint on its path from the root (joints are in
+  // tree order, so a parent's answer is known before its children's).
+  std::vector<bool> moved(model.links.size(), false);
+  for (const Joint& joint : model.joints) {
+    moved[joint.child_link] = moved[joint.parent_link] || joint.type != JointType::fixed;
+  }
   std::vector<int> leaves;
   for (int l = 0; l < static_cast<int>(model.links.size()); ++l) {
-    if (l != model.root_link && !model.links[l].fixed_to_world && parents.count(l) == 0) leaves.push_back(l);
+    if (l != model.root_link && !model.links[l].fixed_to_world && moved[l] && parents.count(l) == 0) leaves.push_back(l);
   }
   return leaves;
 }

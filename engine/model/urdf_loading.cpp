@@ -124,11 +124,13 @@ class UrdfScanner {
           fail(ref, "joint '" + name + "': unknown " + side + " link '" + link + "'");
         }
       }
-      if (const auto* axis = e->FirstChildElement("axis")) {
+      const char* type = e->Attribute("type");
+      // A fixed joint has no axis to speak of: vendor files (Kinova's, Jaco's) write <axis xyz="0 0 0"/> there.
+      const bool fixed = type != nullptr && std::string(type) == "fixed";
+      if (const auto* axis = e->FirstChildElement("axis"); axis != nullptr && !fixed) {
         const Eigen::Vector3d xyz = vector_attribute(axis, "xyz");
         if (xyz.norm() < 1e-12) fail(axis, "joint '" + name + "': zero axis");
       }
-      const char* type = e->Attribute("type");
       if (type != nullptr && (std::string(type) == "revolute" || std::string(type) == "prismatic") &&
           e->FirstChildElement("limit") == nullptr) {
         fail(e, "joint '" + name + "': a " + type + " joint needs <limit lower upper effort velocity>");

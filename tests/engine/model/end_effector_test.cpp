@@ -146,6 +146,32 @@ TEST(UrdfExtensions, NamespacedElementsInsideLinksAndJointsAreSkipped) {
   std::filesystem::remove_all(folder);
 }
 
+TEST(UrdfExtensions, VendorHabitsBaseFramesAndAxislessFixedJointsLoad) {
+  // Kinova's and Jaco's files write <axis xyz="0 0 0"/> on fixed joints; Drake's UR files weld a
+  // 'base' frame to the base link. Neither frame moves, so it is not a leaf: the tip is chosen.
+  const auto folder = std::filesystem::temp_directory_path() / ("armfarm_ee_vendor_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  const std::string path = (folder / "vendor.urdf").string();
+  std::ofstream(path) << R"(<robot name="vendor">
+  <link name="world"/>
+  <joint name="mount" type="fixed"><parent link="world"/><child link="base_link"/><axis xyz="0 0 0"/></joint>
+  <link name="base_link"><inertial><mass value="2"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="base_frame" type="fixed"><parent link="base_link"/><child link="base"/><axis xyz="0 0 0"/></joint>
+  <link name="base"/>
+  <joint name="j" type="continuous"><parent link="base_link"/><child link="tip"/><axis xyz="0 0 1"/></joint>
+  <link name="tip"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="flange" type="fixed"><parent link="tip"/><child link="tool0"/><origin xyz="0 0 0.1"/><axis xyz="0 0 0"/></joint>
+  <link name="tool0"/>
+</robot>
+)";
+  const ArmModel model = load_arm_model(path);
+  const std::vector<int> leaves = find_leaf_links(model);
+  ASSERT_EQ(leaves.size(), 1u);
+  EXPECT_EQ(model.links[leaves[0]].name, "tool0");
+  EXPECT_EQ(model.links[model.end_effector.link].name, "tool0");
+  std::filesystem::remove_all(folder);
+}
+
 TEST(ModelFile, TreeOrderIsDepthFirstInGivenOrder) {
   // links: 0 root, 1..5; joints given out of tree order.
   const std::vector<TreeEdge> joints = {{2, 3}, {0, 1}, {1, 2}, {0, 4}, {1, 5}};
