@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 
 namespace armfarm {
@@ -43,7 +44,7 @@ class Checker {
     for (Eigen::Index i = 0; i < values.size(); ++i) check_number(key, key.path + "[" + std::to_string(i) + "]", values[i]);
   }
 
-  void check_size(const JobConfigKey& key, Eigen::Index size, int n) {
+  void check_size(const JobConfigKey& key, Eigen::Index size, int n, int movable) {
     const auto plural = [](long count) { return std::to_string(count) + (count == 1 ? " value" : " values"); };
     switch (key.size) {
       case ListSize::per_joint:
@@ -60,6 +61,12 @@ class Checker {
         break;
       case ListSize::lwpr_outputs:
         if (size != 1 && size != n) add(key.path, "has " + plural(size) + "; give 1 or one per active joint (" + std::to_string(n) + ")");
+        break;
+      case ListSize::movable_joints:
+        if (size != 0 && size != movable) {
+          add(key.path, "has " + plural(size) + "; give none (the stated rule) or one per joint of the arm (" +
+                            std::to_string(movable) + ", active or locked)");
+        }
         break;
       default:
         break;
@@ -144,8 +151,10 @@ void check_sine_limits(const JobConfig& config, const ModelFacts& facts, Checker
   const JointRanges ranges{select_joints(facts.lower_limits, numbers), select_joints(facts.upper_limits, numbers),
                            select_joints(facts.velocity_limits, numbers)};
   SineTrajectoryConfig sine;
+  std::vector<double> start = facts.start_positions;
+  if (config.start_posture.size() == movable) start.assign(config.start_posture.data(), config.start_posture.data() + movable);
   try {
-    sine = resolve_sine_defaults(config.trajectory.sine, n, select_joints(facts.start_positions, numbers), &ranges);
+    sine = resolve_sine_defaults(config.trajectory.sine, n, select_joints(start, numbers), &ranges);
   } catch (const std::invalid_argument&) {
     return;  // mis-sized lists are reported by their keys
   }
@@ -182,6 +191,25 @@ void check_sine_limits(const JobConfig& config, const ModelFacts& facts, Checker
   }
 }
 
+// A configured start posture must lie inside every joint's limits (1-based joint numbers).
+void check_start_posture(const JobConfig& config, const ModelFacts& facts, Checker& checker) {
+  const Eigen::VectorXd& posture = config.start_posture;
+  if (posture.size() == 0 || facts.lower_limits.size() != static_cast<std::size_t>(posture.size()) ||
+      facts.upper_limits.size() != facts.lower_limits.size()) {
+    return;
+  }
+  for (Eigen::Index i = 0; i < posture.size(); ++i) {
+    const double lower = facts.lower_limits[i], upper = facts.upper_limits[i];
+    if (posture[i] >= lower && posture[i] <= upper) continue;
+    const std::string name = static_cast<std::size_t>(i) < facts.joint_names.size() ? " (" + facts.joint_names[i] + ")" : "";
+    const bool slider = static_cast<std::size_t>(i) < facts.prismatic.size() && facts.prismatic[i];
+    const char* unit = slider ? " m" : " rad";
+    checker.add("start_posture[" + std::to_string(i) + "]", "joint " + std::to_string(i + 1) + name + " at " +
+                                                            format_number(posture[i]) + unit + " is outside its range [" +
+                                                            format_number(lower) + ", " + format_number(upper) + "]" + unit);
+  }
+}
+
 void check_joints(const JobConfig& config, const ModelFacts& facts, Checker& checker) {
   const std::vector<int>& joints = config.active_joints;
   for (std::size_t i = 0; i < joints.size(); ++i) {
@@ -194,7 +222,7 @@ void check_joints(const JobConfig& config, const ModelFacts& facts, Checker& che
   }
 }
 
-void check_key(const JobConfigKey& key, JobConfig& config, int n, Checker& checker) {
+void check_key(const JobConfigKey& key, JobConfig& config, int n, int movable, Checker& checker) {
   const FieldRef field = key.field(config);
   switch (field.kind) {
     case ValueKind::real:
@@ -221,7 +249,7 @@ void check_key(const JobConfigKey& key, JobConfig& config, int n, Checker& check
     }
     case ValueKind::real_list:
     case ValueKind::real_or_list:
-      checker.check_size(key, field.vector().size(), n);
+      checker.check_size(key, field.vector().size(), n, movable);
       checker.check_elements(key, field.vector());
       break;
     case ValueKind::point:
@@ -505,19 +533,36 @@ ModelFacts make_model_facts(const ArmModel& model) {
     const double infinity = std::numeric_limits<double>::infinity();
     facts.lower_limits.push_back(joint.has_position_limits ? joint.lower : -infinity);
     facts.upper_limits.push_back(joint.has_position_limits ? joint.upper : infinity);
+    facts.joint_names.push_back(joint.name);
+    facts.prismatic.push_back(joint.type == JointType::prismatic);
     facts.velocity_limits.push_back(joint.velocity_limit > 0.0 ? joint.velocity_limit : infinity);
     facts.start_positions.push_back(joint.start_position);
   }
   if (movable.empty()) return facts;
   try {
-    ArmDynamics dynamics(model);
-    facts.rigid_mass = dynamics.calc_mass_matrix(dynamics.start_positions());
-    facts.armature.resize(facts.movable_joints);
-    for (int j = 0; j < facts.movable_joints; ++j) facts.armature[j] = model.joints[movable[j]].armature;
-    facts.rigid_mass.diagonal() -= facts.armature;
-    facts.damping = dynamics.viscous_damping();
+    // One plant behind a lock: the facts are shared by the threads that validate jobs.
+    struct LockedDynamics {
+      explicit LockedDynamics(const ArmModel& arm) : model(arm), dynamics(model) {}
+      std::mutex mutex;
+      ArmModel model;  // its own copy: the dynamics refer to it, and the facts outlive the caller's
+      ArmDynamics dynamics;
+      Eigen::VectorXd armature;
+    };
+    auto shared = std::make_shared<LockedDynamics>(model);
+    shared->armature.resize(facts.movable_joints);
+    for (int j = 0; j < facts.movable_joints; ++j) shared->armature[j] = model.joints[movable[j]].armature;
+    facts.armature = shared->armature;
+    facts.rigid_mass_at = [shared](const Eigen::VectorXd& q) {
+      std::lock_guard<std::mutex> lock(shared->mutex);
+      Eigen::MatrixXd mass = shared->dynamics.calc_mass_matrix(q);
+      mass.diagonal() -= shared->armature;
+      return mass;
+    };
+    facts.rigid_mass = facts.rigid_mass_at(shared->dynamics.start_positions());
+    facts.damping = shared->dynamics.viscous_damping();
   } catch (const std::exception&) {
     facts.rigid_mass.resize(0, 0);  // a model Simbody cannot build fails where the job builds it
+    facts.rigid_mass_at = nullptr;
   }
   return facts;
 }
@@ -529,16 +574,18 @@ std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& f
   const int n = config.active_joints.empty() ? facts.movable_joints : static_cast<int>(config.active_joints.size());
   // The key table hands out references to non-const fields; this function only reads them.
   JobConfig& fields = const_cast<JobConfig&>(config);
-  for (const JobConfigKey& key : job_config_keys()) check_key(key, fields, n, checker);
+  for (const JobConfigKey& key : job_config_keys()) check_key(key, fields, n, facts.movable_joints, checker);
   if (n >= 1) check_lwpr(config, n, problems, checker);
   if (n >= 1 && config.learning.learner == LearnerKind::ssgpr) check_ssgpr(config, n, problems, checker);
   check_cross_fields(config, n, checker);
+  if (!has_problem_under(problems, "start_posture")) check_start_posture(config, facts, checker);
   // Limits once the recording's shape and values are known good.
   if (config.trajectory.kind == TrajectoryKind::recorded && !config.trajectory.recorded.task_space &&
       !has_problem_under(problems, "trajectory.recorded") && !has_problem_under(problems, "active_joints")) {
     check_recorded_limits(config, facts, checker);
   }
-  const bool sane_joints = !has_problem_under(problems, "active_joints");
+  // The sine and the steps are judged about the start posture: not about one outside the limits.
+  const bool sane_joints = !has_problem_under(problems, "active_joints") && !has_problem_under(problems, "start_posture");
   if (sane_joints && config.trajectory.kind == TrajectoryKind::sine && !has_problem_under(problems, "trajectory.") &&
       !has_problem_under(problems, "learning.heldout")) {
     check_sine_limits(config, facts, checker);

@@ -7,6 +7,7 @@
 #include "engine/experiment/job_config.hpp"
 #include "engine/model/arm_model.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -32,9 +33,15 @@ struct ModelFacts {
   /// damping (n); empty: the PD and integrator steps are not checked.
   Eigen::MatrixXd rigid_mass;
   Eigen::VectorXd armature, damping;
+  /// The rigid-body mass matrix (n × n, every movable joint) at any posture, for a configured
+  /// start_posture (thread-safe; unset: not available).
+  std::function<Eigen::MatrixXd(const Eigen::VectorXd& q)> rigid_mass_at;
+  /// Per movable joint, for messages: its name and whether it slides (m) rather than turns (rad).
+  std::vector<std::string> joint_names;
+  std::vector<bool> prismatic;
 };
 
-/// The facts of `model`: its movable joints, their limits and start positions, and the
+/// The facts of `model`: its movable joints, their limits, names and start positions, and the
 /// mass matrix at the start posture (a Simbody system is built for it: callers that validate
 /// many jobs keep the facts of a model rather than making them per job).
 ModelFacts make_model_facts(const ArmModel& model);

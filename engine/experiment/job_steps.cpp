@@ -171,10 +171,19 @@ std::optional<StartPostureLoops> make_start_posture_loops(const JobConfig& confi
     if (number < 1 || number > movable) return std::nullopt;
   }
   if (n == 0) return std::nullopt;
+  // The configured start posture, when it differs from the file's (a check of its own reports a bad one).
+  Eigen::MatrixXd rigid = facts.rigid_mass;
+  const Eigen::VectorXd& posture = config.start_posture;
+  if (posture.size() != 0) {
+    if (posture.size() != movable || !facts.rigid_mass_at) return std::nullopt;
+    bool same = true;
+    for (int j = 0; j < movable && same; ++j) same = posture[j] == facts.start_positions[static_cast<std::size_t>(j)];
+    if (!same) rigid = facts.rigid_mass_at(posture);
+  }
   Eigen::MatrixXd mass(n, n);
   Eigen::VectorXd damping(n);
   for (Eigen::Index r = 0; r < n; ++r) {
-    for (Eigen::Index c = 0; c < n; ++c) mass(r, c) = facts.rigid_mass(numbers[r] - 1, numbers[c] - 1);
+    for (Eigen::Index c = 0; c < n; ++c) mass(r, c) = rigid(numbers[r] - 1, numbers[c] - 1);
     mass(r, r) += config.simulation.armature_scale * facts.armature[numbers[r] - 1];
     damping[r] = facts.damping[numbers[r] - 1];
   }

@@ -4,6 +4,7 @@
 // tick), and the LWR III, whose default job must keep them.
 #include "engine/experiment/control_pass.hpp"
 #include "engine/experiment/heldout_evaluation.hpp"
+#include "engine/experiment/job_model.hpp"
 #include "engine/experiment/job_setup.hpp"
 #include "engine/experiment/job_steps.hpp"
 #include "engine/experiment/run_experiment.hpp"
@@ -12,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <optional>
 #include <string>
 
 namespace armfarm {
@@ -98,6 +101,38 @@ TEST(JobSteps, TheLwrIiiDefaultJobKeepsOnePdPeriodAndOneStepPerTick) {
   const StepChoice bare = calc_start_posture_steps(config, make_model_facts(model));
   EXPECT_TRUE(bare.found);
   EXPECT_GT(bare.pd_substeps * bare.integrator_steps, 1);
+}
+
+// The criterion judges the configured start posture, not the file's: planar2's mass matrix at
+// q = (0, π/2) against the closed form of the double pendulum with distributed masses
+// (models/planar2.urdf: M11 = I1 + m1·lc1² + I2 + m2·(l1² + lc2² + 2·l1·lc2·cos q2),
+// M12 = I2 + m2·(lc2² + l1·lc2·cos q2), M22 = I2 + m2·lc2²), and the same loops as on the job's model.
+TEST(JobSteps, StartPostureLoopsUseTheConfiguredPosture) {
+  const ArmModel file = load_arm_model(std::string(ARMFARM_SOURCE_DIR) + "/models/planar2.urdf");
+  const double i1 = 0.1668666667, i2 = 0.08015, m1 = 2.0, m2 = 1.5, l1 = 1.0, lc1 = 0.5, lc2 = 0.4;
+  const auto closed_form = [&](double q2) {
+    Eigen::Matrix2d mass;
+    mass(0, 0) = i1 + m1 * lc1 * lc1 + i2 + m2 * (l1 * l1 + lc2 * lc2 + 2.0 * l1 * lc2 * std::cos(q2));
+    mass(0, 1) = mass(1, 0) = i2 + m2 * (lc2 * lc2 + l1 * lc2 * std::cos(q2));
+    mass(1, 1) = i2 + m2 * lc2 * lc2;
+    return mass;
+  };
+  const ModelFacts facts = make_model_facts(file);
+  JobConfig config;
+  const std::optional<StartPostureLoops> stated = make_start_posture_loops(config, facts);
+  ASSERT_TRUE(stated);
+  EXPECT_LT((stated->plants[0].mass - closed_form(0.0)).norm(), 1e-9);  // the file's posture: q = 0
+  config.start_posture = Eigen::Vector2d(0.0, M_PI / 2);
+  const std::optional<StartPostureLoops> set = make_start_posture_loops(config, facts);
+  ASSERT_TRUE(set);
+  EXPECT_LT((set->plants[0].mass - closed_form(M_PI / 2)).norm(), 1e-9);
+  // The gains follow the posture's M_jj (kp = ω²·M_jj), and agree with the job's own model.
+  const std::optional<StartPostureLoops> job = make_start_posture_loops(config, make_model_facts(make_job_model(file, config)));
+  ASSERT_TRUE(job);
+  EXPECT_LT((set->plants[0].mass - job->plants[0].mass).norm(), 1e-12);
+  ASSERT_EQ(set->controllers.size(), job->controllers.size());
+  EXPECT_LT((set->controllers[0].gains.kp - job->controllers[0].gains.kp).norm(), 1e-9);
+  EXPECT_LT(set->controllers[0].gains.kp[0], stated->controllers[0].gains.kp[0]);
 }
 
 TEST(JobSteps, CollectionUsesTheJobsGainsUnlessCollectGainScaleIsSet) {
