@@ -72,6 +72,7 @@ enum class ListSize {
   joint_numbers,  ///< active_joints: distinct 1-based movable joint numbers
   lwpr_inputs,    ///< 1 or 3 × active joints (q, q̇, q̈)
   lwpr_outputs,   ///< 1 or one per active joint
+  movable_joints, ///< 0 (the stated rule) or one per movable joint of the model, active or locked
 };
 
 /// A typed reference to one field of one struct instance. `field` points at the member; its

@@ -87,11 +87,12 @@ JobTrajectories build_job_trajectories(const JobConfig& config, ArmDynamics& dyn
 
 bool is_trajectory_input(const std::string& path) {
   // Everything build_job_trajectories reads: the trajectory block, the control period, the
-  // seed (reaching targets), the joints (and so the kinematic chain), the learning mode and the
+  // seed (reaching targets), the joints (and so the kinematic chain), the start posture (the
+  // sine's default offset, the IK's start and rest posture, the locked joints), the learning mode and the
   // held-out variant's keys. armature_scale changes the nominal model handed to the builders;
   // the builders use only its kinematics and limits today, but it stays in the key so that a
   // builder that one day reads the dynamics cannot be handed another arm's trajectory.
-  static const char* const exact[] = {"dt", "seed", "active_joints", "armature_scale", "learning.mode", "learning.heldout",
+  static const char* const exact[] = {"dt", "seed", "active_joints", "start_posture", "armature_scale", "learning.mode", "learning.heldout",
                                       "learning.heldout_amplitude_scale", "learning.heldout_phase_step",
                                       "learning.heldout_segments", "learning.heldout_recorded_fraction"};
   if (path.rfind("trajectory.", 0) == 0) return true;

@@ -21,6 +21,10 @@ const std::vector<ConfigKey<JobConfig>>& top_level_keys() {
        [](C& c) { return make_field(c.active_joints); }},
       {"seed", "", closed(0, 9.2e18), ListSize::any, "draws the reaching targets and the batch train/test split and shuffles",
        [](C& c) { return make_integer_field(c.seed); }},
+      {"start_posture", "rad", {}, ListSize::movable_joints,
+       "where the joints start (rad; m for sliders), one per joint of the model, active or locked, each inside its limits; "
+       "[] = the model's (the file's start positions, else 0 clamped into the middle half of each joint's range)",
+       [](C& c) { return make_field(c.start_posture); }},
   };
   return keys;
 }

@@ -8,7 +8,8 @@
 //   learning    engine/learning/learning_config.hpp     (learning.lwpr: LWPR's parameter block;
 //                                                        learning.ssgpr: ssgpr_learning_config.hpp)
 //   mismatch, recording, divergence, statistics  engine/experiment/*_config.hpp
-//   end_effector  engine/model/end_effector.hpp (the runner applies it when it loads the model)
+//   end_effector  engine/model/end_effector.hpp  } applied to the model by make_job_model
+//   start_posture engine/model/start_posture.hpp } (engine/experiment/job_model.hpp)
 // job_config_keys() concatenates their tables under their dotted prefixes; the runner's JSON
 // reader and writer, validate() (job_config_validation.hpp) and the documentation check use it.
 // The engine never reads JSON.
@@ -37,7 +38,11 @@ namespace armfarm {
 struct JobConfig {
   std::vector<int> active_joints;  ///< 1-based movable joint numbers (the thesis's "Joint 2"); empty = all
   std::uint64_t seed = 0;          ///< draws the reaching targets and the batch split and shuffles
-  EndEffectorConfig end_effector;  ///< which link (and point on it) tracks task-space targets; applied to the model by its loader
+  EndEffectorConfig end_effector;  ///< which link (and point on it) tracks task-space targets; applied by make_job_model
+  /// rad or m, one per movable joint (joint-number order, active or locked): where the job starts
+  /// and locked joints stay; empty = the model's (the file's, else start_posture.hpp's default).
+  /// Applied by make_job_model (job_model.hpp).
+  Eigen::VectorXd start_posture;
   SimulationConfig simulation;
   ControlConfig control;
   TrajectoryConfig trajectory;

@@ -41,7 +41,7 @@ class Checker {
     for (Eigen::Index i = 0; i < values.size(); ++i) check_number(key, key.path + "[" + std::to_string(i) + "]", values[i]);
   }
 
-  void check_size(const JobConfigKey& key, Eigen::Index size, int n) {
+  void check_size(const JobConfigKey& key, Eigen::Index size, int n, int movable) {
     const auto plural = [](long count) { return std::to_string(count) + (count == 1 ? " value" : " values"); };
     switch (key.size) {
       case ListSize::per_joint:
@@ -58,6 +58,12 @@ class Checker {
         break;
       case ListSize::lwpr_outputs:
         if (size != 1 && size != n) add(key.path, "has " + plural(size) + "; give 1 or one per active joint (" + std::to_string(n) + ")");
+        break;
+      case ListSize::movable_joints:
+        if (size != 0 && size != movable) {
+          add(key.path, "has " + plural(size) + "; give none (the stated rule) or one per joint of the arm (" +
+                            std::to_string(movable) + ", active or locked)");
+        }
         break;
       default:
         break;
@@ -100,6 +106,25 @@ void check_recorded_limits(const JobConfig& config, const ModelFacts& facts, Che
   }
 }
 
+// A configured start posture must lie inside every joint's limits (1-based joint numbers).
+void check_start_posture(const JobConfig& config, const ModelFacts& facts, Checker& checker) {
+  const Eigen::VectorXd& posture = config.start_posture;
+  if (posture.size() == 0 || facts.lower_limits.size() != static_cast<std::size_t>(posture.size()) ||
+      facts.upper_limits.size() != facts.lower_limits.size()) {
+    return;
+  }
+  for (Eigen::Index i = 0; i < posture.size(); ++i) {
+    const double lower = facts.lower_limits[i], upper = facts.upper_limits[i];
+    if (posture[i] >= lower && posture[i] <= upper) continue;
+    const std::string name = static_cast<std::size_t>(i) < facts.joint_names.size() ? " (" + facts.joint_names[i] + ")" : "";
+    const bool slider = static_cast<std::size_t>(i) < facts.prismatic.size() && facts.prismatic[i];
+    const char* unit = slider ? " m" : " rad";
+    checker.add("start_posture[" + std::to_string(i) + "]", "joint " + std::to_string(i + 1) + name + " at " +
+                                                            format_number(posture[i]) + unit + " is outside its range [" +
+                                                            format_number(lower) + ", " + format_number(upper) + "]" + unit);
+  }
+}
+
 void check_joints(const JobConfig& config, const ModelFacts& facts, Checker& checker) {
   const std::vector<int>& joints = config.active_joints;
   for (std::size_t i = 0; i < joints.size(); ++i) {
@@ -112,7 +137,7 @@ void check_joints(const JobConfig& config, const ModelFacts& facts, Checker& che
   }
 }
 
-void check_key(const JobConfigKey& key, JobConfig& config, int n, Checker& checker) {
+void check_key(const JobConfigKey& key, JobConfig& config, int n, int movable, Checker& checker) {
   const FieldRef field = key.field(config);
   switch (field.kind) {
     case ValueKind::real:
@@ -130,7 +155,7 @@ void check_key(const JobConfigKey& key, JobConfig& config, int n, Checker& check
     }
     case ValueKind::real_list:
     case ValueKind::real_or_list:
-      checker.check_size(key, field.vector().size(), n);
+      checker.check_size(key, field.vector().size(), n, movable);
       checker.check_elements(key, field.vector());
       break;
     case ValueKind::point:
@@ -413,6 +438,8 @@ ModelFacts make_model_facts(const ArmModel& model) {
     const double infinity = std::numeric_limits<double>::infinity();
     facts.lower_limits.push_back(joint.has_position_limits ? joint.lower : -infinity);
     facts.upper_limits.push_back(joint.has_position_limits ? joint.upper : infinity);
+    facts.joint_names.push_back(joint.name);
+    facts.prismatic.push_back(joint.type == JointType::prismatic);
   }
   return facts;
 }
@@ -424,10 +451,11 @@ std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& f
   const int n = config.active_joints.empty() ? facts.movable_joints : static_cast<int>(config.active_joints.size());
   // The key table hands out references to non-const fields; this function only reads them.
   JobConfig& fields = const_cast<JobConfig&>(config);
-  for (const JobConfigKey& key : job_config_keys()) check_key(key, fields, n, checker);
+  for (const JobConfigKey& key : job_config_keys()) check_key(key, fields, n, facts.movable_joints, checker);
   if (n >= 1) check_lwpr(config, n, problems, checker);
   if (n >= 1 && config.learning.learner == LearnerKind::ssgpr) check_ssgpr(config, n, problems, checker);
   check_cross_fields(config, n, checker);
+  if (!has_problem_under(problems, "start_posture")) check_start_posture(config, facts, checker);
   // Limits once the recording's shape and values are known good.
   if (config.trajectory.kind == TrajectoryKind::recorded && !config.trajectory.recorded.task_space &&
       !has_problem_under(problems, "trajectory.recorded") && !has_problem_under(problems, "active_joints")) {

@@ -24,9 +24,12 @@ struct ModelFacts {
   int movable_joints = 0;
   /// Position limits per movable joint (rad or m; ±inf where unlimited); empty: not checked.
   std::vector<double> lower_limits, upper_limits;
+  /// Per movable joint, for messages: its name and whether it slides (m) rather than turns (rad).
+  std::vector<std::string> joint_names;
+  std::vector<bool> prismatic;
 };
 
-/// The facts of `model`: its movable joints and their position limits.
+/// The facts of `model`: its movable joints, their position limits and names.
 ModelFacts make_model_facts(const ArmModel& model);
 
 /// Bounds on a job's cost, so that a typo cannot occupy a core for days. At the measured

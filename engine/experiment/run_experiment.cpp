@@ -23,6 +23,7 @@
 #include "engine/experiment/feed_forward_source.hpp"
 #include "engine/experiment/heldout_evaluation.hpp"
 #include "engine/experiment/job_config_validation.hpp"
+#include "engine/experiment/job_model.hpp"
 #include "engine/experiment/job_report.hpp"
 #include "engine/experiment/job_setup.hpp"
 #include "engine/experiment/pass_statistics.hpp"
@@ -60,6 +61,9 @@ std::vector<int> resolve_checkpoints(const LearningConfig& learning, int last, c
 void check_config(const ArmModel& model, const JobConfig& config) {
   const std::vector<ConfigProblem> problems = validate(config, make_model_facts(model));
   if (!problems.empty()) throw std::invalid_argument(make_problems_text(problems));
+  if (const std::string problem = check_job_model(model, config); !problem.empty()) {
+    throw std::invalid_argument(model.source_file + ": " + problem);
+  }
 }
 
 /// The job itself, on its trajectories (`built` when the job built them, else `shared`).

@@ -63,7 +63,10 @@ struct Joint {
   double damping = 0.0;         ///< viscous, N·m·s/rad
   double friction = 0.0;        ///< Coulomb-like, N·m
   double armature = 0.0;        ///< reflected rotor inertia about the axis, kg·m² (adds to the mass matrix diagonal)
-  double start_position = 0.0;  ///< initial angle (DCG `a` tag; URDF: 0 unless overridden)
+  double start_position = 0.0;  ///< initial angle or position (start_posture.hpp)
+  /// Whether the file gave start_position (URDF <armfarm:start_position>, DCG a(...)); else it is
+  /// calc_default_start_position's (start_posture.hpp).
+  bool start_position_from_file = false;
 };
 
 /// The point that tracks task-space targets: a link and an offset in that link's frame.

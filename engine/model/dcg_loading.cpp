@@ -18,6 +18,7 @@
 #include "engine/model/model_loaders.hpp"
 #include "engine/model/model_loading.hpp"
 #include "engine/model/model_validation.hpp"
+#include "engine/model/start_posture.hpp"
 #include "engine/model/triangle_mesh.hpp"
 
 #include <algorithm>
@@ -463,13 +464,18 @@ class DcgBuilder {
     }
     const bool angular = joint.type == JointType::revolute;
     const double unit = angular ? kDegree : 1.0;  // hinges in degrees, sliders in metres
-    if (const Tag* t = find(e, "a")) joint.start_position = t->numbers[0] * unit;
     if (const Tag* t = find(e, "p")) {
       joint.has_position_limits = true;
       joint.lower = t->numbers[0] * unit;
       joint.upper = t->numbers[1] * unit;
     } else if (angular) {
       joint.type = JointType::continuous;  // appendix B: no p, no joint angle restrictions
+    }
+    if (const Tag* t = find(e, "a")) {
+      joint.start_position = t->numbers[0] * unit;
+      joint.start_position_from_file = true;
+    } else {
+      joint.start_position = calc_default_start_position(joint);
     }
     if (const Tag* t = find(e, "effort")) joint.effort_limit = t->numbers[0];
     if (const Tag* t = find(e, "vel")) joint.velocity_limit = t->numbers[0] * unit;

@@ -2,6 +2,7 @@
 
 #include "engine/model/model_loading.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -11,9 +12,12 @@
 namespace armfarm {
 namespace {
 
+// "'a', 'b', 'c'"; past kListedLeaves names, "… and N more" (a message stays one short line).
 std::string quoted_names(const ArmModel& model, const std::vector<int>& links) {
   std::string text;
-  for (int l : links) text += (text.empty() ? "'" : ", '") + model.links[l].name + "'";
+  const std::size_t shown = std::min(links.size(), kListedLeaves);
+  for (std::size_t i = 0; i < shown; ++i) text += (text.empty() ? "'" : ", '") + model.links[links[i]].name + "'";
+  if (links.size() > shown) text += " … and " + std::to_string(links.size() - shown) + " more";
   return text;
 }
 
@@ -70,9 +74,15 @@ EndEffectorConfig parse_end_effector_text(const std::string& text) {
 std::vector<int> find_leaf_links(const ArmModel& model) {
   std::set<int> parents;
   for (const Joint& joint : model.joints) parents.insert(joint.parent_link);
+  // Whether some joint moves the link: a movable joint on its path from the root (joints are in
+  // tree order, so a parent's answer is known before its children's).
+  std::vector<bool> moved(model.links.size(), false);
+  for (const Joint& joint : model.joints) {
+    moved[joint.child_link] = moved[joint.parent_link] || joint.type != JointType::fixed;
+  }
   std::vector<int> leaves;
   for (int l = 0; l < static_cast<int>(model.links.size()); ++l) {
-    if (l != model.root_link && !model.links[l].fixed_to_world && parents.count(l) == 0) leaves.push_back(l);
+    if (l != model.root_link && !model.links[l].fixed_to_world && moved[l] && parents.count(l) == 0) leaves.push_back(l);
   }
   return leaves;
 }
@@ -83,7 +93,7 @@ void choose_end_effector(ArmModel& model, const EndEffectorConfig& choice) {
   if (!choice.link.empty()) {
     const int link = model.find_link(choice.link);
     if (link < 0) {
-      throw ModelError(model.source_file + ": end effector: no link '" + choice.link + "' (leaf links: " +
+      throw ModelError(model.source_file + ": end_effector.link: no link '" + choice.link + "' (leaf links: " +
                        quoted_names(model, find_leaf_links(model)) + ")");
     }
     model.end_effector = {link, choice.offset};
@@ -97,8 +107,8 @@ void choose_end_effector(ArmModel& model, const EndEffectorConfig& choice) {
   }
   if (leaves.empty()) throw ModelError(model.source_file + ": no leaf link to serve as the end effector (nothing moves)");
   throw ModelError(model.source_file + ": " + std::to_string(leaves.size()) + " leaf links (" + quoted_names(model, leaves) +
-                   "): choose the end effector with end_effector.link (and .offset) in the job configuration, or --ee "
-                   "LINK[:x,y,z] on armfarm job and the model commands");
+                   "): set end_effector.link to the one that tracks the targets (in a spec's base or as a grid axis; "
+                   "--ee LINK[:x,y,z] on armfarm job and the model commands)");
 }
 
 }  // namespace armfarm

@@ -8,6 +8,7 @@
 #include "engine/model/model_loaders.hpp"
 #include "engine/model/model_loading.hpp"
 #include "engine/model/model_validation.hpp"
+#include "engine/model/start_posture.hpp"
 
 #include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
@@ -123,11 +124,13 @@ class UrdfScanner {
           fail(ref, "joint '" + name + "': unknown " + side + " link '" + link + "'");
         }
       }
-      if (const auto* axis = e->FirstChildElement("axis")) {
+      const char* type = e->Attribute("type");
+      // A fixed joint has no axis to speak of: vendor files (Kinova's, Jaco's) write <axis xyz="0 0 0"/> there.
+      const bool fixed = type != nullptr && std::string(type) == "fixed";
+      if (const auto* axis = e->FirstChildElement("axis"); axis != nullptr && !fixed) {
         const Eigen::Vector3d xyz = vector_attribute(axis, "xyz");
         if (xyz.norm() < 1e-12) fail(axis, "joint '" + name + "': zero axis");
       }
-      const char* type = e->Attribute("type");
       if (type != nullptr && (std::string(type) == "revolute" || std::string(type) == "prismatic") &&
           e->FirstChildElement("limit") == nullptr) {
         fail(e, "joint '" + name + "': a " + type + " joint needs <limit lower upper effort velocity>");
@@ -436,6 +439,9 @@ ArmModel load_urdf_model(const std::string& path) {
     if (const auto it = extras.armature.find(name); it != extras.armature.end()) joint.armature = it->second;
     if (const auto it = extras.start_position.find(name); it != extras.start_position.end()) {
       joint.start_position = it->second;
+      joint.start_position_from_file = true;
+    } else {
+      joint.start_position = calc_default_start_position(joint);
     }
     model.joints.push_back(joint);
   }

@@ -6,6 +6,7 @@
 // --active (1-based movable-joint numbers as in `model info` and job configurations; default
 // all); joints not active are locked at their start positions. Values are comma- or
 // space-separated: `--q 0.3,-0.5`. Units: rad, rad/s, rad/s² (m… for sliders), N·m, m.
+#include "engine/experiment/job_model.hpp"
 #include "engine/model/end_effector.hpp"
 #include "engine/model/model_loading.hpp"
 #include "engine/physics/arm_simulation.hpp"
@@ -55,8 +56,10 @@ void print_row(const char* label, const Eigen::VectorXd& v) {
 }
 
 int run_dynamics(const DynamicsOptions& options) {
-  const EndEffectorConfig choice = options.ee.empty() ? EndEffectorConfig{} : parse_end_effector_text(options.ee);
-  const ArmModel model = load_arm_model(options.file, choice);
+  // The arm as a job with only "model" and end_effector (--ee) set runs it (make_job_model).
+  JobConfig job;
+  if (!options.ee.empty()) job.end_effector = parse_end_effector_text(options.ee);
+  const ArmModel model = make_job_model(load_arm_model_file(options.file), job);
   if (options.strict) check_strict_model(model);
   for (const std::string& warning : model.warnings) std::cerr << "armfarm: warning: " << warning << " (skipped; --strict refuses it)\n";
   const std::vector<int> movable = model.movable_joints();

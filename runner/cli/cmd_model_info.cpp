@@ -1,15 +1,22 @@
 // `armfarm model info FILE [--ee LINK[:x,y,z]] [--json]`: what a model file describes — the
 // link tree, the joints (numbered 1.. as in job configurations) with their limits and drive
-// figures, link masses, total mass, the leaf links, the end effector and reach. A file with
-// several leaves and no choice still prints (the end effector shows as not chosen). Bad files
-// exit 2 with the loader's one-line message.
+// figures, the start posture and where it comes from, what the default job puts on each joint
+// (the mass-matrix diagonal at the start posture and the PD gains), link masses, total mass,
+// the leaf links, the end effector and reach. The arm is made as a job makes it
+// (make_job_model, with --ee as end_effector.link). A file that loads always prints: with
+// several leaves and no choice the end effector shows as not chosen. Bad files exit 2 with the
+// loader's one-line message.
+#include "engine/experiment/control_figures.hpp"
+#include "engine/experiment/job_model.hpp"
 #include "engine/model/arm_reach.hpp"
 #include "engine/model/model_loading.hpp"
 #include "runner/cli/subcommand.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -42,7 +49,25 @@ std::string number(double value, int precision = 4) {
   return out.str();
 }
 
-nlohmann::json make_json(const ArmModel& model) {
+// The per-joint columns of the default job's figures (text; JSON writes the same fields under
+// "default_job"). The stability criterion's dt / pd_substeps / integrator steps that "auto"
+// picks join this list (issue 22; JointControlFigures, engine/experiment/control_figures.hpp).
+struct FigureColumn {
+  const char* heading;
+  int width;
+  std::function<std::string(const JointControlFigures&)> cell;
+};
+
+const std::vector<FigureColumn>& figure_columns() {
+  static const std::vector<FigureColumn> columns = {
+      {"M_jj", 12, [](const JointControlFigures& f) { return number(f.mass_diagonal); }},
+      {"kp", 12, [](const JointControlFigures& f) { return number(f.kp); }},
+      {"kd", 12, [](const JointControlFigures& f) { return number(f.kd); }},
+  };
+  return columns;
+}
+
+nlohmann::json make_json(const ArmModel& model, const std::vector<JointControlFigures>& figures, const std::string& not_chosen) {
   nlohmann::json out;
   out["name"] = model.name;
   out["file"] = model.source_file;
@@ -68,9 +93,14 @@ nlohmann::json make_json(const ArmModel& model) {
                             {"damping", joint.damping},
                             {"friction", joint.friction},
                             {"armature", joint.armature},
-                            {"start_position", joint.start_position}};
+                            {"start_position", joint.start_position},
+                            {"start_position_from_file", joint.start_position_from_file}};
     const auto index = std::find(movable.begin(), movable.end(), j);
     entry["number"] = index == movable.end() ? nlohmann::json(nullptr) : nlohmann::json(index - movable.begin() + 1);
+    if (index != movable.end() && static_cast<std::size_t>(index - movable.begin()) < figures.size()) {
+      const JointControlFigures& f = figures[index - movable.begin()];
+      entry["default_job"] = {{"mass_diagonal", f.mass_diagonal}, {"kp", f.kp}, {"kd", f.kd}};
+    }
     if (joint.has_position_limits) {
       entry["lower"] = joint.lower;
       entry["upper"] = joint.upper;
@@ -92,20 +122,24 @@ nlohmann::json make_json(const ArmModel& model) {
   } else {
     out["reach"] = nullptr;
     out["end_effector"] = nullptr;  // not chosen: several leaves (--ee chooses)
+    out["end_effector_problem"] = not_chosen;
   }
   return out;
 }
 
-void print_text(const ArmModel& model, std::ostream& out) {
+void print_text(const ArmModel& model, const std::vector<JointControlFigures>& figures, std::ostream& out) {
   out << "model " << model.name << " (" << model.source_file << ")\n\ntree (parent -> child):\n";
   for (const Joint& joint : model.joints) {
     out << "  " << model.links[joint.parent_link].name << " -> " << model.links[joint.child_link].name << "  ["
         << joint.name << ", " << type_name(joint.type) << "]\n";
   }
   out << "\njoints (numbered 1.. over the movable joints in tree order, as in active_joints):\n";
-  out << "  #  name             type        axis               lower..upper deg      lower..upper rad    "
-         "effort  velocity  armature  damping  start\n";
   const std::vector<int> movable = model.movable_joints();
+  std::size_t name_width = 4;
+  for (int index : movable) name_width = std::max(name_width, model.joints[index].name.size());
+  const int name_column = static_cast<int>(name_width) + 2;
+  out << "  " << std::left << std::setw(3) << "#" << std::setw(name_column) << "name"
+      << "type        axis               lower..upper deg      lower..upper rad    effort  velocity  armature  damping  start\n";
   for (std::size_t n = 0; n < movable.size(); ++n) {
     const Joint& joint = model.joints[movable[n]];
     std::ostringstream axis, deg, rad;
@@ -118,12 +152,26 @@ void print_text(const ArmModel& model, std::ostream& out) {
       deg << "unlimited";
       rad << "unlimited";
     }
-    out << "  " << std::left << std::setw(3) << n + 1 << std::setw(17) << joint.name << std::setw(12) << type_name(joint.type)
+    out << "  " << std::left << std::setw(3) << n + 1 << std::setw(name_column) << joint.name << std::setw(12) << type_name(joint.type)
         << std::setw(19) << axis.str() << std::setw(22) << deg.str() << std::setw(20) << rad.str() << std::setw(8)
         << number(joint.effort_limit) << std::setw(10) << number(joint.velocity_limit) << std::setw(10)
-        << number(joint.armature) << std::setw(9) << number(joint.damping) << number(joint.start_position) << "\n";
+        << number(joint.armature) << std::setw(9) << number(joint.damping) << number(joint.start_position)
+        << (joint.start_position_from_file ? "" : " (default)") << "\n";
   }
-  out << "  (effort N·m or N, velocity rad/s or m/s, armature kg·m², damping N·m·s/rad, start rad or m; - = unlimited)\n";
+  out << "  (effort N·m or N, velocity rad/s or m/s, armature kg·m², damping N·m·s/rad, start rad or m; - = unlimited;\n"
+         "   start (default): the file gives none, so 0 clamped into the middle half of the range; a job's start_posture replaces it)\n";
+  if (!figures.empty()) {
+    out << "\nthe default job on each joint (only \"model\" set; M_jj + armature at the start posture, gains after gain_scale):\n";
+    out << "  " << std::left << std::setw(3) << "#" << std::setw(name_column) << "name";
+    for (const FigureColumn& column : figure_columns()) out << std::setw(column.width) << column.heading;
+    out << "\n";
+    for (const JointControlFigures& f : figures) {
+      out << "  " << std::left << std::setw(3) << f.number << std::setw(name_column) << model.joints[movable[f.number - 1]].name;
+      for (const FigureColumn& column : figure_columns()) out << std::setw(column.width) << column.cell(f);
+      out << "\n";
+    }
+    out << "  (M_jj kg·m² or kg, kp N·m/rad, kd N·m·s/rad)\n";
+  }
   out << "\nlinks:\n";
   for (const Link& link : model.links) {
     out << "  " << std::left << std::setw(12) << link.name << std::right << std::setw(9) << std::fixed << std::setprecision(4)
@@ -139,7 +187,7 @@ void print_text(const ArmModel& model, std::ostream& out) {
     out << "\nreach: " << calc_reach(model) << " m (joint-origin path from the first joint to the end effector)"
         << "\nend effector: " << tip.name << " + (" << model.end_effector.offset.transpose() << ") m\n";
   } else {
-    out << "\nend effector: not chosen (several leaf links; choose with --ee LINK[:x,y,z] or end_effector.link in a job)\n";
+    out << "\nend effector: not chosen (several leaf links; choose with --ee LINK[:x,y,z], or end_effector.link in a job or a spec)\n";
   }
   out << std::defaultfloat;
 }
@@ -157,17 +205,26 @@ RunFunction setup_model_info(CLI::App& model) {
   auto strict = std::make_shared<bool>(false);
   info->add_flag("--strict", *strict, "Refuse non-URDF elements inside <link>/<joint> (by default skipped with a warning)");
   return [file, json, ee, strict] {
-    ArmModel arm = load_arm_model_file(*file);
-    if (*strict) check_strict_model(arm);
-    for (const std::string& warning : arm.warnings) std::cerr << "armfarm: warning: " << warning << " (skipped; --strict refuses it)\n";
-    const std::vector<int> leaves = find_leaf_links(arm);
-    if (!ee->empty() || arm.end_effector.link >= 0 || leaves.size() == 1) {
-      choose_end_effector(arm, ee->empty() ? EndEffectorConfig{} : parse_end_effector_text(*ee));
+    const ArmModel file_model = load_arm_model_file(*file);
+    if (*strict) check_strict_model(file_model);
+    for (const std::string& warning : file_model.warnings) std::cerr << "armfarm: warning: " << warning << " (skipped; --strict refuses it)\n";
+    // The default job's configuration, with --ee as its end_effector.link.
+    JobConfig job;
+    if (!ee->empty()) job.end_effector = parse_end_effector_text(*ee);
+    ArmModel arm = file_model;
+    std::string not_chosen;
+    try {
+      arm = make_job_model(file_model, job);
+    } catch (const ModelError& error) {
+      if (!ee->empty()) throw;  // a wrong --ee is an error; several leaves without one are shown
+      not_chosen = error.what();
     }
+    const std::vector<JointControlFigures> figures =
+        arm.movable_joints().empty() ? std::vector<JointControlFigures>() : calc_joint_control_figures(arm, job);
     if (*json) {
-      std::cout << make_json(arm).dump(2) << "\n";
+      std::cout << make_json(arm, figures, not_chosen).dump(2) << "\n";
     } else {
-      print_text(arm, std::cout);
+      print_text(arm, figures, std::cout);
     }
     return 0;
   };

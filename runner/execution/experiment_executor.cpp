@@ -2,12 +2,13 @@
 // run_experiment() call. Arm models are loaded once per file and shared (read-only) by the
 // jobs of a sweep. The files a job reads (model and meshes, recorded trajectory) are its input
 // fields: the spec layer resolves and hashes them, and the job loads them from the resolved
-// paths recorded under "inputs". Trajectories are built once per distinct trajectory key and
+// paths recorded under "inputs". The arm a job runs on is make_job_model's (job_models.hpp). Trajectories are built once per distinct trajectory key and
 // shared read-only by the jobs that use it (trajectory_cache.hpp).
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/model/model_loading.hpp"
 #include "runner/config/job_config_json.hpp"
 #include "runner/execution/job_executor.hpp"
+#include "runner/execution/job_models.hpp"
 #include "runner/execution/stored_models.hpp"
 #include "runner/execution/trajectory_cache.hpp"
 #include "runner/spec/canonical_json.hpp"
@@ -23,56 +24,8 @@
 namespace armfarm {
 namespace {
 
-/// Arm models by file path and end-effector choice, loaded on first use. Thread-safe; models
-/// are immutable once loaded.
-class ModelCache {
- public:
-  /// The file's arm before the end effector is chosen (its joints, its input files).
-  std::shared_ptr<const ArmModel> get_file(const std::string& path) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return get_file_locked(path);
-  }
-
-  /// The arm with the end effector `choice` picks (end_effector.hpp). ConfigError at "model"
-  /// when the file is bad, at "end_effector.link" when the choice is.
-  std::shared_ptr<const ArmModel> get(const std::string& path, const EndEffectorConfig& choice) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    const std::string key = path + "\n" + choice.link + "\n" + calc_canonical_json(nlohmann::json::array(
-                                                                  {choice.offset.x(), choice.offset.y(), choice.offset.z()}));
-    auto found = chosen_.find(key);
-    if (found != chosen_.end()) return found->second;
-    ArmModel model = *get_file_locked(path);
-    try {
-      choose_end_effector(model, choice);
-    } catch (const std::exception& error) {
-      throw ConfigError("end_effector.link", error.what());
-    }
-    auto shared = std::make_shared<const ArmModel>(std::move(model));
-    chosen_.emplace(key, shared);
-    return shared;
-  }
-
- private:
-  std::shared_ptr<const ArmModel> get_file_locked(const std::string& path) {
-    auto found = files_.find(path);
-    if (found != files_.end()) return found->second;
-    std::shared_ptr<const ArmModel> model;
-    try {
-      model = std::make_shared<const ArmModel>(load_arm_model_file(path));
-    } catch (const std::exception& error) {
-      throw ConfigError("model", error.what());
-    }
-    files_.emplace(path, model);
-    return model;
-  }
-
-  std::mutex mutex_;
-  std::map<std::string, std::shared_ptr<const ArmModel>> files_;
-  std::map<std::string, std::shared_ptr<const ArmModel>> chosen_;  // path, link, offset
-};
-
 // The "model" input: the model file and every file it reads (meshes), as `models` loads them.
-InputFileField make_model_field(const std::shared_ptr<ModelCache>& models) {
+InputFileField make_model_field(const std::shared_ptr<JobModels>& models) {
   InputFileField field;
   field.path = "model";
   field.list_files = [models](const std::string& resolved) {
@@ -91,7 +44,7 @@ InputFileField make_model_field(const std::shared_ptr<ModelCache>& models) {
 /// key names. Thread-safe.
 class ModelHashCheck {
  public:
-  explicit ModelHashCheck(const std::shared_ptr<ModelCache>& models) : field_(make_model_field(models)) {}
+  explicit ModelHashCheck(const std::shared_ptr<JobModels>& models) : field_(make_model_field(models)) {}
 
   /// Throws ConfigError at "model" when `recorded` names a model hash that the loaded file's is not.
   void check(const nlohmann::json& recorded, const std::string& resolved_path) {
@@ -135,19 +88,19 @@ std::string find_model_path(const nlohmann::json& recorded) {
 }
 
 // The check of a configuration with its inputs recorded: parsed and validated against its model,
-// the end effector chosen. ConfigError naming the path of the first problem.
-void check_config(const nlohmann::json& recorded, ModelCache& models, const std::shared_ptr<StoredModels>& stored,
+// the job's model made (end effector, start posture). ConfigError naming the path of the first problem.
+void check_config(const nlohmann::json& recorded, JobModels& models, const std::shared_ptr<StoredModels>& stored,
                   JobFileContents* contents) {
   const std::string path = find_model_path(recorded);
   const JobConfig job = parse_recorded_job_config(recorded, make_model_facts(*models.get_file(path)),
                                                   make_stored_model_reader(stored), contents);
-  models.get(path, job.end_effector);
+  models.get(path, job);
 }
 
 }  // namespace
 
 JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stored) {
-  auto models = std::make_shared<ModelCache>();
+  auto models = std::make_shared<JobModels>();
   JobConfigSchema schema;
   schema.defaults = make_job_config_defaults();
   schema.types = make_job_config_types();
@@ -188,7 +141,7 @@ JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stor
 }
 
 JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored) {
-  auto models = std::make_shared<ModelCache>();
+  auto models = std::make_shared<JobModels>();
   auto trajectories = std::make_shared<TrajectoryCache>();
   auto model_hashes = std::make_shared<ModelHashCheck>(models);
   return [models, trajectories, stored, model_hashes](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
@@ -198,7 +151,7 @@ JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored) {
     const ModelFacts facts = make_model_facts(*models->get_file(path));
     model_hashes->check(recorded, path);
     const JobConfig job = parse_recorded_job_config(recorded, facts, make_stored_model_reader(stored));
-    const auto model = models->get(path, job.end_effector);
+    const auto model = models->get(path, job);
     JobOutcome outcome;
     try {
       const std::shared_ptr<const JobTrajectories> shared =

@@ -1,38 +1,28 @@
 #include "runner/execution/job_cost.hpp"
 
 #include "engine/experiment/job_config_validation.hpp"
-#include "engine/model/model_loading.hpp"
 #include "runner/config/job_config_json.hpp"
+#include "runner/execution/job_models.hpp"
 #include "runner/spec/input_files.hpp"
 
 #include <algorithm>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <set>
 
 namespace armfarm {
 
 JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
-  struct JointCounts {
-    std::mutex mutex;
-    std::map<std::string, int> by_path;
-  };
-  auto counts = std::make_shared<JointCounts>();
-  return [model, counts](const nlohmann::json& recorded) {
+  auto models = std::make_shared<JobModels>();
+  return [model, models](const nlohmann::json& recorded) {
     const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
     const std::string path = config.at("model").get<std::string>();
-    int movable = 0;
-    {
-      std::lock_guard lock(counts->mutex);
-      auto found = counts->by_path.find(path);
-      if (found == counts->by_path.end()) {
-        found = counts->by_path.emplace(path, static_cast<int>(load_arm_model(path).movable_joints().size())).first;
-      }
-      movable = found->second;
-    }
+    const int movable = static_cast<int>(models->get_file(path)->movable_joints().size());
     // The model a job starts from does not change its cost: a stored one is not fetched here.
     const JobConfig job = parse_job_config(config, movable, [](const std::string&) { return std::string(); });
+    // The arm as the job runs it: its end effector and start posture chosen by the job's own
+    // configuration, as at expansion and in the executor (a choice those accept works here).
+    models->get(path, job);
     const int n = job.active_joints.empty() ? movable : static_cast<int>(job.active_joints.size());
     const LearningConfig& learning = job.learning;
     // Passes as the validation counts them (job_config_validation.cpp: check_cost).

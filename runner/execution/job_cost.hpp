@@ -37,7 +37,8 @@ struct JobCostModel {
   double batch_factor = 1.0;    ///< per pass: collection passes and the control pass (training not counted)
 };
 
-/// The experiment job's estimate (loads each model file once to count its joints).
+/// The experiment job's estimate (loads each model file once, and makes the job's arm with
+/// make_job_model as the executor does: job_models.hpp).
 JobCostFunction make_experiment_cost_function(const JobCostModel& model = {});
 
 /// The cost of every job of `sweep` (in expansion order): the estimates, calibrated by the done

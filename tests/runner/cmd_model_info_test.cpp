@@ -1,9 +1,12 @@
-// `armfarm model info`: the shipped models print their summary and exit 0; a bad file exits 2
-// with the loader's one-line message.
+// `armfarm model info`: the shipped models and the arm corpus print their summary and exit 0
+// (an arm whose zero posture is outside a joint's range too, with a start posture inside the
+// limits); per joint the default job's mass-matrix diagonal and gains; a bad file exits 2 with
+// the loader's one-line message.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <string>
@@ -88,6 +91,73 @@ TEST(CmdModelInfo, BadFileExitsTwoWithOneLine) {
   EXPECT_EQ(result.output.find('\n'), result.output.size() - 1) << result.output;
   EXPECT_EQ(run_armfarm("model info " + kModels + "no_such_file.urdf").exit_code, 2);
   EXPECT_EQ(run_armfarm("model").exit_code, 2);  // the group needs a subcommand
+}
+
+const std::string kArms = std::string(ARMFARM_TEST_DATA_DIR) + "/arms/";
+
+nlohmann::json read_info(const std::string& arguments) {
+  const CommandResult result = run_armfarm("model info --json " + arguments);
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  return nlohmann::json::parse(result.output.substr(std::min(result.output.find('{'), result.output.size())));
+}
+
+TEST(CmdModelInfo, EveryCorpusArmLoadsAndPrints) {
+  for (const char* file : {"ur5e.urdf", "kuka_iiwa14.urdf", "franka_panda.urdf", "kinova_gen3.urdf", "open_manipulator_x.urdf"}) {
+    const CommandResult result = run_armfarm("model info " + kArms + file);
+    EXPECT_EQ(result.exit_code, 0) << file << ": " << result.output;
+    EXPECT_NE(result.output.find("the default job on each joint"), std::string::npos) << result.output;
+  }
+}
+
+TEST(CmdModelInfo, AnArmWhoseRangeExcludesZeroShowsAStartPostureInsideTheLimits) {
+  const std::string panda = kArms + "franka_panda.urdf";
+  const CommandResult text = run_armfarm("model info " + panda);
+  ASSERT_EQ(text.exit_code, 0) << text.output;
+  EXPECT_NE(text.output.find("\n  4  panda_joint4  revolute"), std::string::npos) << text.output;
+  EXPECT_NE(text.output.find("-0.8203 (default)\n"), std::string::npos) << text.output;
+  const nlohmann::json info = read_info(panda);
+  int movable = 0;
+  for (const nlohmann::json& joint : info.at("joints")) {
+    if (joint.at("number").is_null()) continue;
+    ++movable;
+    const double start = joint.at("start_position").get<double>();
+    EXPECT_GE(start, joint.at("lower").get<double>()) << joint.at("name");
+    EXPECT_LE(start, joint.at("upper").get<double>()) << joint.at("name");
+    EXPECT_FALSE(joint.at("start_position_from_file").get<bool>());
+    EXPECT_GT(joint.at("default_job").at("mass_diagonal").get<double>(), 0.0) << joint.at("name");
+  }
+  EXPECT_EQ(movable, 7);
+  EXPECT_NEAR(info.at("joints").at(4).at("start_position").get<double>(), -0.0698 - 0.25 * 3.002, 1e-12);  // joint 4
+  EXPECT_EQ(info.at("end_effector").at("link"), "panda_link8");
+}
+
+TEST(CmdModelInfo, DefaultJobFiguresFollowTheClosedFormOfThePlanarArm) {
+  // planar2 at its start posture (0, 0): both links along x. Slender rods of models/planar2.urdf:
+  // M11 = m1 c1² + I1 + m2 (L1² + c2² + 2 L1 c2) + I2, M22 = m2 c2² + I2 (I about the COM, y axis).
+  const double m1 = 2.0, c1 = 0.5, i1 = 0.1668666667, m2 = 1.5, l1 = 1.0, c2 = 0.4, i2 = 0.08015;
+  const double diagonal[] = {m1 * c1 * c1 + i1 + m2 * (l1 * l1 + c2 * c2 + 2 * l1 * c2) + i2, m2 * c2 * c2 + i2};
+  const nlohmann::json info = read_info(kModels + "planar2.urdf");
+  for (int j = 0; j < 2; ++j) {
+    const nlohmann::json& figures = info.at("joints").at(j).at("default_job");
+    const double m = figures.at("mass_diagonal").get<double>();
+    EXPECT_NEAR(m, diagonal[j], 1e-9) << "joint " << j + 1;
+    // The default gains: 20 rad/s, critically damped, gain scale 1 (control_config.hpp).
+    EXPECT_NEAR(figures.at("kp").get<double>(), m * 400.0, 1e-9 * m * 400.0);
+    EXPECT_NEAR(figures.at("kd").get<double>(), m * 40.0, 1e-9 * m * 40.0);
+  }
+}
+
+TEST(CmdModelInfo, TwoLeavesShowBothAndTheChoiceWithEe) {
+  const nlohmann::json open = read_info(kArms + "kuka_iiwa14.urdf");
+  EXPECT_EQ(open.at("leaf_links"), nlohmann::json::array({"iiwa_link_ee", "tool_tcp"}));
+  EXPECT_TRUE(open.at("end_effector").is_null());
+  EXPECT_NE(open.at("end_effector_problem").get<std::string>().find("set end_effector.link"), std::string::npos);
+  EXPECT_GT(open.at("joints").at(7).at("default_job").at("mass_diagonal").get<double>(), 0.0);  // joint 7: figures without a choice
+  const nlohmann::json chosen = read_info("--ee tool_tcp " + kArms + "kuka_iiwa14.urdf");
+  EXPECT_EQ(chosen.at("end_effector").at("link"), "tool_tcp");
+  const CommandResult wrong = run_armfarm("model info --ee flange " + kArms + "kuka_iiwa14.urdf");
+  EXPECT_EQ(wrong.exit_code, 2) << wrong.output;
+  EXPECT_NE(wrong.output.find("no link 'flange' (leaf links: 'iiwa_link_ee', 'tool_tcp')"), std::string::npos) << wrong.output;
 }
 
 }  // namespace

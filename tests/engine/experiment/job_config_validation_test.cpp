@@ -4,6 +4,7 @@
 #include "engine/experiment/heldout_evaluation.hpp"
 #include "engine/trajectory/trajectory.hpp"
 #include "../physics/test_arms.hpp"
+#include "engine/model/model_loading.hpp"
 
 #include <gtest/gtest.h>
 
@@ -226,6 +227,24 @@ TEST(JobConfigValidation, SsgprCostBoundNamesTheFeatures) {
   EXPECT_EQ(paths_of(config), (std::set<std::string>{"learning.ssgpr.features"})) << problems_of(config);
   config.learning.learner = LearnerKind::lwpr;  // the block is LWPR's concern no more
   EXPECT_TRUE(validate(config, kLwr3).empty()) << problems_of(config);
+}
+
+TEST(JobConfigValidation, StartPostureIsOneValuePerJointInsideItsLimits) {
+  const ModelFacts panda = make_model_facts(load_arm_model_file(std::string(ARMFARM_TEST_DATA_DIR) + "/arms/franka_panda.urdf"));
+  JobConfig config;
+  config.start_posture = (Eigen::VectorXd(7) << 0, 0, 0, -1.5, 0, 1.5, 0).finished();
+  EXPECT_EQ(make_problems_text(validate(config, panda)), "");
+  config.start_posture[3] = 0.0;  // joint 4's range excludes 0
+  EXPECT_EQ(make_problems_text(validate(config, panda)),
+            "start_posture[3]: joint 4 (panda_joint4) at 0 rad is outside its range [-3.0718, -0.0698] rad");
+  config.start_posture[5] = 4.0;
+  EXPECT_EQ(validate(config, panda).size(), 2u);  // every joint outside its range, at once
+  config.start_posture = Eigen::VectorXd::Zero(3);
+  EXPECT_EQ(make_problems_text(validate(config, panda)),
+            "start_posture: has 3 values; give none (the stated rule) or one per joint of the arm (7, active or locked)");
+  // One per joint of the arm, not per active joint: locked joints start somewhere too.
+  config.active_joints = {1, 2, 4};
+  EXPECT_NE(make_problems_text(validate(config, panda)), "");
 }
 
 TEST(JobConfigValidation, EnumTablesSpellEveryEnumeratorOnce) {

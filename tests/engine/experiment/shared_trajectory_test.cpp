@@ -107,7 +107,7 @@ TEST(SharedTrajectory, TrajectoryInputsAreKeys) {
   }
   EXPECT_EQ(inputs, (std::set<std::string>{"dt", "seed", "active_joints", "armature_scale", "end_effector.link", "end_effector.offset", "learning.mode", "learning.heldout",
                                            "learning.heldout_amplitude_scale", "learning.heldout_phase_step",
-                                           "learning.heldout_segments", "learning.heldout_recorded_fraction"}));
+                                           "learning.heldout_segments", "learning.heldout_recorded_fraction", "start_posture"}));
 }
 
 }  // namespace

@@ -29,8 +29,8 @@ std::string load_error(const std::string& path, const EndEffectorConfig& choice)
 TEST(EndEffector, SeveralLeavesAreRefusedWithTheirNamesAndHowToChoose) {
   const std::string path = test::data_path("two_leaves.urdf");
   const std::string message = load_error(path, {});
-  EXPECT_EQ(message, path + ": 2 leaf links ('tool0', 'camera_link'): choose the end effector with end_effector.link (and "
-                            ".offset) in the job configuration, or --ee LINK[:x,y,z] on armfarm job and the model commands");
+  EXPECT_EQ(message, path + ": 2 leaf links ('tool0', 'camera_link'): set end_effector.link to the one that tracks the "
+                            "targets (in a spec's base or as a grid axis; --ee LINK[:x,y,z] on armfarm job and the model commands)");
   const ArmModel structure = load_arm_model_file(path);  // the structure loads without a choice
   EXPECT_EQ(structure.end_effector.link, -1);
   EXPECT_EQ(structure.movable_joints().size(), 2u);
@@ -54,7 +54,7 @@ TEST(EndEffector, ANamedLinkAndOffsetAreTheEndEffector) {
 TEST(EndEffector, AnUnknownLinkListsTheLeaves) {
   const std::string path = test::data_path("two_leaves.urdf");
   EXPECT_EQ(load_error(path, {"tool", Eigen::Vector3d::Zero()}),
-            path + ": end effector: no link 'tool' (leaf links: 'tool0', 'camera_link')");
+            path + ": end_effector.link: no link 'tool' (leaf links: 'tool0', 'camera_link')");
   EXPECT_NE(load_error(path, {"", Eigen::Vector3d(0, 0, 1)}).find("an offset needs end_effector.link"), std::string::npos);
 }
 
@@ -146,6 +146,32 @@ TEST(UrdfExtensions, NamespacedElementsInsideLinksAndJointsAreSkipped) {
   std::filesystem::remove_all(folder);
 }
 
+TEST(UrdfExtensions, VendorHabitsBaseFramesAndAxislessFixedJointsLoad) {
+  // Kinova's and Jaco's files write <axis xyz="0 0 0"/> on fixed joints; Drake's UR files weld a
+  // 'base' frame to the base link. Neither frame moves, so it is not a leaf: the tip is chosen.
+  const auto folder = std::filesystem::temp_directory_path() / ("armfarm_ee_vendor_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  const std::string path = (folder / "vendor.urdf").string();
+  std::ofstream(path) << R"(<robot name="vendor">
+  <link name="world"/>
+  <joint name="mount" type="fixed"><parent link="world"/><child link="base_link"/><axis xyz="0 0 0"/></joint>
+  <link name="base_link"><inertial><mass value="2"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="base_frame" type="fixed"><parent link="base_link"/><child link="base"/><axis xyz="0 0 0"/></joint>
+  <link name="base"/>
+  <joint name="j" type="continuous"><parent link="base_link"/><child link="tip"/><axis xyz="0 0 1"/></joint>
+  <link name="tip"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <joint name="flange" type="fixed"><parent link="tip"/><child link="tool0"/><origin xyz="0 0 0.1"/><axis xyz="0 0 0"/></joint>
+  <link name="tool0"/>
+</robot>
+)";
+  const ArmModel model = load_arm_model(path);
+  const std::vector<int> leaves = find_leaf_links(model);
+  ASSERT_EQ(leaves.size(), 1u);
+  EXPECT_EQ(model.links[leaves[0]].name, "tool0");
+  EXPECT_EQ(model.links[model.end_effector.link].name, "tool0");
+  std::filesystem::remove_all(folder);
+}
+
 TEST(ModelFile, TreeOrderIsDepthFirstInGivenOrder) {
   // links: 0 root, 1..5; joints given out of tree order.
   const std::vector<TreeEdge> joints = {{2, 3}, {0, 1}, {1, 2}, {0, 4}, {1, 5}};
@@ -154,6 +180,64 @@ TEST(ModelFile, TreeOrderIsDepthFirstInGivenOrder) {
   const std::vector<TreeEdge> cyclic = {{0, 1}, {2, 3}, {3, 2}};
   EXPECT_EQ(calc_tree_order(cyclic, {0}), (std::vector<int>{0}));
   EXPECT_THROW(read_model_file("/nonexistent/arm.urdf"), ModelError);
+}
+
+}  // namespace
+}  // namespace armfarm
+
+namespace armfarm {
+namespace {
+
+// An arm of one joint whose link carries `frames` fixed frames: that many leaves.
+ArmModel make_many_leaves(int frames) {
+  ArmModel model;
+  model.name = "many_leaves";
+  model.source_file = "many.urdf";
+  model.links.resize(2);
+  model.links[0].name = "base";
+  model.links[0].fixed_to_world = true;
+  model.links[1].name = "arm";
+  model.links[1].inertial.mass = 1.0;
+  model.links[1].inertial.inertia = Eigen::Matrix3d::Identity() * 0.01;
+  Joint pivot;
+  pivot.name = "pivot";
+  pivot.parent_link = 0;
+  pivot.child_link = 1;
+  model.joints.push_back(pivot);
+  for (int i = 0; i < frames; ++i) {
+    Link frame;
+    frame.name = "frame_" + std::to_string(i + 1);
+    model.links.push_back(frame);
+    Joint weld;
+    weld.name = "weld_" + std::to_string(i + 1);
+    weld.type = JointType::fixed;
+    weld.parent_link = 1;
+    weld.child_link = static_cast<int>(model.links.size()) - 1;
+    model.joints.push_back(weld);
+  }
+  return model;
+}
+
+std::string choose_error(ArmModel model, const EndEffectorConfig& choice) {
+  try {
+    choose_end_effector(model, choice);
+  } catch (const ModelError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(EndEffector, LongLeafListsAreCappedInOneLine) {
+  const std::string message = choose_error(make_many_leaves(25), {});
+  EXPECT_EQ(message.find('\n'), std::string::npos);
+  EXPECT_NE(message.find("25 leaf links ('frame_1', 'frame_2'"), std::string::npos) << message;
+  EXPECT_NE(message.find("'frame_10' … and 15 more): set end_effector.link"), std::string::npos) << message;
+  EXPECT_EQ(message.find("frame_11"), std::string::npos) << message;
+  const std::string unknown = choose_error(make_many_leaves(11), {"nowhere", Eigen::Vector3d::Zero()});
+  EXPECT_NE(unknown.find("many.urdf: end_effector.link: no link 'nowhere' (leaf links: 'frame_1'"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("'frame_10' … and 1 more)"), std::string::npos) << unknown;
+  // Exactly ten: all listed, nothing "more".
+  EXPECT_EQ(choose_error(make_many_leaves(10), {}).find("more"), std::string::npos);
 }
 
 }  // namespace

@@ -52,7 +52,7 @@ TEST_F(CmdJobEndEffector, SeveralLeavesAreRefusedListingThem) {
   const CommandResult result = run_job(path);
   EXPECT_EQ(result.exit_code, 2) << result.output;
   EXPECT_NE(result.output.find(path + ": end_effector.link: "), std::string::npos) << result.output;
-  EXPECT_NE(result.output.find("2 leaf links ('tool0', 'camera_link'): choose the end effector with end_effector.link"),
+  EXPECT_NE(result.output.find("2 leaf links ('tool0', 'camera_link'): set end_effector.link"),
             std::string::npos)
       << result.output;
   EXPECT_NE(result.output.find("--ee LINK[:x,y,z]"), std::string::npos) << result.output;

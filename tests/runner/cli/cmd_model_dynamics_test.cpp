@@ -105,7 +105,7 @@ TEST(CmdModelDynamics, BadStatesExitTwoWithOneLine) {
       {"--q 0,0 --qd 1,2,3", "--qd: 3 values for 2 active joints"},
       {"--q 0 --active 3", "--active: joint 3 does not exist; " + kPlanar + " has joints 1..2"},
       {"--q 0,0 --active 1,1", "--active: joint 1 is listed twice"},
-      {"--q 0,0 --ee link_3", "end effector: no link 'link_3'"},
+      {"--q 0,0 --ee link_3", "end_effector.link: no link 'link_3'"},
   };
   for (const auto& [arguments, expected] : cases) {
     const CommandResult result = run_armfarm("model dynamics " + kPlanar + " " + arguments);

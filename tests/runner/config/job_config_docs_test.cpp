@@ -61,6 +61,7 @@ std::string describe_allowed(const JobConfigKey& key, const FieldRef& field) {
     case ValueKind::real_matrix: return key.range.describe() + " each, or SPD";
     case ValueKind::real_list:
     case ValueKind::real_or_list:
+      if (key.size == ListSize::movable_joints) return "within each joint's limits; 0 or one per joint";
       text = key.range.describe() + " each";
       if (key.size == ListSize::per_joint) text += "; 0, 1 or n";
       if (key.size == ListSize::lwpr_inputs) text += "; 1 or 3n";
