@@ -27,7 +27,7 @@ SANITIZER_ENV = ASAN_OPTIONS=halt_on_error=1:detect_leaks=1 UBSAN_OPTIONS=halt_o
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS ?= spec urdf dcg obj csv model_file
 
-.PHONY: all deps configure build run test test-sanitize-subset test-slurm bench fuzz fuzz-build clean
+.PHONY: all deps configure build build-armfarm install run test test-sanitize-subset test-slurm bench fuzz fuzz-build clean
 
 all: build
 
@@ -42,9 +42,25 @@ configure: deps $(BUILD_DIR)/CMakeCache.txt
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
-run: build
+# What `make run` needs: the armfarm executable and its libraries, not the test suites.
+build-armfarm: configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target armfarm
+
+# make run: the quick-start sweep, its headline table (tracking on the training trajectory and on
+# the held-out one, and held-out torque prediction), then where things are and what to try next.
+run: build-armfarm
 	$(ARMFARM) run $(SPEC) --db $(DB)
-	$(ARMFARM) table $(DB)
+	$(ARMFARM) table $(DB) --cols tracking_nmse,heldout_tracking_nmse,heldout_test_nmse
+	@printf '%s\n' "" "results: $(DB) (SQLite; every job's configuration, metrics and recorded series)" \
+	  "next:    $(ARMFARM) table $(DB)                        # every table of the sweep" \
+	  "         $(ARMFARM) report $(DB) --out report/         # HTML pages with tables and figures" \
+	  "         $(ARMFARM) plot $(DB) metric-vs-param --metric tracking_nmse --param learning.lwpr.init_D --out plot.png" \
+	  "PATH:    export PATH=\"$$PWD/$(BUILD_DIR)/runner:\$$PATH\"   (or: make install PREFIX=\$$HOME/.local)"
+
+# make install PREFIX=DIR : the armfarm executable, the engine and store libraries and the models.
+PREFIX ?= /usr/local
+install: build-armfarm
+	cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
 test: build
 	cd $(BUILD_DIR) && $(if $(filter 1,$(SANITIZE)),$(SANITIZER_ENV)) ctest --output-on-failure -j $(JOBS)

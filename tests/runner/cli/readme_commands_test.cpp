@@ -80,12 +80,20 @@ std::vector<std::string> find_make_recipe(const std::string& makefile, const std
       continue;
     }
     if (inside && !line.empty() && line[0] == '\t') {
-      recipe.push_back(line.substr(1));
+      // make's own syntax: '@' (do not echo), '\' continuations and '$$' (a literal '$').
+      std::string command = line.substr(line.size() > 1 && line[1] == '@' ? 2 : 1);
+      if (!recipe.empty() && !recipe.back().empty() && recipe.back().back() == '\\') {
+        recipe.back().pop_back();
+        recipe.back() += command;
+      } else {
+        recipe.push_back(command);
+      }
     } else if (inside) {
       inside = false;
     }
   }
   for (std::string& command : recipe) {
+    for (std::size_t at = command.find("$$"); at != std::string::npos; at = command.find("$$", at + 1)) command.erase(at, 1);
     for (const auto& [name, value] : variables) {
       for (std::size_t at = command.find("$(" + name + ")"); at != std::string::npos; at = command.find("$(" + name + ")")) {
         command.replace(at, name.size() + 3, value);
@@ -154,6 +162,8 @@ TEST(Readme, ShellBlocksAndMakeRecipesAreReadAsWritten) {
   EXPECT_EQ(not_run, std::vector<std::string>{"(cluster: X runs it)"});
   EXPECT_EQ(find_make_recipe("DB ?= r.db\nX = 1\nrun: build\n\t$(ARMFARM) run s --db $(DB)\n\t$(ARMFARM) table $(DB)\n\ntest:\n\tctest\n", "run"),
             (std::vector<std::string>{"armfarm run s --db r.db", "armfarm table r.db"}));
+  EXPECT_EQ(find_make_recipe("run: x\n\t@printf '%s' \"$$HOME\" \\\n\t  \"b\"\n\techo\n", "run"),
+            (std::vector<std::string>{"printf '%s' \"$HOME\"   \"b\"", "echo"}));
 }
 
 }  // namespace
