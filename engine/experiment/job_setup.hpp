@@ -41,6 +41,8 @@ class JobSetup {
   /// the start posture and, after choose_steps, at postures along the job's trajectories.
   int pd_substeps() const { return steps_.pd_substeps; }
   int integrator_steps() const { return steps_.integrator_steps; }
+  /// Both, and whether the criterion found them stable (StepChoice::found).
+  const StepChoice& steps() const { return steps_; }
   /// Chooses the "auto" steps again over the start posture and up to kStepPostures postures
   /// spread along each of `trajectories` (where the mass matrix differs from the start's).
   /// Call before make_plant().

@@ -135,6 +135,48 @@ TEST(JobSteps, StartPostureLoopsUseTheConfiguredPosture) {
   EXPECT_LT(set->controllers[0].gains.kp[0], stated->controllers[0].gains.kp[0]);
 }
 
+// The coupled criterion against the simulated arm: planar2's gains placed on the diagonal give
+// kd·h/M_jj = 0.4 on both joints at h = 10 ms, inside the one-joint bound, but its fastest coupled
+// mode has kd·h/M = 0.4 / (1 − r) = 2.61 (r = M12/√(M11·M22) = 0.847 at q2 = 0), outside it
+// (ρ = 1.64 per PD period). Simulated, the loop at one PD period per tick does not settle: the
+// error grows until the coupling's nonlinearity (r falls with cos q2) holds it in a limit cycle
+// (planar2 has no effort or velocity limits, so nothing reports it as diverged), with a mean
+// |feedback| over the last segment (4–5 s) of a 5 s pass of 489 N·m against 18.5 N·m at two periods (what
+// "auto" picks; measured with this test's printout).
+TEST(JobSteps, ThePlanarArmsCoupledModeIsUnstableAtOnePdPeriodAndNotAtTwo) {
+  const ArmModel model = load_arm_model(std::string(ARMFARM_SOURCE_DIR) + "/models/planar2.urdf");
+  JobConfig config;
+  config.trajectory.sine.duration = 5.0;
+  config.learning.mode = LearningMode::none;
+  config.control.mode = ControlMode::feedback;
+  config.control.feed_forward = FeedForwardSource::none;
+  config.simulation.integrator_steps_per_tick = 1;
+  const auto mean_feedback = [&](int pd_substeps) {
+    config.simulation.pd_substeps = pd_substeps;
+    JobSetup setup(model, config);
+    const JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());
+    ArmSimulation plant = setup.make_plant();
+    const CompositeController controller = setup.make_controller();
+    PassStatistics statistics(setup.dof(), 0.0);
+    PassOptions options;
+    options.controller = &controller;
+    options.statistics = &statistics;
+    const PassResult result = run_control_pass(setup, plant, trajectories.training, options);
+    EXPECT_EQ(result.status, JobStatus::done) << result.message;
+    return statistics.calc_segment_feedback(statistics.segments().back());
+  };
+  const double one = mean_feedback(1), two = mean_feedback(2);
+  std::printf("planar2 feedback pass, mean |fb| over the last segment: %.4g N·m at 1 PD period, %.4g at 2\n", one, two);
+  EXPECT_GT(one, 10.0 * two);
+  config.simulation.pd_substeps.reset();
+  config.simulation.integrator_steps_per_tick.reset();
+  EXPECT_EQ(calc_start_posture_steps(config, make_model_facts(model)).pd_substeps, 2);
+  const std::optional<StartPostureLoops> loops = make_start_posture_loops(config, make_model_facts(model));
+  ASSERT_TRUE(loops);
+  EXPECT_FALSE(calc_loop_stability(loops->plants[0], &loops->controllers[0].gains, LoopSteps{0.01, 1, 1, true}).stable());
+  EXPECT_TRUE(calc_loop_stability(loops->plants[0], &loops->controllers[0].gains, LoopSteps{0.01, 2, 1, true}).stable());
+}
+
 TEST(JobSteps, CollectionUsesTheJobsGainsUnlessCollectGainScaleIsSet) {
   JobConfig config;
   config.control.gain_scale = 0.2;
