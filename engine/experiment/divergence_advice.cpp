@@ -1,19 +1,13 @@
 #include "engine/experiment/divergence_advice.hpp"
 
 #include "engine/control/step_stability.hpp"
+#include "engine/experiment/job_steps.hpp"
 
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 namespace armfarm {
 namespace {
-
-std::string format_number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", value);
-  return text;
-}
 
 /// rad: an error this large at divergence with stable steps means the arm was not held.
 constexpr double kFarOff = 0.1;
@@ -27,16 +21,16 @@ std::string make_slowdown(const TrajectoryConfig& trajectory, double factor) {
   switch (trajectory.kind) {
     case TrajectoryKind::sine: {
       const Eigen::VectorXd& frequency = trajectory.sine.frequency;
-      if (frequency.size() == 1) return "trajectory.sine.frequency to " + format_number(frequency[0] / factor) + " Hz";
-      if (frequency.size() == 0) return "trajectory.sine.frequency to " + format_number(0.25 / factor) + " Hz";
-      return "trajectory.sine.frequency (each ÷ " + format_number(factor) + ")";
+      if (frequency.size() == 1) return "trajectory.sine.frequency to " + format_figure(frequency[0] / factor) + " Hz";
+      if (frequency.size() == 0) return "trajectory.sine.frequency to " + format_figure(0.25 / factor) + " Hz";
+      return "trajectory.sine.frequency (each ÷ " + format_figure(factor) + ")";
     }
     case TrajectoryKind::figure_eight:
       return "trajectory.figure_eight.points_per_loop to " + scaled_integer(trajectory.figure_eight.points_per_loop);
     case TrajectoryKind::reaching:
       return "trajectory.reaching.points_per_reach to " + scaled_integer(trajectory.reaching.points_per_reach);
     case TrajectoryKind::recorded:
-      return "trajectory.recorded.sample_rate to " + format_number(trajectory.recorded.sample_rate / factor) + " Hz";
+      return "trajectory.recorded.sample_rate to " + format_figure(trajectory.recorded.sample_rate / factor) + " Hz";
   }
   return "the trajectory's speed";
 }
@@ -62,10 +56,10 @@ std::string make_divergence_advice(JobSetup& setup, const CompositeController& c
       std::string advice = "; the step-stability criterion calls the steps it ran with (pd_substeps " + std::to_string(setup.pd_substeps()) +
                            (fixed_step ? ", integrator_steps_per_tick " + std::to_string(setup.integrator_steps()) : std::string()) +
                            ") unstable at the posture where it diverged (joint " + std::to_string(joint) + ": " +
-                           (ran.integrator_stable() ? "the PD loop grows ×" + format_number(ran.spectral_radius) +
-                                                          " per period, kd·h/M = " + format_number(ran.kd_ratio) + ", of its fastest coupled mode " + format_number(ran.modal_kd_ratio)
-                                                    : "RK4's passive decay ratio " + format_number(ran.passive_step_ratio) +
-                                                          " is above its bound " + format_number(kRk4RealBound)) +
+                           (ran.integrator_stable() ? "the PD loop grows ×" + format_figure(ran.spectral_radius) +
+                                                          " per period, kd·h/M = " + format_figure(ran.kd_ratio) + ", of its fastest coupled mode " + format_figure(ran.modal_kd_ratio)
+                                                    : "RK4's passive decay ratio " + format_figure(ran.passive_step_ratio) +
+                                                          " is above its bound " + format_figure(kRk4RealBound)) +
                            ")";
       if (!fix.found) return advice + "; no steps within the keys' ranges are stable there: lower control.gain_scale or dt";
       if (fix.pd_substeps > setup.pd_substeps()) advice += "; set pd_substeps to " + std::to_string(fix.pd_substeps);
@@ -91,7 +85,7 @@ std::string make_divergence_advice(JobSetup& setup, const CompositeController& c
   if (worst > 1.0) {
     const int joint = setup.joint_numbers().at(static_cast<std::size_t>(worst_joint));
     return "; the desired motion asks joint " + std::to_string(joint) + " for " +
-           format_number(worst * limits[worst_joint]) + " rad/s, above its velocity limit " + format_number(limits[worst_joint]) +
+           format_figure(worst * limits[worst_joint]) + " rad/s, above its velocity limit " + format_figure(limits[worst_joint]) +
            " rad/s: set " + make_slowdown(config.trajectory, worst / kSlowdownTarget);
   }
   // (3) Far off the desired motion with stable steps: the feedback is too weak to hold the arm.
@@ -99,15 +93,15 @@ std::string make_divergence_advice(JobSetup& setup, const CompositeController& c
     Eigen::Index worst_error = 0;
     const double error = (q - q_desired).cwiseAbs().maxCoeff(&worst_error);
     if (error > kFarOff) {
-      return "; the arm is " + format_number(error) + " rad off the desired motion (joint " +
+      return "; the arm is " + format_figure(error) + " rad off the desired motion (joint " +
              std::to_string(setup.joint_numbers().at(static_cast<std::size_t>(worst_error))) +
              ") with stable steps: the feedback is too weak to hold it — raise control.gain_scale (now " +
-             format_number(config.control.gain_scale) + ") or add a feed-forward (control.feed_forward)";
+             format_figure(config.control.gain_scale) + ") or add a feed-forward (control.feed_forward)";
     }
   }
   // (4) Nothing computable: name the keys.
   return "; the step-stability criterion calls the steps stable where it diverged, so they are not the cause: other gains "
-         "(control.gain_scale, now " + format_number(config.control.gain_scale) + "; control.bandwidth, control.damping_ratio), "
+         "(control.gain_scale, now " + format_figure(config.control.gain_scale) + "; control.bandwidth, control.damping_ratio), "
          "a finer PD loop (pd_substeps " + std::to_string(2 * setup.pd_substeps()) + ") or the divergence.* bounds";
 }
 

@@ -9,12 +9,6 @@
 namespace armfarm {
 namespace {
 
-std::string format_number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", value);
-  return text;
-}
-
 bool is_fixed_step(const JobConfig& config) { return config.simulation.integrator == IntegratorKind::runge_kutta_4; }
 
 /// The explicit values (0 = "auto"); adaptive integrators take S = 1 (they do not use it).
@@ -58,25 +52,31 @@ std::string describe_failure(const JobConfig& config, const Failure& failure, in
   const int joint = joint_numbers.at(static_cast<std::size_t>(s.joint));
   const double period = config.simulation.dt / pd;
   if (!s.integrator_stable()) {
-    return "runge_kutta_4 in steps of " + format_number(period / integrator) + " s amplifies the passive decay of joint " +
-           std::to_string(joint) + " at the start posture: λ·h_i = " + format_number(s.passive_step_ratio) +
-           ", above RK4's bound " + format_number(kRk4RealBound) + " (λ the fastest rate of M⁻¹B; joint " + std::to_string(joint) +
-           " alone: b·h_i/M = " + format_number(s.damping_ratio) + " with b = " +
-           format_number(s.damping_ratio * s.inertia * integrator / period) + " N·m·s/rad, M = " + format_number(s.inertia) +
+    return "runge_kutta_4 in steps of " + format_figure(period / integrator) + " s amplifies the passive decay of joint " +
+           std::to_string(joint) + " at the start posture: λ·h_i = " + format_figure(s.passive_step_ratio) +
+           ", above RK4's bound " + format_figure(kRk4RealBound) + " (λ the fastest rate of M⁻¹B; joint " + std::to_string(joint) +
+           " alone: b·h_i/M = " + format_figure(s.damping_ratio) + " with b = " +
+           format_figure(s.damping_ratio * s.inertia * integrator / period) + " N·m·s/rad, M = " + format_figure(s.inertia) +
            " kg·m² with armature)";
   }
   const JobController& controller = *failure.controller;
   const double kd = s.kd_ratio * s.inertia / period, kp = s.kp_ratio * s.inertia / (period * period);
   return "the sampled PD loop is unstable on joint " + std::to_string(joint) + " at the start posture: PD period h = " +
-         format_number(period) + " s, kd·h/M = " + format_number(s.kd_ratio) + " (bound 2), kp·h²/M = " + format_number(s.kp_ratio) +
-         " (bound 2·kd·h/M = " + format_number(2.0 * s.kd_ratio) + "), with M = " + format_number(s.inertia) +
-         " kg·m² (mass-matrix diagonal, armature included), kd = " + format_number(kd) + " N·m·s/rad and kp = " + format_number(kp) +
-         " N·m/rad after " + controller.scale_key + " " + format_number(controller.scale) +
-         "; coupled through the mass matrix, the fastest mode has kd·h/M = " + format_number(s.modal_kd_ratio) +
-         " (λ_max(M⁻¹Kd)·h), and the error grows ×" + format_number(s.spectral_radius) + " per PD period";
+         format_figure(period) + " s, kd·h/M = " + format_figure(s.kd_ratio) + " (bound 2), kp·h²/M = " + format_figure(s.kp_ratio) +
+         " (bound 2·kd·h/M = " + format_figure(2.0 * s.kd_ratio) + "), with M = " + format_figure(s.inertia) +
+         " kg·m² (mass-matrix diagonal, armature included), kd = " + format_figure(kd) + " N·m·s/rad and kp = " + format_figure(kp) +
+         " N·m/rad after " + controller.scale_key + " " + format_figure(controller.scale) +
+         "; coupled through the mass matrix, the fastest mode has kd·h/M = " + format_figure(s.modal_kd_ratio) +
+         " (λ_max(M⁻¹Kd)·h), and the error grows ×" + format_figure(s.spectral_radius) + " per PD period";
 }
 
 }  // namespace
+
+std::string format_figure(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
 
 double calc_collect_gain_scale(const JobConfig& config) {
   return config.learning.collect_gain_scale.value_or(config.control.gain_scale);

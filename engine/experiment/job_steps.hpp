@@ -17,6 +17,9 @@
 
 namespace armfarm {
 
+/// `value` to three significant digits ("%.3g"), as the step and divergence messages print figures.
+std::string format_figure(double value);
+
 /// The collection controller's gain scale: learning.collect_gain_scale, or control.gain_scale
 /// when it is "auto".
 double calc_collect_gain_scale(const JobConfig& config);
