@@ -64,6 +64,9 @@ FieldRef make_field(std::string& value) { return FieldRef{ValueKind::text, &valu
 FieldRef make_field(Eigen::Vector3d& value) { return FieldRef{ValueKind::point, &value}; }
 FieldRef make_field(std::vector<int>& value) { return FieldRef{ValueKind::integer_list, &value}; }
 FieldRef make_field(Eigen::MatrixXd& value) { return FieldRef{ValueKind::real_matrix, &value}; }
+FieldRef make_field(std::optional<int>& value) { return FieldRef{ValueKind::integer_or_auto, &value}; }
+FieldRef make_field(std::optional<double>& value) { return FieldRef{ValueKind::real_or_auto, &value}; }
+FieldRef make_field(std::optional<Eigen::Vector3d>& value) { return FieldRef{ValueKind::point_or_auto, &value}; }
 FieldRef make_field(Eigen::VectorXd& value, ValueKind kind) { return FieldRef{kind, &value}; }
 FieldRef make_field(std::vector<std::string>& value, const std::vector<std::string>& (*names)()) {
   FieldRef ref{ValueKind::name_list, &value};

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,7 +47,13 @@ enum class ValueKind {
   integer_list,  ///< std::vector<int>
   name_list,     ///< std::vector<std::string>, each one of `names()`
   real_matrix,   ///< Eigen::MatrixXd: a number (1×1), a list (n×1) or a list of lists (n×n)
+  integer_or_auto,  ///< std::optional<int>: an integer, or kAutoValue (empty: armfarm chooses, as the key's doc says)
+  real_or_auto,     ///< std::optional<double>: a number, or kAutoValue (empty)
+  point_or_auto,    ///< std::optional<Eigen::Vector3d>: [x, y, z], or kAutoValue (empty)
 };
+
+/// How a user writes "armfarm chooses" for an integer_or_auto or real_or_auto key.
+inline constexpr const char* kAutoValue = "auto";
 
 /// Allowed values of a number (of each element of a list): [min, max], either end open.
 struct Range {
@@ -94,6 +101,9 @@ struct FieldRef {
   Eigen::MatrixXd& matrix() const { return *static_cast<Eigen::MatrixXd*>(field); }
   std::vector<int>& integers() const { return *static_cast<std::vector<int>*>(field); }
   std::vector<std::string>& texts() const { return *static_cast<std::vector<std::string>*>(field); }
+  std::optional<int>& optional_integer() const { return *static_cast<std::optional<int>*>(field); }
+  std::optional<double>& optional_real() const { return *static_cast<std::optional<double>*>(field); }
+  std::optional<Eigen::Vector3d>& optional_point() const { return *static_cast<std::optional<Eigen::Vector3d>*>(field); }
 };
 
 FieldRef make_field(double& value);
@@ -102,6 +112,9 @@ FieldRef make_field(std::string& value);
 FieldRef make_field(Eigen::Vector3d& value);
 FieldRef make_field(std::vector<int>& value);
 FieldRef make_field(Eigen::MatrixXd& value);
+FieldRef make_field(std::optional<int>& value);     ///< integer_or_auto
+FieldRef make_field(std::optional<double>& value);  ///< real_or_auto
+FieldRef make_field(std::optional<Eigen::Vector3d>& value);  ///< point_or_auto
 /// kind real_list or real_or_list.
 FieldRef make_field(Eigen::VectorXd& value, ValueKind kind = ValueKind::real_list);
 FieldRef make_field(std::vector<std::string>& value, const std::vector<std::string>& (*names)());

@@ -37,12 +37,15 @@ PdGains make_appendix_d_gains(const std::vector<int>& joint_numbers) {
 }
 
 PdGains make_pd_gains(const ControlConfig& control, ArmDynamics& dynamics, const std::vector<int>& joint_numbers) {
-  const int n = dynamics.dof();
+  return calc_pd_gains(control, dynamics.calc_mass_matrix(dynamics.start_positions()).diagonal(), joint_numbers);
+}
+
+PdGains calc_pd_gains(const ControlConfig& control, const Eigen::VectorXd& inertia, const std::vector<int>& joint_numbers) {
+  const int n = static_cast<int>(inertia.size());
   PdGains placed;
   if (control.gain_set == GainSet::appendix_d) {
     placed = make_appendix_d_gains(joint_numbers);
   } else {
-    const Eigen::VectorXd inertia = dynamics.calc_mass_matrix(dynamics.start_positions()).diagonal();
     const double omega = control.bandwidth;
     placed = {inertia * omega * omega, inertia * 2.0 * control.damping_ratio * omega};
   }

@@ -29,6 +29,9 @@ PdGains make_appendix_d_gains(const std::vector<int>& joint_numbers);
 /// mass matrix diagonal at the start posture, or appendix D's for the active `joint_numbers`
 /// (1-based). Throws std::invalid_argument ("control.kp: ...") for a wrong size or a negative gain.
 PdGains make_pd_gains(const ControlConfig& control, ArmDynamics& dynamics, const std::vector<int>& joint_numbers);
+/// The same from `inertia`, the mass-matrix diagonal (armature included) at the start posture
+/// (n × 1). Pure.
+PdGains calc_pd_gains(const ControlConfig& control, const Eigen::VectorXd& inertia, const std::vector<int>& joint_numbers);
 
 /// The factor kd is scaled by for a gain scale: √gain_scale when keep_damping_ratio (the
 /// damping ratio of kp, kd is kept), else gain_scale (as kp; ζ falls by √gain_scale).

@@ -1,5 +1,7 @@
 #include "engine/experiment/collection_pass.hpp"
 
+#include "engine/experiment/job_steps.hpp"
+
 #include <string>
 
 namespace armfarm {
@@ -8,8 +10,8 @@ PassResult collect_samples(JobSetup& setup, ArmSimulation& plant, const Collecti
                            const std::function<bool()>& should_stop) {
   const LearningConfig& learning = setup.config().learning;
   const ControlConfig& control = setup.config().control;
-  const CompositeController collector(ControlMode::feedback, setup.gains(), learning.collect_gain_scale,
-                                      calc_kd_scale(learning.collect_gain_scale, control.keep_damping_ratio),
+  const double scale = calc_collect_gain_scale(setup.config());
+  const CompositeController collector(ControlMode::feedback, setup.gains(), scale, calc_kd_scale(scale, control.keep_damping_ratio),
                                       setup.nominal().effort_limits(), control.limit_torque);
   RandomStream start_draws(setup.config().seed, std::string(plan.purpose) + ".start_state");
   RandomStream noise(setup.config().seed, std::string(plan.purpose) + ".sensor_noise");

@@ -1,5 +1,6 @@
 #include "engine/experiment/control_pass.hpp"
 
+#include "engine/experiment/divergence_advice.hpp"
 #include "engine/experiment/divergence_monitor.hpp"
 #include "engine/experiment/tick_recording.hpp"
 
@@ -80,6 +81,8 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
   double simulated = 0.0;
   Eigen::VectorXd last_acceleration = Eigen::VectorXd::Zero(n);
   Measurement measured = measure(plant, options);
+  Eigen::VectorXd last_finite_q = plant.q();  // where a diverged pass's advice judges the steps
+  Eigen::VectorXd last_desired_q = last_finite_q;
 
   // Stage timing (TickClock): `lap(slot)` adds the time since the previous lap to `slot`.
   using Clock = std::chrono::steady_clock;
@@ -118,7 +121,13 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
     const Eigen::VectorXd q = plant.q();
     const Eigen::VectorXd qd = plant.qd();
 
-    if (auto reason = divergence.check(t, q, qd, q_desired)) return end_pass(JobStatus::diverged, t, *reason, simulated);
+    if (q.allFinite()) {
+      last_finite_q = q;
+      last_desired_q = q_desired;
+    }
+    if (auto reason = divergence.check(t, q, qd, q_desired)) {
+      return end_pass(JobStatus::diverged, t, *reason + make_divergence_advice(setup, *options.controller, trajectory, last_finite_q, last_desired_q), simulated);
+    }
     lap(&TickClock::control);
 
     FeedForwardTerm feed_forward{Eigen::VectorXd::Zero(n)};
@@ -147,15 +156,22 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
     Eigen::VectorXd applied_torque;  // averaged over the tick: the learner's target
     try {
       applied_torque = step_tick(plant, *options.controller, command, feed_forward.torque,
-                                 DesiredState{q_desired, qd_desired, qdd_desired}, dt, config.simulation.pd_substeps, options);
+                                 DesiredState{q_desired, qd_desired, qdd_desired}, dt, setup.pd_substeps(), options);
     } catch (const std::exception& failure) {
-      return end_pass(JobStatus::diverged, t, std::string("integrator failed: ") + failure.what(), simulated);
+      return end_pass(JobStatus::diverged, t,
+                      std::string("integrator failed: ") + failure.what() +
+                          make_divergence_advice(setup, *options.controller, trajectory, last_finite_q, last_desired_q),
+                      simulated);
     }
     lap(&TickClock::physics);
     simulated += dt;
     const Measurement next = measure(plant, options);
     const Eigen::VectorXd qdd_measured = (next.qd - measured.qd) / dt;  // the thesis's backward difference
-    if (!qdd_measured.allFinite()) return end_pass(JobStatus::diverged, plant.time(), "the state became NaN or Inf", simulated);
+    if (!qdd_measured.allFinite()) {
+      return end_pass(JobStatus::diverged, plant.time(),
+                      "the state became NaN or Inf" + make_divergence_advice(setup, *options.controller, trajectory, last_finite_q, last_desired_q),
+                      simulated);
+    }
     last_acceleration = qdd_measured;
     if (options.samples || options.learner) {
       Sample sample{make_learner_input(measured.q, measured.qd, qdd_measured), applied_torque};

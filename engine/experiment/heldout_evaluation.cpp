@@ -28,7 +28,8 @@ TrajectoryConfig make_heldout_config(const JobConfig& config, ArmDynamics& dynam
   switch (config.trajectory.kind) {
     case TrajectoryKind::sine: {
       const int n = dynamics.dof();
-      SineTrajectoryConfig sine = resolve_sine_defaults(config.trajectory.sine, n, dynamics.start_positions());
+      const JointRanges ranges{dynamics.lower_limits(), dynamics.upper_limits(), dynamics.velocity_limits()};
+      SineTrajectoryConfig sine = resolve_sine_defaults(config.trajectory.sine, n, dynamics.start_positions(), &ranges);
       double slowest = 0.0;
       for (int j = 0; j < n; ++j) {
         if (sine.amplitude[j] != 0.0 && sine.frequency[j] > 0.0 && (slowest == 0.0 || sine.frequency[j] < slowest)) {

@@ -1,6 +1,8 @@
 #include "engine/experiment/job_config_validation.hpp"
 
+#include "engine/experiment/job_steps.hpp"
 #include "engine/learning/learner_model_file.hpp"
+#include "engine/physics/arm_simulation.hpp"
 #include "engine/trajectory/trajectory.hpp"
 
 #include <algorithm>
@@ -8,6 +10,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 
 namespace armfarm {
@@ -106,6 +109,88 @@ void check_recorded_limits(const JobConfig& config, const ModelFacts& facts, Che
   }
 }
 
+/// The 1-based joint numbers of the job (every movable joint for an empty list).
+std::vector<int> resolve_joint_numbers(const JobConfig& config, const ModelFacts& facts) {
+  if (!config.active_joints.empty()) return config.active_joints;
+  std::vector<int> numbers;
+  for (int j = 1; j <= facts.movable_joints; ++j) numbers.push_back(j);
+  return numbers;
+}
+
+/// `values` (one per movable joint) at the job's joints.
+Eigen::VectorXd select_joints(const std::vector<double>& values, const std::vector<int>& numbers) {
+  Eigen::VectorXd selected(static_cast<Eigen::Index>(numbers.size()));
+  for (std::size_t i = 0; i < numbers.size(); ++i) selected[static_cast<Eigen::Index>(i)] = values[numbers[i] - 1];
+  return selected;
+}
+
+// The PD period and integrator steps against the step-stability criterion at the start posture
+// (job_steps.hpp): an explicit value it calls unstable, or "auto" finding none, is a problem.
+void check_steps(const JobConfig& config, const ModelFacts& facts, Checker& checker) {
+  try {
+    const std::optional<StartPostureLoops> loops = make_start_posture_loops(config, facts);
+    if (!loops) return;
+    for (const StepProblem& problem : check_job_steps(config, loops->plants, loops->controllers, loops->joint_numbers)) {
+      checker.add(problem.key, problem.message);
+    }
+  } catch (const std::invalid_argument& error) {
+    checker.add("model", std::string("the step-stability check failed: ") + error.what());
+  }
+}
+
+// A sine the user set must stay within the joints' position and velocity limits, its held-out
+// variant included (the default amplitude keeps within them by construction).
+void check_sine_limits(const JobConfig& config, const ModelFacts& facts, Checker& checker) {
+  const int movable = facts.movable_joints;
+  if (facts.velocity_limits.size() != static_cast<std::size_t>(movable) || facts.start_positions.size() != facts.velocity_limits.size() ||
+      facts.lower_limits.size() != facts.velocity_limits.size() || facts.upper_limits.size() != facts.velocity_limits.size()) {
+    return;
+  }
+  const std::vector<int> numbers = resolve_joint_numbers(config, facts);
+  const int n = static_cast<int>(numbers.size());
+  const JointRanges ranges{select_joints(facts.lower_limits, numbers), select_joints(facts.upper_limits, numbers),
+                           select_joints(facts.velocity_limits, numbers)};
+  SineTrajectoryConfig sine;
+  std::vector<double> start = facts.start_positions;
+  if (config.start_posture.size() == movable) start.assign(config.start_posture.data(), config.start_posture.data() + movable);
+  try {
+    sine = resolve_sine_defaults(config.trajectory.sine, n, select_joints(start, numbers), &ranges);
+  } catch (const std::invalid_argument&) {
+    return;  // mis-sized lists are reported by their keys
+  }
+  const LearningConfig& learning = config.learning;
+  const bool heldout = learning.mode != LearningMode::none && learning.heldout;
+  const double scale = heldout ? std::max(1.0, learning.heldout_amplitude_scale) : 1.0;
+  const bool set_amplitude = config.trajectory.sine.amplitude.size() > 0;
+  const bool set_frequency = config.trajectory.sine.frequency.size() > 0;
+  for (int j = 0; j < n; ++j) {
+    const double amplitude = sine.amplitude[j] * scale;
+    const double omega = 2.0 * M_PI * sine.frequency[j];
+    const double speed = amplitude * omega;
+    const std::string joint = "joint " + std::to_string(numbers[static_cast<std::size_t>(j)]);
+    const std::string variant = scale > 1.0 ? " (the held-out variant's amplitude, × learning.heldout_amplitude_scale " + format_number(scale) + ")" : "";
+    if (speed > ranges.velocity[j]) {
+      checker.add(set_frequency || !set_amplitude ? "trajectory.sine.frequency" : "trajectory.sine.amplitude",
+                  joint + " needs " + format_number(speed) + " rad/s (amplitude " + format_number(amplitude) + " rad × 2π × " +
+                      format_number(sine.frequency[j]) + " Hz" + variant + "), above its velocity limit " +
+                      format_number(ranges.velocity[j]) + " rad/s; at this frequency an amplitude of at most " +
+                      format_number(ranges.velocity[j] / omega / scale) + " rad keeps within it");
+      return;
+    }
+    const double low = sine.offset[j] - amplitude, high = sine.offset[j] + amplitude;
+    if (low < ranges.lower[j] || high > ranges.upper[j]) {
+      const double room = std::min(sine.offset[j] - ranges.lower[j], ranges.upper[j] - sine.offset[j]);
+      checker.add(set_amplitude ? "trajectory.sine.amplitude" : "trajectory.sine.offset",
+                  joint + " would move over [" + format_number(low) + ", " + format_number(high) + "] rad" + variant +
+                      ", outside its limits [" + format_number(ranges.lower[j]) + ", " + format_number(ranges.upper[j]) + "] rad" +
+                      (room > 0.0 ? "; about offset " + format_number(sine.offset[j]) + " rad an amplitude of at most " +
+                                        format_number(room / scale) + " rad keeps within them"
+                                  : std::string("; its offset is outside them")));
+      return;
+    }
+  }
+}
+
 // A configured start posture must lie inside every joint's limits (1-based joint numbers).
 void check_start_posture(const JobConfig& config, const ModelFacts& facts, Checker& checker) {
   const Eigen::VectorXd& posture = config.start_posture;
@@ -145,6 +230,15 @@ void check_key(const JobConfigKey& key, JobConfig& config, int n, int movable, C
       break;
     case ValueKind::integer:
       checker.check_integer(key, key.path, field.get_integer(field.field));
+      break;
+    case ValueKind::integer_or_auto:
+      if (field.optional_integer()) checker.check_integer(key, key.path, *field.optional_integer());
+      break;
+    case ValueKind::real_or_auto:
+      if (field.optional_real()) checker.check_number(key, key.path, *field.optional_real());
+      break;
+    case ValueKind::point_or_auto:
+      if (field.optional_point()) checker.check_elements(key, *field.optional_point());
       break;
     case ValueKind::choice: {
       const int value = static_cast<int>(field.get_integer(field.field));
@@ -277,12 +371,13 @@ void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
                   std::to_string(checkpoints[i]) + " must exceed the checkpoint before it (" + std::to_string(checkpoints[i - 1]) + ")");
     }
   }
+  // A box with one corner "auto" is checked once the arm's reach places it (build_reaching).
   const ReachingConfig& reaching = config.trajectory.reaching;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (!(reaching.box_min[axis] < reaching.box_max[axis])) {
+  for (int axis = 0; reaching.box_min && reaching.box_max && axis < 3; ++axis) {
+    if (!((*reaching.box_min)[axis] < (*reaching.box_max)[axis])) {
       checker.add("trajectory.reaching.box_max[" + std::to_string(axis) + "]",
-                  format_number(reaching.box_max[axis]) + " m must exceed box_min[" + std::to_string(axis) + "] = " +
-                      format_number(reaching.box_min[axis]) + " m");
+                  format_number((*reaching.box_max)[axis]) + " m must exceed box_min[" + std::to_string(axis) + "] = " +
+                      format_number((*reaching.box_min)[axis]) + " m");
     }
   }
   const RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
@@ -440,6 +535,34 @@ ModelFacts make_model_facts(const ArmModel& model) {
     facts.upper_limits.push_back(joint.has_position_limits ? joint.upper : infinity);
     facts.joint_names.push_back(joint.name);
     facts.prismatic.push_back(joint.type == JointType::prismatic);
+    facts.velocity_limits.push_back(joint.velocity_limit > 0.0 ? joint.velocity_limit : infinity);
+    facts.start_positions.push_back(joint.start_position);
+  }
+  if (movable.empty()) return facts;
+  try {
+    // One plant behind a lock: the facts are shared by the threads that validate jobs.
+    struct LockedDynamics {
+      explicit LockedDynamics(const ArmModel& arm) : model(arm), dynamics(model) {}
+      std::mutex mutex;
+      ArmModel model;  // its own copy: the dynamics refer to it, and the facts outlive the caller's
+      ArmDynamics dynamics;
+      Eigen::VectorXd armature;
+    };
+    auto shared = std::make_shared<LockedDynamics>(model);
+    shared->armature.resize(facts.movable_joints);
+    for (int j = 0; j < facts.movable_joints; ++j) shared->armature[j] = model.joints[movable[j]].armature;
+    facts.armature = shared->armature;
+    facts.rigid_mass_at = [shared](const Eigen::VectorXd& q) {
+      std::lock_guard<std::mutex> lock(shared->mutex);
+      Eigen::MatrixXd mass = shared->dynamics.calc_mass_matrix(q);
+      mass.diagonal() -= shared->armature;
+      return mass;
+    };
+    facts.rigid_mass = facts.rigid_mass_at(shared->dynamics.start_positions());
+    facts.damping = shared->dynamics.viscous_damping();
+  } catch (const std::exception&) {
+    facts.rigid_mass.resize(0, 0);  // a model Simbody cannot build fails where the job builds it
+    facts.rigid_mass_at = nullptr;
   }
   return facts;
 }
@@ -460,6 +583,17 @@ std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& f
   if (config.trajectory.kind == TrajectoryKind::recorded && !config.trajectory.recorded.task_space &&
       !has_problem_under(problems, "trajectory.recorded") && !has_problem_under(problems, "active_joints")) {
     check_recorded_limits(config, facts, checker);
+  }
+  // The sine and the steps are judged about the start posture: not about one outside the limits.
+  const bool sane_joints = !has_problem_under(problems, "active_joints") && !has_problem_under(problems, "start_posture");
+  if (sane_joints && config.trajectory.kind == TrajectoryKind::sine && !has_problem_under(problems, "trajectory.") &&
+      !has_problem_under(problems, "learning.heldout")) {
+    check_sine_limits(config, facts, checker);
+  }
+  static const char* const step_inputs[] = {"dt", "pd_substeps", "integrator_steps_per_tick", "armature_scale", "control.",
+                                            "learning.collect_gain_scale", "mismatch.viscous"};
+  if (sane_joints && std::none_of(std::begin(step_inputs), std::end(step_inputs), [&](const char* key) { return has_problem_under(problems, key); })) {
+    check_steps(config, facts, checker);
   }
   // The cost needs sane counts and a sane dt; a range problem there is reported already.
   if (!has_problem_under(problems, "dt") && !has_problem_under(problems, "trajectory.") && !has_problem_under(problems, "learning.")) {

@@ -7,6 +7,7 @@
 #include "engine/experiment/job_config.hpp"
 #include "engine/model/arm_model.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,12 +25,25 @@ struct ModelFacts {
   int movable_joints = 0;
   /// Position limits per movable joint (rad or m; ±inf where unlimited); empty: not checked.
   std::vector<double> lower_limits, upper_limits;
+  /// Per movable joint: velocity limits (rad/s or m/s, +inf where none) and start positions
+  /// (rad or m); empty: trajectories are not checked against the velocity limits.
+  std::vector<double> velocity_limits, start_positions;
+  /// The step-stability facts at the start posture, every movable joint (job_steps.hpp): the
+  /// rigid-body mass matrix (armature not included; n × n), the armature and the viscous
+  /// damping (n); empty: the PD and integrator steps are not checked.
+  Eigen::MatrixXd rigid_mass;
+  Eigen::VectorXd armature, damping;
+  /// The rigid-body mass matrix (n × n, every movable joint) at any posture, for a configured
+  /// start_posture (thread-safe; unset: not available).
+  std::function<Eigen::MatrixXd(const Eigen::VectorXd& q)> rigid_mass_at;
   /// Per movable joint, for messages: its name and whether it slides (m) rather than turns (rad).
   std::vector<std::string> joint_names;
   std::vector<bool> prismatic;
 };
 
-/// The facts of `model`: its movable joints, their position limits and names.
+/// The facts of `model`: its movable joints, their limits, names and start positions, and the
+/// mass matrix at the start posture (a Simbody system is built for it: callers that validate
+/// many jobs keep the facts of a model rather than making them per job).
 ModelFacts make_model_facts(const ArmModel& model);
 
 /// Bounds on a job's cost, so that a typo cannot occupy a core for days. At the measured

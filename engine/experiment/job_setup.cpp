@@ -1,5 +1,6 @@
 #include "engine/experiment/job_setup.hpp"
 
+#include "engine/experiment/job_steps.hpp"
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/experiment/nominal_inverse_dynamics.hpp"
 #include "engine/model/arm_reach.hpp"
@@ -43,6 +44,7 @@ JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
       end_effector_(make_end_effector_chain(nominal_)),
       n_(nominal_.dof()) {
   gains_ = make_pd_gains(config.control, nominal_, joint_numbers_);
+  choose_steps({});
   reach_ = calc_reach(model_);
   if (config.mismatch.payload.mass > 0.0) {
     true_dynamics_ = std::make_unique<ArmDynamics>(model_, active_indices_, config.mismatch.payload);
@@ -53,6 +55,30 @@ JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
                                                  : nominal_viscous_;
   true_coulomb_ = config.mismatch.coulomb.size() ? expand_per_joint(config.mismatch.coulomb, n_, 0.0, "mismatch.coulomb")
                                                  : nominal_coulomb_;
+}
+
+void JobSetup::choose_steps(const std::vector<const JointTrajectory*>& trajectories) {
+  const Eigen::VectorXd damping = nominal_.viscous_damping();
+  const auto add_plants = [&](std::vector<LoopPlant>& plants, const Eigen::VectorXd& q) {
+    for (LoopPlant& plant : make_job_plants(config_, nominal_.calc_mass_matrix(q), damping)) plants.push_back(std::move(plant));
+  };
+  std::vector<LoopPlant> plants;
+  add_plants(plants, nominal_.start_positions());
+  for (const JointTrajectory* trajectory : trajectories) {
+    const int size = trajectory ? trajectory->size() : 0;
+    for (int i = 0; i < std::min(size, kStepPostures); ++i) {
+      const int row = static_cast<int>((static_cast<long long>(i) * size) / std::min(size, kStepPostures));
+      add_plants(plants, trajectory->q.row(row).transpose());
+    }
+  }
+  steps_ = calc_job_steps(config_, plants, make_job_controllers(config_, gains_));
+}
+
+StepChoice JobSetup::calc_steps_at(const Eigen::VectorXd& q, const CompositeController& controller) {
+  const Eigen::VectorXd damping = nominal_.viscous_damping();
+  const std::vector<LoopPlant> plants = make_job_plants(config_, nominal_.calc_mass_matrix(q), damping);
+  const std::vector<LoopGains> gains{LoopGains{controller.kp(), controller.kd()}};
+  return calc_stable_steps(plants, gains, config_.simulation.dt, config_.simulation.integrator == IntegratorKind::runge_kutta_4, 0, 0);
 }
 
 CompositeController JobSetup::make_controller() {
@@ -81,7 +107,7 @@ ArmSimulation JobSetup::make_plant() const {
   options.active_joints = active_indices_;
   options.integrator = config_.simulation.integrator;
   options.accuracy = config_.simulation.integrator_accuracy;
-  options.steps_per_tick = config_.simulation.integrator_steps_per_tick;
+  options.steps_per_tick = steps_.integrator_steps;
   if (mismatch_from_start()) {
     options.payload = config_.mismatch.payload;
     if (config_.mismatch.viscous.size()) options.friction_override.viscous = true_viscous_;

@@ -4,6 +4,7 @@
 // model plus the configured mismatch) that the learners are scored against.
 #include "engine/control/composite_controller.hpp"
 #include "engine/control/pd_gains.hpp"
+#include "engine/control/step_stability.hpp"
 #include "engine/experiment/job_config.hpp"
 #include "engine/experiment/pass_statistics.hpp"
 #include "engine/kinematics/serial_chain.hpp"
@@ -35,6 +36,20 @@ class JobSetup {
   /// microsecond, equal to nominal().calc_end_effector_position to 1e-12; the statistics use it).
   const SerialChain& end_effector() const { return end_effector_; }
   const PdGains& gains() const { return gains_; }
+  /// The PD periods per tick and RK4 steps per PD period the job's plants run with: explicit
+  /// values as configured, "auto" ones chosen by the step-stability criterion (job_steps.hpp) at
+  /// the start posture and, after choose_steps, at postures along the job's trajectories.
+  int pd_substeps() const { return steps_.pd_substeps; }
+  int integrator_steps() const { return steps_.integrator_steps; }
+  /// Both, and whether the criterion found them stable (StepChoice::found).
+  const StepChoice& steps() const { return steps_; }
+  /// Chooses the "auto" steps again over the start posture and up to kStepPostures postures
+  /// spread along each of `trajectories` (where the mass matrix differs from the start's).
+  /// Call before make_plant().
+  void choose_steps(const std::vector<const JointTrajectory*>& trajectories);
+  /// The steps the criterion picks for `controller`'s gains on this job's plant at posture `q`
+  /// (a diverged pass's advice, divergence_advice.hpp).
+  StepChoice calc_steps_at(const Eigen::VectorXd& q, const CompositeController& controller);
   /// The job's controller: control.mode with the gains at control.gain_scale (kd per keep_damping_ratio).
   CompositeController make_controller();
   /// The nMSE floors (kNmseStdFloorFraction of each joint's position range, 2π when unlimited;
@@ -67,10 +82,14 @@ class JobSetup {
   SerialChain end_effector_;
   int n_;
   PdGains gains_;
+  StepChoice steps_;
   std::unique_ptr<ArmDynamics> true_dynamics_;
   Eigen::VectorXd true_viscous_, true_coulomb_, nominal_viscous_, nominal_coulomb_;
   double reach_ = 0.0;  ///< m, the arm's reach
 };
+
+/// Postures per trajectory at which JobSetup::choose_steps checks the criterion.
+inline constexpr int kStepPostures = 20;
 
 /// Per learner input (q, q̇, q̈ of each active joint, 3n): its standard deviation along the
 /// desired trajectory (1 where it does not vary), the scale LWPR normalises its inputs by.

@@ -89,6 +89,8 @@ inline const std::string fb_abs_avg_last_segment = "fb_abs_avg_last_segment";
 inline const std::string tracking_rmse_first_segment = "tracking_rmse_first_segment";
 inline const std::string tracking_rmse_last_segment = "tracking_rmse_last_segment";
 inline const std::string simulated_seconds = "simulated_seconds";
+inline const std::string pd_substeps_used = "pd_substeps_used";
+inline const std::string integrator_steps_used = "integrator_steps_used";
 inline const std::string sim_seconds_per_wall_second = "sim_seconds_per_wall_second";
 // Where a tick of the evaluation pass goes (TickClock, control_pass.hpp), µs per tick.
 inline const std::string tick_us_total = "tick_us_total";

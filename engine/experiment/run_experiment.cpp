@@ -1,6 +1,7 @@
 // One experiment job as a list of phases (each in its own file under engine/experiment/):
 //   validation       job_config_validation  the one validate() of the configuration
-//   setup            job_setup          joints, nominal model, gains, the true plant
+//   setup            job_setup          joints, nominal model, gains, the true plant, the PD and
+//                                       integrator steps (job_steps: "auto" by the criterion)
 //   trajectories     heldout_evaluation the training trajectory and its held-out variant
 //   learner          learner_factory    one factory from the learning config (Learner interface),
 //                    learner_model_file or the model file the job starts from (learning.initial_model)
@@ -82,6 +83,8 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
   const JobTrajectories& trajectories = shared ? *shared : built;
   const JointTrajectory& training = trajectories.training;
   if (training.size() < 2) throw std::invalid_argument("trajectory: needs at least 2 samples");
+  // "auto" steps: the criterion over the postures the job's passes visit.
+  setup.choose_steps({&training, trajectories.heldout ? &*trajectories.heldout : nullptr});
   const int n = setup.dof();
   std::unique_ptr<Learner> learner;
   if (config.learning.mode != LearningMode::none && !config.learning.initial_model_bytes.empty()) {
@@ -108,6 +111,8 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
     outcome.end_time = result.end_time;
     const double total = simulated_seconds + (heldout ? heldout->simulated_seconds() : 0.0);
     write_cost_report(metrics, total, std::chrono::duration<double>(Clock::now() - wall_start).count());
+    metrics.add(metric_names::pd_substeps_used, setup.pd_substeps());
+    metrics.add(metric_names::integrator_steps_used, setup.integrator_steps());
     outcome.series = recorder.take_series();
     if (learner && config.learning.store_model) outcome.model_file = encode_learner_model(*learner);
     return std::move(outcome);

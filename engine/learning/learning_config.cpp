@@ -41,7 +41,7 @@ const std::vector<ConfigKey<LearningConfig>>& learning_config_keys() {
        [](C& c) { return make_integer_field(c.epochs); }},
       {"collect_repeats", "", closed(1, 1000), ListSize::any, "batch: trajectory passes collected under feedback",
        [](C& c) { return make_integer_field(c.collect_repeats); }},
-      {"collect_gain_scale", "", closed(0.0, 100.0), ListSize::any, "batch: gain scale of the feedback controller while collecting",
+      {"collect_gain_scale", "", closed(0.0, 100.0), ListSize::any, "gain scale of the feedback controller while collecting (batch collection, the held-out set); \"auto\" = control.gain_scale, the job's own gains",
        [](C& c) { return make_field(c.collect_gain_scale); }},
       {"learn_during_evaluation", "", {}, ListSize::any, "batch: keep learning while the learned model controls",
        [](C& c) { return make_field(c.learn_during_evaluation); }},

@@ -14,6 +14,7 @@
 #include "engine/learning/ssgpr_learning_config.hpp"
 #include "engine/lwpr/lwpr_params.hpp"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,9 +48,10 @@ struct LearningConfig {
   double train_fraction = 0.75;      ///< batch: share of the collected samples used for training
   int epochs = 5;                    ///< batch: passes over the (shuffled) training samples
   int collect_repeats = 2;           ///< batch: trajectory repeats collected under feedback
-  /// Batch: the gain scale of the feedback controller that collects the samples (the learned
-  /// model then drives the evaluation run at control.gain_scale).
-  double collect_gain_scale = 1.0;
+  /// The gain scale of the feedback controller that collects samples (batch collection and the
+  /// held-out set; the learned model then drives the evaluation run at control.gain_scale).
+  /// Empty ("auto"): control.gain_scale, the job's own gains (kd scaled per keep_damping_ratio).
+  std::optional<double> collect_gain_scale;
   /// Replace lwpr.norm_in by each input's standard deviation along the desired trajectory
   /// (q, q̇, q̈ differ by orders of magnitude; one kernel width cannot suit all three raw).
   bool normalize_inputs = true;

@@ -5,6 +5,7 @@
 #include "engine/trajectory/trajectory.hpp"
 #include "engine/trajectory/trajectory_differentiation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -32,7 +33,8 @@ void fill_task_positions(JointTrajectory& trajectory, ArmDynamics& dynamics) {
 
 JointTrajectory build_sine(const TrajectoryConfig& config, ArmDynamics& dynamics, double dt) {
   const int n = dynamics.dof();
-  const SineTrajectoryConfig sine = resolve_sine_defaults(config.sine, n, dynamics.start_positions());
+  const JointRanges ranges{dynamics.lower_limits(), dynamics.upper_limits(), dynamics.velocity_limits()};
+  const SineTrajectoryConfig sine = resolve_sine_defaults(config.sine, n, dynamics.start_positions(), &ranges);
   const Eigen::VectorXd& amplitude = sine.amplitude;
   const Eigen::VectorXd& frequency = sine.frequency;
   const Eigen::VectorXd& phase = sine.phase;
@@ -119,12 +121,24 @@ JointTrajectory build_recorded(const TrajectoryConfig& config, ArmDynamics& dyna
 
 }  // namespace
 
-SineTrajectoryConfig resolve_sine_defaults(const SineTrajectoryConfig& sine, int n, const Eigen::VectorXd& start_positions) {
+SineTrajectoryConfig resolve_sine_defaults(const SineTrajectoryConfig& sine, int n, const Eigen::VectorXd& start_positions,
+                                           const JointRanges* ranges) {
   SineTrajectoryConfig resolved = sine;
-  resolved.amplitude = expand(sine.amplitude, n, Eigen::VectorXd::Constant(n, 0.3), "trajectory.sine.amplitude");
   resolved.frequency = expand(sine.frequency, n, Eigen::VectorXd::Constant(n, 0.25), "trajectory.sine.frequency");
   resolved.phase = expand(sine.phase, n, Eigen::VectorXd::Zero(n), "trajectory.sine.phase");
   resolved.offset = expand(sine.offset, n, start_positions, "trajectory.sine.offset");
+  Eigen::VectorXd amplitude = Eigen::VectorXd::Constant(n, 0.3);
+  if (sine.amplitude.size() == 0 && ranges && ranges->lower.size() == n && ranges->upper.size() == n && ranges->velocity.size() == n) {
+    for (int j = 0; j < n; ++j) {
+      const double room = std::min(resolved.offset[j] - ranges->lower[j], ranges->upper[j] - resolved.offset[j]);
+      amplitude[j] = std::min(amplitude[j], std::max(0.0, kSineRangeShare * room));
+      const double omega = 2.0 * M_PI * resolved.frequency[j];
+      if (omega > 0.0 && std::isfinite(ranges->velocity[j]) && ranges->velocity[j] > 0.0) {
+        amplitude[j] = std::min(amplitude[j], kSineVelocityShare * ranges->velocity[j] / omega);
+      }
+    }
+  }
+  resolved.amplitude = expand(sine.amplitude, n, amplitude, "trajectory.sine.amplitude");
   return resolved;
 }
 

@@ -2,10 +2,12 @@
 
 #include "engine/kinematics/inverse_kinematics.hpp"
 #include "engine/kinematics/serial_chain.hpp"
+#include "engine/model/arm_reach.hpp"
 #include "engine/physics/arm_simulation.hpp"
 #include "engine/random/random_stream.hpp"
 #include "engine/trajectory/trajectory_differentiation.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -57,24 +59,41 @@ JointTrajectory build_figure_eight(const FigureEightConfig& config, Differentiat
   if (config.loops < 1) throw std::invalid_argument("trajectory.figure_eight.loops: must be at least 1");
   if (!(config.scale > 0.0)) throw std::invalid_argument("trajectory.figure_eight.scale: must be positive");
   const int points = config.points_per_loop;
-  Eigen::MatrixXd loop_targets(points, 3);
-  for (int i = 0; i < points; ++i) {
-    const double s = 2.0 * i / points;  // one loop: s ∈ [0, 2)
-    loop_targets.row(i) << config.centre.x(), config.centre.y() + config.scale * config.a * std::sin(M_PI * s),
-        config.centre.z() + config.scale * config.b * std::sin(2.0 * M_PI * s);
-  }
   const SerialChain chain = make_end_effector_chain(dynamics);
+  FigureEightShape shape = calc_figure_eight_shape(config, calc_reach(dynamics.model()));
+  const auto make_targets = [&](const FigureEightShape& figure) {
+    Eigen::MatrixXd targets(points, 3);
+    for (int i = 0; i < points; ++i) {
+      const double s = 2.0 * i / points;  // one loop: s ∈ [0, 2)
+      targets.row(i) << figure.centre.x(), figure.centre.y() + config.scale * figure.a * std::sin(M_PI * s),
+          figure.centre.z() + config.scale * figure.b * std::sin(2.0 * M_PI * s);
+    }
+    return targets;
+  };
   // Start from the rest posture; repeat the loop until its joint path closes (the IK converges
   // to a function of the target, so one repeat normally suffices).
-  Eigen::VectorXd start = chain.start_positions();
-  Eigen::MatrixXd loop;
-  for (int attempt = 0; attempt < 10; ++attempt) {
-    loop = calc_joint_path(chain, loop_targets, start, "trajectory.figure_eight");
-    const Eigen::MatrixXd next_start = calc_joint_path(chain, loop_targets.topRows(1), loop.bottomRows(1).transpose(),
-                                                       "trajectory.figure_eight");
-    const double gap = (next_start.row(0) - loop.row(0)).cwiseAbs().maxCoeff();
-    start = next_start.row(0).transpose();
-    if (gap < 1e-6) break;
+  const auto solve_loop = [&](const Eigen::MatrixXd& targets) {
+    Eigen::VectorXd start = chain.start_positions();
+    Eigen::MatrixXd loop;
+    for (int attempt = 0; attempt < 10; ++attempt) {
+      loop = calc_joint_path(chain, targets, start, "trajectory.figure_eight");
+      const Eigen::MatrixXd next_start = calc_joint_path(chain, targets.topRows(1), loop.bottomRows(1).transpose(), "trajectory.figure_eight");
+      const double gap = (next_start.row(0) - loop.row(0)).cwiseAbs().maxCoeff();
+      start = next_start.row(0).transpose();
+      if (gap < 1e-6) break;
+    }
+    return loop;
+  };
+  Eigen::MatrixXd loop_targets = make_targets(shape), loop;
+  try {
+    loop = solve_loop(loop_targets);
+  } catch (const std::runtime_error&) {
+    // An "auto" centre the arm cannot follow the figure around moves to where the end effector
+    // is at the start posture (reachable by construction), the size kept.
+    if (config.centre) throw;
+    shape.centre = chain.calc_position(chain.start_positions());
+    loop_targets = make_targets(shape);
+    loop = solve_loop(loop_targets);
   }
   JointTrajectory trajectory;
   trajectory.dt = dt;
@@ -82,6 +101,20 @@ JointTrajectory build_figure_eight(const FigureEightConfig& config, Differentiat
   trajectory.task_position = loop_targets.replicate(config.loops, 1);
   for (int k = 0; k < config.loops; ++k) trajectory.segment_starts.push_back(k * points);
   fill_derivatives(trajectory, method, /*periodic=*/true, 15, 3);
+  // The IK path must stay within the velocity limits (a figure near a singularity would not).
+  const Eigen::VectorXd limits = dynamics.velocity_limits();
+  const std::vector<int> movable = dynamics.model().movable_joints();
+  for (Eigen::Index j = 0; j < trajectory.qd.cols(); ++j) {
+    const double speed = trajectory.qd.col(j).cwiseAbs().maxCoeff();
+    if (std::isfinite(limits[j]) && speed > limits[j]) {
+      const int slower = static_cast<int>(std::ceil(points * speed / (0.8 * limits[j])));
+      const int index = dynamics.active_joint_indices()[static_cast<std::size_t>(j)];
+      const auto number = std::find(movable.begin(), movable.end(), index) - movable.begin() + 1;  // 1-based, as users count
+      throw std::invalid_argument("trajectory.figure_eight: joint " + std::to_string(number) + " needs " + std::to_string(speed) +
+                                  " rad/s, above its velocity limit " + std::to_string(limits[j]) +
+                                  " rad/s (points_per_loop " + std::to_string(slower) + " keeps it at 80 % of it, or a smaller scale)");
+    }
+  }
   return trajectory;
 }
 
@@ -89,9 +122,11 @@ JointTrajectory build_reaching(const ReachingConfig& config, Differentiation met
                                std::uint64_t seed) {
   if (config.points_per_reach < 2) throw std::invalid_argument("trajectory.reaching.points_per_reach: must be at least 2");
   if (config.reaches < 1) throw std::invalid_argument("trajectory.reaching.reaches: must be at least 1");
+  const ReachingBox box = calc_reaching_box(config, calc_reach(dynamics.model()));
   for (int axis = 0; axis < 3; ++axis) {
-    if (!(config.box_min[axis] < config.box_max[axis])) {
-      throw std::invalid_argument("trajectory.reaching.box_max[" + std::to_string(axis) + "]: must exceed box_min");
+    if (!(box.min[axis] < box.max[axis])) {
+      throw std::invalid_argument("trajectory.reaching.box_max[" + std::to_string(axis) + "]: must exceed box_min (" +
+                                  std::to_string(box.max[axis]) + " m against " + std::to_string(box.min[axis]) + " m)");
     }
   }
   RandomStream target_draws(seed, "trajectory.reaching.targets");
@@ -102,7 +137,7 @@ JointTrajectory build_reaching(const ReachingConfig& config, Differentiation met
     for (int attempt = 0; attempt < 100; ++attempt) {
       Eigen::Vector3d target;
       for (int axis = 0; axis < 3; ++axis) {
-        target[axis] = target_draws.uniform(config.box_min[axis], config.box_max[axis]);
+        target[axis] = target_draws.uniform(box.min[axis], box.max[axis]);
       }
       if (solve_inverse_kinematics(chain, target, rest, rest).error <= kMaxTargetError * 0.1) return target;
     }

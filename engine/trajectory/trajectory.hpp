@@ -30,9 +30,24 @@ struct JointTrajectory {
   int size() const { return static_cast<int>(q.rows()); }
 };
 
+/// What a default sine keeps within, per active joint (n each; ±inf where a joint has no limit).
+struct JointRanges {
+  Eigen::VectorXd lower, upper;  ///< position limits, rad or m
+  Eigen::VectorXd velocity;      ///< velocity limits, rad/s or m/s
+};
+
+/// Shares of the room a default sine amplitude may take: of the distance from its offset to the
+/// nearer position limit, and of the velocity limit at its frequency.
+inline constexpr double kSineRangeShare = 0.9;
+inline constexpr double kSineVelocityShare = 0.8;
+
 /// `sine` with every vector expanded to n entries and every empty one replaced by its default
-/// (`start_positions` for the offset); throws std::invalid_argument naming a wrong-sized field.
-SineTrajectoryConfig resolve_sine_defaults(const SineTrajectoryConfig& sine, int n, const Eigen::VectorXd& start_positions);
+/// (`start_positions` for the offset). The default amplitude is 0.3 rad, or less where `ranges`
+/// (when given) leave less: at most kSineRangeShare of the distance from the offset to the
+/// nearer position limit and kSineVelocityShare of the velocity limit (amplitude·2π·frequency).
+/// Throws std::invalid_argument naming a wrong-sized field.
+SineTrajectoryConfig resolve_sine_defaults(const SineTrajectoryConfig& sine, int n, const Eigen::VectorXd& start_positions,
+                                           const JointRanges* ranges = nullptr);
 
 /// Builds the trajectory for the active joints of `dynamics` (which supplies start angles,
 /// limits, kinematics and the IK). `seed` draws the reaching targets. Throws

@@ -48,7 +48,8 @@ const EnumNames& trajectory_kind_names() {
 const std::vector<ConfigKey<SineTrajectoryConfig>>& sine_trajectory_config_keys() {
   using C = SineTrajectoryConfig;
   static const std::vector<ConfigKey<C>> keys = {
-      {"amplitude", "rad", closed(0.0, M_PI), ListSize::per_joint, "per joint; [] = 0.3 rad",
+      {"amplitude", "rad", closed(0.0, M_PI), ListSize::per_joint,
+       "per joint; [] = 0.3 rad, less where 90 % of the room to the nearer position limit or 80 % of the velocity limit is less",
        [](C& c) { return make_field(c.amplitude); }},
       {"frequency", "Hz", left_open(0.0, 10.0), ListSize::per_joint, "per joint; [] = 0.25 Hz",
        [](C& c) { return make_field(c.frequency); }},
@@ -62,13 +63,31 @@ const std::vector<ConfigKey<SineTrajectoryConfig>>& sine_trajectory_config_keys(
   return keys;
 }
 
+FigureEightShape calc_figure_eight_shape(const FigureEightConfig& config, double reach) {
+  const double ratio = reach / kReferenceReach;
+  FigureEightShape shape;
+  shape.centre = config.centre ? *config.centre : Eigen::Vector3d(0.45, 0.0, 0.6) * ratio;
+  shape.a = config.a ? *config.a : 0.15 * ratio;
+  shape.b = config.b ? *config.b : 0.10 * ratio;
+  return shape;
+}
+
+ReachingBox calc_reaching_box(const ReachingConfig& config, double reach) {
+  const double ratio = reach / kReferenceReach;
+  return ReachingBox{config.box_min ? *config.box_min : Eigen::Vector3d(0.20, 0.20, 0.00) * ratio,
+                     config.box_max ? *config.box_max : Eigen::Vector3d(0.70, 0.70, 0.50) * ratio};
+}
+
 const std::vector<ConfigKey<FigureEightConfig>>& figure_eight_config_keys() {
   using C = FigureEightConfig;
   static const std::vector<ConfigKey<C>> keys = {
-      {"centre", "m", closed(-3.0, 3.0), ListSize::any, "centre [x, y, z] in the world frame; x stays constant",
+      {"centre", "m", closed(-3.0, 3.0), ListSize::any,
+       "centre [x, y, z] in the world frame; x stays constant; \"auto\" = (0.45, 0, 0.6) × the arm's reach / 1.018 m (the LWR III's), or the end effector's start position where the arm cannot follow the figure there",
        [](C& c) { return make_field(c.centre); }},
-      {"a", "m", left_open(0.0, 2.0), ListSize::any, "half-width: y = centre.y + scale·a·sin(πs)", [](C& c) { return make_field(c.a); }},
-      {"b", "m", left_open(0.0, 2.0), ListSize::any, "half-height: z = centre.z + scale·b·sin(2πs)", [](C& c) { return make_field(c.b); }},
+      {"a", "m", left_open(0.0, 2.0), ListSize::any, "half-width: y = centre.y + scale·a·sin(πs); \"auto\" = 0.15 × reach / 1.018 m",
+       [](C& c) { return make_field(c.a); }},
+      {"b", "m", left_open(0.0, 2.0), ListSize::any, "half-height: z = centre.z + scale·b·sin(2πs); \"auto\" = 0.10 × reach / 1.018 m",
+       [](C& c) { return make_field(c.b); }},
       {"scale", "", left_open(0.0, 10.0), ListSize::any, "multiplies a and b (the thesis's trajScaling)",
        [](C& c) { return make_field(c.scale); }},
       {"points_per_loop", "", closed(4, 1e6), ListSize::any, "samples per loop, one per control tick",
@@ -81,9 +100,10 @@ const std::vector<ConfigKey<FigureEightConfig>>& figure_eight_config_keys() {
 const std::vector<ConfigKey<ReachingConfig>>& reaching_config_keys() {
   using C = ReachingConfig;
   static const std::vector<ConfigKey<C>> keys = {
-      {"box_min", "m", closed(-3.0, 3.0), ListSize::any, "lower corner of the box targets are drawn from (section 5.5.2)",
+      {"box_min", "m", closed(-3.0, 3.0), ListSize::any,
+       "lower corner of the box targets are drawn from (section 5.5.2); \"auto\" = (0.2, 0.2, 0) × the arm's reach / 1.018 m",
        [](C& c) { return make_field(c.box_min); }},
-      {"box_max", "m", closed(-3.0, 3.0), ListSize::any, "upper corner; each element above box_min's",
+      {"box_max", "m", closed(-3.0, 3.0), ListSize::any, "upper corner; each element above box_min's; \"auto\" = (0.7, 0.7, 0.5) × reach / 1.018 m",
        [](C& c) { return make_field(c.box_max); }},
       {"profile", "", {}, ListSize::any, "minimum_jerk (section 2.2.1) or sigmoid",
        [](C& c) { return make_choice_field(c.profile, reach_profile_names()); }},

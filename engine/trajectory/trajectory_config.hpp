@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,29 +45,53 @@ struct SineTrajectoryConfig {
 };
 const std::vector<ConfigKey<SineTrajectoryConfig>>& sine_trajectory_config_keys();
 
+/// The arm task-space defaults are written for: the DLR LWR III's reach (m; calc_reach of
+/// models/dlr_lwr3.urdf). A default figure-eight or reaching box on another arm is the thesis's
+/// one scaled about the world origin by that arm's reach / kReferenceReach (exactly the thesis's
+/// numbers on the LWR III).
+inline constexpr double kReferenceReach = 1.018;
+
 /// x = centre.x, y = centre.y + scale·a·sin(πs), z = centre.z + scale·b·sin(2πs) for s in
 /// [0, 2) per loop, sampled at points_per_loop points (one per control tick), loops times,
-/// converted to joint space by inverse kinematics.
+/// converted to joint space by inverse kinematics. Empty centre, a, b ("auto"): the thesis's
+/// (0.45, 0, 0.6) m, 0.15 m and 0.10 m scaled by reach / kReferenceReach; an "auto" centre
+/// the arm cannot follow the figure around moves to the end effector's start position.
 struct FigureEightConfig {
-  Eigen::Vector3d centre = Eigen::Vector3d(0.45, 0.0, 0.6);  ///< m, world frame
-  double a = 0.15;                ///< m, half-width along y
-  double b = 0.10;                ///< m, half-height along z
-  double scale = 1.0;             ///< the thesis's trajScaling
+  std::optional<Eigen::Vector3d> centre;  ///< m, world frame
+  std::optional<double> a;  ///< m, half-width along y
+  std::optional<double> b;  ///< m, half-height along z
+  double scale = 1.0;       ///< the thesis's trajScaling
   int points_per_loop = 750;
   int loops = 3;
 };
+
+/// The figure-eight's centre (m) and half-width and half-height (m, before `scale`) on an arm of
+/// `reach` (m): the configured values, the defaults scaled to the reach where "auto".
+struct FigureEightShape {
+  Eigen::Vector3d centre;
+  double a = 0.0, b = 0.0;
+};
+FigureEightShape calc_figure_eight_shape(const FigureEightConfig& config, double reach);
 const std::vector<ConfigKey<FigureEightConfig>>& figure_eight_config_keys();
 
 /// N reaches between random targets drawn uniformly in a task-space box, each sampled at
-/// points_per_reach points with the chosen profile, converted by inverse kinematics.
+/// points_per_reach points with the chosen profile, converted by inverse kinematics. Empty box
+/// corners ("auto"): the thesis's region (0.2, 0.2, 0) – (0.7, 0.7, 0.5) m scaled by
+/// reach / kReferenceReach.
 struct ReachingConfig {
-  Eigen::Vector3d box_min = Eigen::Vector3d(0.20, 0.20, 0.00);  ///< m (the thesis's region)
-  Eigen::Vector3d box_max = Eigen::Vector3d(0.70, 0.70, 0.50);  ///< m
+  std::optional<Eigen::Vector3d> box_min;  ///< m
+  std::optional<Eigen::Vector3d> box_max;  ///< m
   ReachProfile profile = ReachProfile::minimum_jerk;
   double sigmoid_steepness = 12.0;  ///< the sigmoid 1/(1+exp(−k(s−½))) rescaled to [0,1], s ∈ [0,1]
   int points_per_reach = 100;
   int reaches = 20;
 };
+
+/// The box's corners (m) on an arm of `reach` (m): as configured, the defaults scaled where "auto".
+struct ReachingBox {
+  Eigen::Vector3d min, max;
+};
+ReachingBox calc_reaching_box(const ReachingConfig& config, double reach);
 const std::vector<ConfigKey<ReachingConfig>>& reaching_config_keys();
 
 /// Recorded samples (read from a CSV by the runner: the engine does no file I/O): either joint

@@ -1,13 +1,15 @@
 // `armfarm model info FILE [--ee LINK[:x,y,z]] [--json]`: what a model file describes — the
 // link tree, the joints (numbered 1.. as in job configurations) with their limits and drive
 // figures, the start posture and where it comes from, what the default job puts on each joint
-// (the mass-matrix diagonal at the start posture and the PD gains), link masses, total mass,
-// the leaf links, the end effector and reach. The arm is made as a job makes it
+// (the mass-matrix diagonal at the start posture and the PD gains), the PD period and RK4 steps
+// "auto" picks for it with the stability criterion's ratios, link masses, total mass, the leaf
+// links, the end effector and reach. The arm is made as a job makes it
 // (make_job_model, with --ee as end_effector.link). A file that loads always prints: with
 // several leaves and no choice the end effector shows as not chosen. Bad files exit 2 with the
 // loader's one-line message.
 #include "engine/experiment/control_figures.hpp"
 #include "engine/experiment/job_model.hpp"
+#include "engine/experiment/job_setup.hpp"
 #include "engine/model/arm_reach.hpp"
 #include "engine/model/model_loading.hpp"
 #include "runner/cli/subcommand.hpp"
@@ -50,8 +52,8 @@ std::string number(double value, int precision = 4) {
 }
 
 // The per-joint columns of the default job's figures (text; JSON writes the same fields under
-// "default_job"). The stability criterion's dt / pd_substeps / integrator steps that "auto"
-// picks join this list (issue 22; JointControlFigures, engine/experiment/control_figures.hpp).
+// "default_job"): its mass-matrix diagonal and gains, and the step-stability criterion's
+// one-joint ratios at the steps "auto" picks (engine/experiment/control_figures.hpp).
 struct FigureColumn {
   const char* heading;
   int width;
@@ -63,11 +65,54 @@ const std::vector<FigureColumn>& figure_columns() {
       {"M_jj", 12, [](const JointControlFigures& f) { return number(f.mass_diagonal); }},
       {"kp", 12, [](const JointControlFigures& f) { return number(f.kp); }},
       {"kd", 12, [](const JointControlFigures& f) { return number(f.kd); }},
+      {"b", 10, [](const JointControlFigures& f) { return number(f.damping); }},
+      {"kd·h/M", 10, [](const JointControlFigures& f) { return number(f.kd_ratio, 3); }},
+      {"kp·h²/M", 10, [](const JointControlFigures& f) { return number(f.kp_ratio, 3); }},
+      {"b·h_i/M", 10, [](const JointControlFigures& f) { return number(f.damping_ratio, 3); }},
   };
   return columns;
 }
 
-nlohmann::json make_json(const ArmModel& model, const std::vector<JointControlFigures>& figures, const std::string& not_chosen) {
+// `text` padded with spaces to `width` characters as a terminal shows them (UTF-8: the headings
+// have · and ², two bytes each, which std::setw would count twice).
+std::string pad(const std::string& text, int width) {
+  const auto shown = std::count_if(text.begin(), text.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; });
+  return text + std::string(static_cast<std::size_t>(std::max<long>(1, width - static_cast<long>(shown))), ' ');
+}
+
+nlohmann::json steps_json(const StepChoice& choice, bool fixed_step) {
+  return {{"pd_substeps", choice.pd_substeps},
+          {"integrator_steps_per_tick", fixed_step ? nlohmann::json(choice.integrator_steps) : nlohmann::json(nullptr)},
+          {"stable", choice.found}};
+}
+
+// The steps line under the per-joint table: what "auto" picks for the default job and why.
+std::string describe_steps(const JobStepFigures& steps) {
+  const StepChoice& run = steps.run;
+  const double period = steps.dt / run.pd_substeps;
+  std::string text = "steps (\"auto\"): dt " + number(steps.dt) + " s, pd_substeps " + std::to_string(run.pd_substeps) +
+                     " (PD period h = " + number(period) + " s)";
+  if (steps.fixed_step) {
+    text += ", integrator_steps_per_tick " + std::to_string(run.integrator_steps) + " (RK4 step h_i = " +
+            number(period / run.integrator_steps) + " s)";
+  }
+  text += steps.trajectory_problem.empty() ? "\n  judged at the start posture and " + std::to_string(kStepPostures) +
+                                                 " postures along each of the default job's trajectories"
+                                           : "\n  judged at the start posture only (" + steps.trajectory_problem + ")";
+  if (steps.trajectory_problem.empty()) {
+    text += " (the start posture alone: " + std::to_string(steps.at_start.pd_substeps) +
+            (steps.fixed_step ? ", " + std::to_string(steps.at_start.integrator_steps) : std::string()) + ")";
+  }
+  text += run.found ? "" : "; NOT stable within the keys' ranges: lower the gains or dt";
+  if (steps.spectral_radius > 0.0) {
+    text += "\n  at the start posture: fastest coupled mode kd·h/M = " + number(steps.modal_kd_ratio, 3) +
+            " (bound 2), error ×" + number(steps.spectral_radius, 3) + " per PD period (≤ 1: stable)";
+  }
+  return text;
+}
+
+nlohmann::json make_json(const ArmModel& model, const ControlFigures& control, const std::string& not_chosen) {
+  const std::vector<JointControlFigures>& figures = control.joints;
   nlohmann::json out;
   out["name"] = model.name;
   out["file"] = model.source_file;
@@ -99,7 +144,12 @@ nlohmann::json make_json(const ArmModel& model, const std::vector<JointControlFi
     entry["number"] = index == movable.end() ? nlohmann::json(nullptr) : nlohmann::json(index - movable.begin() + 1);
     if (index != movable.end() && static_cast<std::size_t>(index - movable.begin()) < figures.size()) {
       const JointControlFigures& f = figures[index - movable.begin()];
-      entry["default_job"] = {{"mass_diagonal", f.mass_diagonal}, {"kp", f.kp}, {"kd", f.kd}};
+      entry["default_job"] = {{"mass_diagonal", f.mass_diagonal}, {"kp", f.kp},
+                              {"kd", f.kd},
+                              {"damping", f.damping},
+                              {"kd_h_over_m", f.kd_ratio},
+                              {"kp_h2_over_m", f.kp_ratio},
+                              {"damping_h_over_m", limit_json(f.damping_ratio)}};
     }
     if (joint.has_position_limits) {
       entry["lower"] = joint.lower;
@@ -111,6 +161,17 @@ nlohmann::json make_json(const ArmModel& model, const std::vector<JointControlFi
     out["joints"].push_back(entry);
   }
   out["degrees_of_freedom"] = movable.size();
+  if (!figures.empty()) {
+    const JobStepFigures& steps = control.steps;
+    nlohmann::json json = steps_json(steps.run, steps.fixed_step);
+    json["dt"] = steps.dt;
+    json["over_trajectories"] = steps.trajectory_problem.empty();
+    if (!steps.trajectory_problem.empty()) json["trajectory_problem"] = steps.trajectory_problem;
+    json["at_start_posture"] = steps_json(steps.at_start, steps.fixed_step);
+    json["modal_kd_h_over_m"] = steps.modal_kd_ratio;
+    json["spectral_radius"] = steps.spectral_radius;
+    out["default_job_steps"] = json;
+  }
   out["total_mass"] = model.total_mass();
   out["warnings"] = model.warnings;
   out["leaf_links"] = nlohmann::json::array();
@@ -127,7 +188,8 @@ nlohmann::json make_json(const ArmModel& model, const std::vector<JointControlFi
   return out;
 }
 
-void print_text(const ArmModel& model, const std::vector<JointControlFigures>& figures, std::ostream& out) {
+void print_text(const ArmModel& model, const ControlFigures& control, std::ostream& out) {
+  const std::vector<JointControlFigures>& figures = control.joints;
   out << "model " << model.name << " (" << model.source_file << ")\n\ntree (parent -> child):\n";
   for (const Joint& joint : model.joints) {
     out << "  " << model.links[joint.parent_link].name << " -> " << model.links[joint.child_link].name << "  ["
@@ -163,14 +225,16 @@ void print_text(const ArmModel& model, const std::vector<JointControlFigures>& f
   if (!figures.empty()) {
     out << "\nthe default job on each joint (only \"model\" set; M_jj + armature at the start posture, gains after gain_scale):\n";
     out << "  " << std::left << std::setw(3) << "#" << std::setw(name_column) << "name";
-    for (const FigureColumn& column : figure_columns()) out << std::setw(column.width) << column.heading;
+    for (const FigureColumn& column : figure_columns()) out << pad(column.heading, column.width);
     out << "\n";
     for (const JointControlFigures& f : figures) {
       out << "  " << std::left << std::setw(3) << f.number << std::setw(name_column) << model.joints[movable[f.number - 1]].name;
-      for (const FigureColumn& column : figure_columns()) out << std::setw(column.width) << column.cell(f);
+      for (const FigureColumn& column : figure_columns()) out << pad(column.cell(f), column.width);
       out << "\n";
     }
-    out << "  (M_jj kg·m² or kg, kp N·m/rad, kd N·m·s/rad)\n";
+    out << "  (M_jj kg·m² or kg, kp N·m/rad, kd and b N·m·s/rad; kd·h/M, kp·h²/M, b·h_i/M: the stability criterion's one-joint\n"
+           "   ratios at the steps below, bounds 2, 2·kd·h/M and 2.785; the criterion itself judges the coupled modes, engine/README.md)\n";
+    out << describe_steps(control.steps) << "\n";
   }
   out << "\nlinks:\n";
   for (const Link& link : model.links) {
@@ -219,8 +283,7 @@ RunFunction setup_model_info(CLI::App& model) {
       if (!ee->empty()) throw;  // a wrong --ee is an error; several leaves without one are shown
       not_chosen = error.what();
     }
-    const std::vector<JointControlFigures> figures =
-        arm.movable_joints().empty() ? std::vector<JointControlFigures>() : calc_joint_control_figures(arm, job);
+    const ControlFigures figures = arm.movable_joints().empty() ? ControlFigures() : calc_control_figures(arm, job);
     if (*json) {
       std::cout << make_json(arm, figures, not_chosen).dump(2) << "\n";
     } else {

@@ -72,6 +72,12 @@ json make_field_json(const FieldRef& field) {
     case ValueKind::point: return make_vector_json(field.point());
     case ValueKind::integer_list: return json(field.integers());
     case ValueKind::name_list: return json(field.texts());
+    case ValueKind::integer_or_auto:
+      return field.optional_integer() ? json(*field.optional_integer()) : json(kAutoValue);
+    case ValueKind::real_or_auto:
+      return field.optional_real() ? json(*field.optional_real()) : json(kAutoValue);
+    case ValueKind::point_or_auto:
+      return field.optional_point() ? make_vector_json(*field.optional_point()) : json(kAutoValue);
     case ValueKind::real_matrix: {
       const Eigen::MatrixXd& m = field.matrix();
       if (m.rows() == 1 && m.cols() == 1) return m(0, 0);
@@ -97,6 +103,36 @@ std::string read_field_json(const json& value, const FieldRef& field, std::strin
       // validate()'s range check refuses them.
       field.set_integer(field.field, get_integral(value));
       return "";
+    case ValueKind::integer_or_auto:
+      if (value.is_string() && value.get<std::string>() == kAutoValue) {
+        field.optional_integer().reset();
+        return "";
+      }
+      if (!is_integral(value) || std::fabs(static_cast<double>(get_integral(value))) > 1e9) {
+        return std::string("expected an integer or \"") + kAutoValue + "\", got " + show(value);
+      }
+      field.optional_integer() = static_cast<int>(get_integral(value));
+      return "";
+    case ValueKind::real_or_auto:
+      if (value.is_string() && value.get<std::string>() == kAutoValue) {
+        field.optional_real().reset();
+        return "";
+      }
+      if (!value.is_number()) return std::string("expected a number or \"") + kAutoValue + "\", got " + show(value);
+      field.optional_real() = value.get<double>();
+      return "";
+    case ValueKind::point_or_auto: {
+      if (value.is_string() && value.get<std::string>() == kAutoValue) {
+        field.optional_point().reset();
+        return "";
+      }
+      Eigen::VectorXd v;
+      const std::string problem = value.is_array() ? read_vector(value, v, suffix) : "expected [x, y, z] or \"" + std::string(kAutoValue) + "\", got " + show(value);
+      if (!problem.empty()) return problem;
+      if (v.size() != 3) return std::string("expected 3 numbers [x, y, z] or \"") + kAutoValue + "\", got " + show(value);
+      field.optional_point() = Eigen::Vector3d(v);
+      return "";
+    }
     case ValueKind::boolean:
       if (value.is_boolean()) {
         field.boolean() = value.get<bool>();

@@ -100,7 +100,10 @@ nlohmann::json make_job_config_types() {
   json tree = make_job_config_defaults();
   for (const JobConfigKey& key : job_config_keys()) {
     const ValueKind kind = key.field(defaults).kind;
-    if (kind == ValueKind::real_or_list || kind == ValueKind::real_matrix) set_value(tree, key.path, nullptr);
+    if (kind == ValueKind::real_or_list || kind == ValueKind::real_matrix || kind == ValueKind::integer_or_auto ||
+        kind == ValueKind::real_or_auto || kind == ValueKind::point_or_auto) {
+      set_value(tree, key.path, nullptr);
+    }
   }
   // A model file path or a stored-model reference object, resolved when the sweep expands.
   set_value(tree, "learning.initial_model", nullptr);

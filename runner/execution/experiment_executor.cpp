@@ -92,7 +92,7 @@ std::string find_model_path(const nlohmann::json& recorded) {
 void check_config(const nlohmann::json& recorded, JobModels& models, const std::shared_ptr<StoredModels>& stored,
                   JobFileContents* contents) {
   const std::string path = find_model_path(recorded);
-  const JobConfig job = parse_recorded_job_config(recorded, make_model_facts(*models.get_file(path)),
+  const JobConfig job = parse_recorded_job_config(recorded, *models.get_facts(path),
                                                   make_stored_model_reader(stored), contents);
   models.get(path, job);
 }
@@ -148,9 +148,9 @@ JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored) {
     // Every file the job reads is checked against the hash its key recorded (the recorded
     // trajectory and the initial model by parse_recorded_job_config, the model here).
     const std::string path = find_model_path(recorded);
-    const ModelFacts facts = make_model_facts(*models->get_file(path));
+    const std::shared_ptr<const ModelFacts> facts = models->get_facts(path);
     model_hashes->check(recorded, path);
-    const JobConfig job = parse_recorded_job_config(recorded, facts, make_stored_model_reader(stored));
+    const JobConfig job = parse_recorded_job_config(recorded, *facts, make_stored_model_reader(stored));
     const auto model = models->get(path, job);
     JobOutcome outcome;
     try {

@@ -45,6 +45,15 @@ std::shared_ptr<const ArmModel> JobModels::get(const std::string& path, const Jo
   return made;
 }
 
+std::shared_ptr<const ModelFacts> JobModels::get_facts(const std::string& path) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto found = facts_.find(path);
+  if (found != facts_.end()) return found->second;
+  auto facts = std::make_shared<const ModelFacts>(make_model_facts(*get_file_locked(path)));
+  facts_.emplace(path, facts);
+  return facts;
+}
+
 std::shared_ptr<const ArmModel> JobModels::get_file_locked(const std::string& path) {
   auto found = files_.find(path);
   if (found != files_.end()) return found->second;

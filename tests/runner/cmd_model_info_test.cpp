@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <sys/wait.h>
@@ -145,6 +146,44 @@ TEST(CmdModelInfo, DefaultJobFiguresFollowTheClosedFormOfThePlanarArm) {
     EXPECT_NEAR(figures.at("kp").get<double>(), m * 400.0, 1e-9 * m * 400.0);
     EXPECT_NEAR(figures.at("kd").get<double>(), m * 40.0, 1e-9 * m * 40.0);
   }
+}
+
+// The steps "auto" picks for planar2's default job against the coupled closed form: with gains
+// placed on the diagonal (kd = 40·M_jj), the fastest mode of M⁻¹Kd has kd·h/M = 40·h / (1 − r),
+// r = M12 / √(M11·M22) (det(D − λM) = 0 for D = diag M). At one PD period (h = 10 ms; the
+// criterion asks for stability at 1.5 × h) that is 0.6 / (1 − r) = 3.9, above the bound 2; at two
+// (h = 5 ms, 1.5 × h: 1.96) below it: "auto" picks pd_substeps 2, and the ratio printed is 0.2 / (1 − r).
+TEST(CmdModelInfo, AutoStepsFollowTheCoupledClosedFormOfThePlanarArm) {
+  const double m1 = 2.0, c1 = 0.5, i1 = 0.1668666667, m2 = 1.5, l1 = 1.0, c2 = 0.4, i2 = 0.08015;
+  const double m11 = m1 * c1 * c1 + i1 + m2 * (l1 * l1 + c2 * c2 + 2 * l1 * c2) + i2, m22 = m2 * c2 * c2 + i2;
+  const double m12 = m2 * (c2 * c2 + l1 * c2) + i2;
+  const double r = m12 / std::sqrt(m11 * m22);
+  ASSERT_GT(0.6 / (1.0 - r), 2.0);
+  ASSERT_LT(0.3 / (1.0 - r), 2.0);
+  const nlohmann::json info = read_info(kModels + "planar2.urdf");
+  const nlohmann::json& steps = info.at("default_job_steps");
+  EXPECT_EQ(steps.at("dt"), 0.01);
+  EXPECT_EQ(steps.at("pd_substeps"), 2);
+  EXPECT_EQ(steps.at("integrator_steps_per_tick"), 1);  // no damping: RK4's passive bound is not in play
+  EXPECT_EQ(steps.at("stable"), true);
+  EXPECT_EQ(steps.at("over_trajectories"), true);
+  EXPECT_NEAR(steps.at("modal_kd_h_over_m").get<double>(), 0.2 / (1.0 - r), 1e-9);
+  EXPECT_LE(steps.at("spectral_radius").get<double>(), 1.0);
+  for (int j = 0; j < 2; ++j) {  // one joint alone: kd·h/M = 2ζω·h = 0.2, kp·h²/M = ω²h² = 0.01
+    EXPECT_NEAR(info.at("joints").at(j).at("default_job").at("kd_h_over_m").get<double>(), 0.2, 1e-12);
+    EXPECT_NEAR(info.at("joints").at(j).at("default_job").at("kp_h2_over_m").get<double>(), 0.01, 1e-12);
+  }
+  const CommandResult text = run_armfarm("model info " + kModels + "planar2.urdf");
+  EXPECT_NE(text.output.find("steps (\"auto\"): dt 0.01 s, pd_substeps 2 (PD period h = 0.005 s), integrator_steps_per_tick 1"),
+            std::string::npos)
+      << text.output;
+  // The LWR III keeps the thesis's single 10 ms loop; the armature-free iiwa without an end
+  // effector is judged at its start posture only, and says so.
+  EXPECT_EQ(read_info(kModels + "dlr_lwr3.urdf").at("default_job_steps").at("pd_substeps"), 1);
+  const nlohmann::json iiwa = read_info(kArms + "kuka_iiwa14.urdf").at("default_job_steps");
+  EXPECT_EQ(iiwa.at("over_trajectories"), false);
+  EXPECT_EQ(iiwa.at("trajectory_problem"), "no end effector chosen");
+  EXPECT_GT(iiwa.at("pd_substeps").get<int>(), 1);
 }
 
 TEST(CmdModelInfo, TwoLeavesShowBothAndTheChoiceWithEe) {

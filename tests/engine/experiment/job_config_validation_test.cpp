@@ -38,6 +38,8 @@ TEST(JobConfigValidation, EveryDefaultLiesInItsRange) {
     const FieldRef field = key.field(config);
     if (field.kind == ValueKind::real) EXPECT_TRUE(key.range.contains(field.real())) << key.path;
     if (field.kind == ValueKind::integer) EXPECT_TRUE(key.range.contains(static_cast<double>(field.get_integer(field.field)))) << key.path;
+    if (field.kind == ValueKind::integer_or_auto && field.optional_integer()) EXPECT_TRUE(key.range.contains(*field.optional_integer())) << key.path;
+    if (field.kind == ValueKind::real_or_auto && field.optional_real()) EXPECT_TRUE(key.range.contains(*field.optional_real())) << key.path;
   }
 }
 
@@ -185,7 +187,8 @@ TEST(JobConfigValidation, CrossFieldAndShapeRules) {
   JobConfig config;
   config.active_joints = {2, 9, 2};
   config.learning.mode = LearningMode::none;  // while feed_forward is the learner
-  config.trajectory.reaching.box_min.x() = 0.8;
+  config.trajectory.reaching.box_min = Eigen::Vector3d(0.8, 0.2, 0.0);
+  config.trajectory.reaching.box_max = Eigen::Vector3d(0.7, 0.7, 0.5);
   config.learning.lwpr.init_D = Eigen::MatrixXd::Constant(2, 1, 1.0);  // neither 1 nor 3n elements
   config.recording.series = {"PHI", "TORQUE"};
   config.recording.every = 0;
@@ -227,6 +230,43 @@ TEST(JobConfigValidation, SsgprCostBoundNamesTheFeatures) {
   EXPECT_EQ(paths_of(config), (std::set<std::string>{"learning.ssgpr.features"})) << problems_of(config);
   config.learning.learner = LearnerKind::lwpr;  // the block is LWPR's concern no more
   EXPECT_TRUE(validate(config, kLwr3).empty()) << problems_of(config);
+}
+
+// A sine set beyond the arm: checked against the LWR III's facts (joint 4: limits ±2.094 rad,
+// 1.963 rad/s; start 1.571 rad), the held-out variant's amplitude included.
+TEST(JobConfigValidation, SineBeyondAJointsLimitsNamesTheJointTheNeedAndTheLimit) {
+  const ModelFacts lwr = make_model_facts(testing::load_lwr3());
+  JobConfig config;
+  EXPECT_EQ(make_problems_text(validate(config, lwr)), "");  // the default sine keeps within them
+  config.trajectory.sine.frequency = Eigen::VectorXd::Constant(7, 0.25);
+  config.trajectory.sine.frequency[3] = 1.5;
+  config.trajectory.sine.amplitude = Eigen::VectorXd::Constant(1, 0.3);
+  EXPECT_EQ(make_problems_text(validate(config, lwr)),
+            "trajectory.sine.frequency: joint 4 needs 2.82743 rad/s (amplitude 0.3 rad × 2π × 1.5 Hz), above its velocity limit "
+            "1.9635 rad/s; at this frequency an amplitude of at most 0.208333 rad keeps within it");
+  config.trajectory.sine.frequency.resize(0);
+  config.trajectory.sine.amplitude = Eigen::VectorXd::Constant(1, 0.6);  // about joint 4's start, 1.571 + 0.6 > 2.094
+  EXPECT_EQ(make_problems_text(validate(config, lwr)),
+            "trajectory.sine.amplitude: joint 4 would move over [0.970796, 2.1708] rad, outside its limits [-2.0944, 2.0944] rad; "
+            "about offset 1.5708 rad an amplitude of at most 0.523599 rad keeps within them");
+  config.learning.heldout_amplitude_scale = 1.2;  // a held-out variant larger than the training sine
+  config.trajectory.sine.amplitude = Eigen::VectorXd::Constant(1, 0.5);
+  EXPECT_NE(make_problems_text(validate(config, lwr)).find("(the held-out variant's amplitude"), std::string::npos);
+  // Without a learner there is no held-out variant.
+  config.learning.mode = LearningMode::none;
+  config.control.feed_forward = FeedForwardSource::none;
+  EXPECT_EQ(make_problems_text(validate(config, lwr)), "");
+}
+
+TEST(JobConfigValidation, TheDefaultSineShrinksToFitTheJointsRangeAndSpeed) {
+  const JointRanges ranges{Eigen::Vector2d(-1.0, -3.07), Eigen::Vector2d(1.0, -0.07), Eigen::Vector2d(10.0, 0.2)};
+  const SineTrajectoryConfig sine = resolve_sine_defaults(SineTrajectoryConfig{}, 2, Eigen::Vector2d(0.9, -0.1), &ranges);
+  EXPECT_NEAR(sine.amplitude[0], kSineRangeShare * 0.1, 1e-15);                          // 0.1 rad to the upper limit
+  EXPECT_NEAR(sine.amplitude[1], std::min(kSineRangeShare * 0.03, kSineVelocityShare * 0.2 / (2 * M_PI * 0.25)), 1e-15);
+  // A given amplitude is kept (validate() judges it).
+  SineTrajectoryConfig set;
+  set.amplitude = Eigen::VectorXd::Constant(1, 0.5);
+  EXPECT_EQ(resolve_sine_defaults(set, 2, Eigen::Vector2d(0.9, -0.1), &ranges).amplitude, Eigen::Vector2d::Constant(0.5));
 }
 
 TEST(JobConfigValidation, StartPostureIsOneValuePerJointInsideItsLimits) {

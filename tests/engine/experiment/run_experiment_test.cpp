@@ -51,6 +51,7 @@ TEST(RunExperiment, BatchLearnedFeedForwardBeatsLowGainFeedback) {
   JobConfig composite = make_sine_config(8.0);
   composite.control.gain_scale = 0.2;
   composite.learning.mode = LearningMode::batch;
+  composite.learning.collect_gain_scale = 1.0;  // the thesis's setup: collect under full-gain feedback
   const JobOutcome learned = run_experiment(model, composite);
   ASSERT_EQ(feedback.status, JobStatus::done) << feedback.message;
   ASSERT_EQ(learned.status, JobStatus::done) << learned.message;
@@ -130,17 +131,31 @@ TEST(RunExperiment, LearnedFeedForwardBeatsTheNominalModelUnderAPayload) {
               am["tracking_rmse_last_segment"], lm["tracking_rmse_last_segment"]);
 }
 
-TEST(RunExperiment, AbsurdGainsDiverge) {
+TEST(RunExperiment, AbsurdGainsAreRefusedBeforeTheJobRuns) {
+  // kd·h/M = 9.75 on the wrist even at dt/100: no PD period within the keys' range is stable.
   const ArmModel model = testing::load_lwr3();
   JobConfig config = make_feedback_config(1.0, 4.0);
   config.control.kp = Eigen::VectorXd::Constant(1, 1e5);
   config.control.kd = Eigen::VectorXd::Constant(1, 1e4);
   config.control.limit_torque = false;
-  const JobOutcome outcome = run_experiment(model, config);
+  try {
+    run_experiment(model, config);
+    ADD_FAILURE() << "kp 1e5 ran";
+  } catch (const std::invalid_argument& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.rfind("pd_substeps: \"auto\" finds no stable value up to 100: ", 0), 0u) << message;
+    EXPECT_NE(message.find("lower the gains"), std::string::npos) << message;
+  }
+}
+
+TEST(RunExperiment, TooLowGainsDivergeAndTheMessageSaysWhatToChange) {
+  // At gain scale 0.003 the PD cannot hold the LWR III against gravity: it falls, a runaway.
+  const ArmModel model = testing::load_lwr3();
+  const JobOutcome outcome = run_experiment(model, make_feedback_config(0.003, 2.0));
   EXPECT_EQ(outcome.status, JobStatus::diverged);
-  EXPECT_FALSE(outcome.message.empty());
-  EXPECT_LT(outcome.end_time, 4.0);
-  std::printf("kp 1e5: %s at t = %.2f s: %s\n", to_string(outcome.status), outcome.end_time, outcome.message.c_str());
+  EXPECT_LT(outcome.end_time, 2.0);
+  EXPECT_NE(outcome.message.find("raise control.gain_scale (now 0.003)"), std::string::npos) << outcome.message;
+  std::printf("gain scale 0.003: %s at t = %.2f s: %s\n", to_string(outcome.status), outcome.end_time, outcome.message.c_str());
 }
 
 TEST(RunExperiment, SameConfigAndSeedGiveIdenticalMetrics) {

@@ -46,6 +46,7 @@ JobConfig make_table6_1_config(int repeats, double start_spread) {
   config.control.keep_damping_ratio = true;
   config.learning.mode = LearningMode::batch;
   config.learning.collect_repeats = repeats;
+  config.learning.collect_gain_scale = 1.0;  // table 6.1's spec collects at full gains
   config.learning.train_fraction = 0.75;
   config.learning.collect_start_spread = start_spread;
   config.learning.lwpr.update_D = false;

@@ -4,6 +4,8 @@
 #include "engine/trajectory/trajectory.hpp"
 #include "../physics/test_arms.hpp"
 
+#include "engine/model/arm_reach.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -26,7 +28,7 @@ TEST(FigureEight, FollowsThePathWithinOneMillimetreAndClosesEveryLoop) {
   for (int k = 0; k < trajectory.size(); ++k) {
     // The path itself, from the closed form (not from the trajectory's own task_position).
     const double s = 2.0 * (k % 750) / 750.0;
-    const FigureEightConfig& eight = config.figure_eight;
+    const FigureEightShape eight = calc_figure_eight_shape(config.figure_eight, calc_reach(dynamics.model()));
     const Eigen::Vector3d expected(eight.centre.x(), eight.centre.y() + eight.a * std::sin(M_PI * s),
                                    eight.centre.z() + eight.b * std::sin(2.0 * M_PI * s));
     const Eigen::Vector3d reached = dynamics.calc_end_effector_position(trajectory.q.row(k).transpose());

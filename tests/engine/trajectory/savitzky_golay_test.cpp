@@ -5,6 +5,8 @@
 #include "engine/trajectory/trajectory.hpp"
 #include "../physics/test_arms.hpp"
 
+#include "engine/model/arm_reach.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -100,7 +102,8 @@ TEST(ReachingTrajectory, IsDeterministicInTheSeedAndStaysInTheBox) {
   EXPECT_EQ(a.segment_starts, (std::vector<int>{0, 100, 200}));
   for (int k = 0; k < a.size(); ++k) {
     const Eigen::Vector3d p = a.task_position.row(k).transpose();
-    EXPECT_TRUE((p.array() >= config.reaching.box_min.array() - 1e-12).all() && (p.array() <= config.reaching.box_max.array() + 1e-12).all());
+    const ReachingBox box = calc_reaching_box(config.reaching, calc_reach(dynamics.model()));
+    EXPECT_TRUE((p.array() >= box.min.array() - 1e-12).all() && (p.array() <= box.max.array() + 1e-12).all());
     EXPECT_LT((dynamics.calc_end_effector_position(a.q.row(k).transpose()) - p).norm(), 1e-3);
   }
   // Minimum jerk: each reach starts at rest.

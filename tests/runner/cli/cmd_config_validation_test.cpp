@@ -70,4 +70,33 @@ TEST(CmdConfigValidation, SineFrequencyAndDurationRefusedByExpand) {
   EXPECT_NE(result.output.find("trajectory.sine.duration: 1e+300 s is outside"), std::string::npos) << result.output;
 }
 
+// A sine beyond a joint's velocity limit is refused at expand, naming the joint (1-based), the
+// velocity it needs and the limit (the LWR III's joint 4: 1.9635 rad/s), per swept value.
+TEST(CmdConfigValidation, ExpandRefusesASineBeyondAJointsVelocityLimitNamingTheJoint) {
+  const fs::path spec = make_dir() / "fast_sine.json";
+  std::ofstream(spec) << R"({"name": "fast_sine", "base": {"trajectory": {"sine": {"amplitude": [0.3]}}},
+    "sweep": {"grid": {"trajectory.sine.frequency": [[0.25], [0.25, 0.25, 0.25, 1.5, 0.25, 0.25, 0.25]]}}})";
+  const CommandResult result = run_armfarm("expand " + spec.string());
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find(spec.string() + ": sweep.grid[\"trajectory.sine.frequency\"][1]: trajectory.sine.frequency: "
+                                               "joint 4 needs 2.82743 rad/s (amplitude 0.3 rad × 2π × 1.5 Hz), above its velocity "
+                                               "limit 1.9635 rad/s"),
+            std::string::npos)
+      << result.output;
+}
+
+// An explicit PD period the step-stability criterion calls unstable is refused at expand with
+// the key, the numbers and a value that works (appendix D's gains on the LWR III's wrist).
+TEST(CmdConfigValidation, ExpandRefusesUnstableExplicitStepsWithTheFix) {
+  const fs::path spec = make_dir() / "unstable_steps.json";
+  std::ofstream(spec) << R"({"name": "unstable_steps", "base": {"control": {"gain_set": "appendix_d"}},
+    "sweep": {"grid": {"pd_substeps": ["auto", 1]}}})";
+  const CommandResult result = run_armfarm("expand " + spec.string());
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("sweep.grid[\"pd_substeps\"][1]: pd_substeps: 1 is unstable: the sampled PD loop is unstable on joint"),
+            std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("is stable with the criterion's margin (or \"auto\")"), std::string::npos) << result.output;
+}
+
 }  // namespace

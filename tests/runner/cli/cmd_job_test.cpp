@@ -48,7 +48,7 @@ TEST(CmdJob, PrintsStatusMetricsAndOneObjectPerActiveJoint) {
 TEST(CmdJob, DivergedJobExitsOne) {
   const std::string path = write_config(
       "diverge", R"({"trajectory": {"sine": {"duration": 2.0}}, "control": {"mode": "feedback", "feed_forward": "none",
-                    "kp": [1e5], "kd": [1e4], "limit_torque": false}, "learning": {"mode": "none"}})");
+                    "gain_scale": 0.003}, "learning": {"mode": "none"}})");
   const CommandResult result = run_job(path);
   EXPECT_EQ(result.exit_code, 1) << result.output;
   EXPECT_NE(result.output.find("status diverged"), std::string::npos) << result.output;

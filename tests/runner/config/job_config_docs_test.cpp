@@ -55,6 +55,9 @@ std::string describe_allowed(const JobConfigKey& key, const FieldRef& field) {
     case ValueKind::text: return key.path == "end_effector.link" ? "a link of the model" : "a path";
     case ValueKind::name_list: return "names listed";
     case ValueKind::integer: return key.range.describe() + ", integer";
+    case ValueKind::integer_or_auto: return key.range.describe() + ", integer, or `\"auto\"`";
+    case ValueKind::real_or_auto: return key.range.describe() + " or `\"auto\"`";
+    case ValueKind::point_or_auto: return key.range.describe() + " each, or `\"auto\"`";
     case ValueKind::integer_list:
       return key.size == ListSize::joint_numbers ? "joints 1..n, each once" : key.range.describe() + " each, integers";
     case ValueKind::point: return key.range.describe() + " each";

@@ -104,7 +104,9 @@ TEST(JobConfigJson, DefaultsTreeHoldsExactlyTheTableKeysWithTheStructDefaults) {
   EXPECT_NE(defaults["learning"]["lwpr"]["init_D"], lwpr::LwprParams{}.init_D(0, 0));
   EXPECT_EQ(defaults["learning"]["lwpr"]["trust_n_data"], 5.0);
   EXPECT_EQ(defaults["recording"]["series"], nlohmann::json::array({"TRIAL"}));
-  EXPECT_EQ(defaults["trajectory"]["figure_eight"]["centre"], nlohmann::json::array({0.45, 0.0, 0.6}));
+  // Task-space defaults scale to the arm's reach: "auto" (trajectory_config.hpp), not the LWR III's numbers.
+  EXPECT_EQ(defaults["trajectory"]["figure_eight"]["centre"], "auto");
+  EXPECT_EQ(defaults["trajectory"]["reaching"]["box_min"], "auto");
 }
 
 TEST(JobConfigJson, EveryFieldRoundTripsThroughTheTable) {
