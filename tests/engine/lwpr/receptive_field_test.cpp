@@ -67,6 +67,35 @@ TEST(ReceptiveField, PlsLearnsAPlane) {
   EXPECT_LT(calc_field_noise_variance(rf), 1e-4);
 }
 
+// The sample at which a field with two projections first records a leave-one-out error.
+int first_loo_sample(LooStart rule) {
+  LwprParams params;
+  params.update_D = false;
+  params.loo_start = rule;
+  ReceptiveField rf = make_receptive_field(params, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity());
+  FieldScratch scratch;
+  scratch.resize(2, true);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int k = 1; k <= 1000; ++k) {
+    const Eigen::Vector2d x(uniform(rng), uniform(rng));
+    update_receptive_field(params, 4.0, x, x(0) * x(1) + 0.1 * uniform(rng), 1.0, rf, scratch);
+    if (rf.sum_e_cv2(0) != 0.0) return k;
+  }
+  return -1;
+}
+
+TEST(ReceptiveField, StartRuleDecidesWhenLeaveOneOutStatisticsBegin) {
+  // n_data after k samples is Σ_{i<k} λ^i ≈ k − k²/2000 at λ ≈ 0.999. Early: once n_data >
+  // 4·(R+1) = 12, i.e. at sample 13 (n_12 ≈ 11.93, n_13 ≈ 12.92). Library: once n_data >
+  // 0.1/(1−λ) ≈ 100, which the discounted count passes only after more than 100 samples (about
+  // 106 at λ = 0.999; λ anneals upwards, so a little later).
+  EXPECT_EQ(first_loo_sample(LooStart::kEarly), 13);
+  const int library = first_loo_sample(LooStart::kLibrary);
+  EXPECT_GT(library, 105);
+  EXPECT_LT(library, 130);
+}
+
 TEST(ReceptiveField, AddProjectionGrowsEveryStatistic) {
   LwprParams params;
   params.init_n_reg = 1;
