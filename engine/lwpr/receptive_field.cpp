@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace armfarm::lwpr {
@@ -19,6 +20,16 @@ constexpr double kMinOneMinusH = 1e-3;  // floor of 1 − leverage in leave-one-
 // (the tail continues from lane 0), added in a fixed order at the end.
 constexpr int kLanes = 4;
 inline double sum_lanes(const double (&part)[kLanes]) { return (part[0] + part[1]) + (part[2] + part[3]); }
+
+// Two doubles operated on lane by lane (a GCC/Clang vector extension: one SSE2 register). The
+// kLanes = 4 lanes of a loop are two of them, lanes 0–1 and 2–3. Element-wise arithmetic on them
+// rounds exactly as the scalar loop it replaces, and lane k of a reduction holds the elements
+// i ≡ k (mod kLanes), so the results are the same bits as the scalar code's.
+typedef double Pair __attribute__((vector_size(2 * sizeof(double))));
+// Loads and stores through references (a vector passed by value can change the call ABI between
+// builds; these inline to plain moves anyway).
+inline void load_pair(Pair& v, const double* from) { std::memcpy(&v, from, sizeof v); }
+inline void store_pair(double* to, const Pair& v) { std::memcpy(to, &v, sizeof v); }
 
 void refresh_projection(ReceptiveField& rf, int r) {
   const double norm = rf.sxy.col(r).norm();
@@ -264,7 +275,16 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
   double* z = scratch.z.data();
   double* mean_x = rf.mean_x.data();
   const double* xp = x.data();
-  for (int i = 0; i < n; ++i) {
+  int i = 0;
+  for (; i + 2 <= n; i += 2) {
+    Pair xv, mv;
+    load_pair(xv, xp + i);
+    load_pair(mv, mean_x + i);
+    const Pair m = (w_old * mv + w * xv) * inv_w_new;
+    store_pair(mean_x + i, m);
+    store_pair(z + i, xv - m);
+  }
+  for (; i < n; ++i) {
     const double m = (w_old * mean_x[i] + w * xp[i]) * inv_w_new;
     mean_x[i] = m;
     z[i] = xp[i] - m;
@@ -282,18 +302,26 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
     double* u = rf.directions.col(r).data();
     double* p = rf.loadings.col(r).data();
     const double w_res = w * res;
-    // Four interleaved partial sums (a fixed order, so the same bits at any vector width) let
-    // the compiler vectorise the two reductions.
-    double norm2_part[kLanes] = {0.0, 0.0, 0.0, 0.0}, dot_part[kLanes] = {0.0, 0.0, 0.0, 0.0};
-    int i = 0;
+    // Four interleaved partial sums (a fixed order, so the same bits at any vector width).
+    Pair norm2_lo = {0.0, 0.0}, norm2_hi = {0.0, 0.0}, dot_lo = {0.0, 0.0}, dot_hi = {0.0, 0.0};
+    i = 0;
     for (; i + kLanes <= n; i += kLanes) {
-      for (int k = 0; k < kLanes; ++k) {
-        const double v = lambda_slow * sxy[i + k] + w_res * z[i + k];
-        sxy[i + k] = v;
-        norm2_part[k] += v * v;
-        dot_part[k] += v * z[i + k];
-      }
+      Pair z_lo, z_hi, v_lo, v_hi;
+      load_pair(z_lo, z + i);
+      load_pair(z_hi, z + i + 2);
+      load_pair(v_lo, sxy + i);
+      load_pair(v_hi, sxy + i + 2);
+      v_lo = lambda_slow * v_lo + w_res * z_lo;
+      v_hi = lambda_slow * v_hi + w_res * z_hi;
+      store_pair(sxy + i, v_lo);
+      store_pair(sxy + i + 2, v_hi);
+      norm2_lo += v_lo * v_lo;
+      norm2_hi += v_hi * v_hi;
+      dot_lo += v_lo * z_lo;
+      dot_hi += v_hi * z_hi;
     }
+    double norm2_part[kLanes] = {norm2_lo[0], norm2_lo[1], norm2_hi[0], norm2_hi[1]};
+    double dot_part[kLanes] = {dot_lo[0], dot_lo[1], dot_hi[0], dot_hi[1]};
     for (int k = 0; i < n; ++i, ++k) {
       const double v = lambda_slow * sxy[i] + w_res * z[i];
       sxy[i] = v;
@@ -308,7 +336,19 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
     rf.sys(r) = lambda * rf.sys(r) + ws * res;
     const double inv_ss2 = 1.0 / rf.ss2(r);
     rf.beta(r) = rf.sys(r) * inv_ss2;
-    for (i = 0; i < n; ++i) {
+    for (i = 0; i + 2 <= n; i += 2) {
+      Pair zv, yv, sv;
+      load_pair(zv, z + i);
+      load_pair(yv, sxy + i);
+      load_pair(sv, sxs + i);
+      store_pair(u + i, yv * inv_norm);
+      const Pair v = lambda * sv + ws * zv;
+      store_pair(sxs + i, v);
+      const Pair pv = v * inv_ss2;
+      store_pair(p + i, pv);
+      store_pair(z + i, zv - s * pv);
+    }
+    for (; i < n; ++i) {
       u[i] = sxy[i] * inv_norm;
       const double v = lambda * sxs[i] + ws * z[i];
       sxs[i] = v;
