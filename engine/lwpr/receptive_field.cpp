@@ -204,14 +204,23 @@ double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& 
   const double* xp = x.data();
   const double* mean_x = rf.mean_x.data();
   const double* u = rf.directions.col(0).data();
-  double part[kLanes] = {0.0, 0.0, 0.0, 0.0};
+  Pair lo = {0.0, 0.0}, hi = {0.0, 0.0};
   int i = 0;
   for (; i + kLanes <= n; i += kLanes) {
-    for (int k = 0; k < kLanes; ++k) {
-      z[i + k] = xp[i + k] - mean_x[i + k];
-      part[k] += u[i + k] * z[i + k];
-    }
+    Pair x_lo, x_hi, m_lo, m_hi, u_lo, u_hi;
+    load_pair(x_lo, xp + i);
+    load_pair(x_hi, xp + i + 2);
+    load_pair(m_lo, mean_x + i);
+    load_pair(m_hi, mean_x + i + 2);
+    load_pair(u_lo, u + i);
+    load_pair(u_hi, u + i + 2);
+    const Pair z_lo = x_lo - m_lo, z_hi = x_hi - m_hi;
+    store_pair(z + i, z_lo);
+    store_pair(z + i + 2, z_hi);
+    lo += u_lo * z_lo;
+    hi += u_hi * z_hi;
   }
+  double part[kLanes] = {lo[0], lo[1], hi[0], hi[1]};
   for (int k = 0; i < n; ++i, ++k) {
     z[i] = xp[i] - mean_x[i];
     part[k] += u[i] * z[i];
@@ -226,13 +235,23 @@ double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& 
     if (r + 1 == n_reg) break;
     const double* p = rf.loadings.col(r).data();
     const double* u_next = rf.directions.col(r + 1).data();
-    double next[kLanes] = {0.0, 0.0, 0.0, 0.0};
+    Pair next_lo = {0.0, 0.0}, next_hi = {0.0, 0.0};
     for (i = 0; i + kLanes <= n; i += kLanes) {
-      for (int k = 0; k < kLanes; ++k) {
-        z[i + k] -= s * p[i + k];
-        next[k] += u_next[i + k] * z[i + k];
-      }
+      Pair z_lo, z_hi, p_lo, p_hi, u_lo, u_hi;
+      load_pair(z_lo, z + i);
+      load_pair(z_hi, z + i + 2);
+      load_pair(p_lo, p + i);
+      load_pair(p_hi, p + i + 2);
+      load_pair(u_lo, u_next + i);
+      load_pair(u_hi, u_next + i + 2);
+      z_lo -= s * p_lo;
+      z_hi -= s * p_hi;
+      store_pair(z + i, z_lo);
+      store_pair(z + i + 2, z_hi);
+      next_lo += u_lo * z_lo;
+      next_hi += u_hi * z_hi;
     }
+    double next[kLanes] = {next_lo[0], next_lo[1], next_hi[0], next_hi[1]};
     for (int k = 0; i < n; ++i, ++k) {
       z[i] -= s * p[i];
       next[k] += u_next[i] * z[i];
