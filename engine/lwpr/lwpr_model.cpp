@@ -275,12 +275,16 @@ std::unique_ptr<PredictionWorkspace> LwprModel::make_workspace() const {
 }
 
 Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace) const {
-  LwprPredictionDetail detail;
-  return predict(x, workspace, detail);
+  return predict_with(x, workspace, nullptr);
 }
 
 Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace,
                               LwprPredictionDetail& detail) const {
+  return predict_with(x, workspace, &detail);
+}
+
+Prediction LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace,
+                                   LwprPredictionDetail* detail) const {
   require_vector(x, n_in_, "x");
   auto* ws = dynamic_cast<LwprWorkspace*>(&workspace);
   if (ws == nullptr) throw std::invalid_argument("LWPR: predict() needs a workspace from make_workspace()");
@@ -294,8 +298,10 @@ Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& wor
   prediction.confidence = Eigen::VectorXd::Constant(n_out_, std::numeric_limits<double>::infinity());
   prediction.trustworthy = true;
   prediction.output_trusted.assign(n_out_, false);
-  detail.max_activation = Eigen::VectorXd::Zero(n_out_);
-  detail.trustworthy.assign(n_out_, false);
+  if (detail != nullptr) {
+    detail->max_activation = Eigen::VectorXd::Zero(n_out_);
+    detail->trustworthy.assign(n_out_, false);
+  }
   double min_of_max = std::numeric_limits<double>::infinity();
 
   for (int o = 0; o < n_out_; ++o) {
@@ -321,13 +327,13 @@ Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& wor
         var_best = variance;
       }
     }
-    detail.max_activation(o) = w_best;
+    if (detail != nullptr) detail->max_activation(o) = w_best;
     min_of_max = std::min(min_of_max, w_best);
     if (w_best <= 0.0) {
       prediction.trustworthy = false;
       continue;
     }
-    detail.trustworthy[o] = true;
+    if (detail != nullptr) detail->trustworthy[o] = true;
     prediction.output_trusted[o] = true;
     double mean = y_best;
     double variance = var_best;

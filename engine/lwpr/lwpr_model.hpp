@@ -84,6 +84,9 @@ class LwprModel final : public Learner {
   // Updates output `output` with y (normalised) given the fields active at x (every field with
   // w > 0, in field order), creating and pruning as update() says.
   void update_output(int output, double y, const std::vector<ActiveField>& active);
+  // Both predict()s; `detail` (may be null: then nothing of it is allocated) receives the
+  // per-output activations and trust flags.
+  Prediction predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail) const;
   // The fields of `output`'s scan active at x_padded (w > 0), in field order; only trustworthy
   // ones when `trusted_only`.
   void scan_active(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,

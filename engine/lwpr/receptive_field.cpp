@@ -30,6 +30,15 @@ typedef double Pair __attribute__((vector_size(2 * sizeof(double))));
 // builds; these inline to plain moves anyway).
 inline void load_pair(Pair& v, const double* from) { std::memcpy(&v, from, sizeof v); }
 inline void store_pair(double* to, const Pair& v) { std::memcpy(to, &v, sizeof v); }
+// The kLanes = 4 doubles at `from` as lanes 0–1 and 2–3, and back.
+inline void load_lanes(Pair& lo, Pair& hi, const double* from) {
+  load_pair(lo, from);
+  load_pair(hi, from + 2);
+}
+inline void store_lanes(double* to, const Pair& lo, const Pair& hi) {
+  store_pair(to, lo);
+  store_pair(to + 2, hi);
+}
 
 void refresh_projection(ReceptiveField& rf, int r) {
   const double norm = rf.sxy.col(r).norm();
@@ -208,15 +217,11 @@ double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& 
   int i = 0;
   for (; i + kLanes <= n; i += kLanes) {
     Pair x_lo, x_hi, m_lo, m_hi, u_lo, u_hi;
-    load_pair(x_lo, xp + i);
-    load_pair(x_hi, xp + i + 2);
-    load_pair(m_lo, mean_x + i);
-    load_pair(m_hi, mean_x + i + 2);
-    load_pair(u_lo, u + i);
-    load_pair(u_hi, u + i + 2);
+    load_lanes(x_lo, x_hi, xp + i);
+    load_lanes(m_lo, m_hi, mean_x + i);
+    load_lanes(u_lo, u_hi, u + i);
     const Pair z_lo = x_lo - m_lo, z_hi = x_hi - m_hi;
-    store_pair(z + i, z_lo);
-    store_pair(z + i + 2, z_hi);
+    store_lanes(z + i, z_lo, z_hi);
     lo += u_lo * z_lo;
     hi += u_hi * z_hi;
   }
@@ -238,16 +243,12 @@ double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& 
     Pair next_lo = {0.0, 0.0}, next_hi = {0.0, 0.0};
     for (i = 0; i + kLanes <= n; i += kLanes) {
       Pair z_lo, z_hi, p_lo, p_hi, u_lo, u_hi;
-      load_pair(z_lo, z + i);
-      load_pair(z_hi, z + i + 2);
-      load_pair(p_lo, p + i);
-      load_pair(p_hi, p + i + 2);
-      load_pair(u_lo, u_next + i);
-      load_pair(u_hi, u_next + i + 2);
+      load_lanes(z_lo, z_hi, z + i);
+      load_lanes(p_lo, p_hi, p + i);
+      load_lanes(u_lo, u_hi, u_next + i);
       z_lo -= s * p_lo;
       z_hi -= s * p_hi;
-      store_pair(z + i, z_lo);
-      store_pair(z + i + 2, z_hi);
+      store_lanes(z + i, z_lo, z_hi);
       next_lo += u_lo * z_lo;
       next_hi += u_hi * z_hi;
     }
@@ -326,14 +327,11 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
     i = 0;
     for (; i + kLanes <= n; i += kLanes) {
       Pair z_lo, z_hi, v_lo, v_hi;
-      load_pair(z_lo, z + i);
-      load_pair(z_hi, z + i + 2);
-      load_pair(v_lo, sxy + i);
-      load_pair(v_hi, sxy + i + 2);
+      load_lanes(z_lo, z_hi, z + i);
+      load_lanes(v_lo, v_hi, sxy + i);
       v_lo = lambda_slow * v_lo + w_res * z_lo;
       v_hi = lambda_slow * v_hi + w_res * z_hi;
-      store_pair(sxy + i, v_lo);
-      store_pair(sxy + i + 2, v_hi);
+      store_lanes(sxy + i, v_lo, v_hi);
       norm2_lo += v_lo * v_lo;
       norm2_hi += v_hi * v_hi;
       dot_lo += v_lo * z_lo;

@@ -46,14 +46,19 @@ TEST(ReceptiveField, ActivationAgreesForDiagonalAndFullMetrics) {
   EXPECT_NEAR(calc_activation(f, Kernel::kGaussian, x, 0.0, sb), std::exp(-0.5 * d.dot(Dfull * d)), 1e-14);
 }
 
+// A 2-D field at the origin with metric I, and scratch sized for it.
+ReceptiveField make_unit_field(const LwprParams& params, FieldScratch& scratch) {
+  scratch.resize(2, true);
+  return make_receptive_field(params, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity());
+}
+
 TEST(ReceptiveField, PlsLearnsAPlane) {
   // Two projections span the 2-D input, so the local model converges to the plane; forgetting
   // washes out the statistics gathered while the PLS directions were still moving.
   LwprParams params;
   params.update_D = false;
-  ReceptiveField rf = make_receptive_field(params, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity());
   FieldScratch scratch;
-  scratch.resize(2, true);
+  ReceptiveField rf = make_unit_field(params, scratch);
   std::mt19937_64 rng(2);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   for (int i = 0; i < 20000; ++i) {
@@ -72,9 +77,8 @@ int first_loo_sample(LooStart rule) {
   LwprParams params;
   params.update_D = false;
   params.loo_start = rule;
-  ReceptiveField rf = make_receptive_field(params, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity());
   FieldScratch scratch;
-  scratch.resize(2, true);
+  ReceptiveField rf = make_unit_field(params, scratch);
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   for (int k = 1; k <= 1000; ++k) {
