@@ -39,6 +39,18 @@ inline void store_lanes(double* to, const Pair& lo, const Pair& hi) {
   store_pair(to, lo);
   store_pair(to + 2, hi);
 }
+// The kLanes = 4 lanes of a loop as one vector (one AVX2 register): lane k holds the elements
+// i ≡ k (mod kLanes), the same partial sums as lo/hi above. Only the AVX2 copy of the field update
+// uses it (on SSE2 the compiler splits it less well than the pairs).
+typedef double Quad __attribute__((vector_size(kLanes * sizeof(double))));
+template <class V>
+inline void load_vector(V& v, const double* from) {
+  std::memcpy(&v, from, sizeof v);
+}
+template <class V>
+inline void store_vector(double* to, const V& v) {
+  std::memcpy(to, &v, sizeof v);
+}
 
 void refresh_projection(ReceptiveField& rf, int r) {
   const double norm = rf.sxy.col(r).norm();
@@ -273,12 +285,18 @@ namespace {
 // sample; leaves s_r, the residuals, 1 − h_r and e_cv,r in `scratch`. N > 0 fixes the input
 // dimension at compile time (the loops unroll; most of a 2-D field's update went to loop control),
 // N = 0 takes it from the field; the same operations in the same order either way.
-template <int N>
-void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveField& rf, FieldScratch& scratch) {
+// V is the vector the loops run on: Pair (SSE2, two per block of kLanes) or Quad (AVX2, one per
+// block); either way element i is in lane i mod kLanes, so the same bits. Always inlined, so that
+// the AVX2 copy below compiles it, and the helpers above, for AVX2.
+template <int N, class V>
+__attribute__((always_inline)) inline void update_statistics(const Eigen::VectorXd& x, double y, double w,
+                                                             ReceptiveField& rf, FieldScratch& scratch) {
   const double lambda = rf.lambda;
   const double lambda_slow = 1.0 - (1.0 - lambda) / 10.0;  // PLS directions forget more slowly
   const int n_reg = rf.n_reg();
   const int n = N > 0 ? N : rf.input_dim();
+  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
+  constexpr int kGroups = kLanes / kWidth;  // vectors per block of kLanes
 
   // Forgetting-weighted sums: Σλw (the weights, for the means and the MSE normalisation) and
   // n_data = Σλ·1, the discounted number of samples each projection has seen (the algorithm counts
@@ -296,13 +314,13 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
   double* mean_x = rf.mean_x.data();
   const double* xp = x.data();
   int i = 0;
-  for (; i + 2 <= n; i += 2) {
-    Pair xv, mv;
-    load_pair(xv, xp + i);
-    load_pair(mv, mean_x + i);
-    const Pair m = (w_old * mv + w * xv) * inv_w_new;
-    store_pair(mean_x + i, m);
-    store_pair(z + i, xv - m);
+  for (; i + kWidth <= n; i += kWidth) {
+    V xv, mv;
+    load_vector(xv, xp + i);
+    load_vector(mv, mean_x + i);
+    const V m = (w_old * mv + w * xv) * inv_w_new;
+    store_vector(mean_x + i, m);
+    store_vector(z + i, xv - m);
   }
   for (; i < n; ++i) {
     const double m = (w_old * mean_x[i] + w * xp[i]) * inv_w_new;
@@ -323,22 +341,24 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
     double* p = rf.loadings.col(r).data();
     const double w_res = w * res;
     // Four interleaved partial sums (a fixed order, so the same bits at any vector width).
-    Pair norm2_lo = {0.0, 0.0}, norm2_hi = {0.0, 0.0}, dot_lo = {0.0, 0.0}, dot_hi = {0.0, 0.0};
+    V norm2_lanes[kGroups] = {}, dot_lanes[kGroups] = {};
     i = 0;
     for (; i + kLanes <= n; i += kLanes) {
-      Pair z_lo, z_hi, v_lo, v_hi;
-      load_lanes(z_lo, z_hi, z + i);
-      load_lanes(v_lo, v_hi, sxy + i);
-      v_lo = lambda_slow * v_lo + w_res * z_lo;
-      v_hi = lambda_slow * v_hi + w_res * z_hi;
-      store_lanes(sxy + i, v_lo, v_hi);
-      norm2_lo += v_lo * v_lo;
-      norm2_hi += v_hi * v_hi;
-      dot_lo += v_lo * z_lo;
-      dot_hi += v_hi * z_hi;
+      for (int g = 0; g < kGroups; ++g) {
+        V zv, v;
+        load_vector(zv, z + i + g * kWidth);
+        load_vector(v, sxy + i + g * kWidth);
+        v = lambda_slow * v + w_res * zv;
+        store_vector(sxy + i + g * kWidth, v);
+        norm2_lanes[g] += v * v;
+        dot_lanes[g] += v * zv;
+      }
     }
-    double norm2_part[kLanes] = {norm2_lo[0], norm2_lo[1], norm2_hi[0], norm2_hi[1]};
-    double dot_part[kLanes] = {dot_lo[0], dot_lo[1], dot_hi[0], dot_hi[1]};
+    double norm2_part[kLanes], dot_part[kLanes];
+    for (int k = 0; k < kLanes; ++k) {
+      norm2_part[k] = norm2_lanes[k / kWidth][k % kWidth];
+      dot_part[k] = dot_lanes[k / kWidth][k % kWidth];
+    }
     for (int k = 0; i < n; ++i, ++k) {
       const double v = lambda_slow * sxy[i] + w_res * z[i];
       sxy[i] = v;
@@ -353,17 +373,17 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
     rf.sys(r) = lambda * rf.sys(r) + ws * res;
     const double inv_ss2 = 1.0 / rf.ss2(r);
     rf.beta(r) = rf.sys(r) * inv_ss2;
-    for (i = 0; i + 2 <= n; i += 2) {
-      Pair zv, yv, sv;
-      load_pair(zv, z + i);
-      load_pair(yv, sxy + i);
-      load_pair(sv, sxs + i);
-      store_pair(u + i, yv * inv_norm);
-      const Pair v = lambda * sv + ws * zv;
-      store_pair(sxs + i, v);
-      const Pair pv = v * inv_ss2;
-      store_pair(p + i, pv);
-      store_pair(z + i, zv - s * pv);
+    for (i = 0; i + kWidth <= n; i += kWidth) {
+      V zv, yv, sv;
+      load_vector(zv, z + i);
+      load_vector(yv, sxy + i);
+      load_vector(sv, sxs + i);
+      store_vector(u + i, yv * inv_norm);
+      const V v = lambda * sv + ws * zv;
+      store_vector(sxs + i, v);
+      const V pv = v * inv_ss2;
+      store_vector(p + i, pv);
+      store_vector(z + i, zv - s * pv);
     }
     for (; i < n; ++i) {
       u[i] = sxy[i] * inv_norm;
@@ -380,16 +400,38 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
   }
 }
 
+// update_statistics<0> (input dimensions above 3) for SSE2 and for AVX2: the same operations in
+// the same order on the same lanes, without FMA contraction (AVX2 alone does not enable FMA), so
+// the same bits; AVX2 does each block of kLanes in one instruction instead of two.
+void update_statistics_sse2(const Eigen::VectorXd& x, double y, double w, ReceptiveField& rf, FieldScratch& scratch) {
+  update_statistics<0, Pair>(x, y, w, rf, scratch);
+}
+__attribute__((target("avx2"))) void update_statistics_avx2(const Eigen::VectorXd& x, double y, double w,
+                                                           ReceptiveField& rf, FieldScratch& scratch) {
+  update_statistics<0, Quad>(x, y, w, rf, scratch);
+}
+
 }  // namespace
+
+bool has_avx2() {
+  static const bool supported = __builtin_cpu_supports("avx2") != 0;
+  return supported;
+}
 
 void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
                             double w, ReceptiveField& rf, FieldScratch& scratch) {
   const double lambda = rf.lambda;
   const int n_reg = rf.n_reg();
   switch (rf.input_dim()) {
-    case 2: update_statistics<2>(x, y, w, rf, scratch); break;
-    case 3: update_statistics<3>(x, y, w, rf, scratch); break;
-    default: update_statistics<0>(x, y, w, rf, scratch); break;
+    case 2: update_statistics<2, Pair>(x, y, w, rf, scratch); break;
+    case 3: update_statistics<3, Pair>(x, y, w, rf, scratch); break;
+    default:
+      if (scratch.use_avx2) {
+        update_statistics_avx2(x, y, w, rf, scratch);
+      } else {
+        update_statistics_sse2(x, y, w, rf, scratch);
+      }
+      break;
   }
 
   // Leave-one-out statistics and the metric update wait until the field has some data: the
