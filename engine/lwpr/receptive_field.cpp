@@ -26,23 +26,12 @@ inline double sum_lanes(const double (&part)[kLanes]) { return (part[0] + part[1
 // rounds exactly as the scalar loop it replaces, and lane k of a reduction holds the elements
 // i ≡ k (mod kLanes), so the results are the same bits as the scalar code's.
 typedef double Pair __attribute__((vector_size(2 * sizeof(double))));
+// The kLanes = 4 lanes of a loop as one vector (one AVX2 register): lane k holds the elements
+// i ≡ k (mod kLanes), the same partial sums as two pairs. Only the AVX2 copies of the field
+// update and prediction use it (on SSE2 the compiler splits it less well than two pairs).
+typedef double Quad __attribute__((vector_size(kLanes * sizeof(double))));
 // Loads and stores through references (a vector passed by value can change the call ABI between
 // builds; these inline to plain moves anyway).
-inline void load_pair(Pair& v, const double* from) { std::memcpy(&v, from, sizeof v); }
-inline void store_pair(double* to, const Pair& v) { std::memcpy(to, &v, sizeof v); }
-// The kLanes = 4 doubles at `from` as lanes 0–1 and 2–3, and back.
-inline void load_lanes(Pair& lo, Pair& hi, const double* from) {
-  load_pair(lo, from);
-  load_pair(hi, from + 2);
-}
-inline void store_lanes(double* to, const Pair& lo, const Pair& hi) {
-  store_pair(to, lo);
-  store_pair(to + 2, hi);
-}
-// The kLanes = 4 lanes of a loop as one vector (one AVX2 register): lane k holds the elements
-// i ≡ k (mod kLanes), the same partial sums as lo/hi above. Only the AVX2 copy of the field update
-// uses it (on SSE2 the compiler splits it less well than the pairs).
-typedef double Quad __attribute__((vector_size(kLanes * sizeof(double))));
 template <class V>
 inline void load_vector(V& v, const double* from) {
   std::memcpy(&v, from, sizeof v);
@@ -217,27 +206,35 @@ double calc_activation_within(const ReceptiveField& rf, Kernel kernel, const Eig
   return calc_kernel(kernel, q);
 }
 
-double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage,
-                               FieldScratch& scratch) {
-  // One pass per projection: projection r's deflation fused with projection r+1's dot product.
+namespace {
+
+// predict_receptive_field() on vectors V (Pair or Quad, as update_statistics below): one pass per
+// projection, projection r's deflation fused with projection r+1's dot product.
+template <class V>
+__attribute__((always_inline)) inline double predict_field(const ReceptiveField& rf, const Eigen::VectorXd& x,
+                                                           double& leverage, FieldScratch& scratch) {
+  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
+  constexpr int kGroups = kLanes / kWidth;
   const int n = rf.input_dim();
   double* z = scratch.z.data();
   const double* xp = x.data();
   const double* mean_x = rf.mean_x.data();
   const double* u = rf.directions.col(0).data();
-  Pair lo = {0.0, 0.0}, hi = {0.0, 0.0};
+  V lanes[kGroups] = {};
   int i = 0;
   for (; i + kLanes <= n; i += kLanes) {
-    Pair x_lo, x_hi, m_lo, m_hi, u_lo, u_hi;
-    load_lanes(x_lo, x_hi, xp + i);
-    load_lanes(m_lo, m_hi, mean_x + i);
-    load_lanes(u_lo, u_hi, u + i);
-    const Pair z_lo = x_lo - m_lo, z_hi = x_hi - m_hi;
-    store_lanes(z + i, z_lo, z_hi);
-    lo += u_lo * z_lo;
-    hi += u_hi * z_hi;
+    for (int g = 0; g < kGroups; ++g) {
+      V xv, mv, uv;
+      load_vector(xv, xp + i + g * kWidth);
+      load_vector(mv, mean_x + i + g * kWidth);
+      load_vector(uv, u + i + g * kWidth);
+      const V zv = xv - mv;
+      store_vector(z + i + g * kWidth, zv);
+      lanes[g] += uv * zv;
+    }
   }
-  double part[kLanes] = {lo[0], lo[1], hi[0], hi[1]};
+  double part[kLanes];
+  for (int k = 0; k < kLanes; ++k) part[k] = lanes[k / kWidth][k % kWidth];
   for (int k = 0; i < n; ++i, ++k) {
     z[i] = xp[i] - mean_x[i];
     part[k] += u[i] * z[i];
@@ -252,19 +249,20 @@ double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& 
     if (r + 1 == n_reg) break;
     const double* p = rf.loadings.col(r).data();
     const double* u_next = rf.directions.col(r + 1).data();
-    Pair next_lo = {0.0, 0.0}, next_hi = {0.0, 0.0};
+    V next_lanes[kGroups] = {};
     for (i = 0; i + kLanes <= n; i += kLanes) {
-      Pair z_lo, z_hi, p_lo, p_hi, u_lo, u_hi;
-      load_lanes(z_lo, z_hi, z + i);
-      load_lanes(p_lo, p_hi, p + i);
-      load_lanes(u_lo, u_hi, u_next + i);
-      z_lo -= s * p_lo;
-      z_hi -= s * p_hi;
-      store_lanes(z + i, z_lo, z_hi);
-      next_lo += u_lo * z_lo;
-      next_hi += u_hi * z_hi;
+      for (int g = 0; g < kGroups; ++g) {
+        V zv, pv, uv;
+        load_vector(zv, z + i + g * kWidth);
+        load_vector(pv, p + i + g * kWidth);
+        load_vector(uv, u_next + i + g * kWidth);
+        zv -= s * pv;
+        store_vector(z + i + g * kWidth, zv);
+        next_lanes[g] += uv * zv;
+      }
     }
-    double next[kLanes] = {next_lo[0], next_lo[1], next_hi[0], next_hi[1]};
+    double next[kLanes];
+    for (int k = 0; k < kLanes; ++k) next[k] = next_lanes[k / kWidth][k % kWidth];
     for (int k = 0; i < n; ++i, ++k) {
       z[i] -= s * p[i];
       next[k] += u_next[i] * z[i];
@@ -272,6 +270,23 @@ double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& 
     s = sum_lanes(next);
   }
   return y;
+}
+
+double predict_field_sse2(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage, FieldScratch& scratch) {
+  return predict_field<Pair>(rf, x, leverage, scratch);
+}
+__attribute__((target("avx2"))) double predict_field_avx2(const ReceptiveField& rf, const Eigen::VectorXd& x,
+                                                          double& leverage, FieldScratch& scratch) {
+  return predict_field<Quad>(rf, x, leverage, scratch);
+}
+
+}  // namespace
+
+double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage,
+                               FieldScratch& scratch) {
+  // Below kLanes inputs no block runs, and the two copies are the same scalar code.
+  if (scratch.use_avx2 && rf.input_dim() >= kLanes) return predict_field_avx2(rf, x, leverage, scratch);
+  return predict_field_sse2(rf, x, leverage, scratch);
 }
 
 double calc_field_noise_variance(const ReceptiveField& rf) {
