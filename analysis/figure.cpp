@@ -39,8 +39,11 @@ bool ends_with(const std::string& text, const std::string& suffix) {
 }  // namespace
 
 std::string make_gnuplot_script(const Figure& figure, const std::string& terminal_line, const std::string& output_path,
-                                const std::string& data_dir) {
+                                const std::string& data_dir, double line_width) {
   std::ostringstream script;
+  char width_text[32];
+  std::snprintf(width_text, sizeof width_text, "%g", line_width);
+  const std::string lw = width_text;
   const std::size_t n_panels = figure.panels.size();
   const std::size_t columns = n_panels <= 1 ? 1 : (n_panels <= 4 ? 2 : 3);
   const std::size_t rows = (n_panels + columns - 1) / columns;
@@ -59,6 +62,17 @@ std::string make_gnuplot_script(const Figure& figure, const std::string& termina
   static const char* const kColours[12] = {"#332288", "#88CCEE", "#44AA99", "#117733", "#999933", "#DDCC77",
                                            "#CC6677", "#882255", "#AA4499", "#4477AA", "#EE6677", "#000000"};
   std::vector<std::string> titles_shown;
+  // A colour per distinct title over the whole figure, in first-seen order, so that one group
+  // has one colour in every panel; untitled curves take the next free colour each.
+  std::vector<std::string> colour_titles;
+  auto colour_of = [&](const std::string& title) {
+    if (!title.empty()) {
+      const auto found = std::find(colour_titles.begin(), colour_titles.end(), title);
+      if (found != colour_titles.end()) return static_cast<std::size_t>(found - colour_titles.begin());
+    }
+    colour_titles.push_back(title);
+    return colour_titles.size() - 1;
+  };
   // With empty grid cells (7 joints on 3 × 3) the legend goes into them, bottom right.
   const bool spare_cells = n_panels > 1 && rows * columns > n_panels;
   if (spare_cells) {
@@ -81,23 +95,22 @@ std::string make_gnuplot_script(const Figure& figure, const std::string& termina
         if (panel.curves[c].emphasised == (pass == 1)) order.push_back(c);
       }
     }
-    std::size_t plain = 0;
     for (std::size_t i = 0; i < order.size(); ++i) {
       const std::size_t c = order[i];
       const Curve& curve = panel.curves[c];
       const std::string file = (std::filesystem::path(data_dir) / data_file_name(p, c)).string();
       script << (i ? ", \\\n     " : "") << quote_gnuplot(file);
       switch (curve.style) {
-        case Curve::Style::lines: script << " using 1:2 with lines lw 2"; break;
+        case Curve::Style::lines: script << " using 1:2 with lines lw " << lw; break;
         case Curve::Style::points: script << " using 1:2 with points pt 7 ps 0.6"; break;
-        case Curve::Style::lines_points: script << " using 1:2 with linespoints lw 2 pt 7"; break;
-        case Curve::Style::error_bars: script << " using 1:2:3:4 with yerrorlines lw 2 pt 7"; break;
+        case Curve::Style::lines_points: script << " using 1:2 with linespoints lw " << lw << " pt 7"; break;
+        case Curve::Style::error_bars: script << " using 1:2:3:4 with yerrorlines lw " << lw << " pt 7"; break;
       }
       if (curve.emphasised) {
         script << " lc rgb '#000000' dt 2";
       } else {
-        script << " lc rgb '" << kColours[plain % 12] << "' dt " << 1 + plain / 12;
-        ++plain;
+        const std::size_t colour = colour_of(curve.title);
+        script << " lc rgb '" << kColours[colour % 12] << "' dt " << 1 + colour / 12;
       }
       const bool repeated = std::find(titles_shown.begin(), titles_shown.end(), curve.title) != titles_shown.end();
       if (repeated || curve.title.empty()) {
@@ -114,15 +127,75 @@ std::string make_gnuplot_script(const Figure& figure, const std::string& termina
   return script.str();
 }
 
-void write_figure(const Figure& figure, const std::string& out_path) {
-  std::string terminal_line;
-  if (ends_with(out_path, ".svg")) {
-    terminal_line = "set terminal svg size 1000,700 dynamic background rgb 'white' font 'sans,12'";
-  } else if (ends_with(out_path, ".png")) {
-    terminal_line = "set terminal pngcairo size 1200,840 font 'sans,11'";
-  } else {
-    throw AnalysisError(out_path + ": the output must end in .svg or .png");
+FigureStyle parse_figure_style(const std::string& word) {
+  if (word == "paper") return FigureStyle::paper;
+  if (word == "slide") return FigureStyle::slide;
+  if (word == "screen") return FigureStyle::screen;
+  throw AnalysisError("unknown figure style '" + word + "' (paper, slide or screen)");
+}
+
+TerminalSettings make_terminal_settings(const std::string& out_path, const FigureOptions& options, std::size_t n_panels) {
+  enum class Format { pdf, svg, png };
+  Format format;
+  if (ends_with(out_path, ".pdf")) format = Format::pdf;
+  else if (ends_with(out_path, ".svg")) format = Format::svg;
+  else if (ends_with(out_path, ".png")) format = Format::png;
+  else throw AnalysisError(out_path + ": the output must end in .pdf, .svg or .png");
+  FigureStyle style = options.style;
+  if (style == FigureStyle::automatic) style = format == Format::svg ? FigureStyle::screen : FigureStyle::paper;
+  const std::size_t columns = n_panels <= 1 ? 1 : (n_panels <= 4 ? 2 : 3);
+  const std::size_t rows = (std::max<std::size_t>(n_panels, 1) + columns - 1) / columns;
+  double width = 0, height = 0, font = 0, line_width = 0;
+  switch (style) {
+    case FigureStyle::paper:
+      width = columns >= 3 ? 7.0 : 3.5;
+      height = n_panels <= 1 ? 2.8 : 0.6 + 1.9 * static_cast<double>(rows);
+      font = 8;
+      line_width = 1.0;
+      break;
+    case FigureStyle::slide:
+      width = 10.0;
+      height = 5.625;
+      font = 16;
+      line_width = 2.5;
+      break;
+    case FigureStyle::automatic:
+    case FigureStyle::screen:
+      width = 1000.0 / 96;
+      height = 700.0 / 96;
+      font = 12 * 72.0 / 96;  // 12 px
+      line_width = 2.0;
+      break;
   }
+  if (options.width_in) width = *options.width_in;
+  if (options.height_in) height = *options.height_in;
+  if (options.font_pt) font = *options.font_pt;
+  if (!(width > 0 && height > 0 && font > 0 && width <= 100 && height <= 100 && font <= 200)) {
+    throw AnalysisError(out_path + ": size and font size must be positive (at most 100 in and 200 pt)");
+  }
+  char line[256];
+  switch (format) {
+    case Format::pdf:
+      // pdfcairo: inches and points.
+      std::snprintf(line, sizeof line, "set terminal pdfcairo size %.3fin,%.3fin font 'sans,%g' linewidth 1", width, height, font);
+      break;
+    case Format::svg:
+      // 72 user units per inch: the font stands to the width as in the PDF.
+      std::snprintf(line, sizeof line, "set terminal svg size %d,%d dynamic background rgb 'white' font 'sans,%g'",
+                    static_cast<int>(std::lround(width * 72)), static_cast<int>(std::lround(height * 72)), font);
+      break;
+    case Format::png:
+      // 300 dpi; pngcairo takes points at 72 dpi, so fonts and lines scale by 300/72.
+      std::snprintf(line, sizeof line, "set terminal pngcairo size %d,%d font 'sans,%g' linewidth %g",
+                    static_cast<int>(std::lround(width * 300)), static_cast<int>(std::lround(height * 300)), font * 300 / 72,
+                    300.0 / 72);
+      break;
+  }
+  return {line, line_width};
+}
+
+void write_figure(const Figure& figure, const std::string& out_path, const FigureOptions& options) {
+  const TerminalSettings terminal = make_terminal_settings(out_path, options, figure.panels.size());
   if (figure.panels.empty()) throw AnalysisError(out_path + ": nothing to plot");
   for (const Panel& panel : figure.panels) {
     bool any = false;
@@ -164,7 +237,7 @@ void write_figure(const Figure& figure, const std::string& out_path) {
   const fs::path partial = destination.string() + ".partial";
   {
     std::ofstream script_file(work / "plot.gp");
-    script_file << make_gnuplot_script(figure, terminal_line, partial.string(), work.string());
+    script_file << make_gnuplot_script(figure, terminal.terminal_line, partial.string(), work.string(), terminal.line_width);
   }
   const std::string command = "gnuplot " + (work / "plot.gp").string() + " > " + (work / "gnuplot.log").string() + " 2>&1";
   const int status = std::system(command.c_str());
