@@ -210,6 +210,15 @@ TEST(TrustedFigures, LogAxesPositiveErrorBarsAndNoSilentPooling) {
   std::size_t titled = 0;
   for (auto at = script.find(" title \"curve "); at != std::string::npos; at = script.find(" title \"curve ", at + 1)) ++titled;
   EXPECT_EQ(titled, 13u);
+  // The same group keeps its colour in every panel, whatever the order it is drawn in.
+  Figure swapped;
+  swapped.panels.resize(2);
+  swapped.panels[0].curves = {Curve{"online", {0, 1}, {0, 1}, {}, {}}, Curve{"batch", {0, 1}, {1, 0}, {}, {}}};
+  swapped.panels[1].curves = {Curve{"batch", {0, 1}, {0, 1}, {}, {}}};
+  const std::string two = make_gnuplot_script(swapped, "set terminal svg", "out.svg", "/tmp");
+  const auto batch_colour = two.find("lc rgb '#88CCEE'");
+  ASSERT_NE(batch_colour, std::string::npos);
+  EXPECT_NE(two.find("lc rgb '#88CCEE'", batch_colour + 1), std::string::npos) << two;  // batch twice, one colour
 }
 
 }  // namespace
