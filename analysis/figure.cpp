@@ -36,10 +36,40 @@ bool ends_with(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+// A step of 1, 2 or 5 × 10^k that puts at most `max_ticks` ticks on [low, high].
+double choose_tick_step(double low, double high, int max_ticks) {
+  const double range = high - low;
+  double step = std::pow(10.0, std::floor(std::log10(range / max_ticks)));
+  for (double factor : {1.0, 2.0, 5.0, 10.0}) {
+    if (range / (step * factor) <= max_ticks) return step * factor;
+  }
+  return step * 10;
+}
+
+// "set xtics STEP" for a linear x axis, so that the labels of a narrow panel do not run into
+// each other ("0.240.260.28"); gnuplot's automatic ticks ignore the panel's width.
+std::string make_x_tics_line(const Panel& panel, int max_ticks) {
+  double low = INFINITY, high = -INFINITY;
+  for (const Curve& curve : panel.curves) {
+    for (double x : curve.x) {
+      if (!std::isfinite(x)) continue;
+      low = std::min(low, x);
+      high = std::max(high, x);
+    }
+  }
+  if (panel.log_x || !(high > low)) return "set xtics autofreq\n";
+  char line[64];
+  std::snprintf(line, sizeof line, "set xtics %.10g\n", choose_tick_step(low, high, max_ticks));
+  return line;
+}
+
 }  // namespace
 
-std::string make_gnuplot_script(const Figure& figure, const std::string& terminal_line, const std::string& output_path,
-                                const std::string& data_dir, double line_width) {
+std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& terminal, const std::string& output_path,
+                                const std::string& data_dir) {
+  const std::string& terminal_line = terminal.terminal_line;
+  const double line_width = terminal.line_width;
+  const int max_x_ticks = terminal.max_x_ticks;
   std::ostringstream script;
   char width_text[32];
   std::snprintf(width_text, sizeof width_text, "%g", line_width);
@@ -53,10 +83,36 @@ std::string make_gnuplot_script(const Figure& figure, const std::string& termina
          << "set grid\nset key outside bottom center horizontal\n"
          << "set datafile missing 'nan'\n";
   if (n_panels > 1 || !figure.title.empty()) {
-    script << "set multiplot layout " << rows << "," << columns;
-    if (n_panels > 1) script << " margins 0.07,0.98,0.12,0.86 spacing 0.08,0.12";
-    if (!figure.title.empty()) script << " title " << quote_gnuplot(figure.title);
-    script << "\n";
+    std::string layout = "set multiplot layout " + std::to_string(rows) + "," + std::to_string(columns);
+    // Margins and spacing in character units of this page (gnuplot takes screen fractions):
+    // room for the y tick labels and label left of every column, the x ticks, label and the
+    // next row's title between rows, the title lines on top and the legend rows below.
+    if (n_panels > 1) {
+      std::vector<std::string> entries;
+      std::size_t longest = 0;
+      for (const Panel& panel : figure.panels) {
+        for (const Curve& curve : panel.curves) {
+          if (curve.title.empty() || std::find(entries.begin(), entries.end(), curve.title) != entries.end()) continue;
+          entries.push_back(curve.title);
+          longest = std::max(longest, curve.title.size());
+        }
+      }
+      const double char_w = 0.6 * terminal.font_pt / terminal.width_pt;
+      const double char_h = 1.25 * terminal.font_pt / terminal.height_pt;
+      const std::size_t per_row = std::max<std::size_t>(1, static_cast<std::size_t>(0.95 / (char_w * (static_cast<double>(longest) + 6))));
+      const std::size_t key_rows = rows * columns > n_panels ? 0 : (entries.size() + per_row - 1) / per_row;
+      std::size_t title_lines = figure.title.empty() ? 0 : 1;
+      for (char c : figure.title) title_lines += c == '\n';
+      char margins[160];
+      std::snprintf(margins, sizeof margins, " margins %.4f,%.4f,%.4f,%.4f spacing %.4f,%.4f", std::min(0.3, 10 * char_w),
+                    1 - 2 * char_w, std::min(0.4, (3.2 + 1.1 * static_cast<double>(key_rows)) * char_h),
+                    std::max(0.5, 1 - (2.2 + static_cast<double>(title_lines)) * char_h), std::min(0.3, 11 * char_w),
+                    std::min(0.3, 5.5 * char_h));
+      layout += margins;
+      if (key_rows > 0) script << "set key at screen 0.5, screen 0.005 center bottom vertical maxrows " << key_rows << "\n";
+    }
+    if (!figure.title.empty()) layout += " title " + quote_gnuplot(figure.title);
+    script << layout << "\n";
   }
   // Paul Tol's "muted" and "bright" schemes: distinguishable, also in greyscale print.
   static const char* const kColours[12] = {"#332288", "#88CCEE", "#44AA99", "#117733", "#999933", "#DDCC77",
@@ -80,7 +136,8 @@ std::string make_gnuplot_script(const Figure& figure, const std::string& termina
   }
   for (std::size_t p = 0; p < n_panels; ++p) {
     const Panel& panel = figure.panels[p];
-    if (!spare_cells && panel.curves.size() > 6) script << "set key outside right top vertical\n";
+    if (n_panels == 1 && panel.curves.size() > 6) script << "set key outside right top vertical\n";
+    script << make_x_tics_line(panel, max_x_ticks);
     script << "set title " << quote_gnuplot(panel.title) << "\n"
            << "set xlabel " << quote_gnuplot(panel.x_label) << "\n"
            << "set ylabel " << quote_gnuplot(panel.y_label) << "\n"
@@ -185,13 +242,16 @@ TerminalSettings make_terminal_settings(const std::string& out_path, const Figur
                     static_cast<int>(std::lround(width * 72)), static_cast<int>(std::lround(height * 72)), font);
       break;
     case Format::png:
-      // 300 dpi; pngcairo takes points at 72 dpi, so fonts and lines scale by 300/72.
+      // 300 dpi; pngcairo draws a point as a pixel at 96 dpi, so fonts and lines scale by 300/96.
       std::snprintf(line, sizeof line, "set terminal pngcairo size %d,%d font 'sans,%g' linewidth %g",
-                    static_cast<int>(std::lround(width * 300)), static_cast<int>(std::lround(height * 300)), font * 300 / 72,
-                    300.0 / 72);
+                    static_cast<int>(std::lround(width * 300)), static_cast<int>(std::lround(height * 300)), font * 300 / 96,
+                    300.0 / 96);
       break;
   }
-  return {line, line_width};
+  // Room for x tick labels of ~5 characters each across a panel, less its y tick labels.
+  const double chars_per_panel = width * 72 / static_cast<double>(columns) / (0.6 * font) - 8;
+  const int max_x_ticks = std::clamp(static_cast<int>(chars_per_panel / 6), 2, 10);
+  return {line, line_width, max_x_ticks, width * 72, height * 72, font};
 }
 
 void write_figure(const Figure& figure, const std::string& out_path, const FigureOptions& options) {
@@ -237,7 +297,7 @@ void write_figure(const Figure& figure, const std::string& out_path, const Figur
   const fs::path partial = destination.string() + ".partial";
   {
     std::ofstream script_file(work / "plot.gp");
-    script_file << make_gnuplot_script(figure, terminal.terminal_line, partial.string(), work.string(), terminal.line_width);
+    script_file << make_gnuplot_script(figure, terminal, partial.string(), work.string());
   }
   const std::string command = "gnuplot " + (work / "plot.gp").string() + " > " + (work / "gnuplot.log").string() + " 2>&1";
   const int status = std::system(command.c_str());

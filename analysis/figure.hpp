@@ -54,6 +54,8 @@ struct FigureOptions {
 struct TerminalSettings {
   std::string terminal_line;
   double line_width = 2.0;
+  int max_x_ticks = 8;  ///< a linear x axis gets at most this many ticks per panel
+  double width_pt = 750, height_pt = 525, font_pt = 9;  ///< the page, for margins in character units
 };
 TerminalSettings make_terminal_settings(const std::string& out_path, const FigureOptions& options, std::size_t n_panels);
 
@@ -67,7 +69,7 @@ void write_figure(const Figure& figure, const std::string& out_path, const Figur
 
 /// The gnuplot script that write_figure runs, with data files named data_<panel>_<curve>.dat
 /// in `data_dir` (exposed for tests).
-std::string make_gnuplot_script(const Figure& figure, const std::string& terminal_line, const std::string& output_path,
-                                const std::string& data_dir, double line_width = 2.0);
+std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& terminal, const std::string& output_path,
+                                const std::string& data_dir);
 
 }  // namespace armfarm
