@@ -46,21 +46,66 @@ double choose_tick_step(double low, double high, int max_ticks) {
   return step * 10;
 }
 
-// "set xtics STEP" for a linear x axis, so that the labels of a narrow panel do not run into
-// each other ("0.240.260.28"); gnuplot's automatic ticks ignore the panel's width.
-std::string make_x_tics_line(const Panel& panel, int max_ticks) {
-  double low = INFINITY, high = -INFINITY;
-  for (const Curve& curve : panel.curves) {
-    for (double x : curve.x) {
-      if (!std::isfinite(x)) continue;
-      low = std::min(low, x);
-      high = std::max(high, x);
+// "set xtics STEP" / "set ytics STEP" for a linear axis, so that the labels of a narrow (short)
+// panel do not run into each other ("0.240.260.28"); gnuplot's automatic ticks ignore the
+// panel's size. With equal axes both take the smaller count, as the panel shrinks to fit both (at most 4).
+std::string make_tics_lines(const Panel& panel, int max_x_ticks, int max_y_ticks) {
+  if (panel.equal_axes) max_x_ticks = max_y_ticks = std::min({max_x_ticks, max_y_ticks, 4});
+  std::string lines;
+  for (int axis = 0; axis < 2; ++axis) {
+    double low = INFINITY, high = -INFINITY;
+    for (const Curve& curve : panel.curves) {
+      for (double v : axis == 0 ? curve.x : curve.y) {
+        if (!std::isfinite(v)) continue;
+        low = std::min(low, v);
+        high = std::max(high, v);
+      }
+      if (axis == 1) {
+        for (const auto* ends : {&curve.y_low, &curve.y_high}) {
+          for (double v : *ends) {
+            if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v);
+          }
+        }
+      }
+    }
+    const char* name = axis == 0 ? "xtics" : "ytics";
+    if ((axis == 0 ? panel.log_x : panel.log_y) || !(high > low)) {
+      lines += std::string("set ") + name + " autofreq\n";
+      continue;
+    }
+    // gnuplot extends the range to the next tick, so leave room for one more.
+    char line[64];
+    std::snprintf(line, sizeof line, "set %s %.10g\n", name, choose_tick_step(low, high, std::max(1, (axis == 0 ? max_x_ticks : max_y_ticks) - 1)));
+    lines += line;
+  }
+  return lines;
+}
+
+// `text` with each line broken at spaces to at most `width` characters.
+std::string wrap_text(const std::string& text, std::size_t width) {
+  std::string out, line, word;
+  auto flush_word = [&] {
+    if (word.empty()) return;
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      out += line + "\n";
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    word.clear();
+  };
+  for (char c : text) {
+    if (c == ' ' || c == '\n') {
+      flush_word();
+      if (c == '\n') {
+        out += line + "\n";
+        line.clear();
+      }
+    } else {
+      word += c;
     }
   }
-  if (panel.log_x || !(high > low)) return "set xtics autofreq\n";
-  char line[64];
-  std::snprintf(line, sizeof line, "set xtics %.10g\n", choose_tick_step(low, high, max_ticks));
-  return line;
+  flush_word();
+  return out + line;
 }
 
 }  // namespace
@@ -69,7 +114,20 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
                                 const std::string& data_dir) {
   const std::string& terminal_line = terminal.terminal_line;
   const double line_width = terminal.line_width;
-  const int max_x_ticks = terminal.max_x_ticks;
+  // Characters across a panel (less its y tick labels and label) and lines down one (less its
+  // title, x tick labels and label): room for ticks of ~6 characters and for wrapped labels.
+  const std::size_t n_cells = std::max<std::size_t>(figure.panels.size(), 1);
+  const std::size_t n_columns = n_cells <= 1 ? 1 : (n_cells <= 4 ? 2 : 3);
+  const std::size_t n_rows = (n_cells + n_columns - 1) / n_columns;
+  const double panel_chars = terminal.width_pt / static_cast<double>(n_columns) / (0.55 * terminal.font_pt) - 10;
+  const double page_lines = terminal.height_pt / (1.25 * terminal.font_pt);
+  const double panel_lines = page_lines / static_cast<double>(n_rows) - 6;
+  const int max_x_ticks = std::clamp(static_cast<int>(panel_chars / 7), 2, 10);
+  const int max_y_ticks = std::clamp(static_cast<int>(panel_lines / 1.6), 2, 10);
+  const std::size_t label_chars = static_cast<std::size_t>(std::max(8.0, panel_chars));
+  const std::size_t y_label_chars = static_cast<std::size_t>(std::max(8.0, panel_lines * 1.25 * 1.6));
+  const std::string figure_title = wrap_text(figure.title, static_cast<std::size_t>(std::max(
+                                                               10.0, terminal.width_pt / (0.55 * terminal.font_pt) - 2)));
   std::ostringstream script;
   char width_text[32];
   std::snprintf(width_text, sizeof width_text, "%g", line_width);
@@ -102,16 +160,23 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
       const std::size_t per_row = std::max<std::size_t>(1, static_cast<std::size_t>(0.95 / (char_w * (static_cast<double>(longest) + 6))));
       const std::size_t key_rows = rows * columns > n_panels ? 0 : (entries.size() + per_row - 1) / per_row;
       std::size_t title_lines = figure.title.empty() ? 0 : 1;
-      for (char c : figure.title) title_lines += c == '\n';
+      for (char c : figure_title) title_lines += c == '\n';
+      // The tallest wrapped x label and panel title set the room between rows.
+      double x_label_lines = 1, title_lines_panel = 1;
+      for (const Panel& panel : figure.panels) {
+        const std::string x = wrap_text(panel.x_label, label_chars), t = wrap_text(panel.title, label_chars);
+        x_label_lines = std::max(x_label_lines, 1.0 + static_cast<double>(std::count(x.begin(), x.end(), '\n')));
+        title_lines_panel = std::max(title_lines_panel, 1.0 + static_cast<double>(std::count(t.begin(), t.end(), '\n')));
+      }
       char margins[160];
       std::snprintf(margins, sizeof margins, " margins %.4f,%.4f,%.4f,%.4f spacing %.4f,%.4f", std::min(0.3, 10 * char_w),
-                    1 - 2 * char_w, std::min(0.4, (3.2 + 1.1 * static_cast<double>(key_rows)) * char_h),
-                    std::max(0.5, 1 - (2.2 + static_cast<double>(title_lines)) * char_h), std::min(0.3, 11 * char_w),
-                    std::min(0.3, 5.5 * char_h));
+                    1 - 2 * char_w, std::min(0.4, (2.2 + x_label_lines + 1.1 * static_cast<double>(key_rows)) * char_h),
+                    std::max(0.5, 1 - (2.6 + title_lines_panel + 1.1 * static_cast<double>(title_lines)) * char_h), std::min(0.3, 11 * char_w),
+                    std::min(0.3, (4.8 + x_label_lines + title_lines_panel) * char_h));
       layout += margins;
       if (key_rows > 0) script << "set key at screen 0.5, screen 0.005 center bottom vertical maxrows " << key_rows << "\n";
     }
-    if (!figure.title.empty()) layout += " title " + quote_gnuplot(figure.title);
+    if (!figure.title.empty()) layout += " title " + quote_gnuplot(figure_title);
     script << layout << "\n";
   }
   // Paul Tol's "muted" and "bright" schemes: distinguishable, also in greyscale print.
@@ -137,10 +202,10 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
   for (std::size_t p = 0; p < n_panels; ++p) {
     const Panel& panel = figure.panels[p];
     if (n_panels == 1 && panel.curves.size() > 6) script << "set key outside right top vertical\n";
-    script << make_x_tics_line(panel, max_x_ticks);
-    script << "set title " << quote_gnuplot(panel.title) << "\n"
-           << "set xlabel " << quote_gnuplot(panel.x_label) << "\n"
-           << "set ylabel " << quote_gnuplot(panel.y_label) << "\n"
+    script << make_tics_lines(panel, max_x_ticks, max_y_ticks);
+    script << "set title " << quote_gnuplot(wrap_text(panel.title, label_chars)) << "\n"
+           << "set xlabel " << quote_gnuplot(wrap_text(panel.x_label, label_chars)) << "\n"
+           << "set ylabel " << quote_gnuplot(wrap_text(panel.y_label, y_label_chars)) << "\n"
            << (panel.log_x ? "set logscale x\nset format x '%g'\n" : "unset logscale x\nset format x '%g'\n")
            << (panel.log_y ? "set logscale y\nset format y '%.0e'\n" : "unset logscale y\nset format y '%g'\n")
            << (panel.equal_axes ? "set size ratio -1\n" : "set size noratio\n");
@@ -213,7 +278,7 @@ TerminalSettings make_terminal_settings(const std::string& out_path, const Figur
     case FigureStyle::slide:
       width = 10.0;
       height = 5.625;
-      font = 16;
+      font = rows >= 3 ? 10 : rows == 2 ? 12 : 16;  // a 3 × 3 grid on one slide needs small print
       line_width = 2.5;
       break;
     case FigureStyle::automatic:
@@ -248,10 +313,7 @@ TerminalSettings make_terminal_settings(const std::string& out_path, const Figur
                     300.0 / 96);
       break;
   }
-  // Room for x tick labels of ~5 characters each across a panel, less its y tick labels.
-  const double chars_per_panel = width * 72 / static_cast<double>(columns) / (0.6 * font) - 8;
-  const int max_x_ticks = std::clamp(static_cast<int>(chars_per_panel / 6), 2, 10);
-  return {line, line_width, max_x_ticks, width * 72, height * 72, font};
+  return {line, line_width, width * 72, height * 72, font};
 }
 
 void write_figure(const Figure& figure, const std::string& out_path, const FigureOptions& options) {

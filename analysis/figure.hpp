@@ -54,7 +54,6 @@ struct FigureOptions {
 struct TerminalSettings {
   std::string terminal_line;
   double line_width = 2.0;
-  int max_x_ticks = 8;  ///< a linear x axis gets at most this many ticks per panel
   double width_pt = 750, height_pt = 525, font_pt = 9;  ///< the page, for margins in character units
 };
 TerminalSettings make_terminal_settings(const std::string& out_path, const FigureOptions& options, std::size_t n_panels);

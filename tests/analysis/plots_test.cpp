@@ -3,6 +3,7 @@
 #include "analysis/analysis_error.hpp"
 #include "analysis/plots.hpp"
 #include "analysis/report.hpp"
+#include "svg_text_boxes.hpp"
 #include "test_database.hpp"
 
 #include <gtest/gtest.h>
@@ -99,6 +100,35 @@ class PlotTest : public ::testing::Test {
       }
     }
     testing::write_test_sweep(db_, "fixed", fixed_jobs);
+
+    // A 7-joint arm: seven panels of nMSE and torques, long legend entries, narrow tick spacing.
+    std::vector<testing::TestJob> seven_jobs;
+    for (const char* mode : {"online", "batch"}) {
+      for (double init_d : {0.5, 5.0, 50.0, 500.0}) {
+        testing::TestJob job;
+        job.params = {{"learning.mode", mode}, {"learning.lwpr.init_D", init_d}};
+        for (int j = 1; j <= 7; ++j) job.metrics.push_back({0, "same_run_test_nmse", j, 0.01 * j / std::sqrt(init_d), ""});
+        job.metrics.push_back({0, "n_receptive_fields", std::nullopt, 3 * init_d, ""});
+        std::vector<std::string> columns{"t"};
+        for (int j = 1; j <= 7; ++j) columns.push_back("joint " + std::to_string(j));
+        for (const char* name : {"F", "FF", "TOR"}) {
+          job.series.push_back(make_series(name, columns, 120, [&](int r, int c) {
+            return c == 0 ? 0.24 + 0.0004 * r : 12.5 * std::sin(0.05 * r * c) / c;
+          }));
+        }
+        job.series.push_back(make_series("POS_D", {"t", "x", "y", "z"}, 120, [](int r, int c) {
+          return c == 0 ? 0.01 * r : c == 2 ? 0.2 * std::sin(0.05 * r) : c == 3 ? 0.4 + 0.1 * std::cos(0.05 * r) : 0.5;
+        }));
+        job.series.push_back(make_series("POS", {"t", "x", "y", "z"}, 120, [&](int r, int c) {
+          return c == 0 ? 0.01 * r : c == 2 ? 0.2 * std::sin(0.05 * r) + 0.001 * init_d : c == 3 ? 0.4 + 0.1 * std::cos(0.05 * r) : 0.5;
+        }));
+        job.series.push_back(make_series("RF", {"trial", "n_receptive_fields"}, 20, [&](int r, int c) {
+          return c == 0 ? r + 1 : (std::string(mode) == "online" ? r * init_d : init_d);
+        }));
+        seven_jobs.push_back(job);
+      }
+    }
+    testing::write_test_sweep(db_, "seven", seven_jobs);
   }
 
   std::string render(const std::string& arguments, const std::string& out) {
@@ -231,6 +261,39 @@ TEST_F(PlotTest, MissingSeriesSaysWhatToSet) {
     EXPECT_NE(result.output.find("recording.series"), std::string::npos) << result.output;
     EXPECT_NE(result.output.find("\"recording\": {\"series\": [\""), std::string::npos) << result.output;
   }
+}
+
+TEST_F(PlotTest, NoTextOverlapsOnAnyPlotKindOfASevenJointSweep) {
+  const std::vector<std::string> plots = {
+      "nmse-vs-kernel", "rf-growth", "signals", "tracking",
+      "metric-vs-param --metric same_run_test_nmse --joint 7 --param learning.lwpr.init_D --group learning.mode"};
+  for (const char* style : {"paper", "screen", "slide"}) {
+    for (const std::string& plot : plots) {
+      const std::string out = directory_.file(plot.substr(0, plot.find(' ')) + "_" + style + ".svg");
+      const std::string svg = render(plot + " --sweep seven --style " + style, out);
+      const auto boxes = testing::find_text_boxes(svg);
+      EXPECT_GE(boxes.size(), 8u) << plot;  // the checker sees the labels
+      const auto overlaps = testing::find_overlapping_text(svg);
+      EXPECT_TRUE(overlaps.empty()) << plot << " (" << style << "): " << overlaps.size() << " overlaps, first "
+                                    << (overlaps.empty() ? "" : overlaps.front());
+    }
+  }
+}
+
+TEST(SvgTextBoxes, FindsADeliberateOverlapAndNotItsSeparatedTwin) {
+  const std::string label_a = "<g transform=\"translate(100.00,50.00)\" stroke=\"none\" font-size=\"12.00\" text-anchor=\"end\">\n"
+                              "<text>torque (N·m)</text>\n</g>\n";
+  const std::string label_b = "<g transform=\"translate(95.00,54.00)\" stroke=\"none\" font-size=\"12.00\">\n<text>0.24</text>\n</g>\n";
+  const std::string rotated = "<g transform=\"translate(20.00,200.00) rotate(270)\" font-size=\"10.00\" text-anchor=\"middle\">\n"
+                              "<text>time (s)</text>\n</g>\n";
+  const std::string beside = "<g transform=\"translate(40.00,200.00)\" font-size=\"10.00\">\n<text>1e-02</text>\n</g>\n";
+  const std::string on_it = "<g transform=\"translate(16.00,210.00)\" font-size=\"10.00\">\n<text>x</text>\n</g>\n";
+  EXPECT_EQ(testing::find_overlapping_text("<svg>" + label_a + label_b + "</svg>").size(), 1u);
+  EXPECT_TRUE(testing::find_overlapping_text("<svg>" + label_a + rotated + beside + "</svg>").empty());
+  EXPECT_EQ(testing::find_overlapping_text("<svg>" + rotated + on_it + "</svg>").size(), 1u);  // rotated box is vertical
+  const auto boxes = testing::find_text_boxes("<svg>" + rotated + "</svg>");
+  ASSERT_EQ(boxes.size(), 1u);
+  EXPECT_GT(boxes[0].bottom - boxes[0].top, boxes[0].right - boxes[0].left);
 }
 
 TEST_F(PlotTest, ReportIsSelfContainedHtmlPerSweep) {
