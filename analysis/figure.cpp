@@ -36,6 +36,25 @@ bool ends_with(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+// The legend below the panels: one entry per distinct title, as many to a row as fit the page.
+struct LegendLayout {
+  std::size_t rows = 0;
+};
+LegendLayout make_legend_layout(const Figure& figure, double char_width_fraction) {
+  std::vector<std::string> entries;
+  std::size_t longest = 0;
+  for (const Panel& panel : figure.panels) {
+    for (const Curve& curve : panel.curves) {
+      if (curve.title.empty() || std::find(entries.begin(), entries.end(), curve.title) != entries.end()) continue;
+      entries.push_back(curve.title);
+      longest = std::max(longest, curve.title.size());
+    }
+  }
+  const std::size_t per_row =
+      std::max<std::size_t>(1, static_cast<std::size_t>(0.95 / (char_width_fraction * (static_cast<double>(longest) + 8))));
+  return {(entries.size() + per_row - 1) / per_row};
+}
+
 // A step of 1, 2 or 5 × 10^k that puts at most `max_ticks` ticks on [low, high].
 double choose_tick_step(double low, double high, int max_ticks) {
   const double range = high - low;
@@ -69,13 +88,26 @@ std::string make_tics_lines(const Panel& panel, int max_x_ticks, int max_y_ticks
       }
     }
     const char* name = axis == 0 ? "xtics" : "ytics";
-    if ((axis == 0 ? panel.log_x : panel.log_y) || !(high > low)) {
+    const int max_ticks = std::max(1, (axis == 0 ? max_x_ticks : max_y_ticks) - 1);
+    if (axis == 0 ? panel.log_x : panel.log_y) {
+      // On a log axis the increment is a factor: every 10^k decades when there are too many.
+      const double decades = low > 0 && high > low ? std::ceil(std::log10(high)) - std::floor(std::log10(low)) : 0;
+      if (decades > max_ticks) {
+        char line[64];
+        std::snprintf(line, sizeof line, "set %s 1e%d\n", name, static_cast<int>(std::ceil(decades / max_ticks)));
+        lines += line;
+      } else {
+        lines += std::string("set ") + name + " autofreq\n";
+      }
+      continue;
+    }
+    if (!(high > low)) {
       lines += std::string("set ") + name + " autofreq\n";
       continue;
     }
     // gnuplot extends the range to the next tick, so leave room for one more.
     char line[64];
-    std::snprintf(line, sizeof line, "set %s %.10g\n", name, choose_tick_step(low, high, std::max(1, (axis == 0 ? max_x_ticks : max_y_ticks) - 1)));
+    std::snprintf(line, sizeof line, "set %s %.10g\n", name, choose_tick_step(low, high, max_ticks));
     lines += line;
   }
   return lines;
@@ -140,25 +172,15 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
          << "set termoption noenhanced\n"
          << "set grid\nset key outside bottom center horizontal\n"
          << "set datafile missing 'nan'\n";
-  if (n_panels > 1 || !figure.title.empty()) {
+  {
     std::string layout = "set multiplot layout " + std::to_string(rows) + "," + std::to_string(columns);
     // Margins and spacing in character units of this page (gnuplot takes screen fractions):
     // room for the y tick labels and label left of every column, the x ticks, label and the
     // next row's title between rows, the title lines on top and the legend rows below.
-    if (n_panels > 1) {
-      std::vector<std::string> entries;
-      std::size_t longest = 0;
-      for (const Panel& panel : figure.panels) {
-        for (const Curve& curve : panel.curves) {
-          if (curve.title.empty() || std::find(entries.begin(), entries.end(), curve.title) != entries.end()) continue;
-          entries.push_back(curve.title);
-          longest = std::max(longest, curve.title.size());
-        }
-      }
-      const double char_w = 0.6 * terminal.font_pt / terminal.width_pt;
+    {
+      const double char_w = 0.55 * terminal.font_pt / terminal.width_pt;
       const double char_h = 1.25 * terminal.font_pt / terminal.height_pt;
-      const std::size_t per_row = std::max<std::size_t>(1, static_cast<std::size_t>(0.95 / (char_w * (static_cast<double>(longest) + 6))));
-      const std::size_t key_rows = rows * columns > n_panels ? 0 : (entries.size() + per_row - 1) / per_row;
+      const std::size_t key_rows = rows * columns > n_panels ? 0 : make_legend_layout(figure, char_w).rows;
       std::size_t title_lines = figure.title.empty() ? 0 : 1;
       for (char c : figure_title) title_lines += c == '\n';
       // The tallest wrapped x label and panel title set the room between rows.
@@ -170,8 +192,8 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
       }
       char margins[160];
       std::snprintf(margins, sizeof margins, " margins %.4f,%.4f,%.4f,%.4f spacing %.4f,%.4f", std::min(0.3, 10 * char_w),
-                    1 - 2 * char_w, std::min(0.4, (2.2 + x_label_lines + 1.1 * static_cast<double>(key_rows)) * char_h),
-                    std::max(0.5, 1 - (2.6 + title_lines_panel + 1.1 * static_cast<double>(title_lines)) * char_h), std::min(0.3, 11 * char_w),
+                    1 - 2 * char_w, std::min(0.7, (3.0 + x_label_lines + 1.25 * static_cast<double>(key_rows)) * char_h),
+                    std::max(0.55, 1 - (2.6 + title_lines_panel + 1.1 * static_cast<double>(title_lines)) * char_h), std::min(0.3, 11 * char_w),
                     std::min(0.3, (4.8 + x_label_lines + title_lines_panel) * char_h));
       layout += margins;
       if (key_rows > 0) script << "set key at screen 0.5, screen 0.005 center bottom vertical maxrows " << key_rows << "\n";
@@ -195,13 +217,12 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
     return colour_titles.size() - 1;
   };
   // With empty grid cells (7 joints on 3 × 3) the legend goes into them, bottom right.
-  const bool spare_cells = n_panels > 1 && rows * columns > n_panels;
+  const bool spare_cells = rows * columns > n_panels;
   if (spare_cells) {
     script << "set key at screen 0.97, screen 0.06 right bottom vertical Left reverse\n";
   }
   for (std::size_t p = 0; p < n_panels; ++p) {
     const Panel& panel = figure.panels[p];
-    if (n_panels == 1 && panel.curves.size() > 6) script << "set key outside right top vertical\n";
     script << make_tics_lines(panel, max_x_ticks, max_y_ticks);
     script << "set title " << quote_gnuplot(wrap_text(panel.title, label_chars)) << "\n"
            << "set xlabel " << quote_gnuplot(wrap_text(panel.x_label, label_chars)) << "\n"
@@ -244,7 +265,7 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
     }
     script << "\n";
   }
-  if (n_panels > 1 || !figure.title.empty()) script << "unset multiplot\n";
+  script << "unset multiplot\n";
   script << "set output\n";
   return script.str();
 }
@@ -256,7 +277,8 @@ FigureStyle parse_figure_style(const std::string& word) {
   throw AnalysisError("unknown figure style '" + word + "' (paper, slide or screen)");
 }
 
-TerminalSettings make_terminal_settings(const std::string& out_path, const FigureOptions& options, std::size_t n_panels) {
+TerminalSettings make_terminal_settings(const std::string& out_path, const FigureOptions& options, const Figure& figure) {
+  const std::size_t n_panels = figure.panels.size();
   enum class Format { pdf, svg, png };
   Format format;
   if (ends_with(out_path, ".pdf")) format = Format::pdf;
@@ -290,8 +312,14 @@ TerminalSettings make_terminal_settings(const std::string& out_path, const Figur
       break;
   }
   if (options.width_in) width = *options.width_in;
-  if (options.height_in) height = *options.height_in;
   if (options.font_pt) font = *options.font_pt;
+  // The legend's rows below the panels add to the height (unless the size is given), so that
+  // many entries do not squeeze the panels; spare grid cells hold the legend instead.
+  if (!options.height_in && rows * columns == n_panels) {
+    const LegendLayout legend = make_legend_layout(figure, 0.55 * font / (width * 72));
+    height += 1.25 * 1.25 * font * static_cast<double>(legend.rows) / 72;
+  }
+  if (options.height_in) height = *options.height_in;
   if (!(width > 0 && height > 0 && font > 0 && width <= 100 && height <= 100 && font <= 200)) {
     throw AnalysisError(out_path + ": size and font size must be positive (at most 100 in and 200 pt)");
   }
@@ -317,7 +345,7 @@ TerminalSettings make_terminal_settings(const std::string& out_path, const Figur
 }
 
 void write_figure(const Figure& figure, const std::string& out_path, const FigureOptions& options) {
-  const TerminalSettings terminal = make_terminal_settings(out_path, options, figure.panels.size());
+  const TerminalSettings terminal = make_terminal_settings(out_path, options, figure);
   if (figure.panels.empty()) throw AnalysisError(out_path + ": nothing to plot");
   for (const Panel& panel : figure.panels) {
     bool any = false;

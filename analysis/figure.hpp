@@ -49,14 +49,14 @@ struct FigureOptions {
 };
 
 /// The gnuplot terminal line and the line width for `out_path`'s format (by extension: .pdf,
-/// .svg, .png) at `options`, for a figure of `n_panels`. PNG renders at 300 dpi. Throws
+/// .svg, .png) at `options`, for `figure` (its panels and legend entries). PNG renders at 300 dpi. Throws
 /// AnalysisError for another extension.
 struct TerminalSettings {
   std::string terminal_line;
   double line_width = 2.0;
   double width_pt = 750, height_pt = 525, font_pt = 9;  ///< the page, for margins in character units
 };
-TerminalSettings make_terminal_settings(const std::string& out_path, const FigureOptions& options, std::size_t n_panels);
+TerminalSettings make_terminal_settings(const std::string& out_path, const FigureOptions& options, const Figure& figure);
 
 /// Colours: 12 distinct ones, then the same colours with dashed, dotted … line styles. A
 /// curve title already shown in an earlier panel is not repeated, so the figure has one legend,
