@@ -87,11 +87,12 @@ bool has_collection_passes(const JobConfig& config) {
   return mode == LearningMode::batch || (mode != LearningMode::none && config.learning.heldout);
 }
 
-std::vector<JobController> make_job_controllers(const JobConfig& config, const PdGains& gains) {
+std::vector<JobController> make_job_controllers(const JobConfig& config, const PdGains& gains, const Eigen::VectorXd& kp_floor) {
   const ControlConfig& control = config.control;
   const auto make = [&](double scale, const char* key) {
     const double kd_scale = calc_kd_scale(scale, control.keep_damping_ratio);
-    return JobController{LoopGains{gains.kp * scale, gains.kd * kd_scale}, key, scale};
+    const PdGains floored = calc_floored_gains(gains, kp_floor, scale);
+    return JobController{LoopGains{floored.kp * scale, floored.kd * kd_scale}, key, scale};
   };
   std::vector<JobController> controllers;
   if (control.mode != ControlMode::open_loop) controllers.push_back(make(control.gain_scale, "control.gain_scale"));
@@ -180,6 +181,19 @@ std::optional<StartPostureLoops> make_start_posture_loops(const JobConfig& confi
     for (int j = 0; j < movable && same; ++j) same = posture[j] == facts.start_positions[static_cast<std::size_t>(j)];
     if (!same) rigid = facts.rigid_mass_at(posture);
   }
+  // The gravity stiffness at the same posture, for the default gains' kp floor.
+  std::vector<Eigen::MatrixXd> stiffness;
+  if (has_placed_gains(config.control) && facts.gravity_stiffness_at &&
+      facts.start_positions.size() == static_cast<std::size_t>(movable)) {
+    const Eigen::VectorXd start = posture.size() != 0 ? posture
+                                                     : Eigen::Map<const Eigen::VectorXd>(facts.start_positions.data(), movable).eval();
+    const Eigen::MatrixXd all = facts.gravity_stiffness_at(start);
+    Eigen::MatrixXd active(n, n);
+    for (Eigen::Index r = 0; r < n; ++r) {
+      for (Eigen::Index c = 0; c < n; ++c) active(r, c) = all(numbers[r] - 1, numbers[c] - 1);
+    }
+    stiffness.push_back(active);
+  }
   Eigen::MatrixXd mass(n, n);
   Eigen::VectorXd damping(n);
   for (Eigen::Index r = 0; r < n; ++r) {
@@ -194,7 +208,7 @@ std::optional<StartPostureLoops> make_start_posture_loops(const JobConfig& confi
     return std::nullopt;
   }
   loops.plants = make_job_plants(config, mass, damping);
-  loops.controllers = make_job_controllers(config, gains);
+  loops.controllers = make_job_controllers(config, gains, calc_gravity_kp_floor(stiffness, static_cast<int>(n)));
   return loops;
 }
 

@@ -34,9 +34,10 @@ struct JobController {
   double scale = 1.0;
 };
 
-/// The job's controllers from its full-scale `gains`: the evaluation controller (none in
-/// open_loop) and, when the job collects, the collection controller (when its scale differs).
-std::vector<JobController> make_job_controllers(const JobConfig& config, const PdGains& gains);
+/// The job's controllers from its full-scale `gains` and the kp floor after scale (empty: none;
+/// calc_floored_gains): the evaluation controller (none in open_loop) and, when the job
+/// collects, the collection controller (when its scale differs).
+std::vector<JobController> make_job_controllers(const JobConfig& config, const PdGains& gains, const Eigen::VectorXd& kp_floor);
 
 /// The plants a job's passes see at one posture: `mass` (n × n, armature included) with the
 /// nominal `damping` and, when mismatch.viscous is set, with the true plant's.
