@@ -52,8 +52,10 @@ Eigen::VectorXd calc_gravity_kp_floor(const std::vector<Eigen::MatrixXd>& stiffn
 
 /// How far a joint's inertia may grow along the job's postures above the one its default gains
 /// are placed on: gains placed on M_jj keep the bandwidth ω·√(M_jj/M) at inertia M, so with
-/// M ≤ kPlacementInertiaRatio·M_ref the bandwidth stays at least ω/2 at every posture visited.
-inline constexpr double kPlacementInertiaRatio = 4.0;
+/// M ≤ kPlacementInertiaRatio·M_ref the bandwidth stays at least ω/√2 at every posture visited
+/// (kp per unit inertia at least half the placed one). At 4 (ω/2) one low-gain quick-start job of
+/// the Kinova Gen3 still diverged (models/README.md).
+inline constexpr double kPlacementInertiaRatio = 2.0;
 
 /// The inertia (n) the default gains are placed on: the start posture's mass-matrix diagonal,
 /// raised to max_inertia / kPlacementInertiaRatio where a visited posture's diagonal
