@@ -135,7 +135,7 @@ TEST(GravityFloor, TheRowSumBoundsTheCoupledStiffnessByGershgorin) {
 
 TEST(PlacementInertia, RaisesOnlyJointsWhoseInertiaGrowsBeyondTheRatio) {
   const Eigen::Vector3d start(0.008, 1.0, 0.5);
-  const Eigen::Vector3d largest(0.23, 1.3, 4.0 * 0.5);  // 29×, 1.3×, exactly the ratio
+  const Eigen::Vector3d largest(0.23, 1.3, kPlacementInertiaRatio * 0.5);  // 29×, 1.3×, exactly the ratio
   const Eigen::VectorXd inertia = calc_placement_inertia(start, largest);
   EXPECT_NEAR(inertia[0], 0.23 / kPlacementInertiaRatio, 1e-15);
   EXPECT_EQ(inertia[1], start[1]);
