@@ -3,7 +3,8 @@
 // horizontal pin, upright at q = 0) has the closed form: g(q) = −m·g0·l·sin q, its stiffness
 // ∂g/∂q = −m·g0·l·cos q, and under PD τ = −kp q − kd q̇ the upright posture is held iff
 // kp > m·g0·l. The simulation (ArmSimulation, RK4, PD at 1 ms) falls 2 % below that bound and
-// holds 2 % above it (below, it leaves the upright posture for a sagged equilibrium); the floor (margin 2) lifts a controller scaled far below it to 2·m·g0·l.
+// holds 2 % above it (below, it leaves the upright posture for a sagged equilibrium); the floor
+// (margin 2) lifts a controller scaled far below it to 2·m·g0·l, where it holds.
 #include "engine/control/pd_gains.hpp"
 #include "engine/physics/arm_simulation.hpp"
 
