@@ -12,17 +12,18 @@
 namespace armfarm {
 namespace {
 
-/// The steps and the kp floor over the job's trajectories, as run_experiment places them
-/// (JobSetup::fit_to_trajectories).
+/// The steps, the gains and the kp floor over the job's trajectories, as run_experiment places
+/// them (JobSetup::fit_to_trajectories).
 struct TrajectoryFit {
   StepChoice steps;
+  PdGains gains;
   Eigen::VectorXd kp_floor;
 };
 TrajectoryFit calc_trajectory_fit(const ArmModel& model, const JobConfig& config) {
   JobSetup setup(model, config);
   const JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());
   setup.fit_to_trajectories({&trajectories.training, trajectories.heldout ? &*trajectories.heldout : nullptr});
-  return {setup.steps(), setup.kp_floor()};
+  return {setup.steps(), setup.gains(), setup.kp_floor()};
 }
 
 }  // namespace
@@ -41,7 +42,7 @@ ControlFigures calc_control_figures(const ArmModel& model, const JobConfig& conf
   const Eigen::VectorXd start = dynamics.start_positions();
   const Eigen::MatrixXd mass = dynamics.calc_mass_matrix(start);
   const Eigen::VectorXd damping = dynamics.viscous_damping();
-  const PdGains gains = make_pd_gains(config.control, dynamics, numbers);
+  PdGains gains = make_pd_gains(config.control, dynamics, numbers);
   std::vector<Eigen::MatrixXd> stiffness;
   if (has_placed_gains(config.control)) stiffness.push_back(make_gravity_stiffness(dynamics, start));
   Eigen::VectorXd kp_floor = calc_gravity_kp_floor(stiffness, static_cast<int>(numbers.size()));
@@ -61,6 +62,7 @@ ControlFigures calc_control_figures(const ArmModel& model, const JobConfig& conf
     try {
       const TrajectoryFit fit = calc_trajectory_fit(model, config);
       steps.run = fit.steps;
+      gains = fit.gains;
       kp_floor = fit.kp_floor;
     } catch (const std::exception& error) {
       steps.trajectory_problem = error.what();

@@ -7,6 +7,7 @@
 // (margin 2) lifts a controller scaled far below it to 2·m·g0·l, where it holds.
 #include "engine/control/pd_gains.hpp"
 #include "engine/physics/arm_simulation.hpp"
+#include "../physics/test_arms.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
@@ -20,27 +21,10 @@ namespace {
 
 constexpr double kMass = 1.0, kLength = 0.5, kGravity = 9.81, kBobInertia = 0.001;
 
-/// The bob about its own COM carries kBobInertia about x; the pin turns about x.
+/// The bob about its own COM carries kBobInertia about each axis; the pin turns about x.
 ArmModel make_inverted_pendulum() {
-  ArmModel model;
-  model.name = "inverted pendulum";
-  model.source_file = "(inline)";
-  model.links.resize(2);
-  model.links[0].name = "base";
-  model.links[0].fixed_to_world = true;
-  model.links[1].name = "pole";
-  model.links[1].inertial.mass = kMass;
-  model.links[1].inertial.com = Eigen::Vector3d(0.0, 0.0, kLength);
-  model.links[1].inertial.inertia = Eigen::Vector3d::Constant(kBobInertia).asDiagonal();
-  Joint joint;
-  joint.name = "pin";
-  joint.parent_link = 0;
-  joint.child_link = 1;
-  joint.axis = Eigen::Vector3d::UnitX();
-  joint.effort_limit = joint.velocity_limit = std::numeric_limits<double>::infinity();
-  model.joints.push_back(joint);
-  model.end_effector = {1, Eigen::Vector3d(0.0, 0.0, kLength)};
-  return model;
+  return testing::make_one_link_arm("inverted pendulum", kMass, Eigen::Vector3d(0.0, 0.0, kLength),
+                                    Eigen::Vector3d::Constant(kBobInertia).asDiagonal(), Eigen::Vector3d::UnitX());
 }
 
 constexpr double kStiffness = kMass * kGravity * kLength;  // |∂g/∂q| upright, N·m/rad
