@@ -82,7 +82,13 @@ void JobSetup::fit_to_trajectories(const std::vector<const JointTrajectory*>& tr
     gains_ = calc_pd_gains(config_.control, calc_placement_inertia(start_inertia, max_inertia), joint_numbers_);
   }
   kp_floor_ = calc_gravity_kp_floor(stiffness, n_);
-  steps_ = calc_job_steps(config_, plants, make_job_controllers(config_, gains_, kp_floor_));
+  const std::vector<JobController> controllers = make_job_controllers(config_, gains_, kp_floor_);
+  steps_ = calc_job_steps(config_, plants, controllers);
+  step_problems_.clear();
+  if (!steps_.found) {
+    step_problems_ = check_job_steps(config_, plants, controllers, joint_numbers_,
+                                     trajectories.empty() ? "the start posture" : "a posture along the job's trajectories");
+  }
 }
 
 StepChoice JobSetup::calc_steps_at(const Eigen::VectorXd& q, const CompositeController& controller) {

@@ -6,6 +6,7 @@
 #include "engine/control/pd_gains.hpp"
 #include "engine/control/step_stability.hpp"
 #include "engine/experiment/job_config.hpp"
+#include "engine/experiment/job_steps.hpp"
 #include "engine/experiment/pass_statistics.hpp"
 #include "engine/kinematics/serial_chain.hpp"
 #include "engine/model/arm_model.hpp"
@@ -53,6 +54,10 @@ class JobSetup {
   int integrator_steps() const { return steps_.integrator_steps; }
   /// Both, and whether the criterion found them stable (StepChoice::found).
   const StepChoice& steps() const { return steps_; }
+  /// When the criterion finds the steps unstable over the postures fit_to_trajectories judged
+  /// (an explicit value, with the gains placed for those postures, or "auto" finding none): the
+  /// key and the message with the fix (check_job_steps); empty otherwise.
+  const std::vector<StepProblem>& step_problems() const { return step_problems_; }
   /// Places the gains and the kp floor and chooses the "auto" steps again over the start posture and up to
   /// kStepPostures postures spread along each of `trajectories` (where the mass matrix and the
   /// gravity stiffness differ from the start's). Call before make_plant() and make_controller().
@@ -94,6 +99,7 @@ class JobSetup {
   PdGains gains_;
   Eigen::VectorXd kp_floor_;
   StepChoice steps_;
+  std::vector<StepProblem> step_problems_;
   std::unique_ptr<ArmDynamics> true_dynamics_;
   Eigen::VectorXd true_viscous_, true_coulomb_, nominal_viscous_, nominal_coulomb_;
   double reach_ = 0.0;  ///< m, the arm's reach

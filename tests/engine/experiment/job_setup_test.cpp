@@ -78,6 +78,26 @@ TEST(JobSetup, TheGen3sLowGainJobFinishesWhereTheStartPostureGainsDiverge) {
   EXPECT_EQ(before.status, JobStatus::diverged) << before.message;
 }
 
+// An explicit PD period that the start posture allows but the gains placed for the trajectories'
+// postures do not (the Gen3 at pd_substeps 5, its "auto" choice before the placement; run anyway,
+// its held-out collection diverged after 5 minutes of RK4 at 1000 steps per PD period) is refused
+// before any pass runs, with the value that works.
+TEST(JobSetup, AnExplicitPdPeriodUnstableAlongTheTrajectoriesIsRefused) {
+  const ArmModel model = load_gen3();
+  JobConfig config;
+  config.trajectory.sine.duration = 5.0;
+  config.simulation.pd_substeps = 5;
+  try {
+    run_experiment(model, config);
+    ADD_FAILURE() << "pd_substeps 5 ran";
+  } catch (const std::invalid_argument& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.rfind("pd_substeps: 5 is unstable: ", 0), 0u) << message;
+    EXPECT_NE(message.find("at a posture along the job's trajectories"), std::string::npos) << message;
+    EXPECT_NE(message.find("is stable with the criterion's margin"), std::string::npos) << message;
+  }
+}
+
 TEST(JobSetup, TheLwrIIIsGainsAreThoseOfItsStartPostureBitForBit) {
   const ArmModel model = load_arm_model(std::string(ARMFARM_SOURCE_DIR) + "/models/dlr_lwr3.urdf");
   for (double scale : {0.2, 1.0}) {
