@@ -141,6 +141,8 @@ CREATE TABLE models (
 );
 CREATE INDEX models_by_hash ON models(hash);
 )sql",
+      // 5: fenced claims: the file's lease and the claims' fencing tokens (results/job_claims.cpp).
+      job_claims_sql::kFencingMigration,
   };
   return scripts;
 }
