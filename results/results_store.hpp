@@ -240,7 +240,11 @@ class ResultsStore {
   /// Regenerates the sweep's `sweep_<name>` view.
   void update_run_finished(std::int64_t run_id, const std::string& status, int jobs_run, int jobs_skipped,
                            const std::string& finished_at);
+  /// Writes a consistent copy of this database (WAL contents included) to a new file `path`.
+  void copy_to(const std::string& path) const;
   /// Copies the sweeps, jobs, memberships, metrics and series of another database into this one.
+  /// A run of the other file already here (same sweep, start time, shard and host) is not added
+  /// again, so merging the same file twice adds nothing the second time.
   /// The other file is verified first (verify_file): a damaged input changes nothing here.
   MergeReport merge_from(const std::string& other_path);
   /// Recreates the `sweep_<name>` view of one sweep (columns: its params and metrics).
