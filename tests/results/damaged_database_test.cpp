@@ -9,6 +9,8 @@
 #include "support/scratch_file.hpp"
 #include <sqlite3.h>
 
+#include <sys/stat.h>
+
 #include <filesystem>
 
 namespace armfarm {
@@ -165,6 +167,30 @@ TEST_F(DamagedDatabaseTest, ASeriesBlobThatDoesNotDecodeIsFound) {
                 "rows or raw_bytes disagree"),
             std::string::npos);
   expect_merge_refused(damaged, "series of job row 1 (POS)");
+}
+
+}  // namespace
+}  // namespace armfarm
+
+namespace armfarm {
+namespace {
+
+// Issue 30, case 7: a FIFO given as the database blocked every command in open(); now it is
+// refused, read-only and writable, before SQLite opens it (a hang here is ended by ctest's timeout).
+TEST(DamagedDatabase, AFifoIsRefusedBeforeItIsOpened) {
+  const std::filesystem::path folder = test_support::make_scratch_folder("fifo");
+  const std::string fifo = (folder / "results.db").string();
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  for (const ResultsStore::Mode mode : {ResultsStore::Mode::read_only, ResultsStore::Mode::read_write}) {
+    try {
+      ResultsStore::open(fifo, mode);
+      ADD_FAILURE() << "a FIFO was opened";
+    } catch (const StoreError& e) {
+      EXPECT_EQ(std::string(e.what()), fifo + ": not a regular file (a FIFO, device or socket), not a database file");
+    }
+  }
+  EXPECT_THROW(ResultsStore::verify_file(fifo), StoreError);
+  std::filesystem::remove_all(folder);
 }
 
 }  // namespace
