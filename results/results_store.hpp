@@ -188,8 +188,9 @@ class ResultsStore {
 
   const std::string& path() const { return path_; }
   int schema_version() const;
-  /// The result of PRAGMA integrity_check: "ok" for a sound file, otherwise SQLite's findings.
-  std::string check_integrity() const;
+  /// The result of PRAGMA integrity_check (`quick`: quick_check, which skips the indexes'
+  /// agreement with their tables): "ok" for a sound file, otherwise SQLite's findings.
+  std::string check_integrity(bool quick = false) const;
   /// Row by row, what armfarm itself would never have written: dangling references
   /// (foreign_key_check), stored JSON that does not parse or is not an object, values of the
   /// wrong storage class, series whose blob does not decode to rows × columns, and (with

@@ -59,6 +59,15 @@ RunFunction setup_status(CLI::App& parent) {
       for (const std::string& finding : findings) std::cerr << "armfarm: " << *db_path << ": " << finding << "\n";
       if (!findings.empty()) return 2;
       std::cout << *db_path << ": check passed (integrity, references, stored JSON, value types, series)\n";
+    } else {
+      // Without --check, SQLite's quick_check still runs: a file `table` would call malformed
+      // is not reported as fine.
+      const std::string quick = store.check_integrity(true);
+      if (quick != "ok") {
+        std::cerr << "armfarm: " << *db_path << ": damaged armfarm database: quick_check: "
+                  << quick.substr(0, quick.find('\n')) << " (armfarm status --check " << *db_path << " lists more)\n";
+        return 2;
+      }
     }
     const std::vector<SweepRecord> sweeps = store.find_sweeps();
     if (sweeps.empty()) std::cout << *db_path << ": no sweeps\n";

@@ -132,6 +132,19 @@ TEST_F(DamagedDatabaseTest, BrokenStoredJsonIsFoundAndMergeRefusesIt) {
   expect_merge_refused(damaged, "config is not a JSON object");
 }
 
+// Issue 30, case 6: `status --check` passed a jobs.status of 'weird' (written with the CHECKs off).
+TEST_F(DamagedDatabaseTest, AnUnknownStatusValueIsFound) {
+  const std::string damaged = damage(
+      "PRAGMA ignore_check_constraints = ON; UPDATE jobs SET status = 'weird' WHERE id = 1; "
+      "UPDATE runs SET status = 'lost'");
+  const ResultsStore store = ResultsStore::open(damaged, ResultsStore::Mode::read_only);
+  const std::vector<std::string> findings = store.check_contents(false);
+  ASSERT_GE(findings.size(), 2u);
+  EXPECT_NE(findings[0].find("status 'weird' is not a job status"), std::string::npos) << findings[0];
+  EXPECT_NE(findings[1].find("status 'lost' is not a run status"), std::string::npos) << findings[1];
+  expect_merge_refused(damaged, "is not a job status");
+}
+
 TEST_F(DamagedDatabaseTest, ATextWhereANumberBelongsIsNeverReadAsZero) {
   // The CHECK constraint refuses the write; a script that switches checks off gets it in.
   EXPECT_NE(error_of([&] {
