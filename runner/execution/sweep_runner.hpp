@@ -45,6 +45,7 @@ struct RunSummary {
   int done_elsewhere = 0;  ///< done by another runner on the same database while this one ran
   int taken_over = 0;      ///< stale claims of other runners this run took over (or found at its start)
   int not_saved = 0;  ///< finished, but lost because a commit failed (they run again on resume)
+  int discarded = 0;  ///< finished after another runner took the claim over: not written (the fence)
   std::string write_error;  ///< the failed commit's error ("" when every write succeeded)
   bool interrupted = false;
   double elapsed_seconds = 0.0;
