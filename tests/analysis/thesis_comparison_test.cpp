@@ -233,14 +233,14 @@ TEST(ThesisComparison, MarkdownShowsThesisArmfarmAndRatio) {
       format_thesis_comparison(make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::mean), TableFormat::markdown,
                                Aggregate::mean);
   EXPECT_NE(text.find("### Table 6.2: tracking"), std::string::npos) << text;
-  EXPECT_NE(text.find("| Y | FB | 2.0E-03 | 4.000e-03 ± 1.414e-03 | 2 | 2 |"), std::string::npos) << text;
-  EXPECT_NE(text.find("| W | CO | 1 | no metric | — | 0 |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| Y | FB | 2.0E-03 | 4.000e-03 [-8.706e-03, 0.01671] (2) | 2 | matches |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| W | CO | 1 | no metric | — | — |"), std::string::npos) << text;
   EXPECT_NE(text.find("### absent (page 57)"), std::string::npos) << text;
   EXPECT_NE(text.find("not run (sweep never_run absent)"), std::string::npos) << text;
   const std::string csv =
       format_thesis_comparison(make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::mean), TableFormat::csv,
                                Aggregate::mean);
-  EXPECT_NE(csv.find("t_track,J2,CO,0.5,0.6,1.2,1,compared,\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("t_track,J2,CO,0.5,0.6,,,1.2,1,one seed,compared,\n"), std::string::npos) << csv;
   const nlohmann::json json = nlohmann::json::parse(format_thesis_comparison(
       make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::mean), TableFormat::json, Aggregate::mean));
   EXPECT_DOUBLE_EQ(json[0]["cells"][0]["ratio"].get<double>(), 2.0);
@@ -281,16 +281,16 @@ TEST(ThesisComparison, ArmfarmTableAgainstPrintsEveryThesisCell) {
 
   const auto result = testing::run_armfarm("table " + db + " --against " + kThesisFile);
   EXPECT_EQ(result.exit_code, 0) << result.output;
-  EXPECT_NE(result.output.find("| Joint 1 | avg(ff/fb) | 0.912390 | 0.4562 | 0.5 | 1 |"), std::string::npos) << result.output;
-  EXPECT_NE(result.output.find("| Joint 6 | avg(fb) | 0.001557 | 1.557e-03 | 1 | 1 |"), std::string::npos);
+  EXPECT_NE(result.output.find("| Joint 1 | avg(ff/fb) | 0.912390 | 0.4562 (1) | 0.5 | one seed |"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("| Joint 6 | avg(fb) | 0.001557 | 1.557e-03 (1) | 1 | one seed |"), std::string::npos);
   EXPECT_NE(result.output.find("not run (sweep table6_1_figure_eight absent)"), std::string::npos);
-  EXPECT_NE(result.output.find("| Joint 2 | avg(ff) | 0.329532 | not run (metric ff_abs_avg j2 absent) | — | 0 |"),
+  EXPECT_NE(result.output.find("| Joint 2 | avg(ff) | 0.329532 | not run (metric ff_abs_avg j2 absent) | — | — |"),
             std::string::npos);
 
   const auto only = testing::run_armfarm("table " + db + " --sweep table6_4_sine --against " + kThesisFile + " --format csv");
   EXPECT_EQ(only.exit_code, 0) << only.output;
   EXPECT_EQ(only.output.find("table6_1"), std::string::npos) << only.output;
-  EXPECT_NE(only.output.find("table6_4,Joint 1,avg(ff/fb),0.912390,0.456195,0.5,1,compared,"), std::string::npos) << only.output;
+  EXPECT_NE(only.output.find("table6_4,Joint 1,avg(ff/fb),0.912390,0.456195,,,0.5,1,one seed,compared,"), std::string::npos) << only.output;
 
   const std::string bad = dir.file("bad.json");
   std::ofstream(bad) << R"({"tables": [{"id": "t", "caption": "c", "page": "57"}]})";
