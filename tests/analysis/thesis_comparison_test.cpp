@@ -78,6 +78,11 @@ TEST(ThesisResults, ShippedFileHoldsEveryTableOfChapterSixAsPrinted) {
   EXPECT_FALSE(t65.page);  // the text places figure 6.8 on page 57, not the table
   EXPECT_FALSE(find_table(results, "fig6_12_numerical").number);
   EXPECT_EQ(find_table(results, "fig6_12_numerical").caption, "Numerical results from Figure 6.12.");
+  // The comparisons the thesis's text draws (table 6.1's major joints over 1, 5, 6; composite over
+  // feedback in 6.2, 6.3; the sine over the eight; 6.7 over 6.5), each checked against its values.
+  ASSERT_EQ(results.comparisons.size(), 25u);
+  EXPECT_EQ(results.comparisons[9].greater.column, "Feedback control nMSE");
+  EXPECT_EQ(results.comparisons[24].less.table, "table6_7");
 
   // The mapping: held-out reaching at checkpoint 200, the second active joint.
   const ThesisMapping& m = find_cell(find_table(results, "table6_6"), "Joint 2", "var(ff/fb)").mapping;
@@ -245,6 +250,118 @@ TEST(ThesisComparison, MarkdownShowsThesisArmfarmAndRatio) {
       make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::mean), TableFormat::json, Aggregate::mean));
   EXPECT_DOUBLE_EQ(json[0]["cells"][0]["ratio"].get<double>(), 2.0);
   EXPECT_TRUE(json[1]["cells"][0]["armfarm"].is_null());
+}
+
+// Verdicts on constructed cases: table "t" with cells A (thesis 1.0) and B (thesis 0.5), the
+// thesis drawing A > B, and C (thesis 2.0) that no comparison names.
+const char* kVerdictThesis = R"json({"tables": [
+  {"id": "t", "number": "9.9", "caption": "verdicts", "page": null, "armfarm": {"sweep": "v"},
+   "columns": [{"label": "value"}],
+   "rows": [{"label": "A", "armfarm": {"metric": "m_a"}}, {"label": "B", "armfarm": {"metric": "m_b"}},
+            {"label": "C", "armfarm": {"metric": "m_c"}}],
+   "cells": [{"row": "A", "column": "value", "value": 1.0, "printed": "1.0"},
+             {"row": "B", "column": "value", "value": 0.5, "printed": "0.5"},
+             {"row": "C", "column": "value", "value": 2.0, "printed": "2.0"}]}],
+ "comparisons": [{"claim": "A above B", "greater": {"table": "t", "row": "A", "column": "value"},
+                  "less": {"table": "t", "row": "B", "column": "value"}}]})json";
+
+// One job per seed with m_a, m_b, m_c as given.
+SweepData make_verdict_sweep(const std::vector<double>& a, const std::vector<double>& b, const std::vector<double>& c) {
+  SweepData data;
+  data.name = "v";
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    JobResult job;
+    job.key = "v" + std::to_string(i);
+    job.status = "done";
+    job.seed = static_cast<std::int64_t>(i);
+    job.params = {{"seed", job.seed}};
+    job.metrics = {{{"m_a", {}}, a[i]}, {{"m_b", {}}, b[i]}, {{"m_c", {}}, c[i]}};
+    data.jobs.push_back(job);
+  }
+  data.varying_params = calc_varying_params(data.jobs);
+  return data;
+}
+
+std::vector<Verdict> verdicts_of(const SweepData& data) {
+  const ThesisResults thesis = parse_thesis_results(nlohmann::json::parse(kVerdictThesis), "verdicts.json");
+  const ThesisComparison comparison = make_thesis_comparison(thesis, {{"v", data}}, Aggregate::mean);
+  std::vector<Verdict> verdicts;
+  for (const ComparedCell& cell : comparison.tables.at(0).cells) verdicts.push_back(cell.verdict);
+  return verdicts;
+}
+
+TEST(ThesisComparison, VerdictsFollowTheRuleOnConstructedCases) {
+  // A's five seeds have mean 1.0 and interval 1.0 ∓ 2.776·0.0791 ⊃ 1.0: matches. B's interval
+  // [2.08, 2.32] misses 0.5 but A > B fails in every seed: differs. C: no comparison, outside: differs.
+  EXPECT_EQ(verdicts_of(make_verdict_sweep({0.9, 1.0, 1.1, 0.95, 1.05}, {2.0, 2.1, 2.2, 2.3, 2.4}, {5, 5.1, 5.2, 5.3, 5.4})),
+            (std::vector<Verdict>{Verdict::matches, Verdict::differs, Verdict::differs}));
+  // A far above 1.0 and B far above 0.5, but A > B in all five seeds (sign test p = 1/32):
+  // both "same direction"; C inside its interval matches.
+  EXPECT_EQ(verdicts_of(make_verdict_sweep({3.0, 3.1, 3.2, 3.3, 3.4}, {2.0, 2.1, 2.2, 2.3, 2.4}, {1.9, 2.0, 2.1, 2.0, 2.0})),
+            (std::vector<Verdict>{Verdict::same_direction, Verdict::same_direction, Verdict::matches}));
+  // A > B in 4 of 5 seeds: p = 6/32 > 5 %, so differs.
+  EXPECT_EQ(verdicts_of(make_verdict_sweep({3.0, 3.1, 3.2, 3.3, 2.0}, {2.0, 2.1, 2.2, 2.3, 2.4}, {5, 5.1, 5.2, 5.3, 5.4}))[0],
+            Verdict::differs);
+  // 9 of 10 seeds: p = 11/1024 < 5 %, so the comparison holds without holding in every seed.
+  std::vector<double> a, b, c;
+  for (int i = 0; i < 10; ++i) {
+    a.push_back(3.0 + 0.1 * i);
+    b.push_back(i == 9 ? 9.0 : 2.0 + 0.1 * i);
+    c.push_back(2.0);
+  }
+  EXPECT_EQ(verdicts_of(make_verdict_sweep(a, b, c))[0], Verdict::same_direction);
+  // One seed: no interval, no verdict.
+  EXPECT_EQ(verdicts_of(make_verdict_sweep({3.0}, {2.0}, {2.0}))[0], Verdict::one_seed);
+  EXPECT_TRUE(holds_across_seeds(2, 2));
+  EXPECT_FALSE(holds_across_seeds(1, 1));
+  EXPECT_FALSE(holds_across_seeds(4, 5));
+
+  // The printed cell: thesis | mean [interval] (n) | ratio | verdict with the seed count.
+  const ThesisResults thesis = parse_thesis_results(nlohmann::json::parse(kVerdictThesis), "verdicts.json");
+  const std::string text = format_thesis_comparison(
+      make_thesis_comparison(thesis, {{"v", make_verdict_sweep({3.0, 3.1, 3.2, 3.3, 3.4}, {2.0, 2.1, 2.2, 2.3, 2.4}, {2, 2, 2, 2, 2})}},
+                             Aggregate::mean),
+      TableFormat::markdown, Aggregate::mean);
+  EXPECT_NE(text.find("| A | value | 1.0 | 3.2 [3.004, 3.396] (5) | 3.2 | same direction (above t B / value: 5 of 5 seeds) |"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("Verdicts over 3 cells: 1 matches, 2 same direction, 0 differs, 0 one seed, 0 not compared"), std::string::npos)
+      << text;
+}
+
+// A cell whose matching jobs differ in more than their seed is not pooled.
+TEST(ThesisComparison, CellsPoolOnlyJobsThatDifferInTheirSeed) {
+  SweepData data = make_verdict_sweep({1.0, 1.1}, {0.5, 0.6}, {2.0, 2.1});
+  data.jobs[1].params["learning.lwpr.init_D"] = 0.5;
+  data.jobs[0].params["learning.lwpr.init_D"] = 0.1;
+  data.varying_params = calc_varying_params(data.jobs);
+  const ThesisResults thesis = parse_thesis_results(nlohmann::json::parse(kVerdictThesis), "verdicts.json");
+  const ThesisComparison comparison = make_thesis_comparison(thesis, {{"v", data}}, Aggregate::mean);
+  EXPECT_EQ(comparison.tables[0].cells[0].state, CellState::not_run);
+  EXPECT_NE(comparison.tables[0].cells[0].reason.find("differ in learning.lwpr.init_D"), std::string::npos)
+      << comparison.tables[0].cells[0].reason;
+}
+
+TEST(ThesisResults, ComparisonsMustAgreeWithTheThesissOwnValues) {
+  auto with_claim = [](const std::string& greater, const std::string& less) {
+    nlohmann::json document = nlohmann::json::parse(kVerdictThesis);
+    document["comparisons"][0]["greater"]["row"] = greater;
+    document["comparisons"][0]["less"]["row"] = less;
+    return document;
+  };
+  EXPECT_NO_THROW(parse_thesis_results(with_claim("C", "A"), "x.json"));  // 2.0 above 1.0
+  try {
+    parse_thesis_results(with_claim("B", "A"), "x.json");  // 0.5 above 1.0 is not what the thesis printed
+    FAIL() << "accepted";
+  } catch (const AnalysisError& e) {
+    EXPECT_EQ(std::string(e.what()), "x.json: comparisons[0]: the thesis's own values (0.5 and 1) do not have greater above less");
+  }
+  try {
+    parse_thesis_results(with_claim("Z", "A"), "x.json");
+    FAIL() << "accepted";
+  } catch (const AnalysisError& e) {
+    EXPECT_EQ(std::string(e.what()), "x.json: comparisons[0].greater: table 't' has no cell 'Z' / 'value'");
+  }
 }
 
 TEST(ThesisResults, MalformedFilesNameTheJsonPath) {
