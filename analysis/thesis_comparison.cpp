@@ -384,6 +384,57 @@ ThesisResults parse_thesis_results(const nlohmann::json& document, const std::st
     results.tables.push_back(parse_table(reader, tables[i], where));
     if (!ids.insert(results.tables.back().id).second) reader.fail(where + ".id", "'" + results.tables.back().id + "' appears twice");
   }
+  if (auto figures = document.find("figures"); figures != document.end() && !figures->is_null()) {
+    if (!figures->is_array()) reader.fail("figures", "expected an array");
+    for (std::size_t i = 0; i < figures->size(); ++i) {
+      const std::string where = "figures[" + std::to_string(i) + "]";
+      const json& figure = (*figures)[i];
+      if (!figure.is_object()) reader.fail(where, "expected an object");
+      const std::string number = reader.string(figure, where, "number");
+      if (auto mapping = figure.find("armfarm"); mapping != figure.end() && mapping->is_object()) {
+        if (auto sweep = mapping->find("sweep"); sweep != mapping->end() && sweep->is_string()) {
+          results.figure_sweeps[sweep->get<std::string>()].push_back(number);
+        }
+      }
+      auto fact_cells = figure.find("fact_cells");
+      if (fact_cells == figure.end() || fact_cells->is_null()) continue;
+      if (!fact_cells->is_array()) reader.fail(where + ".fact_cells", "expected an array");
+      ThesisTable table;
+      table.id = "fig" + number;
+      std::replace(table.id.begin(), table.id.end(), '.', '_');
+      table.caption = "Figure " + number + ": " + reader.string(figure, where, "caption") + " (stated facts)";
+      table.page = reader.optional_positive_int(figure, where, "page");
+      const ThesisMapping figure_mapping = reader.mapping(figure, where);
+      const json& facts = reader.member(figure, where, "facts");
+      for (std::size_t c = 0; c < fact_cells->size(); ++c) {
+        const std::string cell_where = where + ".fact_cells[" + std::to_string(c) + "]";
+        const json& node = (*fact_cells)[c];
+        if (!node.is_object()) reader.fail(cell_where, "expected an object {fact, label, armfarm}");
+        ThesisCell cell;
+        const std::string fact = reader.string(node, cell_where, "fact");
+        cell.row = reader.string(node, cell_where, "label");
+        cell.column = "fact";
+        const json* value = &facts;
+        for (std::size_t start = 0; start <= fact.size();) {
+          const std::size_t dot = std::min(fact.find('.', start), fact.size());
+          const std::string key = fact.substr(start, dot - start);
+          if (!value->is_object() || !value->contains(key)) reader.fail(cell_where + ".fact", "no fact '" + fact + "' in " + where + ".facts");
+          value = &(*value)[key];
+          start = dot + 1;
+        }
+        if (!value->is_number()) reader.fail(cell_where + ".fact", "'" + fact + "' is not a number");
+        cell.value = value->get<double>();
+        cell.printed = value->dump();
+        merge_into(cell.mapping, figure_mapping);
+        merge_into(cell.mapping, reader.mapping(node, cell_where));
+        table.cells.push_back(std::move(cell));
+      }
+      for (const ThesisTable& other : results.tables) {
+        if (other.id == table.id) reader.fail(where + ".number", "figure table '" + table.id + "' appears twice");
+      }
+      results.tables.push_back(std::move(table));
+    }
+  }
   auto comparisons = document.find("comparisons");
   if (comparisons == document.end() || comparisons->is_null()) return results;
   if (!comparisons->is_array()) reader.fail("comparisons", "expected an array");
@@ -498,7 +549,8 @@ ThesisResults parse_thesis_results_text(const std::string& text, const std::stri
 }
 
 ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::map<std::string, SweepData>& sweeps,
-                                        Aggregate aggregate, const std::optional<std::string>& only_sweep) {
+                                        Aggregate aggregate, const std::optional<std::string>& only_sweep,
+                                        const std::vector<std::string>& known_sweeps) {
   std::vector<ComparedTable> all;
   for (const ThesisTable& table : thesis.tables) {
     ComparedTable compared;
@@ -517,7 +569,22 @@ ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::
     if (only_sweep && std::find(compared.sweeps.begin(), compared.sweeps.end(), *only_sweep) == compared.sweeps.end()) continue;
     comparison.tables.push_back(std::move(compared));
   }
-  if (only_sweep && comparison.tables.empty()) throw AnalysisError(thesis.path + ": no table maps to sweep '" + *only_sweep + "'");
+  if (only_sweep && comparison.tables.empty()) {
+    auto figures = thesis.figure_sweeps.find(*only_sweep);
+    const bool known = sweeps.count(*only_sweep) ||
+                       std::find(known_sweeps.begin(), known_sweeps.end(), *only_sweep) != known_sweeps.end();
+    if (figures == thesis.figure_sweeps.end() && !known) {
+      throw AnalysisError(thesis.path + ": no table maps to sweep '" + *only_sweep + "', and the database holds no such sweep");
+    }
+    if (figures != thesis.figure_sweeps.end()) {
+      std::string numbers;
+      for (const std::string& number : figures->second) numbers += (numbers.empty() ? "" : ", ") + number;
+      comparison.note = "sweep " + *only_sweep + " draws figure(s) " + numbers + ", whose stated facts give no number armfarm compares; " +
+                        "read its metrics with `armfarm table DB --sweep " + *only_sweep + "`";
+    } else {
+      comparison.note = "sweep " + *only_sweep + " reproduces no table or figure of the thesis (" + thesis.path + ")";
+    }
+  }
   return comparison;
 }
 
@@ -533,12 +600,15 @@ ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const Resul
   for (const SweepRecord& record : store.find_sweeps()) {
     if (wanted.count(record.name)) sweeps[record.name] = load_sweep_data(store, record.name);
   }
-  return make_thesis_comparison(thesis, sweeps, aggregate, only_sweep);
+  std::vector<std::string> known;
+  for (const SweepRecord& record : store.find_sweeps()) known.push_back(record.name);
+  return make_thesis_comparison(thesis, sweeps, aggregate, only_sweep, known);
 }
 
 std::string format_thesis_comparison(const ThesisComparison& comparison, TableFormat format, Aggregate aggregate) {
   std::ostringstream out;
   if (format == TableFormat::latex) throw AnalysisError("--against prints md, csv or json, not latex");
+  if (!comparison.note.empty() && format == TableFormat::markdown) out << comparison.note << "\n\n";
   if (format == TableFormat::json) {
     json tables = json::array();
     for (const ComparedTable& table : comparison.tables) {

@@ -77,8 +77,14 @@ struct ThesisClaim {
 
 struct ThesisResults {
   std::string path;
+  /// The printed tables, then one table per figure with `fact_cells` (id "fig6_7", no number,
+  /// one row per stated number, column "fact"; the value read from the figure's `facts` by its
+  /// dotted path, so the number has one home).
   std::vector<ThesisTable> tables;
   std::vector<ThesisClaim> comparisons;
+  /// Sweeps the figures name (their `armfarm.sweep`), with the figure numbers: a --sweep that
+  /// only draws figures without numbers is still known.
+  std::map<std::string, std::vector<std::string>> figure_sweeps;
 };
 
 /// Parses the text of the thesis results file `path` (the runner reads it, see
@@ -129,16 +135,19 @@ struct ComparedTable {
 
 struct ThesisComparison {
   std::vector<ComparedTable> tables;
+  std::string note;  ///< printed when no table maps to the chosen sweep
 };
 
 /// Assigns every compared cell its verdict (cells located by table id, row and column).
 void assign_verdicts(const ThesisResults& thesis, std::vector<ComparedTable>& tables);
 
 /// Compares every cell against `sweeps` (by name; an absent name gives "not run").
-/// `only_sweep`, when given, keeps the tables with a cell mapped to that sweep (AnalysisError
-/// when there is none). The result points into `thesis`, which must outlive it.
+/// `only_sweep`, when given, keeps the tables with a cell mapped to that sweep; when none is, the
+/// result has no table and a `note` (which figures the sweep draws, if any); AnalysisError when
+/// the file names the sweep nowhere and `known_sweeps` (the database's) lacks it too. The result points into `thesis`, which must outlive it.
 ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::map<std::string, SweepData>& sweeps,
-                                        Aggregate aggregate, const std::optional<std::string>& only_sweep = std::nullopt);
+                                        Aggregate aggregate, const std::optional<std::string>& only_sweep = std::nullopt,
+                                        const std::vector<std::string>& known_sweeps = {});
 
 /// Loads the sweeps the file names that the database holds, then compares.
 ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const ResultsStore& store, Aggregate aggregate,

@@ -51,10 +51,21 @@ std::string error_of(const std::string& text) {
 
 TEST(ThesisResults, ShippedFileHoldsEveryTableOfChapterSixAsPrinted) {
   const ThesisResults results = load_thesis_results(kThesisFile);
-  ASSERT_EQ(results.tables.size(), 9u);  // 6.1–6.7 and the two unnumbered tables of figures 6.12, 6.13
+  // 6.1–6.7, the two unnumbered tables of figures 6.12, 6.13, then the figures' stated numbers
+  // (6.7: fields after 1, 200 and 1000 reaches; 6.8–6.10: the model's fields).
+  ASSERT_EQ(results.tables.size(), 13u);
   std::size_t cells = 0;
-  for (const ThesisTable& table : results.tables) cells += table.cells.size();
+  for (std::size_t t = 0; t < 9; ++t) cells += results.tables[t].cells.size();
   EXPECT_EQ(cells, 6u * 4 * 2 + 2u * 2 * 2 + 3u * 4 * 5);
+  const ThesisTable& f67 = find_table(results, "fig6_7");
+  ASSERT_EQ(f67.cells.size(), 3u);
+  EXPECT_EQ(f67.cells[2].value, 271);  // read from figures[6].facts.receptive_fields_after_reaches
+  EXPECT_EQ(*f67.cells[2].mapping.metric, "n_receptive_fields");
+  EXPECT_TRUE(f67.cells[0].mapping.metric_given && !f67.cells[0].mapping.metric);  // the RF series, no metric
+  const ThesisCell& f69 = find_table(results, "fig6_9").cells.at(0);
+  EXPECT_EQ(f69.value, 173);
+  EXPECT_EQ(*f69.mapping.sweep, "table6_5_7_heldout_reaching");
+  EXPECT_EQ(*f69.mapping.checkpoint, 200);
 
   // Literal values from the thesis (table, row, column as printed).
   const ThesisCell& t61 = find_cell(find_table(results, "table6_1"), "Joint 1", "avg(ff/fb)");
@@ -80,7 +91,7 @@ TEST(ThesisResults, ShippedFileHoldsEveryTableOfChapterSixAsPrinted) {
   EXPECT_EQ(find_table(results, "fig6_12_numerical").caption, "Numerical results from Figure 6.12.");
   // The comparisons the thesis's text draws (table 6.1's major joints over 1, 5, 6; composite over
   // feedback in 6.2, 6.3; the sine over the eight; 6.7 over 6.5), each checked against its values.
-  ASSERT_EQ(results.comparisons.size(), 25u);
+  ASSERT_EQ(results.comparisons.size(), 27u);  // and the growth 12 → 173 → 271 of figures 6.8–6.10
   EXPECT_EQ(results.comparisons[9].greater.column, "Feedback control nMSE");
   EXPECT_EQ(results.comparisons[24].less.table, "table6_7");
 
@@ -414,6 +425,40 @@ TEST(ThesisComparison, ArmfarmTableAgainstPrintsEveryThesisCell) {
   const auto failure = testing::run_armfarm("table " + db + " --against " + bad);
   EXPECT_EQ(failure.exit_code, 2);
   EXPECT_EQ(failure.output, "armfarm: " + bad + ": tables[0].page: expected a positive integer or null\n");
+}
+
+// --sweep takes every shipped spec: one mapped through a figure's facts prints that figure's
+// table; one that draws figures without numbers, or no thesis content, prints why and exits 0;
+// a name neither the file nor the database knows exits 2.
+TEST(ThesisComparison, ArmfarmTableAgainstAcceptsEveryShippedSweep) {
+  testing::TemporaryDirectory dir;
+  const std::string db = dir.file("results.db");
+  std::vector<testing::TestJob> jobs(2);
+  jobs[0].params = {{"seed", 0}};
+  jobs[0].metrics = {{0, "n_receptive_fields", std::nullopt, 300}};
+  jobs[1].params = {{"seed", 1}};
+  jobs[1].metrics = {{0, "n_receptive_fields", std::nullopt, 310}};
+  testing::write_test_sweep(db, "fig6_7_reaching_fields", jobs);
+  testing::write_test_sweep(db, "fig6_1_kernel_width", jobs);
+  testing::write_test_sweep(db, "controllers_sine", jobs);
+
+  const auto fields = testing::run_armfarm("table " + db + " --sweep fig6_7_reaching_fields --against " + kThesisFile);
+  EXPECT_EQ(fields.exit_code, 0) << fields.output;
+  EXPECT_NE(fields.output.find("### Figure 6.7: Number of receptive fields"), std::string::npos) << fields.output;
+  // 305 ∓ 12.706·5: [241.5, 368.5] holds 271.
+  EXPECT_NE(fields.output.find("| receptive fields after 1000 reaches (summed over the outputs) | fact | 271 | 305 [241.5, 368.5] (2) | 1.125 | matches |"),
+            std::string::npos)
+      << fields.output;
+  EXPECT_NE(fields.output.find("| receptive fields after 1 reach | fact | 12 | no metric | — | — |"), std::string::npos) << fields.output;
+
+  const auto kernel = testing::run_armfarm("table " + db + " --sweep fig6_1_kernel_width --against " + kThesisFile);
+  EXPECT_EQ(kernel.exit_code, 0) << kernel.output;
+  EXPECT_NE(kernel.output.find("sweep fig6_1_kernel_width draws figure(s) 6.1, 6.2"), std::string::npos) << kernel.output;
+  const auto other = testing::run_armfarm("table " + db + " --sweep controllers_sine --against " + kThesisFile);
+  EXPECT_EQ(other.exit_code, 0) << other.output;
+  EXPECT_NE(other.output.find("sweep controllers_sine reproduces no table or figure of the thesis"), std::string::npos) << other.output;
+  const auto typo = testing::run_armfarm("table " + db + " --sweep fig6_7_reaching_feilds --against " + kThesisFile);
+  EXPECT_EQ(typo.exit_code, 2) << typo.output;
 }
 
 }  // namespace
