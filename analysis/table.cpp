@@ -175,7 +175,7 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
     std::vector<std::optional<std::int64_t>> checkpoint_columns{std::nullopt};
     const auto checkpoints = checkpoints_by_name.find(name);
     const bool checkpointed = checkpoints != checkpoints_by_name.end();
-    if (checkpointed && !checkpoint_rows) checkpoint_columns.assign(checkpoints->second.begin(), checkpoints->second.end());
+    if (checkpointed && !checkpoint_rows) checkpoint_columns = decltype(checkpoint_columns)(checkpoints->second.begin(), checkpoints->second.end());
     for (const std::optional<std::int64_t>& checkpoint : checkpoint_columns) {
       TableColumn column;
       column.metric = MetricId{name, std::nullopt, checkpoint};

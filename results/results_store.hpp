@@ -71,8 +71,8 @@ struct MetricRecord {
   std::string name;
   std::optional<int> joint;                ///< 1-based joint number; empty for a job-level metric
   std::optional<double> value;             ///< empty = undefined (NULL), see `reason`
-  std::string reason;                      ///< why undefined, or a note on the value; empty = NULL
-  std::optional<std::int64_t> checkpoint;  ///< held-out evaluation checkpoint; empty otherwise (last, so
+  std::string reason{};                    ///< why undefined, or a note on the value; empty = NULL
+  std::optional<std::int64_t> checkpoint{};  ///< held-out evaluation checkpoint; empty otherwise (last, so
                                            ///< that {job_id, name, joint, value} still means what it says)
 };
 
@@ -160,7 +160,7 @@ struct JobBatch {
   std::vector<std::string> abandoned;
   /// The claim owner (results/job_claims.hpp) whose claims the finished and abandoned jobs
   /// release; empty when the jobs were not claimed (`started` marks them running instead).
-  std::string claim_owner;
+  std::string claim_owner{};
 };
 
 /// What `merge_from` did. A conflict is a job key present in both files with a different
