@@ -2,6 +2,7 @@
 #include "results/store_internal.hpp"
 
 #include "results/job_claims.hpp"
+#include "results/search_store.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -141,6 +142,9 @@ CREATE TABLE models (
 );
 CREATE INDEX models_by_hash ON models(hash);
 )sql",
+      // 5: searches, their rungs, trials and steps (new trials and promotions) and the objective
+      // each step saw (results/search_store.cpp). Becomes 6 when fence's migration 5 lands first.
+      search_store_sql::kMigration,
   };
   return scripts;
 }
