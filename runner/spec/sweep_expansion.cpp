@@ -76,13 +76,18 @@ std::vector<Factor> make_factors(const SweepSpec& spec, const std::vector<PathSe
   }
   if (spec.search) {
     // The steps decided before any result (the search runner decides the rest as jobs finish).
-    const search::SearchHistory steps = calc_initial_search_steps(*spec.search);
+    std::vector<std::pair<search::SearchPoint, std::size_t>> decided;
+    if (spec.search->decided) {
+      decided = *spec.search->decided;
+    } else {
+      const search::SearchHistory initial = calc_initial_search_steps(*spec.search);
+      for (const search::SearchStep& step : initial.steps) decided.emplace_back(initial.trials[step.trial].point, step.rung);
+    }
     Factor factor;
-    for (std::size_t s = 0; s < steps.steps.size(); ++s) {
-      const search::SearchStep& step = steps.steps[s];
-      const nlohmann::json params = calc_search_step_params(*spec.search, steps.trials[step.trial].point, step.rung);
+    for (std::size_t s = 0; s < decided.size(); ++s) {
+      const nlohmann::json params = calc_search_step_params(*spec.search, decided[s].first, decided[s].second);
       FactorEntry entry;
-      const std::string where = " (trial " + std::to_string(step.trial) + ", rung " + std::to_string(step.rung) + ")";
+      const std::string where = " (step " + std::to_string(s) + ", rung " + std::to_string(decided[s].second) + ")";
       for (std::size_t d = 0; d < spec.search->axes.size(); ++d) {
         const SpecSearchAxis& axis = spec.search->axes[d];
         const std::string& path = spec.search->settings.space.axes[d].path;
@@ -174,7 +179,10 @@ std::uint64_t calc_expansion_count(const SweepSpec& spec) {
     count = multiply_saturating(count, group.axes.empty() ? 1 : group.axes.front().values.size());
   }
   if (spec.random) count = multiply_saturating(count, static_cast<std::uint64_t>(spec.random->samples));
-  if (spec.search) count = multiply_saturating(count, std::max<std::uint64_t>(spec.search->settings.slots, 1));
+  if (spec.search) {
+    count = multiply_saturating(count, spec.search->decided ? spec.search->decided->size()
+                                                            : std::max<std::uint64_t>(spec.search->settings.slots, 1));
+  }
   if (!spec.repeat_seeds.empty()) count = multiply_saturating(count, spec.repeat_seeds.size());
   return count;
 }

@@ -76,6 +76,9 @@ struct SpecSearch {
   double budget = 0.0;
   /// "learning.heldout_checkpoints": a step to rung r runs the checkpoints rungs[0 … r].
   std::vector<PathSegment> checkpoint_segments;
+  /// The steps to expand, (point, rung) each, as the search runner decided them; unset: the steps
+  /// decided before any result (calc_initial_search_steps).
+  std::optional<std::vector<std::pair<search::SearchPoint, std::size_t>>> decided;
 };
 
 /// The values a search step sets, {"dotted.path": value}: each axis's value at `point` (a
