@@ -36,6 +36,9 @@ struct ModelFacts {
   /// The rigid-body mass matrix (n × n, every movable joint) at any posture, for a configured
   /// start_posture (thread-safe; unset: not available).
   std::function<Eigen::MatrixXd(const Eigen::VectorXd& q)> rigid_mass_at;
+  /// The gravity stiffness ∂g/∂q (n × n, every movable joint, N·m/rad; make_gravity_stiffness)
+  /// at any posture, for the default gains' kp floor (thread-safe; unset: no floor is judged).
+  std::function<Eigen::MatrixXd(const Eigen::VectorXd& q)> gravity_stiffness_at;
   /// Per movable joint, for messages: its name and whether it slides (m) rather than turns (rad).
   std::vector<std::string> joint_names;
   std::vector<bool> prismatic;
