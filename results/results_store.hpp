@@ -7,6 +7,7 @@
 // ISO-8601 text; durations and simulated times are seconds. Errors throw StoreError whose
 // message names the file.
 #include "results/job_claims.hpp"
+#include "results/search_store.hpp"
 #include "results/store_error.hpp"
 
 #include <Eigen/Core>
@@ -24,7 +25,7 @@ namespace armfarm {
 class SqliteConnection;
 
 /// The schema version this build writes and reads (PRAGMA user_version).
-inline constexpr int kResultsSchemaVersion = 5;
+inline constexpr int kResultsSchemaVersion = 6;
 
 /// Where a sweep's results came from: the armfarm build and the machine.
 struct Provenance {
@@ -223,6 +224,19 @@ class ResultsStore {
   std::vector<StoredModelInfo> find_sweep_models(const std::string& sweep) const;
   /// Number of the sweep's jobs per status ("done" → 12, …).
   std::map<std::string, int> count_jobs_by_status(const std::string& sweep) const;
+
+  // Searches (results/search_store.hpp).
+  /// Writes `search` and its rungs for its (existing) sweep, unless the sweep already has one.
+  void insert_search(const SearchRecord& search);
+  std::optional<SearchRecord> find_search(const std::string& sweep) const;
+  /// Appends one step (its job registered already) and, for a new trial, the trial, in one transaction.
+  void insert_search_step(const std::string& sweep, const SearchStepRecord& step,
+                          const std::optional<SearchTrialRecord>& new_trial);
+  /// Marks step `step` committed with the objective it saw (empty: undefined, with `reason`).
+  void update_search_objective(const std::string& sweep, std::int64_t step, const std::optional<double>& objective,
+                               const std::string& reason);
+  std::vector<SearchTrialRecord> find_search_trials(const std::string& sweep) const;
+  std::vector<SearchStepRecord> find_search_steps(const std::string& sweep) const;
 
   // ---- writes (read_write only) ----
   /// Registers a run of a sweep: upserts the sweep row, inserts unknown jobs as pending, makes

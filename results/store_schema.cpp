@@ -2,6 +2,7 @@
 #include "results/store_internal.hpp"
 
 #include "results/job_claims.hpp"
+#include "results/search_store.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -143,6 +144,9 @@ CREATE INDEX models_by_hash ON models(hash);
 )sql",
       // 5: fenced claims: the file's lease and the claims' fencing tokens (results/job_claims.cpp).
       job_claims_sql::kFencingMigration,
+      // 6: searches, their rungs, trials and steps (new trials and promotions) and the objective
+      // each step saw (results/search_store.cpp).
+      search_store_sql::kMigration,
   };
   return scripts;
 }

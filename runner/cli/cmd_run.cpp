@@ -5,6 +5,7 @@
 #include "runner/execution/input_changes.hpp"
 #include "runner/execution/job_kind.hpp"
 #include "runner/execution/provenance.hpp"
+#include "runner/execution/search_runner.hpp"
 #include "runner/execution/stop_signal.hpp"
 #include "runner/execution/sweep_runner.hpp"
 #include "runner/spec/spec_error.hpp"
@@ -106,6 +107,36 @@ RunFunction setup_run(CLI::App& parent) {
     // Stages run in order, each expanded only after the ones before it ran (its jobs may start
     // from the models they stored); a stage that is not all done stops the rest.
     for (std::size_t s = 0; s < stages.size(); ++s) {
+      if (stages[s].search) {
+        if (run.shard.count > 1) {
+          std::cerr << "armfarm: " << options->spec << ": a search decides its jobs as it runs and is not sharded; "
+                    << "run several runners on one database instead\n";
+          return 2;
+        }
+        const std::string name = stages[s].name;
+        std::cout << "search " << name << ": " << to_string(stages[s].search->settings.method) << ", " << run.threads
+                  << " threads, database " << run.db_path << std::endl;
+        SearchRunSummary result;
+        try {
+          result = run_search(stages[s], kind, run, options->limits, signals.stop_requested());
+        } catch (const StoreError& e) {
+          std::cerr << "armfarm: " << e.what() << "\n";
+          return 2;
+        } catch (const ConfigError& e) {
+          std::cerr << "armfarm: " << options->spec << ": " << e.what() << "\n";
+          return 2;
+        } catch (const SpecError& e) {
+          for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
+          return 2;
+        }
+        std::cout << "search " << name << ": " << result.steps << " steps (" << result.trials << " trials) in "
+                  << result.rounds << " rounds, spent " << result.spent << " of "
+                  << stages[s].search->budget << (stages[s].search->budget_unit == SpecSearch::BudgetUnit::jobs ? " jobs" : " cost units");
+        if (result.best) std::cout << "; best " << stages[s].search->objective.metric << " " << *result.best << " (trial " << result.best_trial << ")";
+        std::cout << (result.finished ? "; finished" : "; not finished: run the same command again to resume") << "\n";
+        if (!result.finished) return 1;
+        continue;
+      }
       ExpandedSweep sweep;
       try {
         sweep = expand_sweep(std::move(stages[s]), kind.schema, options->limits);

@@ -68,7 +68,9 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
 
   std::vector<const ExpandedJob*> to_run;
   for (const ExpandedJob* job : shard_jobs) {
-    if (options.force || registered.status_by_key.at(job->key) != "done") {
+    const std::string& status = registered.status_by_key.at(job->key);
+    const bool unsuccessful = status == "failed" || status == "diverged" || status == "timeout";
+    if (options.force || (status != "done" && (options.rerun_unsuccessful || !unsuccessful))) {
       to_run.push_back(job);
     } else {
       ++summary.skipped;

@@ -27,6 +27,7 @@ struct RunOptions {
   int threads = 0;                         ///< 0: one per core
   std::optional<double> timeout_seconds;   ///< per job, wall clock, s
   bool force = false;                      ///< run done jobs again
+  bool rerun_unsuccessful = true;          ///< run failed, diverged and timed-out jobs again (searches: no, their outcome is the trial's)
   Shard shard;
   std::vector<double> job_costs;           ///< per job of the sweep (job_cost.hpp): deals the shards, weights the ETA; empty: 1 each
   ClaimConfig claims;                      ///< runners sharing the database (claim_keeper.hpp)

@@ -257,7 +257,7 @@ namespace armfarm {
 namespace {
 
 // Schema 4 -> 5 (issue 30): a version 4 file, made here by undoing migration 5 by hand on a
-// fresh file with one live claim, reads through a migrated copy and migrates when written: the
+// fresh file with one live claim (and undoing migration 6, the search tables), reads through a migrated copy and migrates when written: the
 // lease starts at 60 s, existing claims and jobs carry token 0, and the next claim of a job
 // gets token 1; the job's data stays as it was.
 TEST(JobClaimsSchema, VersionFourMigratesToFencedClaims) {
@@ -279,6 +279,8 @@ TEST(JobClaimsSchema, VersionFourMigratesToFencedClaims) {
   sqlite3* raw = nullptr;
   ASSERT_EQ(sqlite3_open(db.c_str(), &raw), SQLITE_OK);
   ASSERT_EQ(sqlite3_exec(raw,
+                         "DROP VIEW search_promotions; DROP TABLE search_steps; DROP TABLE search_trials; "
+                         "DROP TABLE search_rungs; DROP TABLE searches; "
                          "DROP TABLE claim_lease; ALTER TABLE jobs DROP COLUMN claim_generation; "
                          "ALTER TABLE job_claims DROP COLUMN generation; PRAGMA user_version = 4;",
                          nullptr, nullptr, nullptr),
@@ -293,7 +295,7 @@ TEST(JobClaimsSchema, VersionFourMigratesToFencedClaims) {
   EXPECT_EQ(query_text(db, "PRAGMA user_version"), "4");  // reading left the file as it was
   {
     ResultsStore writer = ResultsStore::open(db, ResultsStore::Mode::read_write);
-    EXPECT_EQ(writer.schema_version(), 5);
+    EXPECT_EQ(writer.schema_version(), kResultsSchemaVersion);
     EXPECT_EQ(writer.find_lease_seconds(), 60.0);
     EXPECT_EQ(query_text(db, "SELECT key || ':' || status || ':' || claim_generation FROM jobs ORDER BY key"),
               "k1:running:0,k2:pending:0");
