@@ -2,6 +2,7 @@
 
 #include "analysis/analysis_error.hpp"
 #include "analysis/plots.hpp"
+#include "analysis/search_summary.hpp"
 #include "analysis/sweep_data.hpp"
 #include "analysis/table.hpp"
 
@@ -138,6 +139,10 @@ std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep,
     } catch (const AnalysisError& e) {
       page << "<p class=\"bad\">" << escape_html(spec.title + ": " + e.what()) << "</p>\n";
     }
+  }
+
+  if (const std::optional<SearchSummary> summary = load_search_summary(store, sweep.name)) {
+    page << "<h2>Search</h2>\n<pre>" << escape_html(format_search_summary(*summary)) << "</pre>\n";
   }
 
   page << "<h2>Plots</h2>\n";

@@ -36,11 +36,11 @@ struct PlotOptions {
 
 RunFunction setup_plot(CLI::App& parent) {
   auto options = std::make_shared<PlotOptions>();
-  CLI::App* sub = parent.add_subcommand("plot", "Plot a sweep: nmse-vs-kernel, rf-growth, signals, tracking, metric-vs-param");
+  CLI::App* sub = parent.add_subcommand("plot", "Plot a sweep: nmse-vs-kernel, rf-growth, signals, tracking, metric-vs-param, search");
   sub->add_option("database", options->database, "Results database (SQLite)")->required();
-  sub->add_option("kind", options->kind, "nmse-vs-kernel | rf-growth | signals | tracking | metric-vs-param")
+  sub->add_option("kind", options->kind, "nmse-vs-kernel | rf-growth | signals | tracking | metric-vs-param | search (objective against cost, random beside the method)")
       ->required()
-      ->check(CLI::IsMember({"nmse-vs-kernel", "rf-growth", "signals", "tracking", "metric-vs-param"}));
+      ->check(CLI::IsMember({"nmse-vs-kernel", "rf-growth", "signals", "tracking", "metric-vs-param", "search"}));
   sub->add_option("--sweep", options->sweep, "Sweep name (needed when the database holds several)");
   sub->add_option("--job", options->jobs, "Job key or unique prefix (repeatable; default: chosen from the sweep)");
   sub->add_option("--out", options->out, "Output file, .pdf, .svg or .png by extension (default: KIND.svg)");

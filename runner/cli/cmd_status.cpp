@@ -1,7 +1,8 @@
 // `armfarm status DB [--check]`: job counts by status for each sweep, then the failures with
-// their messages, then the live job claims of the runners working on the file (owner, host, pid,
+// their messages (a search sweep: its budget spent and each rung's progress), then the live job claims of the runners working on the file (owner, host, pid,
 // ages). --check first verifies the file row by row (integrity_check, dangling references,
 // stored JSON, storage classes, series blobs) and exits 2 if it is damaged.
+#include "analysis/search_summary.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -83,6 +84,9 @@ RunFunction setup_status(CLI::App& parent) {
       }
       std::cout << " (started " << sweep.started_at << ", "
                 << (sweep.finished_at ? "finished " + *sweep.finished_at : std::string("not finished")) << ")\n";
+      if (const std::optional<SearchSummary> summary = load_search_summary(store, sweep.name)) {
+        std::cout << format_search_progress(*summary);
+      }
       for (const JobRecord& job : store.find_jobs(sweep.name)) {
         if (job.status != "failed" && job.status != "diverged" && job.status != "timeout") continue;
         any_failure = true;

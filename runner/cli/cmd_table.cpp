@@ -1,7 +1,9 @@
 // `armfarm table DB [--sweep NAME] [--rows P,…] [--cols M,…] [--joints …] [--where P=V]
 // [--agg mean|median|min|max] [--format md|csv|latex|json]`: experiment tables of a sweep,
-// by default the thesis's (analysis/table.hpp).
+// by default the thesis's (analysis/table.hpp); for a search sweep (md) also its best trials,
+// rung survivors and budget spent (analysis/search_summary.hpp).
 #include "analysis/analysis_error.hpp"
+#include "analysis/search_summary.hpp"
 #include "analysis/table.hpp"
 #include "analysis/thesis_comparison.hpp"
 #include "engine/io/input_file.hpp"
@@ -91,6 +93,13 @@ RunFunction setup_table(CLI::App& parent) {
         spec.where = where;
         std::cout << format_table(make_table(data, spec), format, aggregate);
         if (format == TableFormat::csv) std::cout << "\n";
+      }
+      // A search's best trials, rung survivors and budget (markdown only: csv, latex and json
+      // stay one table kind; the rows are in the search tables for any other reader).
+      if (format == TableFormat::markdown) {
+        if (const std::optional<SearchSummary> summary = load_search_summary(store, sweep)) {
+          std::cout << "\n" << format_search_summary(*summary);
+        }
       }
     }
     return 0;
