@@ -23,11 +23,16 @@ ExpandedJob expand_step(const SweepSpec& spec, const JobConfigSchema& schema, co
 // The objective of a done job at `rung` (as the metric), or empty when the metric is NULL or absent.
 std::optional<double> find_objective(const ResultsStore& store, std::int64_t job_id, const SpecSearch& search,
                                      std::size_t rung) {
-  const std::optional<std::int64_t> checkpoint =
-      search.objective.checkpoint ? std::optional<std::int64_t>(search.rungs[rung]) : std::nullopt;
-  const std::optional<int> joint = search.objective.joint > 0 ? std::optional<int>(search.objective.joint) : std::nullopt;
+  // The row wanted: this joint's (or the job-level one when joint is 0), at this rung's checkpoint
+  // (or the one without a checkpoint). Compared field by field against plain values: two local
+  // std::optional objects compared with == drew a false -Wmaybe-uninitialized from g++ 12 -O3.
+  const int joint = search.objective.joint;
+  const bool at_checkpoint = search.objective.checkpoint.has_value();
   for (const MetricRecord& m : store.find_metrics(job_id)) {
-    if (m.name == search.objective.metric && m.joint == joint && m.checkpoint == checkpoint) return m.value;
+    if (m.name != search.objective.metric) continue;
+    const bool joint_matches = joint > 0 ? m.joint == joint : !m.joint.has_value();
+    const bool checkpoint_matches = at_checkpoint ? m.checkpoint == search.rungs[rung] : !m.checkpoint.has_value();
+    if (joint_matches && checkpoint_matches) return m.value;
   }
   return std::nullopt;
 }
