@@ -50,9 +50,9 @@ struct SearchStepRecord {
   std::string kind;          ///< new, promotion
   double cost = 0.0;
   std::string job_key;
-  std::optional<double> objective{};  ///< the value seen (signed as the metric, not as a loss); empty until committed or undefined
-  std::string reason{};               ///< why `objective` is empty once the job ended (failed, diverged, NULL metric)
-  bool committed = false;             ///< the job ended and its objective (or reason) is stored
+  std::optional<double> objective;  ///< the value seen (signed as the metric, not as a loss); empty until committed or undefined
+  std::string reason;               ///< why `objective` is empty once the job ended (failed, diverged, NULL metric)
+  bool committed = false;           ///< the job ended and its objective (or reason) is stored
 };
 
 namespace search_store_sql {
