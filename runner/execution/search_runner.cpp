@@ -26,11 +26,15 @@ ExpandedJob expand_step(const SweepSpec& spec, const JobConfigSchema& schema, co
 // highest checkpoint (the "default the last"), a metric without checkpoints its only row.
 std::optional<double> find_objective(const ResultsStore& store, std::int64_t job_id, const SpecSearch& search,
                                      std::size_t rung) {
-  const std::optional<int> joint = search.objective.joint > 0 ? std::optional<int>(search.objective.joint) : std::nullopt;
+  // The rows wanted: this joint's (or the job-level one when joint is 0). The joint is compared
+  // against a plain value: two local std::optional objects compared with == drew a false
+  // -Wmaybe-uninitialized from g++ 12 -O3.
+  const int joint = search.objective.joint;
   const MetricRecord* found = nullptr;
   const std::vector<MetricRecord> metrics = store.find_metrics(job_id);
   for (const MetricRecord& m : metrics) {
-    if (m.name != search.objective.metric || m.joint != joint) continue;
+    if (m.name != search.objective.metric) continue;
+    if (joint > 0 ? m.joint != joint : m.joint.has_value()) continue;
     if (search.objective.checkpoint) {
       if (m.checkpoint == search.rungs[rung]) return m.value;
     } else if (found == nullptr || (found->checkpoint && (!m.checkpoint || *m.checkpoint > *found->checkpoint))) {

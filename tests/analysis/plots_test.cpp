@@ -58,8 +58,8 @@ class PlotTest : public ::testing::Test {
       testing::TestJob job;
       job.params = {{"control.mode", mode}};
       const double error = std::string(mode) == "feedback" ? 0.05 : 0.005;
-      const int n = 200;
-      auto time = [n](int r) { return 4.0 * r / n; };
+      constexpr int n = 200;  // a constant: read inside the lambda without a capture
+      auto time = [](int r) { return 4.0 * r / n; };
       job.series.push_back(make_series("POS_D", {"t", "x", "y", "z"}, n, [&](int r, int c) {
         const double t = time(r);
         return c == 0 ? t : c == 1 ? 0.5 : c == 2 ? 0.2 * std::sin(M_PI * t) : 0.4 + 0.1 * std::sin(2 * M_PI * t);
