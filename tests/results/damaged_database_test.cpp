@@ -9,7 +9,11 @@
 #include "support/scratch_file.hpp"
 #include <sqlite3.h>
 
+#include <sys/mount.h>
 #include <sys/stat.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <filesystem>
 
@@ -180,6 +184,41 @@ TEST_F(DamagedDatabaseTest, ASeriesBlobThatDoesNotDecodeIsFound) {
                 "rows or raw_bytes disagree"),
             std::string::npos);
   expect_merge_refused(damaged, "series of job row 1 (POS)");
+}
+
+// Issue 30, case 6: a database on a read-only filesystem could not be read at all ("unable to
+// open database file": a WAL reader needs its -shm). It now opens immutable there. The
+// read-only filesystem is a read-only bind mount, which needs root (CAP_SYS_ADMIN).
+TEST_F(DamagedDatabaseTest, ADatabaseOnAReadOnlyFilesystemIsReadable) {
+  const fs::path mounted = folder_ / "ro";
+  fs::create_directories(folder_ / "src");
+  fs::create_directories(mounted);
+  fs::copy_file(path("sound.db"), folder_ / "src" / "results.db");
+  if (::mount((folder_ / "src").c_str(), mounted.c_str(), nullptr, MS_BIND, nullptr) != 0) {
+    GTEST_SKIP() << "cannot bind-mount (needs root): " << std::strerror(errno);
+  }
+  const bool read_only = ::mount(nullptr, mounted.c_str(), nullptr, MS_REMOUNT | MS_BIND | MS_RDONLY, nullptr) == 0;
+  const std::string file = (mounted / "results.db").string();
+  std::string error;
+  std::size_t n_sweeps = 0, n_rows = 0;
+  try {
+    const ResultsStore store = ResultsStore::open(file, ResultsStore::Mode::read_only);
+    n_sweeps = store.find_sweeps().size();
+    const std::optional<JobRecord> job = store.find_job("0123456789abcdef0123456789abcdef");
+    if (job) n_rows = static_cast<std::size_t>(store.find_series(job->id, "POS")->rows.rows());
+    EXPECT_TRUE(store.check_contents(true).empty());
+  } catch (const StoreError& e) {
+    error = e.what();
+  }
+  // Nothing was created beside the file (the mount refuses it anyway) and nothing can write.
+  const bool wrote_beside = fs::exists(folder_ / "src" / "results.db-shm");
+  EXPECT_THROW(ResultsStore::open(file, ResultsStore::Mode::read_write), StoreError);
+  ::umount(mounted.c_str());
+  ASSERT_TRUE(read_only) << "remounting read-only failed";
+  EXPECT_EQ(error, "");
+  EXPECT_EQ(n_sweeps, 1u);
+  EXPECT_EQ(n_rows, 2u);
+  EXPECT_FALSE(wrote_beside);
 }
 
 }  // namespace
