@@ -4,6 +4,7 @@
 // table (runner/io/sweep_export.hpp). Fields are RFC 4180, numbers the shortest text that reads
 // back to the same double. With -o the file appears only once it is complete.
 #include "analysis/sweep_data.hpp"
+#include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/io/csv_writing.hpp"
@@ -91,6 +92,7 @@ RunFunction setup_export(CLI::App& parent) {
       return 2;
     }
     const ResultsStore store = ResultsStore::open(options->db, ResultsStore::Mode::read_only);
+    verify_readable(store);  // damaged rows and series are an error, not a quiet export
     const std::string temporary = options->output.empty() ? "" : options->output + ".partial";
     std::ofstream file;
     if (!options->output.empty()) {

@@ -2,6 +2,7 @@
 // [--group P] [--joint J] [--checkpoint N]] [--style paper|slide|screen] [--size W,H] [--font-size PT]
 // [--title T] [--xlabel X] [--ylabel Y]`: the thesis's figures from a results database, via gnuplot.
 #include "analysis/plots.hpp"
+#include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -81,6 +82,7 @@ RunFunction setup_plot(CLI::App& parent) {
     if (options->log_y || options->linear_y) request.log_y = options->log_y;
     const std::string out = options->out.empty() ? options->kind + ".svg" : options->out;
     const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
+    verify_readable(store);  // damaged rows and series are an error, not a quiet plot
     Figure figure = make_plot_figure(store, request);
     if (options->title) figure.title = *options->title;
     for (Panel& panel : figure.panels) {

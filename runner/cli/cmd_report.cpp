@@ -1,6 +1,7 @@
 // `armfarm report DB [--sweep NAME] --out DIR`: one self-contained HTML page per sweep (spec,
 // provenance, status, default tables, plots) and an index, to share a sweep as a folder.
 #include "analysis/report.hpp"
+#include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -26,6 +27,7 @@ RunFunction setup_report(CLI::App& parent) {
   sub->add_option("--out", options->out, "Output folder")->required();
   return [options] {
     const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
+    verify_readable(store);  // damaged rows and series are an error, not a quiet report
     std::optional<std::string> sweep;
     if (!options->sweep.empty()) sweep = options->sweep;
     for (const std::string& page : write_report(store, sweep, options->out)) std::cout << "wrote " << page << "\n";

@@ -7,6 +7,7 @@
 #include "analysis/table.hpp"
 #include "analysis/thesis_comparison.hpp"
 #include "engine/io/input_file.hpp"
+#include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -53,6 +54,7 @@ RunFunction setup_table(CLI::App& parent) {
   sub->add_option("--against", *against, "Thesis results JSON (sweeps/thesis/thesis_results.json): thesis value, armfarm value, ratio per cell");
   return [options, against] {
     const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
+    verify_readable(store);  // damaged rows and series are an error, not a quiet table
     const Aggregate aggregate = parse_aggregate(options->aggregate);
     const TableFormat format = parse_table_format(options->format);
     if (!against->empty()) {

@@ -226,6 +226,14 @@ TEST_F(CmdRunTest, StatusCheckAndMergeRefuseADamagedDatabaseNamingIt) {
   EXPECT_EQ(check.exit_code, 2);
   EXPECT_EQ(check.output.rfind("armfarm: " + db + ": runs row 1: refers to a missing row of sweeps", 0), 0u)
       << check.output;
+  // Issue 30, case 6: without --check, status (and table) exited 0 on this file; the readers'
+  // check now refuses it, in one line naming the file and the row.
+  for (const std::string command : {"status " + db, "table " + db}) {
+    const CommandResult plain = run_command(command);
+    EXPECT_EQ(plain.exit_code, 2) << command;
+    EXPECT_EQ(plain.output.rfind("armfarm: " + db + ": damaged armfarm database: runs row 1: refers to a missing row of sweeps", 0), 0u)
+        << command << ": " << plain.output;
+  }
   const std::string out = path("merged.db");
   const CommandResult merge = run_command("merge " + out + " " + db);
   EXPECT_EQ(merge.exit_code, 2);
