@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace armfarm {
 namespace {
@@ -179,6 +181,45 @@ TEST(Table, CheckpointAsRowGivesOneRowPerCheckpoint) {
   ASSERT_NE(table.rows[1].footnotes[1], 0);
   EXPECT_NE(table.footnotes[static_cast<std::size_t>(table.rows[1].footnotes[1] - 1)].find("not evaluated per checkpoint"),
             std::string::npos);
+}
+
+TEST(Table, CsvCarriesNoCommentRowsUnlessNotesAreAskedFor) {
+  TableSpec spec;
+  spec.rows = {"learning.lwpr.init_D", "checkpoint"};
+  spec.metrics = {"heldout_test_nmse", "n_receptive_fields"};
+  const Table table = make_table(make_heldout_data(), spec);
+  ASSERT_FALSE(table.footnotes.empty());  // the "not evaluated per checkpoint" cells
+  const std::string plain = format_table(table, TableFormat::csv, Aggregate::mean);
+  EXPECT_EQ(plain.find('#'), std::string::npos) << plain;
+  // Every line has the header's number of fields: a CSV reader sees one rectangular table.
+  std::istringstream lines(plain);
+  std::string line;
+  std::getline(lines, line);
+  const auto fields = std::count(line.begin(), line.end(), ',');
+  int n_lines = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), fields) << line;
+    ++n_lines;
+  }
+  EXPECT_EQ(n_lines, static_cast<int>(table.rows.size()));
+  const std::string noted = format_table(table, TableFormat::csv, Aggregate::mean, CsvNotes::comment_lines);
+  EXPECT_EQ(noted.substr(0, plain.size()), plain);
+  EXPECT_NE(noted.find("\n# [1] "), std::string::npos) << noted;
+  EXPECT_NE(noted.find("not evaluated per checkpoint"), std::string::npos) << noted;
+}
+
+TEST(Table, CsvNumbersAreTheShortestTextThatReadsBack) {
+  SweepData data;
+  data.name = "short";
+  data.jobs.push_back(make_job(10, 1, "done", {{{"test_nmse", 1}, 0.1}}));
+  data.jobs.push_back(make_job(20, 1, "done", {{{"test_nmse", 1}, 1.0 / 3.0}}));
+  data.varying_params = calc_varying_params(data.jobs);
+  TableSpec spec;
+  spec.rows = {"learning.lwpr.init_D"};
+  spec.metrics = {"test_nmse"};
+  const std::string csv = format_table(make_table(data, spec), TableFormat::csv, Aggregate::mean);
+  EXPECT_NE(csv.find("\n10,0.1,"), std::string::npos) << csv;  // %.17g would print 0.10000000000000001
+  EXPECT_NE(csv.find("\n20,0.3333333333333333,"), std::string::npos) << csv;
 }
 
 TEST(Table, CheckpointAndJointRowsNestInTheOrderGiven) {
