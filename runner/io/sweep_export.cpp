@@ -101,6 +101,10 @@ SweepExportCounts write_sweep_long_csv(const ResultsStore& store, const std::str
   return counts;
 }
 
+std::string describe_undefined_value(const std::string& stored_reason) {
+  return stored_reason.empty() ? "undefined (no reason stored)" : stored_reason;
+}
+
 MetricExportCounts write_sweep_metrics_csv(const ResultsStore& store, const std::string& sweep, std::ostream& out) {
   const std::vector<JobRecord> jobs = store.find_jobs(sweep);
   const std::vector<std::string> params = find_swept_params(jobs);
@@ -128,7 +132,7 @@ MetricExportCounts write_sweep_metrics_csv(const ResultsStore& store, const std:
           << "," << (metric->checkpoint ? std::to_string(*metric->checkpoint) : "") << ","
           << (metric->value ? make_shortest_number_text(*metric->value) : "") << ","
           << make_csv_field(unit == unit_by_name.end() ? std::string() : unit->second) << ","
-          << make_csv_field(metric->value || !metric->reason.empty() ? metric->reason : std::string("undefined (no reason stored)"))
+          << make_csv_field(metric->value ? metric->reason : describe_undefined_value(metric->reason))
           << "\n";
       ++counts.rows;
     }

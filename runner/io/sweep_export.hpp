@@ -36,6 +36,10 @@ LongFormSignal make_long_form_signal(const std::string& series, const std::strin
 SweepExportCounts write_sweep_long_csv(const ResultsStore& store, const std::string& sweep,
                                        const std::vector<std::string>& series, std::ostream& out);
 
+/// The reason shown beside an undefined (null) metric value: the stored one, or a sentence
+/// saying none was stored, so that no null goes out without a reason.
+std::string describe_undefined_value(const std::string& stored_reason);
+
 struct MetricExportCounts {
   int jobs = 0;                  ///< jobs with at least one metric row
   int jobs_without_metrics = 0;  ///< jobs of the sweep with none (pending, failed before measuring)

@@ -166,7 +166,7 @@ TEST_F(PlotTest, MetricAgainstParamWithErrorBars) {
   const std::string svg = render("metric-vs-param --sweep kernel --metric same_run_test_nmse --joint 1 --param learning.lwpr.init_D "
                                  "--group learning.lwpr.update_D",
                                  directory_.file("metric.svg"));
-  EXPECT_NE(svg.find("same_run_test_nmse j1"), std::string::npos);
+  EXPECT_NE(svg.find("same_run_test_nmse_j1"), std::string::npos);
   EXPECT_NE(svg.find("update_D=true"), std::string::npos);
 }
 
@@ -251,7 +251,7 @@ TEST_F(PlotTest, HeldOutMetricNeedsAndTakesACheckpoint) {
   EXPECT_NE(refused.output.find("--checkpoint"), std::string::npos) << refused.output;
   const std::string svg = render("metric-vs-param --sweep fixed --metric heldout_test_nmse --joint 1 --param learning.lwpr.init_D --checkpoint 1",
                                  directory_.file("heldout.svg"));
-  EXPECT_NE(svg.find("heldout_test_nmse j1 c1"), std::string::npos);
+  EXPECT_NE(svg.find("heldout_test_nmse_j1_c1"), std::string::npos);
 }
 
 TEST_F(PlotTest, MissingSeriesSaysWhatToSet) {
@@ -304,7 +304,7 @@ TEST_F(PlotTest, ReportIsSelfContainedHtmlPerSweep) {
   EXPECT_NE(kernel.find("<table>"), std::string::npos);
   EXPECT_NE(kernel.find("deadbeef"), std::string::npos);  // provenance
   EXPECT_NE(kernel.find("<svg"), std::string::npos);      // plot inline
-  EXPECT_NE(kernel.find("same_run_test_nmse j1"), std::string::npos);
+  EXPECT_NE(kernel.find("same_run_test_nmse_j1"), std::string::npos);
   const std::string tracking = read_file(out + "/sweep_tracking.html");
   EXPECT_NE(tracking.find("tracking"), std::string::npos);
   EXPECT_NE(read_file(out + "/index.html").find("sweep_kernel.html"), std::string::npos);
