@@ -1,6 +1,6 @@
 #pragma once
 // Experiment tables: swept parameters (and optionally the joint) as rows, metrics as columns,
-// repeats (seeds) aggregated to mean ± standard deviation with their count. A row only pools
+// repeats (seeds) aggregated to the mean, its 95 % Student-t interval and their count. A row only pools
 // jobs that differ in nothing but their seed (anything else is refused, naming the
 // parameters). Jobs that did not finish (failed, diverged, timeout) are counted per row and
 // never averaged in. Undefined values (NULL in the store) are left out of a cell and footnoted
@@ -80,7 +80,8 @@ std::vector<TableSpec> make_default_table_specs(const SweepData& data);
 /// lines after the table. Off by default: pandas and R read comment lines as data rows.
 enum class CsvNotes { omitted, comment_lines };
 
-/// Renders a table as text in `format`, with cells as the chosen aggregate (mean adds ± std).
+/// Renders a table as text in `format`, with cells as the chosen aggregate; the mean adds its
+/// 95 % Student-t interval over the repeats, "0.2 [0.1, 0.3] (n=3)" (csv and json also the std).
 /// Markdown, LaTeX and JSON always carry the footnotes; CSV only with CsvNotes::comment_lines.
 std::string format_table(const Table& table, TableFormat format, Aggregate aggregate,
                          CsvNotes csv_notes = CsvNotes::omitted);
