@@ -181,7 +181,7 @@ TEST_F(CmdRunTest, StatusTableAndExportReadTheResults) {
   EXPECT_NE(status.output.find("fake job asked to fail"), std::string::npos) << status.output;
   const CommandResult table = run_command("table " + db + " --sweep small");
   EXPECT_EQ(table.exit_code, 0);
-  EXPECT_NE(table.output.find("tracking_nmse j2"), std::string::npos) << table.output;
+  EXPECT_NE(table.output.find("tracking_nmse_j2"), std::string::npos) << table.output;
   EXPECT_NE(table.output.find("0, 1 failed"), std::string::npos) << table.output;  // failed jobs counted, not averaged
   EXPECT_NE(table.output.find("learning.lwpr.init_D"), std::string::npos) << table.output;
 
