@@ -66,16 +66,16 @@ class SearchSummaryTest : public ::testing::Test {
     store.insert_search(make_search("asha_s", "asha", "heldout_test_nmse", {{0, 10, 1.0}, {1, 50, 3.0}}));
     // trial 0, 1, 2 at rung 0; trial 1 promoted (cost 3 - 1 = 2); trial 3 started, not committed.
     add_steps(store, "asha_s",
-              {{0, 0, 0, 0, "new", 1.0, "a0"}, {1, 1, 0, 0, "new", 1.0, "a1"}, {2, 2, 0, 0, "new", 1.0, "a2"},
-               {3, 1, 1, 3, "promotion", 2.0, "a3"}, {4, 3, 0, 3, "new", 1.0, "a4"}},
+              {{0, 0, 0, 0, "new", 1.0, "a0", std::nullopt, "", false}, {1, 1, 0, 0, "new", 1.0, "a1", std::nullopt, "", false}, {2, 2, 0, 0, "new", 1.0, "a2", std::nullopt, "", false},
+               {3, 1, 1, 3, "promotion", 2.0, "a3", std::nullopt, "", false}, {4, 3, 0, 3, "new", 1.0, "a4", std::nullopt, "", false}},
               {0.5, 0.2, std::nullopt, 0.3}, 4);
     store.insert_sweep_run(make_sweep("random_s"), {});
     store.insert_search(make_search("random_s", "random", "heldout_test_nmse", {{0, std::nullopt, 1.0}}));
-    add_steps(store, "random_s", {{0, 0, 0, 0, "new", 1.0, "r0"}, {1, 1, 0, 0, "new", 1.0, "r1"}, {2, 2, 0, 0, "new", 1.0, "r2"}},
+    add_steps(store, "random_s", {{0, 0, 0, 0, "new", 1.0, "r0", std::nullopt, "", false}, {1, 1, 0, 0, "new", 1.0, "r1", std::nullopt, "", false}, {2, 2, 0, 0, "new", 1.0, "r2", std::nullopt, "", false}},
               {0.4, 0.35, 0.6}, 3);
     store.insert_sweep_run(make_sweep("other_objective"), {});
     store.insert_search(make_search("other_objective", "random", "tracking_nmse", {{0, std::nullopt, 1.0}}));
-    add_steps(store, "other_objective", {{0, 0, 0, 0, "new", 1.0, "o0"}}, {0.1}, 1);
+    add_steps(store, "other_objective", {{0, 0, 0, 0, "new", 1.0, "o0", std::nullopt, "", false}}, {0.1}, 1);
     store.insert_sweep_run(make_sweep("plain"), {{"p0", {{"x", 1}}, {{"x", 1}}, 0}});
   }
   std::string db() const { return directory_.file("search.db"); }

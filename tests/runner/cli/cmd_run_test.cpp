@@ -228,7 +228,7 @@ TEST_F(CmdRunTest, StatusCheckAndMergeRefuseADamagedDatabaseNamingIt) {
       << check.output;
   // Issue 30, case 6: without --check, status (and table) exited 0 on this file; the readers'
   // check now refuses it, in one line naming the file and the row.
-  for (const std::string command : {"status " + db, "table " + db}) {
+  for (const std::string& command : {"status " + db, "table " + db}) {
     const CommandResult plain = run_command(command);
     EXPECT_EQ(plain.exit_code, 2) << command;
     EXPECT_EQ(plain.output.rfind("armfarm: " + db + ": damaged armfarm database: runs row 1: refers to a missing row of sweeps", 0), 0u)
