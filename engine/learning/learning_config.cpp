@@ -24,6 +24,7 @@ lwpr::LwprParams make_job_lwpr_defaults() {
   lwpr::LwprParams params;
   params.init_D = Eigen::MatrixXd::Constant(1, 1, 0.05);
   params.trust_n_data = 5.0;
+  params.loo_start = lwpr::LooStart::kEarly;
   return params;
 }
 
@@ -87,6 +88,14 @@ const EnumNames& lwpr_kernel_names() {
   return names;
 }
 
+const EnumNames& lwpr_loo_start_names() {
+  static const EnumNames names = {
+      {"library", static_cast<int>(lwpr::LooStart::kLibrary), "once n_data > 0.1/(1−λ), as the published library"},
+      {"early", static_cast<int>(lwpr::LooStart::kEarly), "once n_data > min(0.1/(1−λ), 4·(R+1))"},
+  };
+  return names;
+}
+
 const std::vector<ConfigKey<lwpr::LwprParams>>& lwpr_params_keys() {
   using P = lwpr::LwprParams;
   static const std::vector<ConfigKey<P>> keys = {
@@ -130,6 +139,9 @@ const std::vector<ConfigKey<lwpr::LwprParams>>& lwpr_params_keys() {
        [](P& p) { return make_field(p.cutoff); }},
       {"trust_n_data", "", closed(0.0, 1e9), ListSize::any, "samples a field must have seen (counted with forgetting) before it may predict; 0 = 2·n_in",
        [](P& p) { return make_field(p.trust_n_data); }},
+      {"loo_start", "", {}, ListSize::any,
+       "when a field starts its leave-one-out statistics and metric learning: library (n_data > 0.1/(1−λ)) or early (also after 4·(R+1) samples)",
+       [](P& p) { return make_choice_field(p.loo_start, lwpr_loo_start_names()); }},
   };
   return keys;
 }

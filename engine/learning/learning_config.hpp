@@ -8,7 +8,7 @@
 //  - lwpr::LwprParams{} (engine/lwpr/lwpr_params.hpp) keeps the published library's defaults
 //    (init_D = 25·I), what `armfarm lwpr fit` uses on raw, unnormalised data;
 //  - a job starts from make_job_lwpr_defaults() (init_D = 0.05·I on inputs normalised to unit
-//    standard deviation, trust_n_data = 5), the default of LearningConfig::lwpr; the JSON
+//    standard deviation, trust_n_data = 5, loo_start "early"), the default of LearningConfig::lwpr; the JSON
 //    defaults and the documentation are written from it.
 #include "engine/config/config_key.hpp"
 #include "engine/learning/ssgpr_learning_config.hpp"
@@ -38,7 +38,8 @@ const EnumNames& learner_kind_names();
 
 /// The LWPR parameters a job starts from: the published defaults except init_D = 0.05·I (on
 /// inputs normalised to unit standard deviation, see normalize_inputs) and trust_n_data = 5,
-/// measured on the default sinusoid (sweeps/README.md gives the figures).
+/// measured on the default sinusoid (sweeps/README.md gives the figures), and loo_start "early"
+/// (the online reaching job's feedback; engine/lwpr/README.md, "Start rule").
 lwpr::LwprParams make_job_lwpr_defaults();
 
 struct LearningConfig {
@@ -107,6 +108,9 @@ const std::vector<ConfigKey<LearningConfig>>& learning_config_keys();
 
 /// lwpr::Kernel's spellings ("gaussian", "bisquare").
 const EnumNames& lwpr_kernel_names();
+
+/// lwpr::LooStart's spellings ("library", "early").
+const EnumNames& lwpr_loo_start_names();
 
 /// LWPR's parameter block with the published library's key names, units "" (the parameters
 /// act on normalised inputs and outputs) and the ranges validate() checks; shapes of init_D,

@@ -98,6 +98,7 @@ LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
   x_normalised_.resize(n_in);
   x_padded_.assign(stride_, 0.0);
   scratch_.resize(n_in, params_.diag_only);
+  shared_scan_ = !params_.update_D;
 }
 
 void LwprModel::append_to_scan(int output, const ReceptiveField& rf) {
@@ -173,6 +174,28 @@ LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params, std::vector<
     for (const ReceptiveField& rf : fields_[o]) append_to_scan(o, rf);
   }
   n_updates_ = n_updates;
+  shared_scan_ = !params_.update_D && calc_scans_identical();
+}
+
+bool LwprModel::calc_scans_identical() const {
+  for (int o = 1; o < n_out_; ++o) {
+    if (scan_[o].centres != scan_[0].centres || scan_[o].metrics != scan_[0].metrics ||
+        scan_[o].trusted != scan_[0].trusted) {
+      return false;
+    }
+  }
+  return true;
+}
+
+void LwprModel::scan_active(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
+                            std::vector<ActiveField>& active) const {
+  active.clear();
+  const std::vector<unsigned char>& trusted = scan_[output].trusted;
+  for (std::size_t i = 0; i < trusted.size(); ++i) {
+    if (trusted_only && trusted[i] == 0) continue;
+    const double w = calc_field_activation(output, i, x_padded, scratch);
+    if (w > 0.0) active.push_back({i, w});
+  }
 }
 
 void LwprModel::update(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
@@ -180,11 +203,15 @@ void LwprModel::update(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
   require_vector(y, n_out_, "y");
   x_normalised_ = x.cwiseQuotient(norm_in_);
   std::copy(x_normalised_.data(), x_normalised_.data() + n_in_, x_padded_.begin());
-  for (int o = 0; o < n_out_; ++o) update_output(o, y(o) / norm_out_(o));
+  if (shared_scan_) scan_active(0, x_padded_.data(), false, scratch_, active_);
+  for (int o = 0; o < n_out_; ++o) {
+    if (!shared_scan_) scan_active(o, x_padded_.data(), false, scratch_, active_);
+    update_output(o, y(o) / norm_out_(o), active_);
+  }
   ++n_updates_;
 }
 
-void LwprModel::update_output(int output, double y) {
+void LwprModel::update_output(int output, double y, const std::vector<ActiveField>& active) {
   std::vector<ReceptiveField>& fields = fields_[output];
   const Eigen::VectorXd& x = x_normalised_;
   double w_max = 0.0;
@@ -192,9 +219,9 @@ void LwprModel::update_output(int output, double y) {
   int prune_a = -1;
   int prune_b = -1;
   ScanData& scan = scan_[output];
-  for (std::size_t i = 0; i < fields.size(); ++i) {
-    const double w = calc_field_activation(output, i, x_padded_.data(), scratch_);
-    if (w <= 0.0) continue;
+  for (const ActiveField& a : active) {
+    const std::size_t i = a.index;
+    const double w = a.w;
     ReceptiveField& rf = fields[i];
     if (w > w_max) {
       w_max = w;
@@ -243,16 +270,21 @@ std::unique_ptr<PredictionWorkspace> LwprModel::make_workspace() const {
   workspace->x_normalised.resize(n_in_);
   workspace->x_padded.assign(stride_, 0.0);
   workspace->scratch.resize(n_in_, params_.diag_only);
+  workspace->active.reserve(fields_.empty() ? 0 : fields_[0].size());
   return workspace;
 }
 
 Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace) const {
-  LwprPredictionDetail detail;
-  return predict(x, workspace, detail);
+  return predict_with(x, workspace, nullptr);
 }
 
 Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace,
                               LwprPredictionDetail& detail) const {
+  return predict_with(x, workspace, &detail);
+}
+
+Prediction LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace,
+                                   LwprPredictionDetail* detail) const {
   require_vector(x, n_in_, "x");
   auto* ws = dynamic_cast<LwprWorkspace*>(&workspace);
   if (ws == nullptr) throw std::invalid_argument("LWPR: predict() needs a workspace from make_workspace()");
@@ -266,18 +298,19 @@ Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& wor
   prediction.confidence = Eigen::VectorXd::Constant(n_out_, std::numeric_limits<double>::infinity());
   prediction.trustworthy = true;
   prediction.output_trusted.assign(n_out_, false);
-  detail.max_activation = Eigen::VectorXd::Zero(n_out_);
-  detail.trustworthy.assign(n_out_, false);
+  if (detail != nullptr) {
+    detail->max_activation = Eigen::VectorXd::Zero(n_out_);
+    detail->trustworthy.assign(n_out_, false);
+  }
   double min_of_max = std::numeric_limits<double>::infinity();
 
   for (int o = 0; o < n_out_; ++o) {
     double sum_w = 0.0, sum_wy = 0.0, sum_wyy = 0.0, sum_wvar = 0.0;
     double w_best = 0.0, y_best = 0.0, var_best = 0.0;
-    const std::vector<unsigned char>& trusted = scan_[o].trusted;
-    for (std::size_t i = 0; i < trusted.size(); ++i) {
-      if (trusted[i] == 0) continue;
-      const double w = calc_field_activation(o, i, ws->x_padded.data(), ws->scratch);
-      if (w <= 0.0) continue;
+    if (o == 0 || !shared_scan_) scan_active(o, ws->x_padded.data(), true, ws->scratch, ws->active);
+    for (const ActiveField& a : ws->active) {
+      const std::size_t i = a.index;
+      const double w = a.w;
       const ReceptiveField& rf = fields_[o][i];
       double leverage = 0.0;
       const double y = predict_receptive_field(rf, xn, leverage, ws->scratch);
@@ -294,13 +327,13 @@ Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& wor
         var_best = variance;
       }
     }
-    detail.max_activation(o) = w_best;
+    if (detail != nullptr) detail->max_activation(o) = w_best;
     min_of_max = std::min(min_of_max, w_best);
     if (w_best <= 0.0) {
       prediction.trustworthy = false;
       continue;
     }
-    detail.trustworthy[o] = true;
+    if (detail != nullptr) detail->trustworthy[o] = true;
     prediction.output_trusted[o] = true;
     double mean = y_best;
     double variance = var_best;

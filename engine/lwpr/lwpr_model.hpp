@@ -15,12 +15,19 @@
 
 namespace armfarm::lwpr {
 
+/// A field found active by the activation scan: its index in the output's list and its activation.
+struct ActiveField {
+  std::size_t index;
+  double w;
+};
+
 /// Scratch space of LwprModel::predict (one per thread).
 class LwprWorkspace final : public PredictionWorkspace {
  public:
   Eigen::VectorXd x_normalised;
   std::vector<double> x_padded;  ///< x_normalised padded with zeros to the scan stride
   FieldScratch scratch;
+  std::vector<ActiveField> active;  ///< the shared scan's active trustworthy fields
 };
 
 /// Per-output detail of a prediction (all sizes n_out), in the caller's units.
@@ -74,7 +81,18 @@ class LwprModel final : public Learner {
   double calc_mean_projections() const;
 
  private:
-  void update_output(int output, double y);
+  // Updates output `output` with y (normalised) given the fields active at x (every field with
+  // w > 0, in field order), creating and pruning as update() says.
+  void update_output(int output, double y, const std::vector<ActiveField>& active);
+  // Both predict()s; `detail` (may be null: then nothing of it is allocated) receives the
+  // per-output activations and trust flags.
+  Prediction predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail) const;
+  // The fields of `output`'s scan active at x_padded (w > 0), in field order; only trustworthy
+  // ones when `trusted_only`.
+  void scan_active(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
+                   std::vector<ActiveField>& active) const;
+  // Whether every output's scan data (centres, metrics, trust flags) are the same.
+  bool calc_scans_identical() const;
   // Appends field `i` of `output` to that output's scan data.
   void append_to_scan(int output, const ReceptiveField& rf);
   // Writes the field's metric in the scan layout (metric_stride_ doubles) at `to`.
@@ -108,11 +126,18 @@ class LwprModel final : public Learner {
   bool diagonal_scan_;  // metrics scanned as diagonals: diag_only, or n_in = 1
   int metric_stride_;  // doubles per field in ScanData::metrics: stride_ (diagonal) or n_in(n_in+1)/2
   double q_limit_;   // calc_q_limit(kernel, cutoff)
+  // Every output holds the same fields' centres, metrics and trust flags, so one scan serves all
+  // outputs. Without update_D a field's metric never changes, and creation (w_gen, the nearest
+  // trustworthy field), trust (n_data counts samples, whatever y) and pruning (trace D) do not
+  // depend on the output, so the outputs' field sets stay identical; set when the model is built
+  // (checked on restored fields) and kept by construction.
+  bool shared_scan_ = false;
   std::uint64_t n_updates_ = 0;
   // Update scratch (update() is not const; predict() uses the caller's workspace instead).
   Eigen::VectorXd x_normalised_;
   std::vector<double> x_padded_;
   FieldScratch scratch_;
+  std::vector<ActiveField> active_;
 };
 
 }  // namespace armfarm::lwpr

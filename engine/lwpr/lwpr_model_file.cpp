@@ -41,9 +41,10 @@ void put_params(ModelFileWriter& w, const LwprParams& p) {
   w.put_u64(p.max_fields);
   w.put_f64(p.cutoff);
   w.put_f64(p.trust_n_data);
+  w.put_u32(p.loo_start == LooStart::kLibrary ? 0 : 1);  // since format version 2
 }
 
-LwprParams get_params(ModelFileReader& r, int n_in, int n_out) {
+LwprParams get_params(ModelFileReader& r, int n_in, int n_out, std::uint32_t version) {
   LwprParams p;
   const std::uint32_t rows = r.get_u32(), cols = r.get_u32();
   if (!((rows == 1 && cols == 1) || (rows == static_cast<std::uint32_t>(n_in) && (cols == 1 || cols == rows)))) {
@@ -84,6 +85,8 @@ LwprParams get_params(ModelFileReader& r, int n_in, int n_out) {
   p.max_fields = r.get_u64();
   p.cutoff = r.get_f64();
   p.trust_n_data = r.get_f64();
+  // Version 1 files were written before the start rule was a parameter: they learnt with the early rule.
+  p.loo_start = version >= 2 && r.get_dimension("loo_start", 0, 1) == 0 ? LooStart::kLibrary : LooStart::kEarly;
   return p;
 }
 
@@ -171,7 +174,7 @@ LwprModel load_lwpr_model(std::istream& in) {
   const int n_in = static_cast<int>(r.get_dimension("n_in", 1, kMaxDimension));
   const int n_out = static_cast<int>(r.get_dimension("n_out", 1, kMaxDimension));
   const std::uint64_t n_updates = r.get_u64();
-  const LwprParams params = get_params(r, n_in, n_out);
+  const LwprParams params = get_params(r, n_in, n_out, frame.version);
   std::vector<std::vector<ReceptiveField>> fields(n_out);
   for (int o = 0; o < n_out; ++o) {
     const std::uint64_t count = r.get_u64();

@@ -11,8 +11,10 @@
 
 namespace armfarm::lwpr {
 
-/// The format version this build writes (and the newest it reads).
-inline constexpr std::uint32_t kLwprModelFormatVersion = 1;
+/// The format version this build writes (and the newest it reads). Version 2 adds the start rule
+/// (LwprParams::loo_start) after trust_n_data; version 1 files load with the early rule, the only
+/// one there was when they were written.
+inline constexpr std::uint32_t kLwprModelFormatVersion = 2;
 
 /// Writes the whole model (parameters, fields, sample count) to `out` (opened in binary mode).
 void write_lwpr_model(const LwprModel& model, std::ostream& out);

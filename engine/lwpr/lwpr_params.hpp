@@ -15,6 +15,12 @@ enum class Kernel {
   kBisquare,  ///< w = (1 − q/4)² for q < 4, else 0 (same curvature as the Gaussian at the centre)
 };
 
+/// When a field starts its leave-one-out statistics and distance-metric learning.
+enum class LooStart {
+  kLibrary,  ///< once n_data > 0.1/(1−λ) (100 samples at λ = 0.999), as the published library
+  kEarly,    ///< once n_data > min(0.1/(1−λ), 4·(R+1)): D adapts from a few samples (the jobs' default)
+};
+
 /// Immutable description of how an LWPR model learns. Plain data with the published library's
 /// defaults; checked by validate_lwpr_params() when a model is built.
 struct LwprParams {
@@ -64,6 +70,8 @@ struct LwprParams {
   /// Samples (counted whatever their activation, discounted by λ: n_data) after which a field may
   /// predict; 0 → 2·n_in (the library's rule).
   double trust_n_data = 0.0;
+  /// Start rule of the leave-one-out statistics and metric learning (engine/lwpr/README.md).
+  LooStart loo_start = LooStart::kLibrary;
 };
 
 /// Throws std::invalid_argument naming the parameter if `params` is unusable for a model with

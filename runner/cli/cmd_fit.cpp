@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -63,6 +64,14 @@ void save_model(const Learner& learner, LearnerKind kind, const std::string& pat
     }
   }
   std::filesystem::rename(temporary, path);  // nothing half-written under the final name
+}
+
+// CPU time of the calling thread in seconds: on a shared machine wall time also counts the time
+// the scheduler gives other processes.
+double thread_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 std::vector<double> to_list(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
@@ -132,24 +141,28 @@ int run_fit(const FitOptions& opt) {
   std::iota(order.begin(), order.end(), 0);
   RandomStream rng(opt.shuffle >= 0 ? static_cast<std::uint64_t>(opt.shuffle) : 0u, "lwpr_fit.shuffle");
   Eigen::VectorXd x(n_in), y(n_out);
-  double update_seconds = 0.0;
+  double update_seconds = 0.0, update_cpu_seconds = 0.0;
   for (int epoch = 0; epoch < opt.epochs; ++epoch) {
     if (opt.shuffle >= 0) rng.shuffle(order.begin(), order.end());
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = thread_cpu_seconds();
     for (Eigen::Index i : order) {
       x = x_train.row(i).transpose();
       y = y_train.row(i).transpose();
       learner->update(x, y);
     }
     update_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    update_cpu_seconds += thread_cpu_seconds() - cpu_start;
   }
   const double fit_seconds = learner->fit_seconds();
   update_seconds = std::max(0.0, update_seconds - fit_seconds);
+  update_cpu_seconds = std::max(0.0, update_cpu_seconds - fit_seconds);
 
   auto workspace = learner->make_workspace();
   Eigen::MatrixXd predicted(x_test.rows(), n_out);
   long long untrusted = 0;
   const auto start = std::chrono::steady_clock::now();
+  const double predict_cpu_start = thread_cpu_seconds();
   for (Eigen::Index i = 0; i < x_test.rows(); ++i) {
     x = x_test.row(i).transpose();
     const Prediction p = learner->predict(x, *workspace);
@@ -157,6 +170,7 @@ int run_fit(const FitOptions& opt) {
     if (!p.trustworthy) ++untrusted;
   }
   const double predict_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double predict_cpu_seconds = thread_cpu_seconds() - predict_cpu_start;
 
   std::vector<double> nmse(n_out);
   for (int o = 0; o < n_out; ++o) {
@@ -180,6 +194,8 @@ int run_fit(const FitOptions& opt) {
     out["nmse_mean"] = nmse_mean;
     out["us_per_update"] = us_update;
     out["us_per_predict"] = us_predict;
+    out["cpu_us_per_update"] = 1e6 * update_cpu_seconds / (static_cast<double>(x_train.rows()) * opt.epochs);
+    out["cpu_us_per_predict"] = 1e6 * predict_cpu_seconds / static_cast<double>(x_test.rows());
     out["untrusted_predictions"] = untrusted;
     out["memory_bytes"] = learner->calc_memory_bytes();
     if (lwpr_model) {

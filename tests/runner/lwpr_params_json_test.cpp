@@ -47,15 +47,19 @@ TEST(LwprParamsJson, ReadsThroughTheJobsTableKeepingTheLibraryDefaults) {
   EXPECT_EQ(message(R"({"max_fields": -1})"), "p.json: max_fields: expected an integer in [0, 1e+06], got -1");
   EXPECT_EQ(message(R"({"init_D": [[1, 0], [0]]})"), "p.json: init_D[1]: rows of different lengths");
   EXPECT_EQ(message(R"({"kernel": "triangle"})"), "p.json: kernel: must be one of \"gaussian\" or \"bisquare\", not \"triangle\"");
-  // One table serves the file format and the job's learning.lwpr block: 20 library keys + 3 of ours.
+  // One table serves the file format and the job's learning.lwpr block: 20 library keys + 4 of ours.
   nlohmann::json all = nlohmann::json::object();
   for (const auto& key : lwpr_params_keys()) all[key.name] = nullptr;
-  EXPECT_EQ(all.size(), 23u);
+  EXPECT_EQ(all.size(), 24u);
   // Keys left out keep the library's defaults (init_D 25 on raw data), not the job's 0.05.
   const lwpr::LwprParams p = parse_lwpr_params(nlohmann::json::parse(R"({"kernel": "BiSquare", "meta": 1})"), "p.json", 2, {});
   EXPECT_EQ(p.init_D(0, 0), 25.0);
   EXPECT_EQ(p.kernel, lwpr::Kernel::kBisquare);
   EXPECT_TRUE(p.meta);
+  EXPECT_EQ(p.loo_start, lwpr::LooStart::kLibrary);  // and the library's start rule, not the job's early one
+  const lwpr::LwprParams early = parse_lwpr_params(nlohmann::json::parse(R"({"loo_start": "early"})"), "p.json", 2, {});
+  EXPECT_EQ(early.loo_start, lwpr::LooStart::kEarly);
+  EXPECT_EQ(message(R"({"loo_start": "late"})"), "p.json: loo_start: must be one of \"library\" or \"early\", not \"late\"");
 }
 
 }  // namespace

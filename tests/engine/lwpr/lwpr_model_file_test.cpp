@@ -1,6 +1,8 @@
 // LWPR model files: bit-identical round trip, clear errors for corrupt, truncated and future files.
 #include "engine/lwpr/lwpr_model_file.hpp"
 
+#include "engine/learning/model_file_codec.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -10,8 +12,9 @@
 namespace armfarm::lwpr {
 namespace {
 
-LwprModel make_trained_model(bool diag_only) {
+LwprModel make_trained_model(bool diag_only, LooStart loo_start = LooStart::kLibrary) {
   LwprParams params;
+  params.loo_start = loo_start;
   params.init_D = Eigen::MatrixXd::Constant(1, 1, 20.0);
   params.diag_only = diag_only;
   params.meta = true;
@@ -86,12 +89,46 @@ TEST(LwprModelFile, RejectsCorruptTruncatedAndFutureFiles) {
   EXPECT_NE(error_of(good.substr(0, good.size() - 3)).find("truncated"), std::string::npos);
   EXPECT_NE(error_of("hello world, not a model").find("bad magic"), std::string::npos);
   std::string future = good;
-  future[8] = 2;  // version field, little-endian
+  future[8] = static_cast<char>(kLwprModelFormatVersion + 1);  // version field, little-endian
   EXPECT_NE(error_of(future).find("newer"), std::string::npos) << error_of(future);
   EXPECT_NE(error_of("").find("bad magic"), std::string::npos);
   std::string huge = good;
   for (int i = 12; i < 20; ++i) huge[i] = '\xff';  // payload size field: 2^64 - 1
   EXPECT_NE(error_of(huge).find("more than the file holds"), std::string::npos) << error_of(huge);
+}
+
+void put_le(std::string& to, std::uint64_t v, int bytes) {
+  for (int i = 0; i < bytes; ++i) to.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+}
+
+TEST(LwprModelFile, StartRuleRoundTripsAndVersionOneFilesLoadWithTheEarlyRule) {
+  for (LooStart rule : {LooStart::kLibrary, LooStart::kEarly}) {
+    EXPECT_EQ(load(save(make_trained_model(true, rule))).params().loo_start, rule);
+  }
+  // A version-1 file is a version-2 file without the start rule's u32. Two untrained models that
+  // differ only in the rule locate it: their payloads differ in that one value.
+  LwprParams a, b;
+  b.loo_start = LooStart::kEarly;
+  const std::string file_a = save(LwprModel(3, 2, a)), file_b = save(LwprModel(3, 2, b));
+  ASSERT_EQ(file_a.size(), file_b.size());
+  constexpr std::size_t kHeader = 20, kChecksum = 8;  // magic, version u32, payload size u64 | FNV-1a u64
+  std::size_t at = kHeader;
+  while (at < file_a.size() - kChecksum && file_a[at] == file_b[at]) ++at;
+  ASSERT_LT(at, file_a.size() - kChecksum);
+  // The library rule learns differently from the early one; written as version 1 it loads early.
+  const LwprModel trained = make_trained_model(true, LooStart::kLibrary);
+  const std::string v2 = save(trained);
+  std::string payload = v2.substr(kHeader, v2.size() - kHeader - kChecksum);
+  payload.erase(at - kHeader, 4);
+  std::string v1(v2.substr(0, 8));
+  put_le(v1, 1, 4);
+  put_le(v1, payload.size(), 8);
+  v1 += payload;
+  put_le(v1, calc_model_file_checksum(payload), 8);
+  const LwprModel old = load(v1);
+  EXPECT_EQ(old.params().loo_start, LooStart::kEarly);
+  EXPECT_EQ(old.size(), trained.size());
+  EXPECT_EQ(old.n_updates(), trained.n_updates());
 }
 
 }  // namespace

@@ -212,6 +212,61 @@ TEST(LwprModel, SameDataGivesIdenticalModel) {
   EXPECT_EQ(a.predict(x, *wa).value(0), b.predict(x, *wb).value(0));
 }
 
+// Without update_D one activation scan serves every output (LwprModel::shared_scan_). Each output
+// of a 3-output model must then be the same bits as a 1-output model learning that output alone
+// (which scans its own fields), in its fields and its predictions; and a model restored from
+// fields that differ between outputs must scan each output's own.
+TEST(LwprModel, OutputsSharingOneScanMatchSingleOutputModels) {
+  LwprParams params;
+  params.init_D = Eigen::MatrixXd::Constant(1, 1, 4.0);
+  params.update_D = false;
+  params.w_gen = 0.2;
+  params.norm_out = Eigen::Vector3d(1.0, 0.5, 2.0);
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  std::vector<Eigen::VectorXd> xs, ys;
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::Vector3d x(uniform(rng), uniform(rng), uniform(rng));
+    xs.push_back(x);
+    ys.push_back(Eigen::Vector3d(std::sin(2.0 * x(0)) + x(1), x(1) * x(2), std::cos(x(0) + x(2))));
+  }
+  LwprModel joint(3, 3, params);
+  for (std::size_t i = 0; i < xs.size(); ++i) joint.update(xs[i], ys[i]);
+  ASSERT_GT(joint.fields(0).size(), 10u);
+  auto wj = joint.make_workspace();
+  for (int o = 0; o < 3; ++o) {
+    LwprParams single_params = params;
+    single_params.norm_out = Eigen::VectorXd::Constant(1, params.norm_out(o));
+    LwprModel single(3, 1, single_params);
+    for (std::size_t i = 0; i < xs.size(); ++i) single.update(xs[i], ys[i].segment(o, 1));
+    ASSERT_EQ(single.fields(0).size(), joint.fields(o).size()) << "output " << o;
+    for (std::size_t f = 0; f < single.fields(0).size(); ++f) {
+      EXPECT_EQ(single.fields(0)[f].center, joint.fields(o)[f].center);
+      EXPECT_EQ(single.fields(0)[f].beta, joint.fields(o)[f].beta);
+      EXPECT_EQ(single.fields(0)[f].sum_e_cv2, joint.fields(o)[f].sum_e_cv2);
+    }
+    auto ws = single.make_workspace();
+    for (std::size_t i = 0; i < 200; ++i) {
+      const Prediction a = single.predict(xs[i], *ws);
+      const Prediction b = joint.predict(xs[i], *wj);
+      EXPECT_EQ(a.value(0), b.value(o));
+      EXPECT_EQ(a.confidence(0), b.confidence(o));
+    }
+  }
+  // Restored with output 1's fields replaced by output 2's: no longer identical across outputs.
+  std::vector<std::vector<ReceptiveField>> fields = {joint.fields(0), joint.fields(2), joint.fields(2)};
+  fields[1].pop_back();
+  const LwprModel mixed(3, 3, params, fields, joint.n_updates());
+  LwprParams p2 = params;
+  p2.norm_out = Eigen::VectorXd::Constant(1, params.norm_out(1));
+  const LwprModel lone(3, 1, p2, {fields[1]}, joint.n_updates());
+  auto wm = mixed.make_workspace();
+  auto wl = lone.make_workspace();
+  for (std::size_t i = 0; i < 200; ++i) {
+    EXPECT_EQ(mixed.predict(xs[i], *wm).value(1), lone.predict(xs[i], *wl).value(0));
+  }
+}
+
 TEST(LwprModel, RejectsNonFiniteSamplesAndLeavesModelUnchanged) {
   std::mt19937_64 rng(5);
   LwprModel model(2, 1, cross_params(2));

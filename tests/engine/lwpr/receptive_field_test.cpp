@@ -46,14 +46,19 @@ TEST(ReceptiveField, ActivationAgreesForDiagonalAndFullMetrics) {
   EXPECT_NEAR(calc_activation(f, Kernel::kGaussian, x, 0.0, sb), std::exp(-0.5 * d.dot(Dfull * d)), 1e-14);
 }
 
+// A 2-D field at the origin with metric I, and scratch sized for it.
+ReceptiveField make_unit_field(const LwprParams& params, FieldScratch& scratch) {
+  scratch.resize(2, true);
+  return make_receptive_field(params, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity());
+}
+
 TEST(ReceptiveField, PlsLearnsAPlane) {
   // Two projections span the 2-D input, so the local model converges to the plane; forgetting
   // washes out the statistics gathered while the PLS directions were still moving.
   LwprParams params;
   params.update_D = false;
-  ReceptiveField rf = make_receptive_field(params, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity());
   FieldScratch scratch;
-  scratch.resize(2, true);
+  ReceptiveField rf = make_unit_field(params, scratch);
   std::mt19937_64 rng(2);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   for (int i = 0; i < 20000; ++i) {
@@ -65,6 +70,34 @@ TEST(ReceptiveField, PlsLearnsAPlane) {
   EXPECT_NEAR(predict_receptive_field(rf, Eigen::Vector2d(0.3, 0.4), leverage, scratch), 0.5 + 0.6 - 0.4, 5e-3);
   EXPECT_GE(leverage, 0.0);
   EXPECT_LT(calc_field_noise_variance(rf), 1e-4);
+}
+
+// The sample at which a field with two projections first records a leave-one-out error.
+int first_loo_sample(LooStart rule) {
+  LwprParams params;
+  params.update_D = false;
+  params.loo_start = rule;
+  FieldScratch scratch;
+  ReceptiveField rf = make_unit_field(params, scratch);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int k = 1; k <= 1000; ++k) {
+    const Eigen::Vector2d x(uniform(rng), uniform(rng));
+    update_receptive_field(params, 4.0, x, x(0) * x(1) + 0.1 * uniform(rng), 1.0, rf, scratch);
+    if (rf.sum_e_cv2(0) != 0.0) return k;
+  }
+  return -1;
+}
+
+TEST(ReceptiveField, StartRuleDecidesWhenLeaveOneOutStatisticsBegin) {
+  // n_data after k samples is Σ_{i<k} λ^i ≈ k − k²/2000 at λ ≈ 0.999. Early: once n_data >
+  // 4·(R+1) = 12, i.e. at sample 13 (n_12 ≈ 11.93, n_13 ≈ 12.92). Library: once n_data >
+  // 0.1/(1−λ) ≈ 100, which the discounted count passes only after more than 100 samples (about
+  // 106 at λ = 0.999; λ anneals upwards, so a little later).
+  EXPECT_EQ(first_loo_sample(LooStart::kEarly), 13);
+  const int library = first_loo_sample(LooStart::kLibrary);
+  EXPECT_GT(library, 105);
+  EXPECT_LT(library, 130);
 }
 
 TEST(ReceptiveField, AddProjectionGrowsEveryStatistic) {

@@ -56,6 +56,10 @@ TEST_F(LwprFitCommand, FitsAndReportsJson) {
   EXPECT_GT(json["n_rf"].get<int>(), 2);
   EXPECT_GT(json["us_per_update"].get<double>(), 0.0);
   EXPECT_GT(json["us_per_predict"].get<double>(), 0.0);
+  // Thread CPU time of the same loops: positive, and a single thread cannot use more CPU than
+  // wall time (a small allowance for the two clocks' resolutions).
+  EXPECT_GT(json["cpu_us_per_update"].get<double>(), 0.0);
+  EXPECT_LE(json["cpu_us_per_update"].get<double>(), json["us_per_update"].get<double>() * 1.05 + 0.5);
   std::ifstream in(path("model.lwpr"), std::ios::binary);
   const armfarm::lwpr::LwprModel model = armfarm::lwpr::load_lwpr_model(in);
   EXPECT_EQ(static_cast<int>(model.size()), json["n_rf"].get<int>());
