@@ -22,22 +22,27 @@ namespace armfarm {
 
 namespace {
 
-// gnuplot text that cannot expand: single quotes, inside which gnuplot runs no backtick command,
-// expands no @macro and reads no backslash escape ('' is a quote). A line break becomes the
-// string expression '…'."\n".'…'; other control characters and non-UTF-8 bytes are replaced.
+// gnuplot text that cannot expand: runs of plain text in single quotes, inside which gnuplot
+// runs no backtick command, expands no @macro and reads no backslash escape, joined by `.` to the
+// constants "\n" and "'" for line breaks and quotes (gnuplot 5.4 reads a leading '' as an empty
+// string, so a doubled quote cannot start a string). Other control characters and bytes that
+// are not UTF-8 are replaced.
 std::string quote_gnuplot(const std::string& text) {
   const std::string printable = make_printable_text(text, /*keep_newlines=*/true);
-  std::string out = "'";
+  std::string out;
+  std::string run;
+  const auto add = [&out](const std::string& piece) { out += (out.empty() ? "" : ".") + piece; };
   for (const char c : printable) {
-    if (c == '\n') {
-      out += "'.\"\\n\".'";
-    } else if (c == '\'') {
-      out += "''";
-    } else {
-      out += c;
+    if (c != '\n' && c != '\'') {
+      run += c;
+      continue;
     }
+    if (!run.empty()) add("'" + run + "'");
+    run.clear();
+    add(c == '\n' ? "\"\\n\"" : "\"'\"");
   }
-  return out + "'";
+  if (!run.empty() || out.empty()) add("'" + run + "'");
+  return out;
 }
 
 // Runs `gnuplot script` with no shell in between (no path or name is ever parsed as a command),
@@ -432,9 +437,18 @@ void write_figure(const Figure& figure, const std::string& out_path, const Figur
   }
   if (status != 0 || !fs::exists(rendered)) {
     std::ifstream log(work / "gnuplot.log");
-    std::string first_line;
-    std::getline(log, first_line);
-    throw AnalysisError(out_path + ": gnuplot failed" + (first_line.empty() ? "" : ": " + make_printable_text(first_line)));
+    // The first error line says why (warnings, such as the key's fitting, come first).
+    std::string line, reason;
+    while (std::getline(log, line)) {
+      if (line.empty()) continue;
+      if (reason.empty()) reason = line;
+      if (line.find(" line ") != std::string::npos && line.find("warning:") == std::string::npos) {
+        reason = line;
+        break;
+      }
+    }
+    if (reason.size() > 300) reason = reason.substr(0, 300) + "...";
+    throw AnalysisError(out_path + ": gnuplot failed" + (reason.empty() ? "" : ": " + make_printable_text(reason)));
   }
   const fs::path destination = fs::absolute(out_path);
   const fs::path partial = destination.string() + ".partial";

@@ -50,7 +50,10 @@ std::size_t extend_path_hash(std::size_t hash, const std::string& segment) {
 
 bool needs_quotes(const std::string& key) {
   if (key.empty()) return true;
-  return std::any_of(key.begin(), key.end(), [](char c) { return c == '.' || c == '[' || c == ']' || c == '"' || c == ' '; });
+  return std::any_of(key.begin(), key.end(), [](char c) {
+    const auto byte = static_cast<unsigned char>(c);
+    return c == '.' || c == '[' || c == ']' || c == '"' || c == ' ' || byte < 0x20 || byte == 0x7f;
+  });
 }
 
 // Builds the DOM and records where each value starts.
@@ -213,12 +216,22 @@ class TrackingSax : public nlohmann::json_sax<nlohmann::json> {
   }
 
   // The value put next gets node index nodes.size(): its parent, segment, offset and path hash.
+  // An array element stores its index, not its segment's text: `[1999]` is longer than `,1`.
   void record_node(std::size_t start) {
     std::string segment = make_next_segment();
     const std::size_t parent = frames_.empty() ? 0 : frames_.back().node;
     const std::size_t hash = frames_.empty() ? 0 : extend_path_hash(document_.nodes[parent].hash, segment);
+    JsonDocument::Node node;
+    node.parent = parent;
+    node.offset = start;
+    node.hash = hash;
+    if (!frames_.empty() && frames_.back().container->is_array()) {
+      node.element = frames_.back().container->size();
+    } else {
+      node.segment = std::move(segment);
+    }
     document_.by_hash.emplace(hash, document_.nodes.size());
-    document_.nodes.push_back({parent, std::move(segment), start, hash});
+    document_.nodes.push_back(std::move(node));
   }
 
   bool open(nlohmann::json empty) {
@@ -267,10 +280,13 @@ std::string describe_text_position(const std::string& text, std::size_t offset) 
 }
 
 std::string JsonDocument::make_path(std::size_t index) const {
-  std::vector<const std::string*> segments;
-  for (std::size_t at = index; at != 0; at = nodes[at].parent) segments.push_back(&nodes[at].segment);
+  std::vector<std::size_t> chain;
+  for (std::size_t at = index; at != 0; at = nodes[at].parent) chain.push_back(at);
   std::string path;
-  for (auto it = segments.rbegin(); it != segments.rend(); ++it) path += **it;
+  for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+    const Node& node = nodes[*it];
+    path += node.element == Node::kNotAnElement ? node.segment : "[" + std::to_string(node.element) + "]";
+  }
   return path;
 }
 

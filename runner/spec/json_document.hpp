@@ -18,10 +18,12 @@ namespace armfarm {
 /// deep or long its keys are; a whole path is rebuilt only when a message asks for it.
 struct JsonDocument {
   struct Node {
+    static constexpr std::size_t kNotAnElement = static_cast<std::size_t>(-1);
     std::size_t parent;   ///< index into nodes; the root's parent is itself (index 0)
-    std::string segment;  ///< `key`, `.key`, `["a.b"]` or `[3]`; "" for the root
-    std::size_t offset;   ///< byte offset of the value's first character
-    std::size_t hash;     ///< of the whole path, built segment by segment
+    std::string segment;  ///< `key`, `.key` or `["a.b"]` for an object's value; "" for the root and array elements
+    std::size_t element = kNotAnElement;  ///< an array element's index (its segment `[3]` is built when asked)
+    std::size_t offset = 0;  ///< byte offset of the value's first character
+    std::size_t hash = 0;    ///< of the whole path, built segment by segment
   };
   nlohmann::json value;
   std::string text;
