@@ -1,6 +1,7 @@
 #include "analysis/plots.hpp"
 
 #include "analysis/analysis_error.hpp"
+#include "analysis/search_summary.hpp"
 #include "analysis/summary_statistics.hpp"
 #include "analysis/table.hpp"
 
@@ -15,7 +16,7 @@ PlotKind parse_plot_kind(const std::string& word) {
   for (PlotKind kind : all_plot_kinds()) {
     if (word == to_string(kind)) return kind;
   }
-  throw AnalysisError("unknown plot kind '" + word + "' (nmse-vs-kernel, rf-growth, signals, tracking, metric-vs-param)");
+  throw AnalysisError("unknown plot kind '" + word + "' (nmse-vs-kernel, rf-growth, signals, tracking, metric-vs-param, search)");
 }
 
 const char* to_string(PlotKind kind) {
@@ -25,12 +26,14 @@ const char* to_string(PlotKind kind) {
     case PlotKind::signals: return "signals";
     case PlotKind::tracking: return "tracking";
     case PlotKind::metric_vs_param: return "metric-vs-param";
+    case PlotKind::search: return "search";
   }
   return "metric-vs-param";
 }
 
 std::vector<PlotKind> all_plot_kinds() {
-  return {PlotKind::nmse_vs_kernel, PlotKind::rf_growth, PlotKind::signals, PlotKind::tracking, PlotKind::metric_vs_param};
+  return {PlotKind::nmse_vs_kernel, PlotKind::rf_growth, PlotKind::signals, PlotKind::tracking, PlotKind::metric_vs_param,
+          PlotKind::search};
 }
 
 std::string make_job_label(const JobResult& job) {
@@ -447,6 +450,8 @@ Figure make_tracking(const ResultsStore& store, const SweepData& data, const Plo
 }  // namespace
 
 Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request) {
+  // A search plot spans sweeps (the method beside its random baseline).
+  if (request.kind == PlotKind::search) return make_search_figure(store, request.sweep);
   const SweepData data = load_sweep_data(store, choose_sweep(store, request.sweep));
   switch (request.kind) {
     case PlotKind::nmse_vs_kernel: return make_nmse_vs_kernel(data, request);
@@ -454,6 +459,7 @@ Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request) {
     case PlotKind::signals: return make_signals(store, data, request);
     case PlotKind::tracking: return make_tracking(store, data, request);
     case PlotKind::metric_vs_param: return make_metric_vs_param(data, request);
+    case PlotKind::search: break;
   }
   throw AnalysisError("unknown plot kind");
 }
@@ -473,6 +479,7 @@ std::vector<PlotKind> find_available_plot_kinds(const ResultsStore& store, const
   if (series.count("RF")) kinds.push_back(PlotKind::rf_growth);
   if (series.count("F") && series.count("FF")) kinds.push_back(PlotKind::signals);
   if (series.count("POS") && series.count("POS_D")) kinds.push_back(PlotKind::tracking);
+  if (store.find_search(data.name)) kinds.push_back(PlotKind::search);
   return kinds;
 }
 

@@ -14,9 +14,9 @@
 
 namespace armfarm {
 
-enum class PlotKind { nmse_vs_kernel, rf_growth, signals, tracking, metric_vs_param };
+enum class PlotKind { nmse_vs_kernel, rf_growth, signals, tracking, metric_vs_param, search };
 
-/// Parses "nmse-vs-kernel", "rf-growth", "signals", "tracking", "metric-vs-param".
+/// Parses "nmse-vs-kernel", "rf-growth", "signals", "tracking", "metric-vs-param", "search".
 PlotKind parse_plot_kind(const std::string& word);
 const char* to_string(PlotKind kind);
 /// All kinds, for help texts and reports.

@@ -20,10 +20,7 @@ bool MetricId::operator==(const MetricId& other) const {
 }
 
 std::string make_metric_label(const MetricId& id) {
-  std::string label = id.name;
-  if (id.joint) label += " j" + std::to_string(*id.joint);
-  if (id.checkpoint) label += " c" + std::to_string(*id.checkpoint);
-  return label;
+  return make_metric_column_name(id.name, id.joint, id.checkpoint);
 }
 
 MetricInfoTable load_metric_info(const ResultsStore& store) {

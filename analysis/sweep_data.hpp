@@ -23,7 +23,8 @@ struct MetricId {
   bool operator==(const MetricId& other) const;
 };
 
-/// "name" for a job-level metric, "name j2" for joint 2, "name j2 c3" at checkpoint 3.
+/// "name" for a job-level metric, "name_j2" for joint 2, "name_j2_c3" at checkpoint 3: the
+/// store's one spelling (make_metric_column_name), also the sweep view's column names.
 std::string make_metric_label(const MetricId& id);
 
 /// One job as the analysis sees it.

@@ -3,6 +3,7 @@
 #include "analysis/analysis_error.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <map>
 #include <set>
@@ -449,15 +450,17 @@ std::string escape_csv(const std::string& text) {
   return out + "\"";
 }
 
+// The shortest text that reads back to the same double ("0.1", not "0.10000000000000001").
 std::string csv_number(double value) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
   char buffer[40];
-  std::snprintf(buffer, sizeof buffer, "%.17g", value);
-  return buffer;
+  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
 }
 
 }  // namespace
 
-std::string format_table(const Table& table, TableFormat format, Aggregate aggregate) {
+std::string format_table(const Table& table, TableFormat format, Aggregate aggregate, CsvNotes csv_notes) {
   std::ostringstream out;
   switch (format) {
     case TableFormat::markdown: {
@@ -482,7 +485,7 @@ std::string format_table(const Table& table, TableFormat format, Aggregate aggre
       break;
     }
     case TableFormat::csv: {
-      // Undefined cells are empty; their reasons follow the table as comment lines.
+      // Undefined cells are empty; their reasons follow the table as comment lines if asked for.
       bool first = true;
       auto field = [&](const std::string& text) {
         out << (first ? "" : ",") << escape_csv(text);
@@ -515,7 +518,9 @@ std::string format_table(const Table& table, TableFormat format, Aggregate aggre
         field(std::to_string(row.jobs_unfinished));
         out << "\n";
       }
-      for (std::size_t f = 0; f < table.footnotes.size(); ++f) out << "# [" << f + 1 << "] " << table.footnotes[f] << "\n";
+      if (csv_notes == CsvNotes::comment_lines) {
+        for (std::size_t f = 0; f < table.footnotes.size(); ++f) out << "# [" << f + 1 << "] " << table.footnotes[f] << "\n";
+      }
       break;
     }
     case TableFormat::latex: {

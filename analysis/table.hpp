@@ -76,9 +76,15 @@ Table make_table(const SweepData& data, const TableSpec& spec);
 /// table of all job-level metrics otherwise.
 std::vector<TableSpec> make_default_table_specs(const SweepData& data);
 
+/// Whether CSV output carries the footnotes (the reasons for undefined cells) as `# [k] …`
+/// lines after the table. Off by default: pandas and R read comment lines as data rows.
+enum class CsvNotes { omitted, comment_lines };
+
 /// Renders a table as text in `format`, with cells as the chosen aggregate; the mean adds its
 /// 95 % Student-t interval over the repeats, "0.2 [0.1, 0.3] (n=3)" (csv and json also the std).
-std::string format_table(const Table& table, TableFormat format, Aggregate aggregate);
+/// Markdown, LaTeX and JSON always carry the footnotes; CSV only with CsvNotes::comment_lines.
+std::string format_table(const Table& table, TableFormat format, Aggregate aggregate,
+                         CsvNotes csv_notes = CsvNotes::omitted);
 
 /// The candidate nearest to `word` by edit distance, if it is close enough to be a likely typo.
 std::optional<std::string> find_nearest_name(const std::string& word, const std::vector<std::string>& candidates);

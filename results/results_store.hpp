@@ -306,6 +306,13 @@ class ResultsStore {
 /// character was replaced, so that "a-b" and "a_b" get different names whatever else the file holds.
 std::string make_sweep_view_name(const std::string& sweep);
 
+/// The one spelling of a metric value's name, wherever one is shown or written (the
+/// `sweep_<name>` view's columns, `armfarm job --json`, table headers, plot labels):
+/// "tracking_nmse" for a job-level value, "tracking_nmse_j2" for joint 2 (1-based),
+/// "heldout_test_nmse_c200" at checkpoint 200, "heldout_ff_fb_ratio_avg_j2_c200" for both.
+std::string make_metric_column_name(const std::string& name, std::optional<int> joint,
+                                    std::optional<std::int64_t> checkpoint);
+
 /// Current UTC time as ISO-8601 text with milliseconds ("2024-05-01T12:34:56.789Z").
 std::string make_utc_timestamp();
 

@@ -1,14 +1,57 @@
 #include "results/sqlite_connection.hpp"
 
 #include <sqlite3.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+
+#include <cctype>
 
 namespace armfarm {
 
 // ---- SqliteConnection ----
 
+namespace {
+
+// A file: URI of `path` (RFC 3986: every byte but unreserved ones and '/' percent-encoded, so a
+// '?', '#' or '%' in a name stays part of the name).
+std::string make_file_uri(const std::string& path, const char* query) {
+  static const char kHex[] = "0123456789ABCDEF";
+  std::string uri = "file:";
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    const char c = path[i];
+    const unsigned char byte = static_cast<unsigned char>(c);
+    // A second leading '/' is encoded too: "file://" would start an authority.
+    if (std::isalnum(byte) || (c == '/' && i != 1) || c == '-' || c == '.' || c == '_' || c == '~') {
+      uri += c;
+    } else {
+      uri += '%';
+      uri += kHex[byte >> 4];
+      uri += kHex[byte & 15];
+    }
+  }
+  return uri + "?" + query;
+}
+
+// True when `path` lies on a filesystem mounted read-only: nothing can write the file there.
+// A file there with a -wal beside it is not opened immutable: that would ignore the WAL's
+// commits (SQLite then reads it through the existing -shm, or refuses it).
+bool is_immutable_file(const std::string& path) {
+  struct statvfs info {};
+  if (::statvfs(path.c_str(), &info) != 0 || (info.f_flag & ST_RDONLY) == 0) return false;
+  struct stat wal {};
+  return ::stat((path + "-wal").c_str(), &wal) != 0 || wal.st_size == 0;
+}
+
+}  // namespace
+
 SqliteConnection::SqliteConnection(const std::string& path, bool read_only) : path_(path) {
-  const int flags = read_only ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
-  const int rc = sqlite3_open_v2(path.c_str(), &db_, flags | SQLITE_OPEN_NOMUTEX, nullptr);
+  // Reading a WAL file needs its -shm index, which a read-only filesystem cannot hold: there
+  // the file is opened immutable (no locks, no -shm), which is sound because nothing can
+  // change it. Elsewhere mode=ro: a reader that sees writers' commits.
+  const std::string name =
+      !read_only ? path : make_file_uri(path, is_immutable_file(path) ? "immutable=1" : "mode=ro");
+  const int flags = read_only ? (SQLITE_OPEN_READONLY | SQLITE_OPEN_URI) : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  const int rc = sqlite3_open_v2(name.c_str(), &db_, flags | SQLITE_OPEN_NOMUTEX, nullptr);
   if (rc != SQLITE_OK) {
     const std::string message = db_ != nullptr ? sqlite3_errmsg(db_) : sqlite3_errstr(rc);
     sqlite3_close(db_);

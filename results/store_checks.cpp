@@ -1,5 +1,6 @@
 // Checking a database's contents row by row (`armfarm status --check`, and every merge input
 // before anything is written).
+#include "results/readable_check.hpp"
 #include "results/series_codec.hpp"
 #include "results/store_internal.hpp"
 
@@ -89,6 +90,16 @@ std::vector<std::string> ResultsStore::check_contents(bool integrity, std::size_
     }
   }
   return findings;
+}
+
+void verify_readable(const ResultsStore& store) {
+  std::vector<std::string> findings;
+  const std::string quick = store.check_integrity(true);
+  if (quick != "ok") findings.push_back("quick_check: " + quick.substr(0, quick.find('\n')));
+  if (findings.empty()) findings = store.check_contents(false, 2);
+  if (findings.empty()) return;
+  throw StoreError(store.path() + ": damaged armfarm database: " + findings.front() + " (armfarm status --check " + store.path() +
+                   " lists every problem)");
 }
 
 void ResultsStore::verify_file(const std::string& path) {

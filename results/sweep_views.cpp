@@ -64,9 +64,8 @@ void write_sweep_view(SqliteConnection& db, const std::string& sweep) {
     sql << ", json_extract(sj.params, " << quote_literal("$.\"" + param + "\"") << ") AS " << quote_identifier(param);
   }
   for (const MetricColumn& metric : metric_columns) {
-    std::string column = metric.name;
-    if (metric.joint) column += "_j" + std::to_string(*metric.joint);
-    if (metric.checkpoint) column += "_c" + std::to_string(*metric.checkpoint);
+    const std::string column = make_metric_column_name(
+        metric.name, metric.joint ? std::optional<int>(static_cast<int>(*metric.joint)) : std::nullopt, metric.checkpoint);
     if (!used.insert(column).second) continue;
     const auto match = [](const std::optional<std::int64_t>& value) {
       return value ? "= " + std::to_string(*value) : std::string("IS NULL");
@@ -82,6 +81,14 @@ void write_sweep_view(SqliteConnection& db, const std::string& sweep) {
 }
 
 }  // namespace store_detail
+
+std::string make_metric_column_name(const std::string& name, std::optional<int> joint,
+                                    std::optional<std::int64_t> checkpoint) {
+  std::string column = name;
+  if (joint) column += "_j" + std::to_string(*joint);
+  if (checkpoint) column += "_c" + std::to_string(*checkpoint);
+  return column;
+}
 
 void ResultsStore::update_sweep_view(const std::string& sweep) {
   SqliteTransaction transaction(*db_);

@@ -147,7 +147,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
         options.statistics->add_model_accuracy(true_torque, feed_forward.torque, feed_forward.output_trusted);
       }
       if (options.recorder && k % options.record_every == 0) {
-        record_tick(*options.recorder, TickRecord{t, q, qd, last_acceleration, q_desired, qd_desired, qdd_desired, position,
+        record_tick(*options.recorder, TickRecord{calc_recorded_tick_time(t, dt), q, qd, last_acceleration, q_desired, qd_desired, qdd_desired, position,
                                                   position_desired, command, observed_size()});
       }
       lap(&TickClock::statistics);

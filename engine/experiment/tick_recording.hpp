@@ -26,4 +26,10 @@ struct TickRecord {
 
 void record_tick(SeriesRecorder& recorder, const TickRecord& tick);
 
+/// The recorded time of a tick at simulated time `t` (s): the tick's number i = round(t / dt)
+/// times dt, computed as i / (1/dt) when 1/dt is a whole number (so dt = 0.01 records 0.1, 0.2,
+/// 0.3 as the doubles nearest those decimals, which print shortest as "0.1", "0.2", "0.3"),
+/// as i·dt otherwise. The plant's own clock accumulates dt and reads 0.09999999999999999.
+double calc_recorded_tick_time(double t, double dt);
+
 }  // namespace armfarm

@@ -38,8 +38,8 @@ typedef double ScanBlock __attribute__((vector_size(kScanBlock * sizeof(double))
 // q = Σ_i d_i (x_i − c_i)² over `stride` elements (a multiple of kScanBlock, zero-padded), or +∞
 // as soon as a block ends with q ≥ q_limit. Each block's eight products are added in a fixed tree
 // order, so q does not depend on the vector width.
-inline double calc_diagonal_distance(const double* x, const double* c, const double* d, int stride,
-                                     double q_limit) {
+__attribute__((always_inline)) inline double calc_diagonal_distance(const double* x, const double* c, const double* d,
+                                                                     int stride, double q_limit) {
   double q = 0.0;
   for (int b = 0; b < stride; b += kScanBlock) {
     ScanBlock xv, cv, dv;
@@ -189,6 +189,20 @@ bool LwprModel::calc_scans_identical() const {
 
 void LwprModel::scan_active(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
                             std::vector<ActiveField>& active) const {
+  if (scratch.use_avx2) {
+    scan_active_avx2(output, x_padded, trusted_only, scratch, active);
+  } else {
+    scan_active_loop(output, x_padded, trusted_only, scratch, active);
+  }
+}
+
+void LwprModel::scan_active_avx2(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
+                                 std::vector<ActiveField>& active) const {
+  scan_active_loop(output, x_padded, trusted_only, scratch, active);
+}
+
+inline void LwprModel::scan_active_loop(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
+                                        std::vector<ActiveField>& active) const {
   active.clear();
   const std::vector<unsigned char>& trusted = scan_[output].trusted;
   for (std::size_t i = 0; i < trusted.size(); ++i) {

@@ -91,6 +91,12 @@ class LwprModel final : public Learner {
   // ones when `trusted_only`.
   void scan_active(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
                    std::vector<ActiveField>& active) const;
+  // scan_active's loop, inlined into the portable copy and into the AVX2 one (used when
+  // scratch.use_avx2): the same operations and summation order, no FMA, so the same bits.
+  __attribute__((always_inline)) inline void scan_active_loop(int output, const double* x_padded, bool trusted_only,
+                                                              FieldScratch& scratch, std::vector<ActiveField>& active) const;
+  __attribute__((target("avx2"))) void scan_active_avx2(int output, const double* x_padded, bool trusted_only,
+                                                        FieldScratch& scratch, std::vector<ActiveField>& active) const;
   // Whether every output's scan data (centres, metrics, trust flags) are the same.
   bool calc_scans_identical() const;
   // Appends field `i` of `output` to that output's scan data.
@@ -99,7 +105,8 @@ class LwprModel final : public Learner {
   void write_scan_metric(const ReceptiveField& rf, double* to) const;
   // The activation of field i of `output` at the normalised x, given as x_padded (zero-padded to
   // stride_), 0 at or below the cutoff.
-  double calc_field_activation(int output, std::size_t i, const double* x_padded, FieldScratch& scratch) const;
+  __attribute__((always_inline)) inline double calc_field_activation(int output, std::size_t i, const double* x_padded,
+                                                                     FieldScratch& scratch) const;
 
   // The activation scan's data of one output, in the order of fields_[o] and kept in step with it
   // on every create, update and prune: the centres, one block of stride_ doubles per field,

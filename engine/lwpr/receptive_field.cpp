@@ -26,18 +26,19 @@ inline double sum_lanes(const double (&part)[kLanes]) { return (part[0] + part[1
 // rounds exactly as the scalar loop it replaces, and lane k of a reduction holds the elements
 // i ≡ k (mod kLanes), so the results are the same bits as the scalar code's.
 typedef double Pair __attribute__((vector_size(2 * sizeof(double))));
+// The kLanes = 4 lanes of a loop as one vector (one AVX2 register): lane k holds the elements
+// i ≡ k (mod kLanes), the same partial sums as two pairs. Only the AVX2 copies of the field
+// update and prediction use it (on SSE2 the compiler splits it less well than two pairs).
+typedef double Quad __attribute__((vector_size(kLanes * sizeof(double))));
 // Loads and stores through references (a vector passed by value can change the call ABI between
 // builds; these inline to plain moves anyway).
-inline void load_pair(Pair& v, const double* from) { std::memcpy(&v, from, sizeof v); }
-inline void store_pair(double* to, const Pair& v) { std::memcpy(to, &v, sizeof v); }
-// The kLanes = 4 doubles at `from` as lanes 0–1 and 2–3, and back.
-inline void load_lanes(Pair& lo, Pair& hi, const double* from) {
-  load_pair(lo, from);
-  load_pair(hi, from + 2);
+template <class V>
+inline void load_vector(V& v, const double* from) {
+  std::memcpy(&v, from, sizeof v);
 }
-inline void store_lanes(double* to, const Pair& lo, const Pair& hi) {
-  store_pair(to, lo);
-  store_pair(to + 2, hi);
+template <class V>
+inline void store_vector(double* to, const V& v) {
+  std::memcpy(to, &v, sizeof v);
 }
 
 void refresh_projection(ReceptiveField& rf, int r) {
@@ -205,27 +206,35 @@ double calc_activation_within(const ReceptiveField& rf, Kernel kernel, const Eig
   return calc_kernel(kernel, q);
 }
 
-double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage,
-                               FieldScratch& scratch) {
-  // One pass per projection: projection r's deflation fused with projection r+1's dot product.
+namespace {
+
+// predict_receptive_field() on vectors V (Pair or Quad, as update_statistics below): one pass per
+// projection, projection r's deflation fused with projection r+1's dot product.
+template <class V>
+__attribute__((always_inline)) inline double predict_field(const ReceptiveField& rf, const Eigen::VectorXd& x,
+                                                           double& leverage, FieldScratch& scratch) {
+  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
+  constexpr int kGroups = kLanes / kWidth;
   const int n = rf.input_dim();
   double* z = scratch.z.data();
   const double* xp = x.data();
   const double* mean_x = rf.mean_x.data();
   const double* u = rf.directions.col(0).data();
-  Pair lo = {0.0, 0.0}, hi = {0.0, 0.0};
+  V lanes[kGroups] = {};
   int i = 0;
   for (; i + kLanes <= n; i += kLanes) {
-    Pair x_lo, x_hi, m_lo, m_hi, u_lo, u_hi;
-    load_lanes(x_lo, x_hi, xp + i);
-    load_lanes(m_lo, m_hi, mean_x + i);
-    load_lanes(u_lo, u_hi, u + i);
-    const Pair z_lo = x_lo - m_lo, z_hi = x_hi - m_hi;
-    store_lanes(z + i, z_lo, z_hi);
-    lo += u_lo * z_lo;
-    hi += u_hi * z_hi;
+    for (int g = 0; g < kGroups; ++g) {
+      V xv, mv, uv;
+      load_vector(xv, xp + i + g * kWidth);
+      load_vector(mv, mean_x + i + g * kWidth);
+      load_vector(uv, u + i + g * kWidth);
+      const V zv = xv - mv;
+      store_vector(z + i + g * kWidth, zv);
+      lanes[g] += uv * zv;
+    }
   }
-  double part[kLanes] = {lo[0], lo[1], hi[0], hi[1]};
+  double part[kLanes];
+  for (int k = 0; k < kLanes; ++k) part[k] = lanes[k / kWidth][k % kWidth];
   for (int k = 0; i < n; ++i, ++k) {
     z[i] = xp[i] - mean_x[i];
     part[k] += u[i] * z[i];
@@ -240,19 +249,20 @@ double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& 
     if (r + 1 == n_reg) break;
     const double* p = rf.loadings.col(r).data();
     const double* u_next = rf.directions.col(r + 1).data();
-    Pair next_lo = {0.0, 0.0}, next_hi = {0.0, 0.0};
+    V next_lanes[kGroups] = {};
     for (i = 0; i + kLanes <= n; i += kLanes) {
-      Pair z_lo, z_hi, p_lo, p_hi, u_lo, u_hi;
-      load_lanes(z_lo, z_hi, z + i);
-      load_lanes(p_lo, p_hi, p + i);
-      load_lanes(u_lo, u_hi, u_next + i);
-      z_lo -= s * p_lo;
-      z_hi -= s * p_hi;
-      store_lanes(z + i, z_lo, z_hi);
-      next_lo += u_lo * z_lo;
-      next_hi += u_hi * z_hi;
+      for (int g = 0; g < kGroups; ++g) {
+        V zv, pv, uv;
+        load_vector(zv, z + i + g * kWidth);
+        load_vector(pv, p + i + g * kWidth);
+        load_vector(uv, u_next + i + g * kWidth);
+        zv -= s * pv;
+        store_vector(z + i + g * kWidth, zv);
+        next_lanes[g] += uv * zv;
+      }
     }
-    double next[kLanes] = {next_lo[0], next_lo[1], next_hi[0], next_hi[1]};
+    double next[kLanes];
+    for (int k = 0; k < kLanes; ++k) next[k] = next_lanes[k / kWidth][k % kWidth];
     for (int k = 0; i < n; ++i, ++k) {
       z[i] -= s * p[i];
       next[k] += u_next[i] * z[i];
@@ -260,6 +270,23 @@ double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& 
     s = sum_lanes(next);
   }
   return y;
+}
+
+double predict_field_sse2(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage, FieldScratch& scratch) {
+  return predict_field<Pair>(rf, x, leverage, scratch);
+}
+__attribute__((target("avx2"))) double predict_field_avx2(const ReceptiveField& rf, const Eigen::VectorXd& x,
+                                                          double& leverage, FieldScratch& scratch) {
+  return predict_field<Quad>(rf, x, leverage, scratch);
+}
+
+}  // namespace
+
+double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage,
+                               FieldScratch& scratch) {
+  // Below kLanes inputs no block runs, and the two copies are the same scalar code.
+  if (scratch.use_avx2 && rf.input_dim() >= kLanes) return predict_field_avx2(rf, x, leverage, scratch);
+  return predict_field_sse2(rf, x, leverage, scratch);
 }
 
 double calc_field_noise_variance(const ReceptiveField& rf) {
@@ -273,12 +300,18 @@ namespace {
 // sample; leaves s_r, the residuals, 1 − h_r and e_cv,r in `scratch`. N > 0 fixes the input
 // dimension at compile time (the loops unroll; most of a 2-D field's update went to loop control),
 // N = 0 takes it from the field; the same operations in the same order either way.
-template <int N>
-void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveField& rf, FieldScratch& scratch) {
+// V is the vector the loops run on: Pair (SSE2, two per block of kLanes) or Quad (AVX2, one per
+// block); either way element i is in lane i mod kLanes, so the same bits. Always inlined, so that
+// the AVX2 copy below compiles it, and the helpers above, for AVX2.
+template <int N, class V>
+__attribute__((always_inline)) inline void update_statistics(const Eigen::VectorXd& x, double y, double w,
+                                                             ReceptiveField& rf, FieldScratch& scratch) {
   const double lambda = rf.lambda;
   const double lambda_slow = 1.0 - (1.0 - lambda) / 10.0;  // PLS directions forget more slowly
   const int n_reg = rf.n_reg();
   const int n = N > 0 ? N : rf.input_dim();
+  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
+  constexpr int kGroups = kLanes / kWidth;  // vectors per block of kLanes
 
   // Forgetting-weighted sums: Σλw (the weights, for the means and the MSE normalisation) and
   // n_data = Σλ·1, the discounted number of samples each projection has seen (the algorithm counts
@@ -296,13 +329,13 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
   double* mean_x = rf.mean_x.data();
   const double* xp = x.data();
   int i = 0;
-  for (; i + 2 <= n; i += 2) {
-    Pair xv, mv;
-    load_pair(xv, xp + i);
-    load_pair(mv, mean_x + i);
-    const Pair m = (w_old * mv + w * xv) * inv_w_new;
-    store_pair(mean_x + i, m);
-    store_pair(z + i, xv - m);
+  for (; i + kWidth <= n; i += kWidth) {
+    V xv, mv;
+    load_vector(xv, xp + i);
+    load_vector(mv, mean_x + i);
+    const V m = (w_old * mv + w * xv) * inv_w_new;
+    store_vector(mean_x + i, m);
+    store_vector(z + i, xv - m);
   }
   for (; i < n; ++i) {
     const double m = (w_old * mean_x[i] + w * xp[i]) * inv_w_new;
@@ -323,22 +356,24 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
     double* p = rf.loadings.col(r).data();
     const double w_res = w * res;
     // Four interleaved partial sums (a fixed order, so the same bits at any vector width).
-    Pair norm2_lo = {0.0, 0.0}, norm2_hi = {0.0, 0.0}, dot_lo = {0.0, 0.0}, dot_hi = {0.0, 0.0};
+    V norm2_lanes[kGroups] = {}, dot_lanes[kGroups] = {};
     i = 0;
     for (; i + kLanes <= n; i += kLanes) {
-      Pair z_lo, z_hi, v_lo, v_hi;
-      load_lanes(z_lo, z_hi, z + i);
-      load_lanes(v_lo, v_hi, sxy + i);
-      v_lo = lambda_slow * v_lo + w_res * z_lo;
-      v_hi = lambda_slow * v_hi + w_res * z_hi;
-      store_lanes(sxy + i, v_lo, v_hi);
-      norm2_lo += v_lo * v_lo;
-      norm2_hi += v_hi * v_hi;
-      dot_lo += v_lo * z_lo;
-      dot_hi += v_hi * z_hi;
+      for (int g = 0; g < kGroups; ++g) {
+        V zv, v;
+        load_vector(zv, z + i + g * kWidth);
+        load_vector(v, sxy + i + g * kWidth);
+        v = lambda_slow * v + w_res * zv;
+        store_vector(sxy + i + g * kWidth, v);
+        norm2_lanes[g] += v * v;
+        dot_lanes[g] += v * zv;
+      }
     }
-    double norm2_part[kLanes] = {norm2_lo[0], norm2_lo[1], norm2_hi[0], norm2_hi[1]};
-    double dot_part[kLanes] = {dot_lo[0], dot_lo[1], dot_hi[0], dot_hi[1]};
+    double norm2_part[kLanes], dot_part[kLanes];
+    for (int k = 0; k < kLanes; ++k) {
+      norm2_part[k] = norm2_lanes[k / kWidth][k % kWidth];
+      dot_part[k] = dot_lanes[k / kWidth][k % kWidth];
+    }
     for (int k = 0; i < n; ++i, ++k) {
       const double v = lambda_slow * sxy[i] + w_res * z[i];
       sxy[i] = v;
@@ -353,17 +388,17 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
     rf.sys(r) = lambda * rf.sys(r) + ws * res;
     const double inv_ss2 = 1.0 / rf.ss2(r);
     rf.beta(r) = rf.sys(r) * inv_ss2;
-    for (i = 0; i + 2 <= n; i += 2) {
-      Pair zv, yv, sv;
-      load_pair(zv, z + i);
-      load_pair(yv, sxy + i);
-      load_pair(sv, sxs + i);
-      store_pair(u + i, yv * inv_norm);
-      const Pair v = lambda * sv + ws * zv;
-      store_pair(sxs + i, v);
-      const Pair pv = v * inv_ss2;
-      store_pair(p + i, pv);
-      store_pair(z + i, zv - s * pv);
+    for (i = 0; i + kWidth <= n; i += kWidth) {
+      V zv, yv, sv;
+      load_vector(zv, z + i);
+      load_vector(yv, sxy + i);
+      load_vector(sv, sxs + i);
+      store_vector(u + i, yv * inv_norm);
+      const V v = lambda * sv + ws * zv;
+      store_vector(sxs + i, v);
+      const V pv = v * inv_ss2;
+      store_vector(p + i, pv);
+      store_vector(z + i, zv - s * pv);
     }
     for (; i < n; ++i) {
       u[i] = sxy[i] * inv_norm;
@@ -380,16 +415,38 @@ void update_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveFi
   }
 }
 
+// update_statistics<0> (input dimensions above 3) for SSE2 and for AVX2: the same operations in
+// the same order on the same lanes, without FMA contraction (AVX2 alone does not enable FMA), so
+// the same bits; AVX2 does each block of kLanes in one instruction instead of two.
+void update_statistics_sse2(const Eigen::VectorXd& x, double y, double w, ReceptiveField& rf, FieldScratch& scratch) {
+  update_statistics<0, Pair>(x, y, w, rf, scratch);
+}
+__attribute__((target("avx2"))) void update_statistics_avx2(const Eigen::VectorXd& x, double y, double w,
+                                                           ReceptiveField& rf, FieldScratch& scratch) {
+  update_statistics<0, Quad>(x, y, w, rf, scratch);
+}
+
 }  // namespace
+
+bool has_avx2() {
+  static const bool supported = __builtin_cpu_supports("avx2") != 0;
+  return supported;
+}
 
 void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
                             double w, ReceptiveField& rf, FieldScratch& scratch) {
   const double lambda = rf.lambda;
   const int n_reg = rf.n_reg();
   switch (rf.input_dim()) {
-    case 2: update_statistics<2>(x, y, w, rf, scratch); break;
-    case 3: update_statistics<3>(x, y, w, rf, scratch); break;
-    default: update_statistics<0>(x, y, w, rf, scratch); break;
+    case 2: update_statistics<2, Pair>(x, y, w, rf, scratch); break;
+    case 3: update_statistics<3, Pair>(x, y, w, rf, scratch); break;
+    default:
+      if (scratch.use_avx2) {
+        update_statistics_avx2(x, y, w, rf, scratch);
+      } else {
+        update_statistics_sse2(x, y, w, rf, scratch);
+      }
+      break;
   }
 
   // Leave-one-out statistics and the metric update wait until the field has some data: the

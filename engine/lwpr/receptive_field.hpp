@@ -48,6 +48,9 @@ struct ReceptiveField {
   bool diagonal() const { return metric.cols() == 1; }
 };
 
+/// Whether this CPU runs AVX2 (checked once).
+bool has_avx2();
+
 /// Scratch space for one field update or prediction (sized once, reused; no allocation per call).
 struct FieldScratch {
   Eigen::VectorXd z;        ///< input residual (n)
@@ -61,6 +64,9 @@ struct FieldScratch {
   Eigen::MatrixXd curvature;///< its second derivative (shape of M), for IDBD
   Eigen::MatrixXd old_factor;  ///< M before a metric step, to restore it
   Eigen::MatrixXd new_metric;  ///< D after a metric step, before it is accepted
+  /// Field updates of more than 3 inputs on AVX2 (the same bits as SSE2; has_avx2() by default,
+  /// tests compare the two).
+  bool use_avx2 = has_avx2();
   void resize(int n, bool diagonal);
 };
 

@@ -5,6 +5,7 @@
 #include "analysis/analysis_error.hpp"
 #include "engine/io/input_file.hpp"
 #include "analysis/comparison.hpp"
+#include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -74,6 +75,8 @@ RunFunction setup_compare(CLI::App& parent) {
     }
     const ResultsStore base = ResultsStore::open(options->base, ResultsStore::Mode::read_only);
     const ResultsStore next = ResultsStore::open(options->next, ResultsStore::Mode::read_only);
+    verify_readable(base);  // damaged rows and series are an error, not a quiet comparison
+    verify_readable(next);
     // What the names mean: the new database's catalog, the base's for names it lacks.
     MetricInfoTable info = load_metric_info(next);
     for (auto& [name, record] : load_metric_info(base)) info.emplace(name, record);

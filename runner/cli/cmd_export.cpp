@@ -1,9 +1,11 @@
-// `armfarm export DB --job KEY --series NAME` or `armfarm export DB --sweep NAME [--series A,B]`
-// [--format csv] [-o FILE]: recorded series as CSV for pandas, R, Matlab or gnuplot. One job's
-// series: a header of its column names and one line per sample. A whole sweep: one long-form
-// table (runner/io/sweep_export.hpp). Fields are RFC 4180, numbers the shortest text that reads
+// `armfarm export DB --job KEY --series NAME`, `armfarm export DB --sweep NAME [--series A,B]`
+// or `armfarm export DB [--sweep NAME] --metrics` [--format csv] [-o FILE]: recorded series or
+// scalar metrics as CSV for pandas, R, Matlab or gnuplot. One job's series: a header of its
+// column names and one line per sample. A whole sweep's series, or its metrics: one long-form
+// table each (runner/io/sweep_export.hpp). Fields are RFC 4180, numbers the shortest text that reads
 // back to the same double. With -o the file appears only once it is complete.
 #include "analysis/sweep_data.hpp"
+#include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/io/csv_writing.hpp"
@@ -26,6 +28,7 @@ struct ExportOptions {
   std::vector<std::string> series;
   std::string format = "csv";
   std::string output;
+  bool metrics = false;
 };
 
 // Writes one job's series; 0, or 2 after a one-line error.
@@ -70,8 +73,12 @@ RunFunction setup_export(CLI::App& parent) {
   CLI::Option* sweep = app->add_option("--sweep", options->sweep,
                                        "Sweep name: every done job's series as rows of job, swept parameters, time, "
                                        "joint, signal, value");
+  CLI::Option* metrics = app->add_flag("--metrics", options->metrics,
+                                       "The sweep's scalar metrics instead of its series, one row each: job, status, swept "
+                                       "parameters, name, joint (1-based), checkpoint, value, unit, reason (why a value is empty)");
   job->excludes(sweep);
   sweep->excludes(job);
+  metrics->excludes(job);
   app->add_option("--series", options->series,
                   "Series name (POS, TOR, ...); with --sweep a comma-separated list (default: every recorded series)")
       ->delimiter(',');
@@ -82,8 +89,12 @@ RunFunction setup_export(CLI::App& parent) {
   app->add_option("-o,--output", options->output, "Output file, written complete or not at all (default: standard output)");
 
   return [options] {
-    if (options->job.empty() && options->sweep.empty()) {
-      std::cerr << "armfarm: export: give --job KEY --series NAME, or --sweep NAME\n";
+    if (options->job.empty() && options->sweep.empty() && !options->metrics) {
+      std::cerr << "armfarm: export: give --job KEY --series NAME, --sweep NAME or --metrics\n";
+      return 2;
+    }
+    if (options->metrics && !options->series.empty()) {
+      std::cerr << "armfarm: export: --metrics writes scalar metrics; --series is for the recorded series\n";
       return 2;
     }
     if (!options->job.empty() && options->series.size() != 1) {
@@ -91,6 +102,7 @@ RunFunction setup_export(CLI::App& parent) {
       return 2;
     }
     const ResultsStore store = ResultsStore::open(options->db, ResultsStore::Mode::read_only);
+    verify_readable(store);  // damaged rows and series are an error, not a quiet export
     const std::string temporary = options->output.empty() ? "" : options->output + ".partial";
     std::ofstream file;
     if (!options->output.empty()) {
@@ -105,6 +117,15 @@ RunFunction setup_export(CLI::App& parent) {
     try {
       if (!options->job.empty()) {
         status = write_job_series(store, *options, out);
+      } else if (options->metrics) {
+        const std::string name =
+            choose_sweep(store, options->sweep.empty() ? std::nullopt : std::optional<std::string>(options->sweep));
+        const MetricExportCounts counts = write_sweep_metrics_csv(store, name, out);
+        std::cerr << "sweep " << name << ": " << counts.rows << " metric rows from " << counts.jobs << " jobs"
+                  << (counts.jobs_without_metrics
+                          ? " (" + std::to_string(counts.jobs_without_metrics) + " jobs without metrics)"
+                          : "")
+                  << "\n";
       } else {
         const std::string name = choose_sweep(store, options->sweep);
         const SweepExportCounts counts = write_sweep_long_csv(store, name, options->series, out);
@@ -112,7 +133,7 @@ RunFunction setup_export(CLI::App& parent) {
                   << (counts.jobs_skipped ? " (" + std::to_string(counts.jobs_skipped) + " jobs not done, left out)" : "")
                   << "\n";
       }
-    } catch (const std::invalid_argument& e) {
+    } catch (const std::exception& e) {  // a bad name, or no such sweep: no file is left behind
       std::cerr << "armfarm: " << options->db << ": " << e.what() << "\n";
       status = 2;
     }

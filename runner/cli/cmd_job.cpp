@@ -9,10 +9,12 @@
 #include "engine/model/end_effector.hpp"
 #include "engine/model/model_loading.hpp"
 #include "engine/io/input_file.hpp"
+#include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/execution/stop_signal.hpp"
 #include "runner/execution/stored_models.hpp"
+#include "runner/io/sweep_export.hpp"
 #include "runner/spec/canonical_json.hpp"
 #include "runner/spec/config_check.hpp"
 #include "runner/spec/config_path.hpp"
@@ -167,7 +169,9 @@ RunFunction setup_job(CLI::App& parent) {
   auto as_json = std::make_shared<bool>(false);
   auto timeout = std::make_shared<double>(3600.0);
   command->add_option("config", *path, "Job configuration (JSON; missing keys take their defaults)")->required();
-  command->add_flag("--json", *as_json, "Print {key, status, message, end_time, metrics, per_joint} as JSON");
+  command->add_flag("--json", *as_json,
+                    "Print {key, status, message, end_time, metrics, reasons, per_joint} as JSON (reasons: why a value "
+                    "is null, or what a mean left out; per_joint entries carry their own)");
   auto ee = std::make_shared<std::string>();
   command->add_option("--ee", *ee, "End effector LINK[:x,y,z] (offset in m, link frame); sets end_effector.link and .offset");
   auto strict = std::make_shared<bool>(false);
@@ -212,31 +216,41 @@ RunFunction setup_job(CLI::App& parent) {
     }
     std::map<int, nlohmann::json> per_joint;
     nlohmann::json metrics = nlohmann::json::object();
+    nlohmann::json reasons = nlohmann::json::object();  // beside every null, and every note on a value
     for (const Metric& metric : outcome.metrics) {
-      // Held-out metrics are measured at checkpoints: "heldout_test_nmse@200".
-      const std::string name = metric.checkpoint ? metric.name + "@" + std::to_string(metric.checkpoint->number) : metric.name;
+      // Held-out metrics are measured at checkpoints: "heldout_test_nmse_c200", as the sweep view
+      // and the tables spell them (joints are the per_joint entries').
+      const std::string name = make_metric_column_name(
+          metric.name, std::nullopt,
+          metric.checkpoint ? std::optional<std::int64_t>(metric.checkpoint->number) : std::nullopt);
+      const nlohmann::json value = number_or_null(metric.value.value_or(std::nan("")));
+      const std::string reason = value.is_null() ? describe_undefined_value(metric.reason) : metric.reason;
       if (metric.joint) {
-        per_joint[*metric.joint]["joint"] = *metric.joint;
-        per_joint[*metric.joint][name] = number_or_null(metric.value.value_or(std::nan("")));
+        nlohmann::json& joint = per_joint[*metric.joint];
+        joint["joint"] = *metric.joint;
+        joint[name] = value;
+        if (!reason.empty()) joint["reasons"][name] = reason;
       } else {
-        metrics[name] = number_or_null(metric.value.value_or(std::nan("")));
+        metrics[name] = value;
+        if (!reason.empty()) reasons[name] = reason;
       }
     }
     if (*as_json) {
       nlohmann::json out = {{"key", calc_job_key(config)}, {"status", to_string(outcome.status)}, {"message", outcome.message}, {"end_time", outcome.end_time},
-                            {"metrics", metrics}, {"per_joint", nlohmann::json::array()}};
+                            {"metrics", metrics}, {"reasons", reasons}, {"per_joint", nlohmann::json::array()}};
       for (auto& [joint, values] : per_joint) out["per_joint"].push_back(values);
       std::cout << out.dump(2) << "\n";
     } else {
       std::printf("status %s at t = %.3f s%s%s\n", to_string(outcome.status), outcome.end_time,
                   outcome.message.empty() ? "" : ": ", outcome.message.c_str());
       for (const auto& [name, value] : metrics.items()) {
-        std::printf("  %-30s %s\n", name.c_str(), value.dump().c_str());
+        const std::string reason = reasons.value(name, "");
+        std::printf("  %-30s %s%s%s\n", name.c_str(), value.dump().c_str(), reason.empty() ? "" : "  # ", reason.c_str());
       }
       for (const auto& [joint, values] : per_joint) {
         std::printf("  joint %d:", joint);
         for (const auto& [name, value] : values.items()) {
-          if (name != "joint") std::printf(" %s=%s", name.c_str(), value.is_number() ? std::to_string(value.get<double>()).c_str() : "null");
+          if (name != "joint" && name != "reasons") std::printf(" %s=%s", name.c_str(), value.is_number() ? std::to_string(value.get<double>()).c_str() : "null");
         }
         std::printf("\n");
       }

@@ -2,17 +2,33 @@
 // OUT. A job present in several files must have the same results there; conflicts are reported
 // (exit 1) and OUT keeps its own row. The merge is written to a temporary file beside OUT
 // (a copy of OUT when it exists) and renamed into place once complete, so a merge cut short
-// leaves OUT as it was, never a part of the result that looks whole.
+// leaves OUT as it was, never a part of the result that looks whole. The file is fsynced before
+// the rename and the folder after it, so a power loss leaves one or the other.
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 
 namespace armfarm::cli {
+namespace {
+
+// fsync of a file or folder: false (errno set) when it cannot be opened or synced.
+bool sync_path(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool synced = ::fsync(fd) == 0;
+  ::close(fd);
+  return synced;
+}
+
+}  // namespace
 
 RunFunction setup_merge(CLI::App& parent) {
   struct Options {
@@ -69,8 +85,21 @@ RunFunction setup_merge(CLI::App& parent) {
         conflicts += static_cast<int>(report.conflicts.size());
       }
     }  // closed: the last connection checkpoints its WAL into the file
+    // The merged file reaches the disk before its name replaces OUT, and the rename itself
+    // (the folder's entry) after: a power loss leaves the old OUT or the whole new one.
+    if (!sync_path(temporary)) {
+      std::cerr << "armfarm: " << temporary << ": cannot sync the merged file to disk: " << std::strerror(errno)
+                << "; " << options->out << " left as it was\n";
+      return 2;
+    }
     std::filesystem::rename(temporary, options->out);
     cleanup.renamed = true;
+    const std::filesystem::path folder = std::filesystem::absolute(options->out).parent_path();
+    if (!sync_path(folder.string())) {
+      std::cerr << "armfarm: " << folder.string() << ": cannot sync the folder after renaming " << options->out
+                << " into place: " << std::strerror(errno) << "\n";
+      return 2;
+    }
     return conflicts > 0 ? 1 : 0;
   };
 }

@@ -2,6 +2,7 @@
 // [--group P] [--joint J] [--checkpoint N]] [--style paper|slide|screen] [--size W,H] [--font-size PT]
 // [--title T] [--xlabel X] [--ylabel Y]`: the thesis's figures from a results database, via gnuplot.
 #include "analysis/plots.hpp"
+#include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -36,11 +37,11 @@ struct PlotOptions {
 
 RunFunction setup_plot(CLI::App& parent) {
   auto options = std::make_shared<PlotOptions>();
-  CLI::App* sub = parent.add_subcommand("plot", "Plot a sweep: nmse-vs-kernel, rf-growth, signals, tracking, metric-vs-param");
+  CLI::App* sub = parent.add_subcommand("plot", "Plot a sweep: nmse-vs-kernel, rf-growth, signals, tracking, metric-vs-param, search");
   sub->add_option("database", options->database, "Results database (SQLite)")->required();
-  sub->add_option("kind", options->kind, "nmse-vs-kernel | rf-growth | signals | tracking | metric-vs-param")
+  sub->add_option("kind", options->kind, "nmse-vs-kernel | rf-growth | signals | tracking | metric-vs-param | search (objective against cost, random beside the method)")
       ->required()
-      ->check(CLI::IsMember({"nmse-vs-kernel", "rf-growth", "signals", "tracking", "metric-vs-param"}));
+      ->check(CLI::IsMember({"nmse-vs-kernel", "rf-growth", "signals", "tracking", "metric-vs-param", "search"}));
   sub->add_option("--sweep", options->sweep, "Sweep name (needed when the database holds several)");
   sub->add_option("--job", options->jobs, "Job key or unique prefix (repeatable; default: chosen from the sweep)");
   sub->add_option("--out", options->out, "Output file, .pdf, .svg or .png by extension (default: KIND.svg)");
@@ -81,6 +82,7 @@ RunFunction setup_plot(CLI::App& parent) {
     if (options->log_y || options->linear_y) request.log_y = options->log_y;
     const std::string out = options->out.empty() ? options->kind + ".svg" : options->out;
     const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
+    verify_readable(store);  // damaged rows and series are an error, not a quiet plot
     Figure figure = make_plot_figure(store, request);
     if (options->title) figure.title = *options->title;
     for (Panel& panel : figure.panels) {

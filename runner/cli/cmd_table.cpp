@@ -1,10 +1,13 @@
 // `armfarm table DB [--sweep NAME] [--rows P,…] [--cols M,…] [--joints …] [--where P=V]
 // [--agg mean|median|min|max] [--format md|csv|latex|json]`: experiment tables of a sweep,
-// by default the thesis's (analysis/table.hpp).
+// by default the thesis's (analysis/table.hpp); for a search sweep (md) also its best trials,
+// rung survivors and budget spent (analysis/search_summary.hpp).
 #include "analysis/analysis_error.hpp"
+#include "analysis/search_summary.hpp"
 #include "analysis/table.hpp"
 #include "analysis/thesis_comparison.hpp"
 #include "engine/io/input_file.hpp"
+#include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -23,6 +26,7 @@ struct TableOptions {
   std::vector<std::string> where;
   std::string aggregate = "mean";
   std::string format = "md";
+  bool notes = false;
 };
 
 std::pair<std::string, std::string> parse_where(const std::string& text) {
@@ -46,11 +50,15 @@ RunFunction setup_table(CLI::App& parent) {
   sub->add_option("--where", options->where, "Keep jobs whose PARAM=VALUE (repeatable)");
   sub->add_option("--agg", options->aggregate, "Aggregate over repeats: mean (± std), median, min, max")
       ->check(CLI::IsMember({"mean", "median", "min", "max"}));
+  sub->add_flag("--notes", options->notes,
+                "With --format csv: the footnotes (why a cell is empty or what a mean left out) as '# [k] ...' lines "
+                "after each table (off by default: pandas reads them as rows)");
   sub->add_option("--format", options->format, "md, csv, latex or json")->check(CLI::IsMember({"md", "csv", "latex", "json"}));
   auto against = std::make_shared<std::string>();  // analysis/thesis_comparison.hpp
   sub->add_option("--against", *against, "Thesis results JSON (sweeps/thesis/thesis_results.json): thesis value, armfarm value, ratio per cell");
   return [options, against] {
     const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
+    verify_readable(store);  // damaged rows and series are an error, not a quiet table
     const Aggregate aggregate = parse_aggregate(options->aggregate);
     const TableFormat format = parse_table_format(options->format);
     if (!against->empty()) {
@@ -70,6 +78,7 @@ RunFunction setup_table(CLI::App& parent) {
       for (const SweepRecord& record : store.find_sweeps()) sweeps.push_back(record.name);
       if (sweeps.empty()) throw AnalysisError(options->database + ": the database holds no sweep");
     }
+    std::size_t notes_left_out = 0;
     for (const std::string& sweep : sweeps) {
       const SweepData data = load_sweep_data(store, sweep);
       std::vector<TableSpec> specs;
@@ -89,9 +98,22 @@ RunFunction setup_table(CLI::App& parent) {
         if (!options->rows.empty()) spec.rows = options->rows;
         spec.joints = options->joints;
         spec.where = where;
-        std::cout << format_table(make_table(data, spec), format, aggregate);
+        const Table table = make_table(data, spec);
+        std::cout << format_table(table, format, aggregate, options->notes ? CsvNotes::comment_lines : CsvNotes::omitted);
         if (format == TableFormat::csv) std::cout << "\n";
+        if (format == TableFormat::csv && !options->notes) notes_left_out += table.footnotes.size();
       }
+      // A search's best trials, rung survivors and budget (markdown only: csv, latex and json
+      // stay one table kind; the rows are in the search tables for any other reader).
+      if (format == TableFormat::markdown) {
+        if (const std::optional<SearchSummary> summary = load_search_summary(store, sweep)) {
+          std::cout << "\n" << format_search_summary(*summary);
+        }
+      }
+    }
+    if (notes_left_out > 0) {
+      std::cerr << "armfarm: table: " << notes_left_out
+                << " footnotes (why cells are empty) left out of the CSV; --notes adds them as '# [k]' lines\n";
     }
     return 0;
   };

@@ -21,15 +21,27 @@ ExpandedJob expand_step(const SweepSpec& spec, const JobConfigSchema& schema, co
 }
 
 // The objective of a done job at `rung` (as the metric), or empty when the metric is NULL or absent.
+// Without learning.heldout_checkpoints in the spec a held-out metric is still stored at the
+// job's one default checkpoint (the end of learning): the objective is then the row of the
+// highest checkpoint (the "default the last"), a metric without checkpoints its only row.
 std::optional<double> find_objective(const ResultsStore& store, std::int64_t job_id, const SpecSearch& search,
                                      std::size_t rung) {
-  const std::optional<std::int64_t> checkpoint =
-      search.objective.checkpoint ? std::optional<std::int64_t>(search.rungs[rung]) : std::nullopt;
-  const std::optional<int> joint = search.objective.joint > 0 ? std::optional<int>(search.objective.joint) : std::nullopt;
-  for (const MetricRecord& m : store.find_metrics(job_id)) {
-    if (m.name == search.objective.metric && m.joint == joint && m.checkpoint == checkpoint) return m.value;
+  // The rows wanted: this joint's (or the job-level one when joint is 0). The joint is compared
+  // against a plain value: two local std::optional objects compared with == drew a false
+  // -Wmaybe-uninitialized from g++ 12 -O3.
+  const int joint = search.objective.joint;
+  const MetricRecord* found = nullptr;
+  const std::vector<MetricRecord> metrics = store.find_metrics(job_id);
+  for (const MetricRecord& m : metrics) {
+    if (m.name != search.objective.metric) continue;
+    if (joint > 0 ? m.joint != joint : m.joint.has_value()) continue;
+    if (search.objective.checkpoint) {
+      if (m.checkpoint == search.rungs[rung]) return m.value;
+    } else if (found == nullptr || (found->checkpoint && (!m.checkpoint || *m.checkpoint > *found->checkpoint))) {
+      found = &m;
+    }
   }
-  return std::nullopt;
+  return found != nullptr ? found->value : std::nullopt;
 }
 
 struct Replay {
@@ -142,6 +154,11 @@ void record_search(const SweepSpec& spec, const search::SearchSettings& settings
   }
 }
 
+bool is_sweep_registered(const std::string& db_path, const std::string& sweep) {
+  if (!std::filesystem::exists(db_path)) return false;
+  return ResultsStore::open(db_path, ResultsStore::Mode::read_only).find_sweep(sweep).has_value();
+}
+
 }  // namespace
 
 SearchRunSummary run_search(const SweepSpec& spec, const JobKind& kind, const RunOptions& options,
@@ -180,11 +197,15 @@ SearchRunSummary run_search(const SweepSpec& spec, const JobKind& kind, const Ru
       }
     }
     if (summary.rounds > 0 || std::filesystem::exists(options.db_path)) record_search(spec, settings, r, options.db_path);
-    if (r.finished && r.history.losses.size() == r.history.steps.size()) {
+    // Every step's job may already be done under another sweep of the file (a random search
+    // and a TPE search of the same seed share their first trials, and a job is its key): the
+    // sweep is then registered by one round that runs nothing, so its search is recorded.
+    const bool registered = summary.rounds > 0 || is_sweep_registered(options.db_path, spec.name);
+    if (r.finished && r.history.losses.size() == r.history.steps.size() && registered) {
       summary.finished = true;
       return summary;
     }
-    if (r.history.steps.size() == r.history.losses.size()) return summary;  // nothing to run: cannot happen
+    if (r.history.steps.size() == r.history.losses.size() && registered) return summary;  // nothing to run: cannot happen
     SweepSpec expanded = spec;
     expanded.search->decided.emplace();
     for (const search::SearchStep& step : r.history.steps) {

@@ -3,10 +3,36 @@
 #include "runner/io/csv_writing.hpp"
 
 #include <algorithm>
+#include <map>
 #include <set>
 #include <stdexcept>
 
 namespace armfarm {
+
+namespace {
+
+// The swept parameters of a sweep's jobs, in first-seen order.
+std::vector<std::string> find_swept_params(const std::vector<JobRecord>& jobs) {
+  std::vector<std::string> params;
+  for (const JobRecord& job : jobs) {
+    for (const auto& [path, value] : job.params.items()) {
+      if (std::find(params.begin(), params.end(), path) == params.end()) params.push_back(path);
+    }
+  }
+  return params;
+}
+
+// ",value,value,..." of a job's swept parameters (empty where the job lacks one).
+std::string make_param_fields(const JobRecord& job, const std::vector<std::string>& params) {
+  std::string fields;
+  for (const std::string& param : params) {
+    fields += ",";
+    if (job.params.contains(param)) fields += make_csv_value_field(job.params.at(param));
+  }
+  return fields;
+}
+
+}  // namespace
 
 LongFormSignal make_long_form_signal(const std::string& series, const std::string& column) {
   if (column.size() >= 2 && column[0] == 'j' && column[1] != '0' &&
@@ -19,13 +45,7 @@ LongFormSignal make_long_form_signal(const std::string& series, const std::strin
 SweepExportCounts write_sweep_long_csv(const ResultsStore& store, const std::string& sweep,
                                        const std::vector<std::string>& series, std::ostream& out) {
   const std::vector<JobRecord> jobs = store.find_jobs(sweep);
-  // The swept parameters, in first-seen order.
-  std::vector<std::string> params;
-  for (const JobRecord& job : jobs) {
-    for (const auto& [path, value] : job.params.items()) {
-      if (std::find(params.begin(), params.end(), path) == params.end()) params.push_back(path);
-    }
-  }
+  const std::vector<std::string> params = find_swept_params(jobs);
   // Which series exist, to check the requested names before writing anything.
   std::set<std::string> recorded;
   std::vector<std::vector<std::string>> names_by_job(jobs.size());
@@ -54,11 +74,7 @@ SweepExportCounts write_sweep_long_csv(const ResultsStore& store, const std::str
       continue;
     }
     ++counts.jobs;
-    std::string prefix = make_csv_field(job.key);
-    for (const std::string& param : params) {
-      prefix += ",";
-      if (job.params.contains(param)) prefix += make_csv_value_field(job.params.at(param));
-    }
+    const std::string prefix = make_csv_field(job.key) + make_param_fields(job, params);
     for (const std::string& name : names_by_job[i]) {
       if (!series.empty() && std::find(series.begin(), series.end(), name) == series.end()) continue;
       const std::optional<SeriesRecord> record = store.find_series(job.id, name);
@@ -80,6 +96,45 @@ SweepExportCounts write_sweep_long_csv(const ResultsStore& store, const std::str
           ++counts.rows;
         }
       }
+    }
+  }
+  return counts;
+}
+
+std::string describe_undefined_value(const std::string& stored_reason) {
+  return stored_reason.empty() ? "undefined (no reason stored)" : stored_reason;
+}
+
+MetricExportCounts write_sweep_metrics_csv(const ResultsStore& store, const std::string& sweep, std::ostream& out) {
+  const std::vector<JobRecord> jobs = store.find_jobs(sweep);
+  const std::vector<std::string> params = find_swept_params(jobs);
+  std::map<std::string, std::string> unit_by_name;
+  for (const MetricInfoRecord& info : store.find_metric_info()) unit_by_name[info.name] = info.unit;
+  std::map<std::int64_t, std::vector<const MetricRecord*>> metrics_by_job;
+  const std::vector<MetricRecord> metrics = store.find_sweep_metrics(sweep);
+  for (const MetricRecord& metric : metrics) metrics_by_job[metric.job_id].push_back(&metric);
+
+  out << "job,status";
+  for (const std::string& param : params) out << "," << make_csv_field(param);
+  out << ",name,joint,checkpoint,value,unit,reason\n";
+  MetricExportCounts counts;
+  for (const JobRecord& job : jobs) {
+    const auto found = metrics_by_job.find(job.id);
+    if (found == metrics_by_job.end()) {
+      ++counts.jobs_without_metrics;
+      continue;
+    }
+    ++counts.jobs;
+    const std::string prefix = make_csv_field(job.key) + "," + make_csv_field(job.status) + make_param_fields(job, params);
+    for (const MetricRecord* metric : found->second) {
+      const auto unit = unit_by_name.find(metric->name);
+      out << prefix << "," << make_csv_field(metric->name) << "," << (metric->joint ? std::to_string(*metric->joint) : "")
+          << "," << (metric->checkpoint ? std::to_string(*metric->checkpoint) : "") << ","
+          << (metric->value ? make_shortest_number_text(*metric->value) : "") << ","
+          << make_csv_field(unit == unit_by_name.end() ? std::string() : unit->second) << ","
+          << make_csv_field(metric->value ? metric->reason : describe_undefined_value(metric->reason))
+          << "\n";
+      ++counts.rows;
     }
   }
   return counts;

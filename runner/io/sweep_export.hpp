@@ -36,4 +36,23 @@ LongFormSignal make_long_form_signal(const std::string& series, const std::strin
 SweepExportCounts write_sweep_long_csv(const ResultsStore& store, const std::string& sweep,
                                        const std::vector<std::string>& series, std::ostream& out);
 
+/// The reason shown beside an undefined (null) metric value: the stored one, or a sentence
+/// saying none was stored, so that no null goes out without a reason.
+std::string describe_undefined_value(const std::string& stored_reason);
+
+struct MetricExportCounts {
+  int jobs = 0;                  ///< jobs with at least one metric row
+  int jobs_without_metrics = 0;  ///< jobs of the sweep with none (pending, failed before measuring)
+  long long rows = 0;            ///< data rows written (not counting the header)
+};
+
+/// Writes the scalar metrics of `sweep` as one long-form CSV, one row per stored metric:
+///   job, status, <each swept parameter>, name, joint, checkpoint, value, unit, reason
+/// `joint` is 1-based (empty for a job-level metric), `checkpoint` the held-out checkpoint
+/// number (empty otherwise), `value` the shortest round-trip text (empty for an undefined
+/// value, whose `reason` then says why), `unit` from metric_info. Every job of the sweep that
+/// stored metrics is written (a diverged job's metrics too; `status` tells them apart), in
+/// expansion order, metrics by name, joint and checkpoint.
+MetricExportCounts write_sweep_metrics_csv(const ResultsStore& store, const std::string& sweep, std::ostream& out);
+
 }  // namespace armfarm

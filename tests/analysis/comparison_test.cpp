@@ -115,7 +115,7 @@ TEST(CompareCommand, TripledTorqueSaturationFailsTheCheck) {
   testing::write_test_sweep(directory.file("new.db"), "s", make_jobs(0.03));
   const auto result = testing::run_armfarm("compare " + directory.file("base.db") + " " + directory.file("new.db"));
   EXPECT_EQ(result.exit_code, 1) << result.output;
-  EXPECT_NE(result.output.find("torque_saturation_fraction j1"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("torque_saturation_fraction_j1"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("REGRESSED"), std::string::npos) << result.output;
 }
 

@@ -58,8 +58,8 @@ class PlotTest : public ::testing::Test {
       testing::TestJob job;
       job.params = {{"control.mode", mode}};
       const double error = std::string(mode) == "feedback" ? 0.05 : 0.005;
-      const int n = 200;
-      auto time = [n](int r) { return 4.0 * r / n; };
+      constexpr int n = 200;  // a constant: read inside the lambda without a capture
+      auto time = [](int r) { return 4.0 * r / n; };
       job.series.push_back(make_series("POS_D", {"t", "x", "y", "z"}, n, [&](int r, int c) {
         const double t = time(r);
         return c == 0 ? t : c == 1 ? 0.5 : c == 2 ? 0.2 * std::sin(M_PI * t) : 0.4 + 0.1 * std::sin(2 * M_PI * t);
@@ -166,7 +166,7 @@ TEST_F(PlotTest, MetricAgainstParamWithErrorBars) {
   const std::string svg = render("metric-vs-param --sweep kernel --metric same_run_test_nmse --joint 1 --param learning.lwpr.init_D "
                                  "--group learning.lwpr.update_D",
                                  directory_.file("metric.svg"));
-  EXPECT_NE(svg.find("same_run_test_nmse j1"), std::string::npos);
+  EXPECT_NE(svg.find("same_run_test_nmse_j1"), std::string::npos);
   EXPECT_NE(svg.find("update_D=true"), std::string::npos);
 }
 
@@ -251,7 +251,7 @@ TEST_F(PlotTest, HeldOutMetricNeedsAndTakesACheckpoint) {
   EXPECT_NE(refused.output.find("--checkpoint"), std::string::npos) << refused.output;
   const std::string svg = render("metric-vs-param --sweep fixed --metric heldout_test_nmse --joint 1 --param learning.lwpr.init_D --checkpoint 1",
                                  directory_.file("heldout.svg"));
-  EXPECT_NE(svg.find("heldout_test_nmse j1 c1"), std::string::npos);
+  EXPECT_NE(svg.find("heldout_test_nmse_j1_c1"), std::string::npos);
 }
 
 TEST_F(PlotTest, MissingSeriesSaysWhatToSet) {
@@ -304,11 +304,68 @@ TEST_F(PlotTest, ReportIsSelfContainedHtmlPerSweep) {
   EXPECT_NE(kernel.find("<table>"), std::string::npos);
   EXPECT_NE(kernel.find("deadbeef"), std::string::npos);  // provenance
   EXPECT_NE(kernel.find("<svg"), std::string::npos);      // plot inline
-  EXPECT_NE(kernel.find("same_run_test_nmse j1"), std::string::npos);
+  EXPECT_NE(kernel.find("same_run_test_nmse_j1"), std::string::npos);
   const std::string tracking = read_file(out + "/sweep_tracking.html");
   EXPECT_NE(tracking.find("tracking"), std::string::npos);
   EXPECT_NE(read_file(out + "/index.html").find("sweep_kernel.html"), std::string::npos);
   EXPECT_EQ(escape_html("<a href=\"x\">&'"), "&lt;a href=&quot;x&quot;&gt;&amp;&#39;");
+}
+
+TEST_F(PlotTest, ReportPagesListTheirContentsFiguresFirstAndSortableTables) {
+  const std::string out = directory_.file("report");
+  const auto result = testing::run_armfarm("report " + db_ + " --out " + out);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string kernel = read_file(out + "/sweep_kernel.html");
+  // Figures come before the tables.
+  const auto first_figure = kernel.find("<svg");
+  const auto first_table = kernel.find("<table class=\"sortable\">");
+  ASSERT_NE(first_figure, std::string::npos);
+  ASSERT_NE(first_table, std::string::npos);
+  EXPECT_LT(first_figure, first_table);
+  // Every entry of the contents points at an anchor of the page.
+  int links = 0;
+  for (std::size_t at = kernel.find("<a href=\"#"); at != std::string::npos; at = kernel.find("<a href=\"#", at + 1)) {
+    const std::size_t start = at + 10;
+    const std::string anchor = kernel.substr(start, kernel.find('"', start) - start);
+    EXPECT_NE(kernel.find("id=\"" + anchor + "\""), std::string::npos) << anchor;
+    ++links;
+  }
+  EXPECT_GE(links, 4);
+  // Tables scroll in their own box, sort by an inline script, and nothing is fetched.
+  EXPECT_NE(kernel.find("<div class=\"scroll\"><table class=\"sortable\">"), std::string::npos);
+  EXPECT_NE(kernel.find("<script>document.querySelectorAll('table.sortable')"), std::string::npos);
+  for (const std::string& page : {kernel, read_file(out + "/index.html")}) {
+    EXPECT_EQ(page.find("<script src"), std::string::npos);
+    EXPECT_EQ(page.find("<link"), std::string::npos);
+    EXPECT_EQ(page.find(" src="), std::string::npos);  // (the inline SVG's xmlns names, not fetches)
+    EXPECT_EQ(page.find("href=\"http"), std::string::npos);
+    EXPECT_EQ(page.find("url(http"), std::string::npos);
+  }
+  // The index has a row per sweep with its counts, date, spec hash and best result.
+  const std::string index = read_file(out + "/index.html");
+  EXPECT_NE(index.find("<th>jobs</th><th>done</th><th>failed</th><th>diverged</th><th>started</th><th>spec hash</th>"),
+            std::string::npos)
+      << index;
+  EXPECT_NE(index.find("<a href=\"sweep_kernel.html\">kernel</a>"), std::string::npos) << index;
+  EXPECT_NE(index.find(">0123456789ab</code>"), std::string::npos) << index;  // the test sweeps' spec hash
+  EXPECT_NE(index.find("<td>–</td></tr>"), std::string::npos) << index;  // no job-level result metric
+
+  // A sweep with a job-level result: the best job by it (lower tracking_nmse is better).
+  const std::string db = directory_.file("best.db");
+  std::vector<testing::TestJob> jobs(3);
+  jobs[0].params = {{"control.gain_scale", 0.5}};
+  jobs[0].metrics = {{0, "tracking_nmse", std::nullopt, 0.5, ""}};
+  jobs[1].params = {{"control.gain_scale", 2.0}};
+  jobs[1].metrics = {{0, "tracking_nmse", std::nullopt, 0.25, ""}};
+  jobs[2].params = {{"control.gain_scale", 4.0}};
+  jobs[2].status = "diverged";
+  jobs[2].metrics = {{0, "tracking_nmse", std::nullopt, 0.01, ""}};  // not done: not a candidate
+  testing::write_test_sweep(db, "best", jobs);
+  ASSERT_EQ(testing::run_armfarm("report " + db + " --out " + directory_.file("best")).exit_code, 0);
+  const std::string best = read_file(directory_.file("best") + "/index.html");
+  EXPECT_NE(best.find("<td>tracking_nmse = 0.25 (lower is better, of 2 done): gain_scale=2<"), std::string::npos)
+      << best;
+  EXPECT_NE(best.find("data-sort=\"1\">1</td><td>"), std::string::npos) << best;  // one diverged
 }
 
 }  // namespace

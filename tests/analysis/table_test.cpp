@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace armfarm {
 namespace {
@@ -23,7 +25,7 @@ JobResult make_job(double init_d, int seed, const std::string& status, std::map<
 SweepData make_data() {
   SweepData data;
   data.name = "kernel";
-  // init_D = 10: three seeds; test_nmse j1 = 0.1, 0.2, 0.3 → mean 0.2, std 0.1.
+  // init_D = 10: three seeds; test_nmse_j1 = 0.1, 0.2, 0.3 → mean 0.2, std 0.1.
   data.jobs.push_back(make_job(10, 1, "done", {{{"test_nmse", 1}, 0.1}, {{"test_nmse", 2}, 1.0}, {{"n_receptive_fields", {}}, 10}}));
   data.jobs.push_back(make_job(10, 2, "done", {{{"test_nmse", 1}, 0.2}, {{"test_nmse", 2}, 2.0}, {{"n_receptive_fields", {}}, 20}}));
   data.jobs.push_back(make_job(10, 3, "done", {{{"test_nmse", 1}, 0.3}, {{"test_nmse", 2}, 3.0}, {{"n_receptive_fields", {}}, 30}}));
@@ -41,8 +43,8 @@ TEST(Table, CellsAreMeanStdAndCountOverRepeats) {
   spec.metrics = {"test_nmse", "n_receptive_fields"};
   const Table table = make_table(data, spec);
   ASSERT_EQ(table.rows.size(), 2u);
-  ASSERT_EQ(table.columns.size(), 3u);  // test_nmse j1, test_nmse j2, n_receptive_fields
-  EXPECT_EQ(table.columns[0].header, "test_nmse j1");
+  ASSERT_EQ(table.columns.size(), 3u);  // test_nmse_j1, test_nmse_j2, n_receptive_fields
+  EXPECT_EQ(table.columns[0].header, "test_nmse_j1");
   const TableRow& first = table.rows[0];
   EXPECT_EQ(first.labels[0], "10");
   EXPECT_EQ(first.jobs_done, 3);
@@ -103,13 +105,13 @@ TEST(Table, FormatsCarryTheNumbers) {
   EXPECT_NE(markdown.find("1, 1 failed"), std::string::npos) << markdown;
   const std::string latex = format_table(table, TableFormat::latex, Aggregate::mean);
   EXPECT_NE(latex.find("\\begin{tabular}"), std::string::npos);
-  EXPECT_NE(latex.find("test\\_nmse j1"), std::string::npos) << latex;
+  EXPECT_NE(latex.find("test\\_nmse\\_j1"), std::string::npos) << latex;
   EXPECT_NE(latex.find("0.2 [-0.04841, 0.4484]"), std::string::npos) << latex;
   const auto json = nlohmann::json::parse(format_table(table, TableFormat::json, Aggregate::median));
-  EXPECT_DOUBLE_EQ(json["rows"][0]["cells"]["test_nmse j1"]["value"].get<double>(), 0.2);
+  EXPECT_DOUBLE_EQ(json["rows"][0]["cells"]["test_nmse_j1"]["value"].get<double>(), 0.2);
   EXPECT_EQ(json["rows"][1]["jobs_failed"].get<int>(), 1);
   const std::string csv = format_table(table, TableFormat::csv, Aggregate::mean);
-  EXPECT_NE(csv.find("learning.lwpr.init_D,test_nmse j1,test_nmse j1 std,test_nmse j1 n,test_nmse j1 ci95_low,test_nmse j1 ci95_high"),
+  EXPECT_NE(csv.find("learning.lwpr.init_D,test_nmse_j1,test_nmse_j1 std,test_nmse_j1 n,test_nmse_j1 ci95_low,test_nmse_j1 ci95_high"),
             std::string::npos) << csv;
   EXPECT_NE(csv.find(",3,-0.048413"), std::string::npos) << csv;
 }
@@ -230,6 +232,45 @@ TEST(Table, CheckpointAsRowGivesOneRowPerCheckpoint) {
             std::string::npos);
 }
 
+TEST(Table, CsvCarriesNoCommentRowsUnlessNotesAreAskedFor) {
+  TableSpec spec;
+  spec.rows = {"learning.lwpr.init_D", "checkpoint"};
+  spec.metrics = {"heldout_test_nmse", "n_receptive_fields"};
+  const Table table = make_table(make_heldout_data(), spec);
+  ASSERT_FALSE(table.footnotes.empty());  // the "not evaluated per checkpoint" cells
+  const std::string plain = format_table(table, TableFormat::csv, Aggregate::mean);
+  EXPECT_EQ(plain.find('#'), std::string::npos) << plain;
+  // Every line has the header's number of fields: a CSV reader sees one rectangular table.
+  std::istringstream lines(plain);
+  std::string line;
+  std::getline(lines, line);
+  const auto fields = std::count(line.begin(), line.end(), ',');
+  int n_lines = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), fields) << line;
+    ++n_lines;
+  }
+  EXPECT_EQ(n_lines, static_cast<int>(table.rows.size()));
+  const std::string noted = format_table(table, TableFormat::csv, Aggregate::mean, CsvNotes::comment_lines);
+  EXPECT_EQ(noted.substr(0, plain.size()), plain);
+  EXPECT_NE(noted.find("\n# [1] "), std::string::npos) << noted;
+  EXPECT_NE(noted.find("not evaluated per checkpoint"), std::string::npos) << noted;
+}
+
+TEST(Table, CsvNumbersAreTheShortestTextThatReadsBack) {
+  SweepData data;
+  data.name = "short";
+  data.jobs.push_back(make_job(10, 1, "done", {{{"test_nmse", 1}, 0.1}}));
+  data.jobs.push_back(make_job(20, 1, "done", {{{"test_nmse", 1}, 1.0 / 3.0}}));
+  data.varying_params = calc_varying_params(data.jobs);
+  TableSpec spec;
+  spec.rows = {"learning.lwpr.init_D"};
+  spec.metrics = {"test_nmse"};
+  const std::string csv = format_table(make_table(data, spec), TableFormat::csv, Aggregate::mean);
+  EXPECT_NE(csv.find("\n10,0.1,"), std::string::npos) << csv;  // %.17g would print 0.10000000000000001
+  EXPECT_NE(csv.find("\n20,0.3333333333333333,"), std::string::npos) << csv;
+}
+
 TEST(Table, CheckpointAndJointRowsNestInTheOrderGiven) {
   const SweepData data = make_heldout_data();
   for (const auto& rows : {std::vector<std::string>{"learning.lwpr.init_D", "checkpoint", "joint"},
@@ -268,8 +309,8 @@ TEST(Table, WithoutCheckpointRowsACheckpointedMetricGetsAColumnPerCheckpoint) {
   const Table table = make_table(data, spec);
   std::vector<std::string> headers;
   for (const TableColumn& column : table.columns) headers.push_back(column.header);
-  EXPECT_EQ(headers, (std::vector<std::string>{"heldout_test_nmse c0", "heldout_test_nmse c5", "heldout_ff_fb_ratio_avg j2 c0",
-                                               "heldout_ff_fb_ratio_avg j2 c5"}));
+  EXPECT_EQ(headers, (std::vector<std::string>{"heldout_test_nmse_c0", "heldout_test_nmse_c5", "heldout_ff_fb_ratio_avg_j2_c0",
+                                               "heldout_ff_fb_ratio_avg_j2_c5"}));
   ASSERT_EQ(table.rows.size(), 2u);
   EXPECT_NEAR(table.rows[1].cells[1].mean, make_heldout_value(100, std::nullopt, 5, 1) + 0.0005, 1e-12);
   EXPECT_NEAR(table.rows[1].cells[3].mean, make_heldout_value(100, 2, 5, 1) + 0.0005, 1e-12);
@@ -279,7 +320,7 @@ TEST(Table, WithoutCheckpointRowsACheckpointedMetricGetsAColumnPerCheckpoint) {
   joints.metrics = {"heldout_ff_fb_ratio_avg"};
   const Table per_joint = make_table(data, joints);
   ASSERT_EQ(per_joint.columns.size(), 2u);
-  EXPECT_EQ(per_joint.columns[1].header, "heldout_ff_fb_ratio_avg c5");
+  EXPECT_EQ(per_joint.columns[1].header, "heldout_ff_fb_ratio_avg_c5");
   EXPECT_NEAR(per_joint.rows[1].cells[1].mean, make_heldout_value(10, 2, 5, 1) + 0.0005, 1e-12);
 }
 

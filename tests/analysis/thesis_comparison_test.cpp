@@ -217,7 +217,7 @@ TEST(ThesisComparison, CellsAreTheAggregateOfMatchingDoneJobsAndTheirRatio) {
   EXPECT_NEAR(*cells[2].ratio, 1.2, 1e-12);  // against the thesis 0.5
   // The third active joint (5) has no ff_fb_ratio_avg.
   EXPECT_EQ(cells[3].state, CellState::not_run);
-  EXPECT_EQ(cells[3].reason, "metric ff_fb_ratio_avg j3 absent");
+  EXPECT_EQ(cells[3].reason, "metric ff_fb_ratio_avg_j3 absent");
   EXPECT_EQ(cells[4].state, CellState::no_metric);
   EXPECT_EQ(cells[5].state, CellState::not_run);
   EXPECT_NE(cells[5].reason.find("checkpoint 200"), std::string::npos) << cells[5].reason;
@@ -412,7 +412,7 @@ TEST(ThesisComparison, ArmfarmTableAgainstPrintsEveryThesisCell) {
   EXPECT_NE(result.output.find("| Joint 1 | avg(ff/fb) | 0.912390 | 0.4562 (1) | 0.5 | one seed |"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("| Joint 6 | avg(fb) | 0.001557 | 1.557e-03 (1) | 1 | one seed |"), std::string::npos);
   EXPECT_NE(result.output.find("not run (sweep table6_1_figure_eight absent)"), std::string::npos);
-  EXPECT_NE(result.output.find("| Joint 2 | avg(ff) | 0.329532 | not run (metric ff_abs_avg j2 absent) | — | — |"),
+  EXPECT_NE(result.output.find("| Joint 2 | avg(ff) | 0.329532 | not run (metric ff_abs_avg_j2 absent) | — | — |"),
             std::string::npos);
 
   const auto only = testing::run_armfarm("table " + db + " --sweep table6_4_sine --against " + kThesisFile + " --format csv");

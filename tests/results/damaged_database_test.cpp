@@ -2,6 +2,7 @@
 // column removed (refused at open), rows armfarm never writes (dangling references, broken
 // JSON, a text where a number belongs, a series blob that does not decode) found by
 // check_contents and refused by merge, and typed reads that never coerce 'abc' to 0.
+#include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 
 #include <gtest/gtest.h>
@@ -9,7 +10,11 @@
 #include "support/scratch_file.hpp"
 #include <sqlite3.h>
 
+#include <sys/mount.h>
 #include <sys/stat.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <filesystem>
 
@@ -180,6 +185,79 @@ TEST_F(DamagedDatabaseTest, ASeriesBlobThatDoesNotDecodeIsFound) {
                 "rows or raw_bytes disagree"),
             std::string::npos);
   expect_merge_refused(damaged, "series of job row 1 (POS)");
+}
+
+// Issue 30, case 6: `table`, `compare` and the other readers read on through metric rows whose
+// job was deleted and through a series blob with a flipped bit (0 exit). The readers' check
+// (verify_readable: quick_check, then the row checks and every series checksum) refuses both.
+TEST_F(DamagedDatabaseTest, ReadersRefuseDanglingMetricsAndAFlippedSeriesBit) {
+  EXPECT_EQ(error_of([&] { verify_readable(ResultsStore::open(path("sound.db"), ResultsStore::Mode::read_only)); }), "");
+
+  const std::string dangling = damage("DELETE FROM sweep_jobs WHERE job_id = 1; DELETE FROM jobs WHERE id = 1");
+  const std::string message =
+      error_of([&] { verify_readable(ResultsStore::open(dangling, ResultsStore::Mode::read_only)); });
+  EXPECT_EQ(message.rfind(dangling + ": damaged armfarm database: ", 0), 0u) << message;
+  EXPECT_NE(message.find("refers to a missing row of jobs"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+
+  // One bit of the stored frame flipped, in its middle (the samples), with the sqlite3 C API.
+  const std::string flipped = damage("SELECT 1");
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(flipped.c_str(), &db), SQLITE_OK);
+  sqlite3_stmt* read = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(db, "SELECT data FROM series", -1, &read, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_step(read), SQLITE_ROW);
+  const auto* bytes = static_cast<const unsigned char*>(sqlite3_column_blob(read, 0));
+  std::vector<unsigned char> blob(bytes, bytes + sqlite3_column_bytes(read, 0));
+  sqlite3_finalize(read);
+  blob[blob.size() / 2] ^= 0x01;
+  sqlite3_stmt* write = nullptr;
+  ASSERT_EQ(sqlite3_prepare_v2(db, "UPDATE series SET data = ?", -1, &write, nullptr), SQLITE_OK);
+  sqlite3_bind_blob(write, 1, blob.data(), static_cast<int>(blob.size()), SQLITE_TRANSIENT);
+  EXPECT_EQ(sqlite3_step(write), SQLITE_DONE);
+  sqlite3_finalize(write);
+  sqlite3_close(db);
+  const ResultsStore store = ResultsStore::open(flipped, ResultsStore::Mode::read_only);
+  const std::string series_message = error_of([&] { verify_readable(store); });
+  EXPECT_NE(series_message.find("series of job row 1 (POS): corrupt series data"), std::string::npos) << series_message;
+  const std::optional<JobRecord> job = store.find_job("0123456789abcdef0123456789abcdef");
+  ASSERT_TRUE(job);
+  EXPECT_NE(error_of([&] { store.find_series(job->id, "POS"); }).find("corrupt series data"), std::string::npos);
+}
+
+// Issue 30, case 6: a database on a read-only filesystem could not be read at all ("unable to
+// open database file": a WAL reader needs its -shm). It now opens immutable there. The
+// read-only filesystem is a read-only bind mount, which needs root (CAP_SYS_ADMIN).
+TEST_F(DamagedDatabaseTest, ADatabaseOnAReadOnlyFilesystemIsReadable) {
+  const fs::path mounted = folder_ / "ro";
+  fs::create_directories(folder_ / "src");
+  fs::create_directories(mounted);
+  fs::copy_file(path("sound.db"), folder_ / "src" / "results.db");
+  if (::mount((folder_ / "src").c_str(), mounted.c_str(), nullptr, MS_BIND, nullptr) != 0) {
+    GTEST_SKIP() << "cannot bind-mount (needs root): " << std::strerror(errno);
+  }
+  const bool read_only = ::mount(nullptr, mounted.c_str(), nullptr, MS_REMOUNT | MS_BIND | MS_RDONLY, nullptr) == 0;
+  const std::string file = (mounted / "results.db").string();
+  std::string error;
+  std::size_t n_sweeps = 0, n_rows = 0;
+  try {
+    const ResultsStore store = ResultsStore::open(file, ResultsStore::Mode::read_only);
+    n_sweeps = store.find_sweeps().size();
+    const std::optional<JobRecord> job = store.find_job("0123456789abcdef0123456789abcdef");
+    if (job) n_rows = static_cast<std::size_t>(store.find_series(job->id, "POS")->rows.rows());
+    EXPECT_TRUE(store.check_contents(true).empty());
+  } catch (const StoreError& e) {
+    error = e.what();
+  }
+  // Nothing was created beside the file (the mount refuses it anyway) and nothing can write.
+  const bool wrote_beside = fs::exists(folder_ / "src" / "results.db-shm");
+  EXPECT_THROW(ResultsStore::open(file, ResultsStore::Mode::read_write), StoreError);
+  ::umount(mounted.c_str());
+  ASSERT_TRUE(read_only) << "remounting read-only failed";
+  EXPECT_EQ(error, "");
+  EXPECT_EQ(n_sweeps, 1u);
+  EXPECT_EQ(n_rows, 2u);
+  EXPECT_FALSE(wrote_beside);
 }
 
 }  // namespace

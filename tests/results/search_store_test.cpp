@@ -42,6 +42,21 @@ std::vector<std::string> query(const std::string& file, const std::string& sql) 
   return rows;
 }
 
+// A step as the search runner inserts it: not committed, no objective yet (fields named, so that
+// the record's later members need no initializers here).
+SearchStepRecord new_step(std::int64_t step, std::int64_t trial, std::int64_t rung, std::int64_t visible,
+                          const std::string& kind, double cost, const std::string& job_key) {
+  SearchStepRecord r;
+  r.step = step;
+  r.trial = trial;
+  r.rung = rung;
+  r.visible = visible;
+  r.kind = kind;
+  r.cost = cost;
+  r.job_key = job_key;
+  return r;
+}
+
 SweepRegistration make_sweep(const std::string& name) {
   SweepRegistration sweep;
   sweep.name = name;
@@ -101,12 +116,12 @@ TEST_F(SearchStoreTest, ASearchRoundTripsAndPlainSqlSeesItsPromotions) {
                                              {"ka1", {{"x", 1}}, {{"x", 1}}, 0}});
     store.insert_search(make_search("s"));
     store.insert_search(make_search("s"));  // a resumed run: written once
-    store.insert_search_step("s", {0, 0, 0, 0, "new", 12.5, "ka"}, SearchTrialRecord{0, 0, R"({"x":1})"});
-    store.insert_search_step("s", {1, 1, 0, 0, "new", 12.5, "kb"}, SearchTrialRecord{1, 0, R"({"x":2})"});
+    store.insert_search_step("s", new_step(0, 0, 0, 0, "new", 12.5, "ka"), SearchTrialRecord{0, 0, R"({"x":1})"});
+    store.insert_search_step("s", new_step(1, 1, 0, 0, "new", 12.5, "kb"), SearchTrialRecord{1, 0, R"({"x":2})"});
     store.update_search_objective("s", 0, 0.25, "");
     store.update_search_objective("s", 1, std::nullopt, "diverged");
-    store.insert_search_step("s", {2, 0, 1, 2, "promotion", 47.5, "ka1"}, std::nullopt);
-    EXPECT_THROW(store.insert_search_step("s", {3, 1, 1, 2, "promotion", 47.5, "nokey"}, std::nullopt), StoreError);
+    store.insert_search_step("s", new_step(2, 0, 1, 2, "promotion", 47.5, "ka1"), std::nullopt);
+    EXPECT_THROW(store.insert_search_step("s", new_step(3, 1, 1, 2, "promotion", 47.5, "nokey"), std::nullopt), StoreError);
   }
   const ResultsStore store = ResultsStore::open(path("s.db"), ResultsStore::Mode::read_only);
   const std::optional<SearchRecord> search = store.find_search("s");

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <random>
 
 namespace armfarm {
 namespace {
@@ -50,6 +51,41 @@ TEST(SeriesCodec, DamagedOrMismatchedBlobsAreErrors) {
   } catch (const StoreError& e) {
     EXPECT_NE(std::string(e.what()).find("db.sqlite: series POS"), std::string::npos);
   }
+}
+
+TEST(SeriesCodec, AFlippedBitInTheSamplesIsFoundByTheFrameChecksum) {
+  // Random bits do not compress: zstd stores them as a raw block, where a flipped bit decodes
+  // without any format error; only the frame's content checksum can tell the numbers changed.
+  Eigen::MatrixXd rows(64, 2);
+  std::mt19937_64 bits(7);
+  for (Eigen::Index i = 0; i < rows.size(); ++i) {
+    const std::uint64_t word = bits() & 0x3fffffffffffffffULL;  // finite doubles
+    std::memcpy(rows.data() + i, &word, sizeof word);
+  }
+  const std::vector<unsigned char> blob = calc_series_blob(rows);
+  ASSERT_GT(blob.size(), 5u);
+  EXPECT_NE(blob[4] & 0x04, 0) << "frame header descriptor: Content_Checksum_flag (RFC 8878, 3.1.1.1.1)";
+  std::vector<unsigned char> flipped = blob;
+  flipped[flipped.size() / 2] ^= 0x10;
+  EXPECT_THROW(calc_series_matrix(flipped, 64, 2, "test"), StoreError);
+
+  // The control: the same samples in a frame without checksum, the same bit flipped, decode
+  // "fine" to other numbers.
+  std::vector<unsigned char> plain(ZSTD_compressBound(1024));
+  plain.resize(ZSTD_compress(plain.data(), plain.size(), rows.data(), 1024, 3));
+  plain[plain.size() / 2] ^= 0x10;
+  const Eigen::MatrixXd wrong = calc_series_matrix(plain, 64, 2, "test");
+  EXPECT_NE(std::memcmp(wrong.data(), rows.data(), 1024), 0);
+
+  const Eigen::MatrixXd back = calc_series_matrix(blob, 64, 2, "test");
+  EXPECT_EQ(std::memcmp(back.data(), rows.data(), 1024), 0);
+}
+
+TEST(SeriesCodec, AnOlderFrameWithoutChecksumStillDecodes) {
+  Eigen::MatrixXd rows = Eigen::MatrixXd::Constant(3, 2, 0.25);
+  std::vector<unsigned char> blob(ZSTD_compressBound(48));
+  blob.resize(ZSTD_compress(blob.data(), blob.size(), rows.data(), 48, 3));  // no checksum by default
+  EXPECT_EQ(calc_series_matrix(blob, 3, 2, "test"), rows);
 }
 
 }  // namespace

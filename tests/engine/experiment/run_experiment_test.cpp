@@ -2,11 +2,13 @@
 // is between two runs of the same plant, so it cannot pass by construction.
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/experiment/run_experiment.hpp"
+#include "engine/experiment/tick_recording.hpp"
 #include "../physics/test_arms.hpp"
 #include "job_metrics.hpp"
 
 #include <gtest/gtest.h>
 
+#include <charconv>
 #include <cstdio>
 #include <map>
 
@@ -173,6 +175,36 @@ TEST(RunExperiment, SameConfigAndSeedGiveIdenticalMetrics) {
   }
   ASSERT_EQ(first.series.size(), 2u);
   EXPECT_EQ(first.series[1].rows, second.series[1].rows);
+}
+
+TEST(RunExperiment, RecordedTimesReadAsTheirDecimals) {
+  // dt = 0.01, one sample in 10 ticks: the time column is 0, 0.1, 0.2, ... and each prints
+  // (shortest round trip) as that decimal, not as the plant clock's 0.09999999999999999.
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_feedback_config(1.0, 2.0);
+  config.recording.series = {"POS"};
+  config.recording.every = 10;
+  const JobOutcome outcome = run_experiment(model, config);
+  ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
+  ASSERT_EQ(outcome.series.size(), 1u);
+  const Series& pos = outcome.series.front();
+  ASSERT_EQ(pos.columns.front(), "t");
+  ASSERT_GE(pos.rows.rows(), 20);
+  for (Eigen::Index r = 0; r < pos.rows.rows(); ++r) {
+    // The decimal written out by hand: r tenths.
+    const std::string decimal = std::to_string(r / 10) + (r % 10 ? "." + std::to_string(r % 10) : "");
+    char text[40];
+    const std::string shortest(text, std::to_chars(text, text + sizeof text, pos.rows(r, 0)).ptr);
+    EXPECT_EQ(shortest, decimal) << "row " << r;
+  }
+}
+
+TEST(RunExperiment, RecordedTickTimesAreTickNumbersTimesDt) {
+  EXPECT_EQ(calc_recorded_tick_time(0.09999999999999999, 0.01), 0.1);
+  EXPECT_EQ(calc_recorded_tick_time(0.30000000000000004, 0.01), 0.3);
+  EXPECT_EQ(calc_recorded_tick_time(2.9999999999999996, 0.001), 3.0);
+  // 1/dt not a whole number: i·dt.
+  EXPECT_EQ(calc_recorded_tick_time(7 * 0.0015 + 1e-15, 0.0015), 7 * 0.0015);
 }
 
 TEST(RunExperiment, ConfigErrorsNameTheField) {

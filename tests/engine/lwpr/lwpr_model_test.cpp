@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -264,6 +266,45 @@ TEST(LwprModel, OutputsSharingOneScanMatchSingleOutputModels) {
   auto wl = lone.make_workspace();
   for (std::size_t i = 0; i < 200; ++i) {
     EXPECT_EQ(mixed.predict(xs[i], *wm).value(1), lone.predict(xs[i], *wl).value(0));
+  }
+}
+
+// The activation scan's AVX2 copy against the portable one: the same active fields, activations
+// and predictions, bit for bit, for diagonal metrics over two scan blocks (n = 9: the 3-DOF jobs'
+// inputs) and for full metrics (n = 2 and 5).
+TEST(LwprModel, Avx2ScanMatchesThePortableScanBitForBit) {
+  if (!has_avx2()) GTEST_SKIP() << "this CPU has no AVX2";
+  for (const auto& [n, diagonal] : {std::pair{9, true}, std::pair{2, false}, std::pair{5, false}}) {
+    LwprParams params;
+    params.diag_only = diagonal;
+    params.init_D = Eigen::MatrixXd::Constant(1, 1, 3.0);
+    params.w_gen = 0.3;
+    LwprModel model(n, 2, params);
+    std::mt19937_64 rng(static_cast<unsigned>(31 + n));
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    auto draw = [&] { return Eigen::VectorXd(Eigen::VectorXd::NullaryExpr(n, [&] { return uniform(rng); })); };
+    for (int i = 0; i < 2000; ++i) {
+      const Eigen::VectorXd x = draw();
+      model.update(x, Eigen::Vector2d(std::sin(2.0 * x(0)) + x(n - 1), x(0) * x(1)));
+    }
+    ASSERT_GT(model.fields(0).size(), 10u) << "n = " << n;
+    auto portable = model.make_workspace(), avx2 = model.make_workspace();
+    static_cast<LwprWorkspace&>(*portable).scratch.use_avx2 = false;
+    static_cast<LwprWorkspace&>(*avx2).scratch.use_avx2 = true;
+    int trusted = 0;
+    for (int i = 0; i < 500; ++i) {
+      const Eigen::VectorXd x = draw();
+      LwprPredictionDetail detail_a, detail_b;
+      const Prediction a = model.predict(x, *portable, detail_a);
+      const Prediction b = model.predict(x, *avx2, detail_b);
+      for (int o = 0; o < 2; ++o) {
+        EXPECT_EQ(std::memcmp(&a.value(o), &b.value(o), sizeof(double)), 0) << "n = " << n << ", sample " << i;
+        EXPECT_EQ(std::memcmp(&a.confidence(o), &b.confidence(o), sizeof(double)), 0) << "n = " << n;
+        EXPECT_EQ(detail_a.max_activation(o), detail_b.max_activation(o)) << "n = " << n;
+        trusted += detail_a.trustworthy[o] ? 1 : 0;
+      }
+    }
+    EXPECT_GT(trusted, 500) << "n = " << n << ": too few predictions had a trustworthy field";
   }
 }
 

@@ -45,6 +45,49 @@ TEST(CmdJob, PrintsStatusMetricsAndOneObjectPerActiveJoint) {
   EXPECT_TRUE(out["per_joint"][1].contains("ff_fb_ratio_avg"));
 }
 
+TEST(CmdJob, EveryNullHasAReasonBesideIt) {
+  // Joint 7 holds still: its nMSE is undefined (null) and the job-level mean leaves it out.
+  const std::string path = write_config("null", R"({"trajectory": {"sine": {"duration": 2.0,
+      "amplitude": [0.3, 0.3, 0.3, 0.3, 0.3, 0.3, 0.0], "frequency": [0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5]}},
+      "control": {"mode": "feedback", "feed_forward": "none"}, "learning": {"mode": "none"}})");
+  const CommandResult result = run_job(path + " --json");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const nlohmann::json out = nlohmann::json::parse(result.output);
+  int nulls = 0;
+  const auto check = [&](const nlohmann::json& values, const nlohmann::json& reasons, const std::string& where) {
+    for (const auto& [name, value] : values.items()) {
+      if (!value.is_null()) continue;
+      ++nulls;
+      ASSERT_TRUE(reasons.is_object() && reasons.contains(name)) << where << " " << name << " is null without a reason";
+      EXPECT_FALSE(reasons.at(name).get<std::string>().empty()) << where << " " << name;
+    }
+  };
+  check(out["metrics"], out["reasons"], "metrics");
+  for (const nlohmann::json& joint : out["per_joint"]) {
+    check(joint, joint.value("reasons", nlohmann::json()), "joint " + joint["joint"].dump());
+  }
+  EXPECT_GE(nulls, 1);
+  const nlohmann::json& seventh = out["per_joint"][6];
+  ASSERT_EQ(seventh["joint"], 7);
+  EXPECT_TRUE(seventh["tracking_nmse"].is_null());
+  EXPECT_NE(seventh["reasons"]["tracking_nmse"].get<std::string>().find("nMSE floor"), std::string::npos) << seventh;
+  // The mean is defined and says what it left out.
+  EXPECT_TRUE(out["metrics"]["tracking_nmse"].is_number());
+  EXPECT_NE(out["reasons"].value("tracking_nmse", "").find("7"), std::string::npos) << out["reasons"];
+}
+
+TEST(CmdJob, CheckpointsAreSpelledAsTheSweepViewSpellsThem) {
+  const std::string path = write_config("checkpoints", R"({"trajectory": {"kind": "reaching",
+      "reaching": {"reaches": 2, "points_per_reach": 50}}, "control": {"gain_scale": 0.2},
+      "learning": {"mode": "online", "heldout_segments": 2, "heldout_checkpoints": [0, 2]}})");
+  const CommandResult result = run_job(path + " --json");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const nlohmann::json out = nlohmann::json::parse(result.output);
+  EXPECT_TRUE(out["metrics"].contains("heldout_test_nmse_c0")) << out["metrics"];
+  EXPECT_TRUE(out["metrics"].contains("heldout_test_nmse_c2")) << out["metrics"];
+  for (const auto& [name, value] : out["metrics"].items()) EXPECT_EQ(name.find('@'), std::string::npos) << name;
+}
+
 TEST(CmdJob, DivergedJobExitsOne) {
   const std::string path = write_config(
       "diverge", R"({"trajectory": {"sine": {"duration": 2.0}}, "control": {"mode": "feedback", "feed_forward": "none",

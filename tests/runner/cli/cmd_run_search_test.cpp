@@ -1,6 +1,9 @@
 // `armfarm run` on a spec with a search (fake jobs): the trial sequence stored in search_steps
 // (trial, rung, visibility, kind, job key, objective) is identical at -j1 and -j2 and after a
-// runner is killed with SIGKILL mid-search and resumed at another thread count.
+// runner is killed with SIGKILL mid-search and resumed at another thread count; a random search
+// whose jobs a TPE search of the same seed already ran still records its sweep and steps; a
+// real job's held-out objective without learning.heldout_checkpoints is read at its default
+// checkpoint (never undefined for every trial).
 #include <gtest/gtest.h>
 
 #include "support/scratch_file.hpp"
@@ -22,10 +25,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-pid_t start(const std::vector<std::string>& arguments, const std::string& output_path) {
+pid_t start(const std::vector<std::string>& arguments, const std::string& output_path, bool fake = true) {
   const pid_t pid = fork();
   if (pid == 0) {
-    setenv("ARMFARM_FAKE_JOBS", "1", 1);
+    if (fake) setenv("ARMFARM_FAKE_JOBS", "1", 1);
     if (freopen(output_path.c_str(), "w", stdout) == nullptr) _exit(126);
     dup2(fileno(stdout), fileno(stderr));
     std::vector<char*> argv = {const_cast<char*>(ARMFARM_BINARY)};
@@ -82,7 +85,7 @@ class CmdRunSearchTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(folder_); }
   std::string path(const std::string& name) const { return (folder_ / name).string(); }
   int run(const std::string& db, const std::string& threads) {
-    return wait_exit_code(start({"run", path("search.json"), "--db", db, "-j", threads, "-q", "--claim-timeout", "1"},
+    return wait_exit_code(start({"run", path("search.json"), "--db", db, "-j", threads, "-q"},
                                 path(db.substr(db.rfind('/') + 1) + ".txt")));
   }
   fs::path folder_;
@@ -110,6 +113,44 @@ TEST_F(CmdRunSearchTest, TheTrialSequenceIsTheSameAtJ1J2AndAfterAKillAndResume) 
   ASSERT_LT(std::stoi(query(killed, "SELECT count(*) FROM search_steps WHERE committed = 1").at(0)), 14);
   ASSERT_EQ(run(killed, "1"), 0);
   EXPECT_EQ(query(killed, kSteps), reference);
+}
+
+TEST_F(CmdRunSearchTest, ARandomSearchOfJobsAnotherSweepRanIsStillRecorded) {
+  // Below TPE's 10 startup trials its proposals are the prior draws random search makes from
+  // the same seed: the random search's 6 jobs are all done before it starts.
+  std::ofstream(path("tpe.json")) << R"({"name": "tpe six", "base": {"fake": {"sleep_ms": 1}},
+      "sweep": {"search": {"method": "tpe", "seed": 5, "objective": {"metric": "tracking_nmse", "joint": 1},
+        "space": {"control.gain_scale": {"uniform": [0.5, 50]}}, "budget": {"jobs": 6}}}})";
+  std::ofstream(path("random.json")) << R"({"name": "random six", "base": {"fake": {"sleep_ms": 1}},
+      "sweep": {"search": {"method": "random", "seed": 5, "objective": {"metric": "tracking_nmse", "joint": 1},
+        "space": {"control.gain_scale": {"uniform": [0.5, 50]}}, "budget": {"jobs": 6}}}})";
+  const std::string db = path("shared.db");
+  ASSERT_EQ(wait_exit_code(start({"run", path("tpe.json"), "--db", db, "-j", "1", "-q"}, path("tpe.txt"))), 0);
+  ASSERT_EQ(wait_exit_code(start({"run", path("random.json"), "--db", db, "-j", "1", "-q"}, path("random.txt"))), 0);
+  EXPECT_EQ(query(db, "SELECT count(*) FROM jobs"), std::vector<std::string>{"6"});  // the same six jobs
+  EXPECT_EQ(query(db, "SELECT s.name, count(st.step), sum(st.committed), count(st.objective) FROM searches se "
+                      "JOIN sweeps s ON s.id = se.sweep_id JOIN search_steps st ON st.search_id = se.id "
+                      "GROUP BY s.name ORDER BY s.name"),
+            (std::vector<std::string>{"random six|6|6|6", "tpe six|6|6|6"}));
+}
+
+TEST_F(CmdRunSearchTest, AHeldOutObjectiveWithoutCheckpointsIsReadAtTheDefaultOne) {
+  // A short batch-learning job (two collection passes of a 2 s sine on joints 1-2); the spec
+  // sets no learning.heldout_checkpoints, as sweeps/search/fig6_1_kernel_width_tpe.json.
+  std::ofstream(path("real.json")) << R"({"name": "real two", "base": {"active_joints": [1, 2],
+      "trajectory": {"kind": "sine", "sine": {"amplitude": [0.22, 0.2], "frequency": [0.5, 1.0], "phase": [0, 0], "duration": 2.0}},
+      "control": {"mode": "composite", "feed_forward": "learner", "gain_scale": 0.2},
+      "learning": {"mode": "batch", "collect_repeats": 2, "train_fraction": 0.75}},
+      "sweep": {"search": {"method": "random", "seed": 1, "objective": {"metric": "heldout_test_nmse", "joint": 2},
+        "space": {"learning.lwpr.init_D": {"log_uniform": [0.05, 3.0]}}, "budget": {"jobs": 2}}}})";
+  const std::string db = path("real.db");
+  ASSERT_EQ(wait_exit_code(start({"run", path("real.json"), "--db", db, "-j", "1", "-q"}, path("real.txt"), false)), 0)
+      << std::ifstream(path("real.txt")).rdbuf();
+  // The objective each step saw is the stored metric's value at its (one, default) checkpoint.
+  const std::vector<std::string> seen = query(db, "SELECT st.objective IS NOT NULL, st.objective = m.value FROM search_steps st "
+                                                  "JOIN job_metrics m ON m.job_id = st.job_id AND m.name = 'heldout_test_nmse' "
+                                                  "AND m.joint = 2 ORDER BY st.step");
+  EXPECT_EQ(seen, (std::vector<std::string>{"1|1", "1|1"}));
 }
 
 }  // namespace

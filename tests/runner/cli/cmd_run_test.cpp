@@ -181,7 +181,7 @@ TEST_F(CmdRunTest, StatusTableAndExportReadTheResults) {
   EXPECT_NE(status.output.find("fake job asked to fail"), std::string::npos) << status.output;
   const CommandResult table = run_command("table " + db + " --sweep small");
   EXPECT_EQ(table.exit_code, 0);
-  EXPECT_NE(table.output.find("tracking_nmse j2"), std::string::npos) << table.output;
+  EXPECT_NE(table.output.find("tracking_nmse_j2"), std::string::npos) << table.output;
   EXPECT_NE(table.output.find("0, 1 failed"), std::string::npos) << table.output;  // failed jobs counted, not averaged
   EXPECT_NE(table.output.find("learning.lwpr.init_D"), std::string::npos) << table.output;
 
@@ -226,6 +226,14 @@ TEST_F(CmdRunTest, StatusCheckAndMergeRefuseADamagedDatabaseNamingIt) {
   EXPECT_EQ(check.exit_code, 2);
   EXPECT_EQ(check.output.rfind("armfarm: " + db + ": runs row 1: refers to a missing row of sweeps", 0), 0u)
       << check.output;
+  // Issue 30, case 6: without --check, status (and table) exited 0 on this file; the readers'
+  // check now refuses it, in one line naming the file and the row.
+  for (const std::string command : {"status " + db, "table " + db}) {
+    const CommandResult plain = run_command(command);
+    EXPECT_EQ(plain.exit_code, 2) << command;
+    EXPECT_EQ(plain.output.rfind("armfarm: " + db + ": damaged armfarm database: runs row 1: refers to a missing row of sweeps", 0), 0u)
+        << command << ": " << plain.output;
+  }
   const std::string out = path("merged.db");
   const CommandResult merge = run_command("merge " + out + " " + db);
   EXPECT_EQ(merge.exit_code, 2);

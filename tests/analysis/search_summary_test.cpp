@@ -1,0 +1,150 @@
+// The search summary behind `table`, `status`, `plot search` and `report`: a hand-worked ASHA
+// search (two rungs, a diverged trial, a step not yet committed) gives the ranking, rung
+// counts, survivors, budget spent and best-so-far curve worked out below; `plot search --sweep`
+// draws the method beside the random search of the same objective and leaves out one of
+// another objective.
+#include "analysis/analysis_error.hpp"
+#include "analysis/plots.hpp"
+#include "analysis/search_summary.hpp"
+
+#include <gtest/gtest.h>
+
+#include "test_database.hpp"
+
+#include <string>
+#include <vector>
+
+namespace armfarm {
+namespace {
+
+SweepRegistration make_sweep(const std::string& name) {
+  SweepRegistration sweep;
+  sweep.name = name;
+  sweep.spec_text = "{}";
+  sweep.spec_hash = "h-" + name;
+  sweep.started_at = make_utc_timestamp();
+  return sweep;
+}
+
+SearchRecord make_search(const std::string& sweep, const std::string& method, const std::string& metric,
+                         std::vector<SearchRungRecord> rungs) {
+  SearchRecord search;
+  search.sweep = sweep;
+  search.method = method;
+  search.sampler = "random";
+  search.seed = 3;
+  search.budget_unit = "jobs";
+  search.budget = 9;
+  search.objective_metric = metric;
+  search.objective_direction = "lower";
+  search.objective_joint = 2;
+  search.rungs = std::move(rungs);
+  return search;
+}
+
+void add_steps(ResultsStore& store, const std::string& sweep, const std::vector<SearchStepRecord>& steps,
+               const std::vector<std::optional<double>>& objectives, std::size_t committed) {
+  std::vector<JobRegistration> jobs;
+  for (const SearchStepRecord& step : steps) jobs.push_back({step.job_key, {{"x", step.step}}, {{"x", step.step}}, 0});
+  store.insert_sweep_run(make_sweep(sweep), jobs);
+  std::int64_t trials = 0;
+  for (const SearchStepRecord& step : steps) {
+    std::optional<SearchTrialRecord> trial;
+    if (step.trial == trials) trial = SearchTrialRecord{trials++, 0, "{\"x\":" + std::to_string(step.trial) + "}"};
+    store.insert_search_step(sweep, step, trial);
+  }
+  for (std::size_t s = 0; s < committed; ++s) {
+    store.update_search_objective(sweep, static_cast<std::int64_t>(s), objectives[s], objectives[s] ? "" : "diverged");
+  }
+}
+
+class SearchSummaryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ResultsStore store = ResultsStore::open(db(), ResultsStore::Mode::read_write);
+    store.insert_sweep_run(make_sweep("asha_s"), {});
+    store.insert_search(make_search("asha_s", "asha", "heldout_test_nmse", {{0, 10, 1.0}, {1, 50, 3.0}}));
+    // trial 0, 1, 2 at rung 0; trial 1 promoted (cost 3 - 1 = 2); trial 3 started, not committed.
+    add_steps(store, "asha_s",
+              {{0, 0, 0, 0, "new", 1.0, "a0"}, {1, 1, 0, 0, "new", 1.0, "a1"}, {2, 2, 0, 0, "new", 1.0, "a2"},
+               {3, 1, 1, 3, "promotion", 2.0, "a3"}, {4, 3, 0, 3, "new", 1.0, "a4"}},
+              {0.5, 0.2, std::nullopt, 0.3}, 4);
+    store.insert_sweep_run(make_sweep("random_s"), {});
+    store.insert_search(make_search("random_s", "random", "heldout_test_nmse", {{0, std::nullopt, 1.0}}));
+    add_steps(store, "random_s", {{0, 0, 0, 0, "new", 1.0, "r0"}, {1, 1, 0, 0, "new", 1.0, "r1"}, {2, 2, 0, 0, "new", 1.0, "r2"}},
+              {0.4, 0.35, 0.6}, 3);
+    store.insert_sweep_run(make_sweep("other_objective"), {});
+    store.insert_search(make_search("other_objective", "random", "tracking_nmse", {{0, std::nullopt, 1.0}}));
+    add_steps(store, "other_objective", {{0, 0, 0, 0, "new", 1.0, "o0"}}, {0.1}, 1);
+    store.insert_sweep_run(make_sweep("plain"), {{"p0", {{"x", 1}}, {{"x", 1}}, 0}});
+  }
+  std::string db() const { return directory_.file("search.db"); }
+  testing::TemporaryDirectory directory_;
+};
+
+TEST_F(SearchSummaryTest, RanksTrialsByRungThenObjectiveAndCountsRungsAndBudget) {
+  const ResultsStore store = ResultsStore::open(db(), ResultsStore::Mode::read_only);
+  EXPECT_FALSE(load_search_summary(store, "plain").has_value());
+  const std::optional<SearchSummary> summary = load_search_summary(store, "asha_s");
+  ASSERT_TRUE(summary.has_value());
+  EXPECT_DOUBLE_EQ(summary->spent, 6.0);           // 1 + 1 + 1 + 2 + 1
+  EXPECT_DOUBLE_EQ(summary->committed_cost, 5.0);  // without step 4
+  ASSERT_EQ(summary->trials.size(), 4u);
+  // trial 1 reached rung 1 (0.3 there beats nothing: its 0.2 at rung 0 no longer counts);
+  // trial 0 stayed at rung 0 with 0.5; trials 2 (diverged) and 3 (running) have none.
+  EXPECT_EQ(summary->trials[0].trial, 1);
+  EXPECT_EQ(summary->trials[0].rung, 1);
+  EXPECT_EQ(summary->trials[0].objective, 0.3);
+  EXPECT_EQ(summary->trials[0].job_key, "a3");
+  EXPECT_DOUBLE_EQ(summary->trials[0].cost, 3.0);
+  EXPECT_EQ(summary->trials[1].trial, 0);
+  EXPECT_EQ(summary->trials[1].objective, 0.5);
+  EXPECT_EQ(summary->trials[2].trial, 2);
+  EXPECT_FALSE(summary->trials[2].objective.has_value());
+  EXPECT_EQ(summary->trials[3].trial, 3);
+  ASSERT_EQ(summary->rungs.size(), 2u);
+  EXPECT_EQ(summary->rungs[0].checkpoint, 10);
+  EXPECT_EQ(summary->rungs[0].started, 4);
+  EXPECT_EQ(summary->rungs[0].committed, 3);
+  EXPECT_EQ(summary->rungs[0].undefined, 1);
+  EXPECT_EQ(summary->rungs[1].started, 1);
+  EXPECT_EQ(summary->rungs[1].committed, 1);
+  // Only the last rung's objectives move the curve: 0.3 after 5 jobs' worth of cost.
+  ASSERT_EQ(summary->curve.size(), 1u);
+  EXPECT_DOUBLE_EQ(summary->curve[0].cumulative_cost, 5.0);
+  EXPECT_DOUBLE_EQ(summary->curve[0].best, 0.3);
+
+  const std::string text = format_search_summary(*summary, 2);
+  EXPECT_NE(text.find("budget spent: 6 of 9 jobs"), std::string::npos) << text;
+  EXPECT_NE(text.find("| 0 | 10 | 4 | 3 | 1 | 1 | 4 |"), std::string::npos) << text;  // 1 survivor of rung 0
+  EXPECT_NE(text.find("| 1 | 1 | 1 | 0.3 | 3 | a3 |"), std::string::npos) << text;
+  EXPECT_NE(text.find("(2 more trials not shown)"), std::string::npos) << text;
+  const std::string progress = format_search_progress(*summary);
+  EXPECT_NE(progress.find("rung 0 (checkpoint 10): 4 started, 3 committed (1 without objective)"), std::string::npos) << progress;
+  EXPECT_NE(progress.find("rung 1 (checkpoint 50): 1 started, 1 committed"), std::string::npos) << progress;
+}
+
+TEST_F(SearchSummaryTest, PlotSearchDrawsTheMethodBesideRandomOfTheSameObjective) {
+  const ResultsStore store = ResultsStore::open(db(), ResultsStore::Mode::read_only);
+  PlotRequest request;
+  request.kind = parse_plot_kind("search");
+  request.sweep = "asha_s";
+  const Figure figure = make_plot_figure(store, request);
+  ASSERT_EQ(figure.panels.size(), 1u);
+  const std::vector<Curve>& curves = figure.panels[0].curves;
+  ASSERT_EQ(curves.size(), 2u);  // other_objective is left out
+  EXPECT_NE(curves[0].title.find("asha_s"), std::string::npos);
+  EXPECT_EQ(curves[0].x, (std::vector<double>{5.0, 6.0}));  // held to the budget spent
+  EXPECT_EQ(curves[0].y, (std::vector<double>{0.3, 0.3}));
+  EXPECT_NE(curves[1].title.find("random_s"), std::string::npos);
+  EXPECT_EQ(curves[1].x, (std::vector<double>{1.0, 2.0, 2.0, 3.0}));  // a staircase: 0.4, then 0.35; 0.6 no better
+  EXPECT_EQ(curves[1].y, (std::vector<double>{0.4, 0.4, 0.35, 0.35}));
+
+  request.sweep.reset();
+  EXPECT_EQ(make_plot_figure(store, request).panels[0].curves.size(), 3u);  // every search
+  request.sweep = "plain";
+  EXPECT_THROW(make_plot_figure(store, request), AnalysisError);
+}
+
+}  // namespace
+}  // namespace armfarm
