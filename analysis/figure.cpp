@@ -1,31 +1,73 @@
 #include "analysis/figure.hpp"
 
 #include "analysis/analysis_error.hpp"
+#include "analysis/printable_text.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
 
 namespace armfarm {
 
 namespace {
 
+// gnuplot text that cannot expand: runs of plain text in single quotes, inside which gnuplot
+// runs no backtick command, expands no @macro and reads no backslash escape, joined by `.` to the
+// constants "\n" and "'" for line breaks and quotes (gnuplot 5.4 reads a leading '' as an empty
+// string, so a doubled quote cannot start a string). Other control characters and bytes that
+// are not UTF-8 are replaced.
 std::string quote_gnuplot(const std::string& text) {
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '\n') {
-      out += "\\n";  // gnuplot reads \n in double quotes as a line break
+  const std::string printable = make_printable_text(text, /*keep_newlines=*/true);
+  std::string out;
+  std::string run;
+  const auto add = [&out](const std::string& piece) { out += (out.empty() ? "" : ".") + piece; };
+  for (const char c : printable) {
+    if (c != '\n' && c != '\'') {
+      run += c;
       continue;
     }
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
+    if (!run.empty()) add("'" + run + "'");
+    run.clear();
+    add(c == '\n' ? "\"\\n\"" : "\"'\"");
   }
-  return out + "\"";
+  if (!run.empty() || out.empty()) add("'" + run + "'");
+  return out;
+}
+
+// Runs `gnuplot script` with no shell in between (no path or name is ever parsed as a command),
+// stdin from /dev/null and stdout and stderr into `log`. Returns the wait status, or -1 with
+// errno set when gnuplot could not be started.
+int run_gnuplot(const std::string& script, const std::string& log) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  std::string program = "gnuplot";
+  std::vector<char*> argv = {program.data(), const_cast<char*>(script.c_str()), nullptr};
+  pid_t pid = 0;
+  const int error = posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (error != 0) {
+    errno = error;
+    return -1;
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR) return -1;
+  }
+  return status;
 }
 
 std::string data_file_name(std::size_t panel, std::size_t curve) {
@@ -382,29 +424,42 @@ void write_figure(const Figure& figure, const std::string& out_path, const Figur
       }
     }
   }
-  // Render next to the destination, then rename: the output is whole or absent.
-  const fs::path destination = fs::absolute(out_path);
-  const fs::path partial = destination.string() + ".partial";
+  // gnuplot writes into the work folder, whose name we chose; the user's path never reaches its
+  // script. The result is copied next to the destination and renamed: whole or absent.
+  const fs::path rendered = work / (ends_with(out_path, ".svg") ? "figure.svg" : ends_with(out_path, ".pdf") ? "figure.pdf" : "figure.png");
   {
     std::ofstream script_file(work / "plot.gp");
-    script_file << make_gnuplot_script(figure, terminal, partial.string(), work.string());
+    script_file << make_gnuplot_script(figure, terminal, rendered.string(), work.string());
   }
-  const std::string command = "gnuplot " + (work / "plot.gp").string() + " > " + (work / "gnuplot.log").string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  if (status != 0 || !fs::exists(partial)) {
+  const int status = run_gnuplot((work / "plot.gp").string(), (work / "gnuplot.log").string());
+  if (status == -1 && errno == ENOENT) {
+    throw AnalysisError("gnuplot is not installed (Debian package gnuplot-nox; `make deps` installs it)");
+  }
+  if (status != 0 || !fs::exists(rendered)) {
     std::ifstream log(work / "gnuplot.log");
-    std::string first_line;
-    std::getline(log, first_line);
+    // The first error line says why (warnings, such as the key's fitting, come first).
+    std::string line, reason;
+    while (std::getline(log, line)) {
+      if (line.empty()) continue;
+      if (reason.empty()) reason = line;
+      if (line.find(" line ") != std::string::npos && line.find("warning:") == std::string::npos) {
+        reason = line;
+        break;
+      }
+    }
+    if (reason.size() > 300) reason = reason.substr(0, 300) + "...";
+    throw AnalysisError(out_path + ": gnuplot failed" + (reason.empty() ? "" : ": " + make_printable_text(reason)));
+  }
+  const fs::path destination = fs::absolute(out_path);
+  const fs::path partial = destination.string() + ".partial";
+  std::error_code error;
+  fs::copy_file(rendered, partial, fs::copy_options::overwrite_existing, error);
+  if (!error) fs::rename(partial, destination, error);
+  if (error) {
     std::error_code ignored;
     fs::remove(partial, ignored);
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 127) {
-      throw AnalysisError("gnuplot is not installed (Debian package gnuplot-nox; `make deps` installs it)");
-    }
-    throw AnalysisError(out_path + ": gnuplot failed" + (first_line.empty() ? "" : ": " + first_line));
+    throw AnalysisError(out_path + ": cannot write: " + error.message());
   }
-  std::error_code error;
-  fs::rename(partial, destination, error);
-  if (error) throw AnalysisError(out_path + ": cannot write: " + error.message());
 }
 
 }  // namespace armfarm

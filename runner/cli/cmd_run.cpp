@@ -184,7 +184,7 @@ RunFunction setup_run(CLI::App& parent) {
         std::cerr << "armfarm: " << run.db_path << ": writing results failed (" << summary.write_error << "); stopped: "
                   << summary.not_saved << " finished jobs were not saved, " << summary.run
                   << " saved; run the same command again to rerun the unsaved ones\n";
-        return 1;
+        return kExitResultsNotSaved;
       }
       if (summary.interrupted) {
         std::cout << "interrupted: " << summary.abandoned << " jobs not finished; run the same command again to resume\n";

@@ -163,6 +163,8 @@ RunFunction setup_slurm(CLI::App& parent) {
                 << " CPU" << (plan.cpus_per_task == 1 ? "" : "s") << " each) and " << merge_script << "\n";
     } else {
       commands = {"sbatch --parsable " + make_shell_quoted(merge_script)};
+      // Every job is done in the shard files, read just now: each shard's results are saved.
+      for (int shard = 1; shard <= plan.tasks; ++shard) std::ofstream(make_shard_saved_path(plan.db, shard));
       std::cout << "every job is done in the shard files: only the merge is needed\nwrote " << merge_script << "\n";
     }
     if (!options->submit) {

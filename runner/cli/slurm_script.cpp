@@ -1,5 +1,8 @@
 #include "runner/cli/slurm_script.hpp"
 
+#include "analysis/printable_text.hpp"
+#include "runner/cli/subcommand.hpp"
+
 #include <cctype>
 #include <sstream>
 #include <stdexcept>
@@ -33,6 +36,9 @@ bool read_time_field(const std::string& text, long& value) {
   return true;
 }
 
+/// A user string for a comment line: one line, nothing a terminal or an editor acts on.
+std::string make_comment_text(const std::string& text) { return make_printable_text(text); }
+
 std::vector<std::string> split(const std::string& text, char separator) {
   std::vector<std::string> parts;
   std::size_t start = 0;
@@ -47,6 +53,7 @@ std::vector<std::string> split(const std::string& text, char separator) {
 }  // namespace
 
 std::string make_shard_db_path(const std::string& db, int shard) { return db + ".shard-" + std::to_string(shard) + ".db"; }
+std::string make_shard_saved_path(const std::string& db, int shard) { return db + ".shard-" + std::to_string(shard) + ".saved"; }
 std::string make_array_script_path(const std::string& db) { return db + ".array.sbatch"; }
 std::string make_merge_script_path(const std::string& db) { return db + ".merge.sbatch"; }
 
@@ -65,7 +72,7 @@ std::string make_shell_quoted(const std::string& text) {
 std::string make_array_script(const SlurmPlan& plan) {
   std::ostringstream out;
   out << "#!/bin/bash\n"
-      << "# Sweep " << plan.sweep << " (" << plan.jobs << " jobs) as a Slurm job array of " << plan.tasks
+      << "# Sweep " << make_comment_text(plan.sweep) << " (" << plan.jobs << " jobs) as a Slurm job array of " << plan.tasks
       << " tasks, written by `armfarm slurm`.\n"
       << "# Task I (SLURM_ARRAY_TASK_ID + 1) runs shard I/" << plan.tasks
       << " into its own database file; a merge job combines them.\n"
@@ -81,24 +88,32 @@ std::string make_array_script(const SlurmPlan& plan) {
       << "count=" << plan.tasks << "\n"
       << "shard=$((SLURM_ARRAY_TASK_ID + 1))\n"
       << "db=" << make_shell_quoted(plan.db) << ".shard-\"$shard\".db\n"
+      << "saved=" << make_shell_quoted(plan.db) << ".shard-\"$shard\".saved\n"
+      << "rm -f -- \"$saved\"\n"
       << "echo \"armfarm slurm: shard $shard/$count on $(hostname) into $db\"\n"
       << make_shell_quoted(plan.armfarm) << " run " << make_shell_quoted(plan.spec)
       << " --shard \"$shard/$count\" --db \"$db\" -j \"${SLURM_CPUS_PER_TASK:-" << plan.cpus_per_task << "}\"\n"
       << "status=$?\n"
-      << "# 1: every job ran and its outcome is recorded, some failed, diverged or timed out. Those are\n"
-      << "# results too: the merge brings them in (and a resubmission runs them again).\n"
+      << "# 0: every job done and saved. 1: every job ran and its outcome is saved, some failed, diverged\n"
+      << "# or timed out; those are results too: the merge brings them in (a resubmission runs them again).\n"
+      << "# Anything else (" << kExitResultsNotSaved << ": finished jobs not saved, a full disk; 2: bad input) fails the task.\n"
+      << "if [ \"$status\" -ne 0 ] && [ \"$status\" -ne 1 ]; then\n"
+      << "  echo \"armfarm slurm: shard $shard/$count failed (armfarm run exit $status): not marked saved, the merge will not run\" >&2\n"
+      << "  exit \"$status\"\n"
+      << "fi\n"
       << "if [ \"$status\" -eq 1 ]; then\n"
       << "  echo \"armfarm slurm: shard $shard/$count recorded failed, diverged or timed-out jobs (armfarm status $db)\"\n"
-      << "  exit 0\n"
       << "fi\n"
-      << "exit \"$status\"\n";
+      << ": > \"$saved\" || exit 2\n"
+      << "exit 0\n";
   return out.str();
 }
 
 std::string make_merge_script(const SlurmPlan& plan) {
   std::ostringstream out;
   out << "#!/bin/bash\n"
-      << "# Merges the " << plan.tasks << " shard databases of sweep " << plan.sweep << " into " << plan.db
+      << "# Merges the " << plan.tasks << " shard databases of sweep " << make_comment_text(plan.sweep) << " into "
+      << make_comment_text(plan.db)
       << ", written by `armfarm slurm`.\n"
       << "# Submitted with --dependency=afterok:<array job>; merging again is harmless (identical jobs stay).\n"
       << "#SBATCH --job-name=" << make_job_name(plan.sweep) << "-merge\n"
@@ -110,6 +125,18 @@ std::string make_merge_script(const SlurmPlan& plan) {
       << "set -u\n"
       << "cd " << make_shell_quoted(plan.work_dir) << " || exit 2\n"
       << "db=" << make_shell_quoted(plan.db) << "\n"
+      << "# Only shards whose task saved every outcome are merged; otherwise say which are missing.\n"
+      << "missing=()\n"
+      << "for shard in $(seq 1 " << plan.tasks << "); do\n"
+      << "  [ -e \"$db.shard-$shard.saved\" ] || missing+=(\"$shard\")\n"
+      << "done\n"
+      << "if [ ${#missing[@]} -gt 0 ]; then\n"
+      << "  shown=\"${missing[*]:0:10}\"\n"
+      << "  [ ${#missing[@]} -gt 10 ] && shown=\"$shown ... and $((${#missing[@]} - 10)) more\"\n"
+      << "  echo \"armfarm slurm: not merging: ${#missing[@]} of " << plan.tasks
+      << " shards did not save their results (shard $shown); see $db.slurm-*.log and submit again\" >&2\n"
+      << "  exit 1\n"
+      << "fi\n"
       << make_shell_quoted(plan.armfarm) << " merge \"$db\"";
   for (int shard = 1; shard <= plan.tasks; ++shard) out << " \"$db.shard-" << shard << ".db\"";
   out << " || exit $?\n"

@@ -28,11 +28,19 @@ std::string make_shard_db_path(const std::string& db, int shard);
 std::string make_array_script_path(const std::string& db);
 std::string make_merge_script_path(const std::string& db);
 
+/// "<db>.shard-<shard>.saved": written by shard <shard>'s task once its `armfarm run` has saved
+/// every outcome (exit 0 or 1), removed when the task starts. The merge requires all of them.
+std::string make_shard_saved_path(const std::string& db, int shard);
+
 /// The job array's sbatch script. A task's `armfarm run` exit status 1 (jobs ran and some
 /// failed, diverged or timed out, all recorded) counts as success so that the merge still
-/// brings those results in; any other failure (bad input, the task killed) fails the task.
+/// brings those results in, and marks the shard saved; any other status (bad input, results not
+/// saved on a full disk, the task killed) fails the task and leaves the shard unmarked.
+/// No user string (sweep name, paths) reaches the script but single-quoted, or in a comment with
+/// control characters replaced.
 std::string make_array_script(const SlurmPlan& plan);
-/// The merge job's sbatch script: `armfarm merge DB <the N shard files>`, then `armfarm status DB`.
+/// The merge job's sbatch script: refuses (exit 1, naming the shards, "… and N more") unless every
+/// shard is marked saved; then `armfarm merge DB <the N shard files>`, then `armfarm status DB`.
 std::string make_merge_script(const SlurmPlan& plan);
 
 /// The shell commands that submit the two scripts (the merge after the array), as printed.

@@ -5,13 +5,17 @@
 //
 // Exit codes, for every subcommand: 0 success; 1 the command ran but found failures
 // (failed jobs, a regressed metric); 2 bad usage or bad input (an exception escaping
-// the run function is reported on one line and exits 2).
+// the run function is reported on one line and exits 2); 3 finished results were lost (not
+// saved: a full disk), which a batch system must never count as success.
 #include <CLI/CLI.hpp>
 
 #include <functional>
 #include <vector>
 
 namespace armfarm::cli {
+
+/// The exit status of a run whose finished jobs could not all be saved.
+inline constexpr int kExitResultsNotSaved = 3;
 
 using RunFunction = std::function<int()>;
 using SetupFunction = RunFunction (*)(CLI::App& parent);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <iterator>
 #include <vector>
 
@@ -40,9 +41,19 @@ class TrackingIterator {
   const char** furthest_;
 };
 
+// A polynomial hash of a path's characters, so that a path's hash is its parent's extended by
+// its segment, and a query path hashes to the same value in one pass.
+std::size_t extend_path_hash(std::size_t hash, const std::string& segment) {
+  for (const char c : segment) hash = hash * 1099511628211ULL + static_cast<unsigned char>(c) + 1;
+  return hash;
+}
+
 bool needs_quotes(const std::string& key) {
   if (key.empty()) return true;
-  return std::any_of(key.begin(), key.end(), [](char c) { return c == '.' || c == '[' || c == ']' || c == '"' || c == ' '; });
+  return std::any_of(key.begin(), key.end(), [](char c) {
+    const auto byte = static_cast<unsigned char>(c);
+    return c == '.' || c == '[' || c == ']' || c == '"' || c == ' ' || byte < 0x20 || byte == 0x7f;
+  });
 }
 
 // Builds the DOM and records where each value starts.
@@ -57,19 +68,22 @@ class TrackingSax : public nlohmann::json_sax<nlohmann::json> {
   bool number_unsigned(number_unsigned_t value) override { return put_number(value); }
   bool number_float(number_float_t value, const string_t&) override { return put_number(value); }
   bool string(string_t& value) override {
-    // The reader stands just after the closing quote; walk back to the opening one.
-    std::size_t end = read_offset();
-    std::size_t start = end > 0 ? end - 1 : 0;
-    while (start > 0) {
-      --start;
-      if (text_[start] == '"' && (start == 0 || text_[start - 1] != '\\')) break;
-    }
-    return put_at(std::move(value), start);
+    const std::size_t start = opening_quote_before(read_offset());
+    if (!refuse_control_characters(value, start, "string")) return false;
+    return put_at(std::move(value), start) != nullptr;
   }
   bool binary(binary_t& value) override { return put(nlohmann::json::binary(value), 0); }
   bool start_object(std::size_t) override { return open(nlohmann::json::object()); }
   bool key(string_t& key) override {
-    frames_.back().key = key;
+    Frame& frame = frames_.back();
+    frame.key = key;
+    if (!refuse_control_characters(key, opening_quote_before(read_offset()), "key")) return false;
+    if (frame.container->contains(key)) {
+      error_position_ = opening_quote_before(read_offset());
+      error_path_ = make_next_path();
+      error_message_ = "the key " + nlohmann::json(key).dump() + " appears twice in this object (JSON keeps only one: remove the other)";
+      return false;
+    }
     return true;
   }
   bool end_object() override { return close(); }
@@ -105,10 +119,50 @@ class TrackingSax : public nlohmann::json_sax<nlohmann::json> {
  private:
   struct Frame {
     nlohmann::json* container;
-    std::string key;  // the key of the value being read (objects)
+    std::size_t node;  // the container's index in document_.nodes
+    std::string key;   // the key of the value being read (objects)
   };
 
   std::size_t read_offset() const { return static_cast<std::size_t>(*furthest_ - text_.data()); }
+
+  // The reader stands just after a string's closing quote at `end`; walks back to the opening one.
+  std::size_t opening_quote_before(std::size_t end) const {
+    std::size_t start = end > 0 ? end - 1 : 0;
+    while (start > 0) {
+      --start;
+      if (text_[start] == '"' && (start == 0 || text_[start - 1] != '\\')) break;
+    }
+    return start;
+  }
+
+  // The path segment of the next value the innermost container receives ("" at the top).
+  std::string make_next_segment() const {
+    if (frames_.empty()) return "";
+    const Frame& frame = frames_.back();
+    if (frame.container->is_array()) return "[" + std::to_string(frame.container->size()) + "]";
+    if (needs_quotes(frame.key)) return "[" + nlohmann::json(frame.key).dump() + "]";
+    return (frame.node == 0 ? "" : ".") + frame.key;
+  }
+
+  std::string make_next_path() const {
+    return frames_.empty() ? std::string() : document_.make_path(frames_.back().node) + make_next_segment();
+  }
+
+  // A name or value prints as itself on one line: NUL, newlines, escapes (ANSI) are refused.
+  bool refuse_control_characters(const std::string& value, std::size_t start, const char* what) {
+    for (const char c : value) {
+      const auto byte = static_cast<unsigned char>(c);
+      if (byte >= 0x20 && byte != 0x7f) continue;
+      char code[8];
+      std::snprintf(code, sizeof code, "U+%04X", static_cast<unsigned>(byte));
+      error_position_ = start;
+      error_path_ = make_next_path();
+      error_message_ = std::string("the ") + what + " holds the control character " + code +
+                       " (names and values must be printable text)";
+      return false;
+    }
+    return true;
+  }
 
   std::string current_path() const {
     std::string path;
@@ -146,7 +200,7 @@ class TrackingSax : public nlohmann::json_sax<nlohmann::json> {
   }
 
   nlohmann::json* put_at(nlohmann::json value, std::size_t start) {
-    document_.offsets.emplace(current_path(), start);
+    record_node(start);
     if (frames_.empty()) {
       document_.value = std::move(value);
       return &document_.value;
@@ -161,10 +215,37 @@ class TrackingSax : public nlohmann::json_sax<nlohmann::json> {
     return &slot;
   }
 
+  // The value put next gets node index nodes.size(): its parent, segment, offset and path hash.
+  // An array element stores its index, not its segment's text: `[1999]` is longer than `,1`.
+  void record_node(std::size_t start) {
+    std::string segment = make_next_segment();
+    const std::size_t parent = frames_.empty() ? 0 : frames_.back().node;
+    const std::size_t hash = frames_.empty() ? 0 : extend_path_hash(document_.nodes[parent].hash, segment);
+    JsonDocument::Node node;
+    node.parent = parent;
+    node.offset = start;
+    node.hash = hash;
+    if (!frames_.empty() && frames_.back().container->is_array()) {
+      node.element = frames_.back().container->size();
+    } else {
+      node.segment = std::move(segment);
+    }
+    document_.by_hash.emplace(hash, document_.nodes.size());
+    document_.nodes.push_back(std::move(node));
+  }
+
   bool open(nlohmann::json empty) {
     const std::size_t end = read_offset();
-    nlohmann::json* container = put_at(std::move(empty), end > 0 ? end - 1 : 0);
-    frames_.push_back({container, ""});
+    const std::size_t start = end > 0 ? end - 1 : 0;
+    if (frames_.size() >= kMaxJsonDepth) {
+      // No path: at this depth it would be hundreds of segments long.
+      error_position_ = start;
+      error_message_ = "arrays and objects nest deeper than " + std::to_string(kMaxJsonDepth) +
+                       " levels (the most a spec may nest)";
+      return false;
+    }
+    nlohmann::json* container = put_at(std::move(empty), start);
+    frames_.push_back({container, document_.nodes.size() - 1, ""});
     return true;
   }
 
@@ -198,9 +279,23 @@ std::string describe_text_position(const std::string& text, std::size_t offset) 
   return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
+std::string JsonDocument::make_path(std::size_t index) const {
+  std::vector<std::size_t> chain;
+  for (std::size_t at = index; at != 0; at = nodes[at].parent) chain.push_back(at);
+  std::string path;
+  for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+    const Node& node = nodes[*it];
+    path += node.element == Node::kNotAnElement ? node.segment : "[" + std::to_string(node.element) + "]";
+  }
+  return path;
+}
+
 std::string JsonDocument::describe_position(const std::string& path) const {
-  const auto found = offsets.find(path);
-  return found == offsets.end() ? std::string() : describe_text_position(text, found->second);
+  const auto [first, last] = by_hash.equal_range(extend_path_hash(0, path));
+  for (auto it = first; it != last; ++it) {
+    if (make_path(it->second) == path) return describe_text_position(text, nodes[it->second].offset);
+  }
+  return std::string();
 }
 
 bool is_non_finite_number_text(const std::string& text) {

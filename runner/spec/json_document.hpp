@@ -5,27 +5,47 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
-#include <map>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
 namespace armfarm {
 
 /// A parsed JSON text with the position of every value. Paths are written the way spec errors
 /// write them: `base.control.kp[0]`, keys that hold a dot quoted (`sweep.grid["control.kp"][1]`).
+/// Positions are kept as a tree of path segments (each value: its parent, its own segment such
+/// as `.kp` or `[3]`, its offset), so memory and time stay linear in the document's size however
+/// deep or long its keys are; a whole path is rebuilt only when a message asks for it.
 struct JsonDocument {
+  struct Node {
+    static constexpr std::size_t kNotAnElement = static_cast<std::size_t>(-1);
+    std::size_t parent;   ///< index into nodes; the root's parent is itself (index 0)
+    std::string segment;  ///< `key`, `.key` or `["a.b"]` for an object's value; "" for the root and array elements
+    std::size_t element = kNotAnElement;  ///< an array element's index (its segment `[3]` is built when asked)
+    std::size_t offset = 0;  ///< byte offset of the value's first character
+    std::size_t hash = 0;    ///< of the whole path, built segment by segment
+  };
   nlohmann::json value;
   std::string text;
-  std::map<std::string, std::size_t> offsets;  ///< JSON path → byte offset of the value's first character
+  std::vector<Node> nodes;
+  std::unordered_multimap<std::size_t, std::size_t> by_hash;  ///< path hash → node index
 
   /// "line L, column C" (1-based) of the value at `path`, or "" when the document has no such value.
   std::string describe_position(const std::string& path) const;
+  /// The whole path of node `index` (`base.control.kp[0]`).
+  std::string make_path(std::size_t index) const;
 };
+
+/// The deepest nesting of arrays and objects a document may have; deeper is refused.
+inline constexpr std::size_t kMaxJsonDepth = 256;
 
 /// "line L, column C" of byte `offset` of `text`.
 std::string describe_text_position(const std::string& text, std::size_t offset);
 
 /// Parses `text` (named `file` in messages). Throws SpecError with one line
-/// "FILE: line L, column C: PATH: what" for invalid JSON and for numbers out of a double's range.
+/// "FILE: line L, column C: PATH: what" for invalid JSON, numbers out of a double's range,
+/// nesting deeper than kMaxJsonDepth, a key given twice in one object, and strings holding a
+/// control character (U+0000–U+001F, U+007F: a name or value must print as itself on one line).
 JsonDocument parse_json_document(const std::string& text, const std::string& file);
 
 /// True for strings that spell a non-finite number ("NaN", "inf", "-Infinity", …, any case).

@@ -208,7 +208,7 @@ TEST(TrustedFigures, LogAxesPositiveErrorBarsAndNoSilentPooling) {
   EXPECT_NE(script.find("lc rgb '#332288' dt 2"), std::string::npos);  // the 13th curve: first colour, dashed
   EXPECT_NE(script.find("notitle"), std::string::npos);                // second panel repeats no legend
   std::size_t titled = 0;
-  for (auto at = script.find(" title \"curve "); at != std::string::npos; at = script.find(" title \"curve ", at + 1)) ++titled;
+  for (auto at = script.find(" title 'curve "); at != std::string::npos; at = script.find(" title 'curve ", at + 1)) ++titled;
   EXPECT_EQ(titled, 13u);
   // The same group keeps its colour in every panel, whatever the order it is drawn in.
   Figure swapped;

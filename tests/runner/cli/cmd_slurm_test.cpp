@@ -10,6 +10,7 @@
 
 #include "support/scratch_file.hpp"
 
+#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include "support/command_line.hpp"
 
@@ -235,6 +237,65 @@ TEST_F(SlurmCommand, ShardsRunByTheScriptsMergeToOneRunsResultsAndResumeAfterALo
   EXPECT_EQ(read_statuses(make_shard_db_path(db_, 2), "fake_small"), shard2);
   ASSERT_EQ(run_shell("bash " + merge_script).exit_code, 0);
   EXPECT_EQ(read_metrics(db_, "fake_small"), read_metrics(local, "fake_small"));
+}
+
+// Issue 30, case 4: a sweep named "x\nrm -rf DIR\n#" put a bare `rm -rf DIR` line above the
+// #SBATCH lines. Now the name stays in its comment line (control characters replaced), so the
+// only lines that run are ours; bash parses both scripts and the DIR survives running them.
+TEST_F(SlurmCommand, AHostileSweepNameNeverLeavesItsCommentLine) {
+  const fs::path victim = dir_ / "DIR";
+  fs::create_directories(victim);
+  const std::string sentinel = (dir_ / "sentinel").string();
+  SlurmPlan plan = make_plan();
+  plan.sweep = "x\nrm -rf " + victim.string() + "\n#`touch " + sentinel + "`$(touch " + sentinel + ")'\"\x1b[31m";
+  plan.db = db_;
+  plan.armfarm = "/bin/true";
+  plan.work_dir = dir_.string();
+  for (const std::string& script : {make_array_script(plan), make_merge_script(plan)}) {
+    std::istringstream lines(script);
+    std::string line;
+    while (std::getline(lines, line)) {
+      if (line.find("rm -rf") != std::string::npos) {
+        EXPECT_EQ(line.rfind("# ", 0), 0u) << line;
+      }
+      EXPECT_EQ(line.find('\x1b'), std::string::npos) << line;
+    }
+    const std::string path = (dir_ / "s.sh").string();
+    std::ofstream(path) << script;
+    EXPECT_EQ(run_shell("bash -n " + path).exit_code, 0) << script;
+    run_shell("SLURM_ARRAY_TASK_ID=0 bash " + path);
+  }
+  EXPECT_TRUE(fs::exists(victim));
+  EXPECT_FALSE(fs::exists(sentinel));
+}
+
+// Issue 30, case 5 (Slurm half): a shard whose database filled up exited 0 through the script
+// and the merge ran on what was there. Now the task fails with armfarm's exit 3, the shard is
+// not marked saved, and the merge names it instead of merging.
+TEST_F(SlurmCommand, AShardOnAFullDiskFailsItsTaskAndTheMergeNamesIt) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root to mount a small tmpfs";
+  const fs::path disk = dir_ / "disk";
+  fs::create_directories(disk);
+  if (mount("tmpfs", disk.c_str(), "tmpfs", 0, "size=384k") != 0) GTEST_SKIP() << "cannot mount a tmpfs here";
+  struct Unmount {
+    std::string where;
+    ~Unmount() { umount2(where.c_str(), MNT_DETACH); }
+  } unmount{disk.string()};
+  const std::string spec = (dir_ / "full.json").string();
+  std::ofstream(spec) << R"({"name": "full", "base": {"fake": {"sleep_ms": 5}, "simulation": {"samples": 2000}},
+      "sweep": {"grid": {"learning.lwpr.init_D": [10, 20, 30, 40, 50, 60, 70, 80, 90, 100]}, "repeat": 3}})";
+  const std::string db = (disk / "full.db").string();
+  ASSERT_EQ(run_armfarm("slurm " + spec + " --db " + db + " --tasks 1").exit_code, 0);
+  // The one shard fills the disk.
+  const CommandResult task = run_array_task(make_array_script_path(db), 0);
+  EXPECT_EQ(task.exit_code, 3) << task.output;
+  EXPECT_NE(task.output.find("not marked saved, the merge will not run"), std::string::npos) << task.output;
+  EXPECT_FALSE(fs::exists(make_shard_saved_path(db, 1)));
+  const CommandResult merged = run_shell("bash " + make_merge_script_path(db));
+  EXPECT_EQ(merged.exit_code, 1) << merged.output;
+  EXPECT_NE(merged.output.find("not merging: 1 of 1 shards did not save their results (shard 1)"), std::string::npos)
+      << merged.output;
+  EXPECT_FALSE(fs::exists(db));
 }
 
 TEST_F(SlurmCommand, TaskWithFailedJobsSucceedsSoTheMergeBringsThemIn) {
