@@ -73,11 +73,134 @@ bool ends_with(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+// The legend below the panels: one entry per distinct title, as many to a row as fit the page.
+struct LegendLayout {
+  std::size_t rows = 0;
+};
+LegendLayout make_legend_layout(const Figure& figure, double char_width_fraction) {
+  std::vector<std::string> entries;
+  std::size_t longest = 0;
+  for (const Panel& panel : figure.panels) {
+    for (const Curve& curve : panel.curves) {
+      if (curve.title.empty() || std::find(entries.begin(), entries.end(), curve.title) != entries.end()) continue;
+      entries.push_back(curve.title);
+      longest = std::max(longest, curve.title.size());
+    }
+  }
+  const std::size_t per_row =
+      std::max<std::size_t>(1, static_cast<std::size_t>(0.95 / (char_width_fraction * (static_cast<double>(longest) + 8))));
+  return {(entries.size() + per_row - 1) / per_row};
+}
+
+// A step of 1, 2 or 5 × 10^k that puts at most `max_ticks` ticks on [low, high].
+double choose_tick_step(double low, double high, int max_ticks) {
+  const double range = high - low;
+  double step = std::pow(10.0, std::floor(std::log10(range / max_ticks)));
+  for (double factor : {1.0, 2.0, 5.0, 10.0}) {
+    if (range / (step * factor) <= max_ticks) return step * factor;
+  }
+  return step * 10;
+}
+
+// "set xtics STEP" / "set ytics STEP" for a linear axis, so that the labels of a narrow (short)
+// panel do not run into each other ("0.240.260.28"); gnuplot's automatic ticks ignore the
+// panel's size. With equal axes both take the smaller count, as the panel shrinks to fit both (at most 4).
+std::string make_tics_lines(const Panel& panel, int max_x_ticks, int max_y_ticks) {
+  if (panel.equal_axes) max_x_ticks = max_y_ticks = std::min({max_x_ticks, max_y_ticks, 4});
+  std::string lines;
+  for (int axis = 0; axis < 2; ++axis) {
+    double low = INFINITY, high = -INFINITY;
+    for (const Curve& curve : panel.curves) {
+      for (double v : axis == 0 ? curve.x : curve.y) {
+        if (!std::isfinite(v)) continue;
+        low = std::min(low, v);
+        high = std::max(high, v);
+      }
+      if (axis == 1) {
+        for (const auto* ends : {&curve.y_low, &curve.y_high}) {
+          for (double v : *ends) {
+            if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v);
+          }
+        }
+      }
+    }
+    const char* name = axis == 0 ? "xtics" : "ytics";
+    const int max_ticks = std::max(1, (axis == 0 ? max_x_ticks : max_y_ticks) - 1);
+    if (axis == 0 ? panel.log_x : panel.log_y) {
+      // On a log axis the increment is a factor: every 10^k decades when there are too many.
+      const double decades = low > 0 && high > low ? std::ceil(std::log10(high)) - std::floor(std::log10(low)) : 0;
+      if (decades > max_ticks) {
+        char line[64];
+        std::snprintf(line, sizeof line, "set %s 1e%d\n", name, static_cast<int>(std::ceil(decades / max_ticks)));
+        lines += line;
+      } else {
+        lines += std::string("set ") + name + " autofreq\n";
+      }
+      continue;
+    }
+    if (!(high > low)) {
+      lines += std::string("set ") + name + " autofreq\n";
+      continue;
+    }
+    // gnuplot extends the range to the next tick, so leave room for one more.
+    char line[64];
+    std::snprintf(line, sizeof line, "set %s %.10g\n", name, choose_tick_step(low, high, max_ticks));
+    lines += line;
+  }
+  return lines;
+}
+
+// `text` with each line broken at spaces to at most `width` characters.
+std::string wrap_text(const std::string& text, std::size_t width) {
+  std::string out, line, word;
+  auto flush_word = [&] {
+    if (word.empty()) return;
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      out += line + "\n";
+      line.clear();
+    }
+    line += (line.empty() ? "" : " ") + word;
+    word.clear();
+  };
+  for (char c : text) {
+    if (c == ' ' || c == '\n') {
+      flush_word();
+      if (c == '\n') {
+        out += line + "\n";
+        line.clear();
+      }
+    } else {
+      word += c;
+    }
+  }
+  flush_word();
+  return out + line;
+}
+
 }  // namespace
 
-std::string make_gnuplot_script(const Figure& figure, const std::string& terminal_line, const std::string& output_path,
+std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& terminal, const std::string& output_path,
                                 const std::string& data_dir) {
+  const std::string& terminal_line = terminal.terminal_line;
+  const double line_width = terminal.line_width;
+  // Characters across a panel (less its y tick labels and label) and lines down one (less its
+  // title, x tick labels and label): room for ticks of ~6 characters and for wrapped labels.
+  const std::size_t n_cells = std::max<std::size_t>(figure.panels.size(), 1);
+  const std::size_t n_columns = n_cells <= 1 ? 1 : (n_cells <= 4 ? 2 : 3);
+  const std::size_t n_rows = (n_cells + n_columns - 1) / n_columns;
+  const double panel_chars = terminal.width_pt / static_cast<double>(n_columns) / (0.55 * terminal.font_pt) - 10;
+  const double page_lines = terminal.height_pt / (1.25 * terminal.font_pt);
+  const double panel_lines = page_lines / static_cast<double>(n_rows) - 6;
+  const int max_x_ticks = std::clamp(static_cast<int>(panel_chars / 7), 2, 10);
+  const int max_y_ticks = std::clamp(static_cast<int>(panel_lines / 1.6), 2, 10);
+  const std::size_t label_chars = static_cast<std::size_t>(std::max(8.0, panel_chars));
+  const std::size_t y_label_chars = static_cast<std::size_t>(std::max(8.0, panel_lines * 1.25 * 1.6));
+  const std::string figure_title = wrap_text(figure.title, static_cast<std::size_t>(std::max(
+                                                               10.0, terminal.width_pt / (0.55 * terminal.font_pt) - 2)));
   std::ostringstream script;
+  char width_text[32];
+  std::snprintf(width_text, sizeof width_text, "%g", line_width);
+  const std::string lw = width_text;
   const std::size_t n_panels = figure.panels.size();
   const std::size_t columns = n_panels <= 1 ? 1 : (n_panels <= 4 ? 2 : 3);
   const std::size_t rows = (n_panels + columns - 1) / columns;
@@ -86,27 +209,61 @@ std::string make_gnuplot_script(const Figure& figure, const std::string& termina
          << "set termoption noenhanced\n"
          << "set grid\nset key outside bottom center horizontal\n"
          << "set datafile missing 'nan'\n";
-  if (n_panels > 1 || !figure.title.empty()) {
-    script << "set multiplot layout " << rows << "," << columns;
-    if (n_panels > 1) script << " margins 0.07,0.98,0.12,0.86 spacing 0.08,0.12";
-    if (!figure.title.empty()) script << " title " << quote_gnuplot(figure.title);
-    script << "\n";
+  {
+    std::string layout = "set multiplot layout " + std::to_string(rows) + "," + std::to_string(columns);
+    // Margins and spacing in character units of this page (gnuplot takes screen fractions):
+    // room for the y tick labels and label left of every column, the x ticks, label and the
+    // next row's title between rows, the title lines on top and the legend rows below.
+    {
+      const double char_w = 0.55 * terminal.font_pt / terminal.width_pt;
+      const double char_h = 1.25 * terminal.font_pt / terminal.height_pt;
+      const std::size_t key_rows = rows * columns > n_panels ? 0 : make_legend_layout(figure, char_w).rows;
+      std::size_t title_lines = figure.title.empty() ? 0 : 1;
+      for (char c : figure_title) title_lines += c == '\n';
+      // The tallest wrapped x label and panel title set the room between rows.
+      double x_label_lines = 1, title_lines_panel = 1;
+      for (const Panel& panel : figure.panels) {
+        const std::string x = wrap_text(panel.x_label, label_chars), t = wrap_text(panel.title, label_chars);
+        x_label_lines = std::max(x_label_lines, 1.0 + static_cast<double>(std::count(x.begin(), x.end(), '\n')));
+        title_lines_panel = std::max(title_lines_panel, 1.0 + static_cast<double>(std::count(t.begin(), t.end(), '\n')));
+      }
+      char margins[160];
+      std::snprintf(margins, sizeof margins, " margins %.4f,%.4f,%.4f,%.4f spacing %.4f,%.4f", std::min(0.3, 10 * char_w),
+                    1 - 2 * char_w, std::min(0.7, (3.0 + x_label_lines + 1.25 * static_cast<double>(key_rows)) * char_h),
+                    std::max(0.55, 1 - (2.6 + title_lines_panel + 1.1 * static_cast<double>(title_lines)) * char_h), std::min(0.3, 11 * char_w),
+                    std::min(0.3, (4.8 + x_label_lines + title_lines_panel) * char_h));
+      layout += margins;
+      if (key_rows > 0) script << "set key at screen 0.5, screen 0.005 center bottom vertical maxrows " << key_rows << "\n";
+    }
+    if (!figure.title.empty()) layout += " title " + quote_gnuplot(figure_title);
+    script << layout << "\n";
   }
   // Paul Tol's "muted" and "bright" schemes: distinguishable, also in greyscale print.
   static const char* const kColours[12] = {"#332288", "#88CCEE", "#44AA99", "#117733", "#999933", "#DDCC77",
                                            "#CC6677", "#882255", "#AA4499", "#4477AA", "#EE6677", "#000000"};
   std::vector<std::string> titles_shown;
+  // A colour per distinct title over the whole figure, in first-seen order, so that one group
+  // has one colour in every panel; untitled curves take the next free colour each.
+  std::vector<std::string> colour_titles;
+  auto colour_of = [&](const std::string& title) {
+    if (!title.empty()) {
+      const auto found = std::find(colour_titles.begin(), colour_titles.end(), title);
+      if (found != colour_titles.end()) return static_cast<std::size_t>(found - colour_titles.begin());
+    }
+    colour_titles.push_back(title);
+    return colour_titles.size() - 1;
+  };
   // With empty grid cells (7 joints on 3 × 3) the legend goes into them, bottom right.
-  const bool spare_cells = n_panels > 1 && rows * columns > n_panels;
+  const bool spare_cells = rows * columns > n_panels;
   if (spare_cells) {
     script << "set key at screen 0.97, screen 0.06 right bottom vertical Left reverse\n";
   }
   for (std::size_t p = 0; p < n_panels; ++p) {
     const Panel& panel = figure.panels[p];
-    if (!spare_cells && panel.curves.size() > 6) script << "set key outside right top vertical\n";
-    script << "set title " << quote_gnuplot(panel.title) << "\n"
-           << "set xlabel " << quote_gnuplot(panel.x_label) << "\n"
-           << "set ylabel " << quote_gnuplot(panel.y_label) << "\n"
+    script << make_tics_lines(panel, max_x_ticks, max_y_ticks);
+    script << "set title " << quote_gnuplot(wrap_text(panel.title, label_chars)) << "\n"
+           << "set xlabel " << quote_gnuplot(wrap_text(panel.x_label, label_chars)) << "\n"
+           << "set ylabel " << quote_gnuplot(wrap_text(panel.y_label, y_label_chars)) << "\n"
            << (panel.log_x ? "set logscale x\nset format x '%g'\n" : "unset logscale x\nset format x '%g'\n")
            << (panel.log_y ? "set logscale y\nset format y '%.0e'\n" : "unset logscale y\nset format y '%g'\n")
            << (panel.equal_axes ? "set size ratio -1\n" : "set size noratio\n");
@@ -118,23 +275,22 @@ std::string make_gnuplot_script(const Figure& figure, const std::string& termina
         if (panel.curves[c].emphasised == (pass == 1)) order.push_back(c);
       }
     }
-    std::size_t plain = 0;
     for (std::size_t i = 0; i < order.size(); ++i) {
       const std::size_t c = order[i];
       const Curve& curve = panel.curves[c];
       const std::string file = (std::filesystem::path(data_dir) / data_file_name(p, c)).string();
       script << (i ? ", \\\n     " : "") << quote_gnuplot(file);
       switch (curve.style) {
-        case Curve::Style::lines: script << " using 1:2 with lines lw 2"; break;
+        case Curve::Style::lines: script << " using 1:2 with lines lw " << lw; break;
         case Curve::Style::points: script << " using 1:2 with points pt 7 ps 0.6"; break;
-        case Curve::Style::lines_points: script << " using 1:2 with linespoints lw 2 pt 7"; break;
-        case Curve::Style::error_bars: script << " using 1:2:3:4 with yerrorlines lw 2 pt 7"; break;
+        case Curve::Style::lines_points: script << " using 1:2 with linespoints lw " << lw << " pt 7"; break;
+        case Curve::Style::error_bars: script << " using 1:2:3:4 with yerrorlines lw " << lw << " pt 7"; break;
       }
       if (curve.emphasised) {
         script << " lc rgb '#000000' dt 2";
       } else {
-        script << " lc rgb '" << kColours[plain % 12] << "' dt " << 1 + plain / 12;
-        ++plain;
+        const std::size_t colour = colour_of(curve.title);
+        script << " lc rgb '" << kColours[colour % 12] << "' dt " << 1 + colour / 12;
       }
       const bool repeated = std::find(titles_shown.begin(), titles_shown.end(), curve.title) != titles_shown.end();
       if (repeated || curve.title.empty()) {
@@ -146,20 +302,87 @@ std::string make_gnuplot_script(const Figure& figure, const std::string& termina
     }
     script << "\n";
   }
-  if (n_panels > 1 || !figure.title.empty()) script << "unset multiplot\n";
+  script << "unset multiplot\n";
   script << "set output\n";
   return script.str();
 }
 
-void write_figure(const Figure& figure, const std::string& out_path) {
-  std::string terminal_line;
-  if (ends_with(out_path, ".svg")) {
-    terminal_line = "set terminal svg size 1000,700 dynamic background rgb 'white' font 'sans,12'";
-  } else if (ends_with(out_path, ".png")) {
-    terminal_line = "set terminal pngcairo size 1200,840 font 'sans,11'";
-  } else {
-    throw AnalysisError(out_path + ": the output must end in .svg or .png");
+FigureStyle parse_figure_style(const std::string& word) {
+  if (word == "paper") return FigureStyle::paper;
+  if (word == "slide") return FigureStyle::slide;
+  if (word == "screen") return FigureStyle::screen;
+  throw AnalysisError("unknown figure style '" + word + "' (paper, slide or screen)");
+}
+
+TerminalSettings make_terminal_settings(const std::string& out_path, const FigureOptions& options, const Figure& figure) {
+  const std::size_t n_panels = figure.panels.size();
+  enum class Format { pdf, svg, png };
+  Format format;
+  if (ends_with(out_path, ".pdf")) format = Format::pdf;
+  else if (ends_with(out_path, ".svg")) format = Format::svg;
+  else if (ends_with(out_path, ".png")) format = Format::png;
+  else throw AnalysisError(out_path + ": the output must end in .pdf, .svg or .png");
+  FigureStyle style = options.style;
+  if (style == FigureStyle::automatic) style = format == Format::svg ? FigureStyle::screen : FigureStyle::paper;
+  const std::size_t columns = n_panels <= 1 ? 1 : (n_panels <= 4 ? 2 : 3);
+  const std::size_t rows = (std::max<std::size_t>(n_panels, 1) + columns - 1) / columns;
+  double width = 0, height = 0, font = 0, line_width = 0;
+  switch (style) {
+    case FigureStyle::paper:
+      width = columns >= 3 ? 7.0 : 3.5;
+      height = n_panels <= 1 ? 2.8 : 0.6 + 1.9 * static_cast<double>(rows);
+      font = 8;
+      line_width = 1.0;
+      break;
+    case FigureStyle::slide:
+      width = 10.0;
+      height = 5.625;
+      font = rows >= 3 ? 10 : rows == 2 ? 12 : 16;  // a 3 × 3 grid on one slide needs small print
+      line_width = 2.5;
+      break;
+    case FigureStyle::automatic:
+    case FigureStyle::screen:
+      width = 1000.0 / 96;
+      height = 700.0 / 96;
+      font = 12 * 72.0 / 96;  // 12 px
+      line_width = 2.0;
+      break;
   }
+  if (options.width_in) width = *options.width_in;
+  if (options.font_pt) font = *options.font_pt;
+  // The legend's rows below the panels add to the height (unless the size is given), so that
+  // many entries do not squeeze the panels; spare grid cells hold the legend instead.
+  if (!options.height_in && rows * columns == n_panels) {
+    const LegendLayout legend = make_legend_layout(figure, 0.55 * font / (width * 72));
+    height += 1.25 * 1.25 * font * static_cast<double>(legend.rows) / 72;
+  }
+  if (options.height_in) height = *options.height_in;
+  if (!(width > 0 && height > 0 && font > 0 && width <= 100 && height <= 100 && font <= 200)) {
+    throw AnalysisError(out_path + ": size and font size must be positive (at most 100 in and 200 pt)");
+  }
+  char line[256];
+  switch (format) {
+    case Format::pdf:
+      // pdfcairo: inches and points.
+      std::snprintf(line, sizeof line, "set terminal pdfcairo size %.3fin,%.3fin font 'sans,%g' linewidth 1", width, height, font);
+      break;
+    case Format::svg:
+      // 72 user units per inch: the font stands to the width as in the PDF.
+      std::snprintf(line, sizeof line, "set terminal svg size %d,%d dynamic background rgb 'white' font 'sans,%g'",
+                    static_cast<int>(std::lround(width * 72)), static_cast<int>(std::lround(height * 72)), font);
+      break;
+    case Format::png:
+      // 300 dpi; pngcairo draws a point as a pixel at 96 dpi, so fonts and lines scale by 300/96.
+      std::snprintf(line, sizeof line, "set terminal pngcairo size %d,%d font 'sans,%g' linewidth %g",
+                    static_cast<int>(std::lround(width * 300)), static_cast<int>(std::lround(height * 300)), font * 300 / 96,
+                    300.0 / 96);
+      break;
+  }
+  return {line, line_width, width * 72, height * 72, font};
+}
+
+void write_figure(const Figure& figure, const std::string& out_path, const FigureOptions& options) {
+  const TerminalSettings terminal = make_terminal_settings(out_path, options, figure);
   if (figure.panels.empty()) throw AnalysisError(out_path + ": nothing to plot");
   for (const Panel& panel : figure.panels) {
     bool any = false;
@@ -198,10 +421,11 @@ void write_figure(const Figure& figure, const std::string& out_path) {
   }
   // gnuplot writes into the work folder, whose name we chose; the user's path never reaches its
   // script. The result is copied next to the destination and renamed: whole or absent.
-  const fs::path rendered = work / (ends_with(out_path, ".svg") ? "figure.svg" : "figure.png");
+  const fs::path rendered =
+      work / (ends_with(out_path, ".svg") ? "figure.svg" : ends_with(out_path, ".pdf") ? "figure.pdf" : "figure.png");
   {
     std::ofstream script_file(work / "plot.gp");
-    script_file << make_gnuplot_script(figure, terminal_line, rendered.string(), work.string());
+    script_file << make_gnuplot_script(figure, terminal, rendered.string(), work.string());
   }
   const int status = run_gnuplot((work / "plot.gp").string(), (work / "gnuplot.log").string());
   if (status == -1 && errno == ENOENT) {

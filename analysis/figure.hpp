@@ -1,6 +1,7 @@
 #pragma once
-// A figure as plain data (panels of curves with labelled axes) and its rendering to SVG or
-// PNG through gnuplot. Plots build a Figure from results; this file knows nothing of them.
+// A figure as plain data (panels of curves with labelled axes) and its rendering to PDF, SVG
+// or PNG through gnuplot. Plots build a Figure from results; this file knows nothing of them.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,16 +33,42 @@ struct Figure {
   std::vector<Panel> panels;  ///< laid out in a grid
 };
 
+/// How a figure is sized and lettered. paper: 3.5 in wide (the single column of a two-column
+/// paper; 7 in when the panels need three columns), 8 pt fonts, thin lines. slide: 10 × 5.6 in,
+/// 16 pt, thick lines. screen: 1000 × 700 px at 12 pt (the report's inline SVG).
+enum class FigureStyle { automatic, paper, slide, screen };
+
+/// "paper", "slide", "screen"; throws AnalysisError otherwise.
+FigureStyle parse_figure_style(const std::string& word);
+
+struct FigureOptions {
+  FigureStyle style = FigureStyle::automatic;  ///< automatic: paper for .pdf and .png, screen for .svg
+  std::optional<double> width_in;              ///< override of the style's size, inches
+  std::optional<double> height_in;
+  std::optional<double> font_pt;               ///< override of the style's font size, points
+};
+
+/// The gnuplot terminal line and the line width for `out_path`'s format (by extension: .pdf,
+/// .svg, .png) at `options`, for `figure` (its panels and legend entries). PNG renders at 300 dpi. Throws
+/// AnalysisError for another extension.
+struct TerminalSettings {
+  std::string terminal_line;
+  double line_width = 2.0;
+  double width_pt = 750, height_pt = 525, font_pt = 9;  ///< the page, for margins in character units
+};
+TerminalSettings make_terminal_settings(const std::string& out_path, const FigureOptions& options, const Figure& figure);
+
 /// Colours: 12 distinct ones, then the same colours with dashed, dotted … line styles. A
-/// curve title already shown in an earlier panel is not repeated, so the figure has one legend.
-/// Renders `figure` to `out_path` (.svg or .png, chosen by extension) with gnuplot. The file is
+/// curve title already shown in an earlier panel is not repeated, so the figure has one legend,
+/// and a title keeps its colour in every panel (the same colour is the same group).
+/// Renders `figure` to `out_path` (.pdf, .svg or .png, chosen by extension) with gnuplot. The file is
 /// written whole or not at all. Throws AnalysisError (gnuplot missing or failing, bad extension,
 /// empty figure).
-void write_figure(const Figure& figure, const std::string& out_path);
+void write_figure(const Figure& figure, const std::string& out_path, const FigureOptions& options = {});
 
 /// The gnuplot script that write_figure runs, with data files named data_<panel>_<curve>.dat
 /// in `data_dir` (exposed for tests).
-std::string make_gnuplot_script(const Figure& figure, const std::string& terminal_line, const std::string& output_path,
+std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& terminal, const std::string& output_path,
                                 const std::string& data_dir);
 
 }  // namespace armfarm

@@ -80,8 +80,11 @@ struct CurvePoints {
 
 std::vector<CurvePoints> collect_points(const SweepData& data, const std::string& x_param, const std::string& group_param,
                                         const MetricId& metric) {
+  // Only what varies names a curve: a group parameter the sweep holds fixed says nothing.
   std::vector<std::string> split;
-  if (!group_param.empty()) split.push_back(group_param);
+  const bool group_varies =
+      std::find(data.varying_params.begin(), data.varying_params.end(), group_param) != data.varying_params.end();
+  if (!group_param.empty() && group_varies) split.push_back(group_param);
   for (const std::string& path : data.varying_params) {
     if (path != x_param && path != "seed" && path != group_param) split.push_back(path);
   }
@@ -147,6 +150,25 @@ std::vector<double> all_values(const std::vector<CurvePoints>& points, bool x) {
   return values;
 }
 
+// "not shown: 2 diverged, 1 failed, 3 with metric undefined" for the jobs a metric figure
+// cannot draw; "" when every job is drawn.
+std::string describe_jobs_not_shown(const SweepData& data, const MetricId& metric) {
+  std::map<std::string, int> by_status;
+  int undefined = 0;
+  for (const JobResult& job : data.jobs) {
+    if (job.status != "done") {
+      ++by_status[job.status];
+      continue;
+    }
+    const auto value = job.metrics.find(metric);
+    if (value == job.metrics.end() || !std::isfinite(value->second)) ++undefined;
+  }
+  std::string text;
+  for (const auto& [status, count] : by_status) text += (text.empty() ? "" : ", ") + std::to_string(count) + " " + status;
+  if (undefined > 0) text += (text.empty() ? "" : ", ") + std::to_string(undefined) + " done with " + make_metric_label(metric) + " undefined";
+  return text.empty() ? "" : "jobs not shown: " + text;
+}
+
 std::string describe_error_bars(bool log_y) {
   return log_y ? "geometric mean ×/÷ geometric std over seeds" : "mean ± std over seeds";
 }
@@ -181,9 +203,16 @@ std::vector<const JobResult*> choose_jobs(const ResultsStore& store, const Sweep
   return chosen;
 }
 
+// What to set when a plot lacks its series: the key, and an example.
+std::string advise_series(const std::vector<std::string>& names) {
+  std::string list;
+  for (const std::string& name : names) list += (list.empty() ? "\"" : ", \"") + name + "\"";
+  return "record them with recording.series in the spec, e.g. \"recording\": {\"series\": [" + list + "]}, and run the sweep again";
+}
+
 SeriesRecord require_series(const ResultsStore& store, const JobResult& job, const std::string& name) {
   auto series = store.find_series(job.id, name);
-  if (!series) throw AnalysisError("job " + job.key + " has no recorded series " + name + " (enable it in recording)");
+  if (!series) throw AnalysisError("job " + job.key + " has no recorded series " + name + " (" + advise_series({name}) + ")");
   return *series;
 }
 
@@ -236,6 +265,8 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   if (figure.panels.empty()) {
     throw AnalysisError("sweep '" + data.name + "': no done job has a defined same_run_test_nmse and a numeric " + request.kernel_param);
   }
+  const std::string dropped = describe_jobs_not_shown(data, MetricId{"same_run_test_nmse", *joints.begin(), std::nullopt});
+  if (!dropped.empty()) figure.title += "\n" + dropped;
   if (!undefined.empty()) figure.title += "\njoint " + undefined + " not shown: test nMSE undefined in every job (the torque hardly varies)";
   Panel fields;
   fields.title = "receptive fields";
@@ -256,7 +287,22 @@ Figure make_metric_vs_param(const SweepData& data, const PlotRequest& request) {
   if (request.metric.empty() || request.param.empty()) {
     throw AnalysisError("metric-vs-param needs --metric NAME and --param PATH");
   }
-  const MetricId metric{request.metric, request.joint, std::nullopt};
+  const MetricId metric{request.metric, request.joint, request.checkpoint};
+  if (!request.checkpoint) {
+    // A held-out metric exists only at checkpoints: say which to choose.
+    std::set<std::int64_t> checkpoints;
+    for (const JobResult& job : data.jobs) {
+      for (const auto& [id, value] : job.metrics) {
+        if (id.name == metric.name && id.joint == metric.joint && id.checkpoint) checkpoints.insert(*id.checkpoint);
+      }
+    }
+    if (!checkpoints.empty()) {
+      std::string list;
+      for (std::int64_t c : checkpoints) list += (list.empty() ? "" : ", ") + std::to_string(c);
+      throw AnalysisError("sweep '" + data.name + "': metric " + metric.name + " is recorded at checkpoints " + list +
+                          "; choose one with --checkpoint N");
+    }
+  }
   Panel panel;
   panel.title = make_metric_label(metric);
   panel.x_label = request.param;
@@ -272,13 +318,15 @@ Figure make_metric_vs_param(const SweepData& data, const PlotRequest& request) {
   panel.curves = make_error_bar_curves(points, panel.log_y, make_metric_label(metric));
   Figure figure;
   figure.title = make_metric_label(metric) + " against " + request.param + " (sweep " + data.name + ")";
+  const std::string dropped = describe_jobs_not_shown(data, metric);
+  if (!dropped.empty()) figure.title += "\n" + dropped;
   figure.panels.push_back(std::move(panel));
   return figure;
 }
 
 Figure make_rf_growth(const ResultsStore& store, const SweepData& data, const PlotRequest& request) {
   auto jobs = choose_jobs(store, data, request.job_keys, {"RF"});
-  if (jobs.empty()) throw AnalysisError("sweep '" + data.name + "': no done job recorded the RF series");
+  if (jobs.empty()) throw AnalysisError("sweep '" + data.name + "': no done job recorded the RF series; " + advise_series({"RF"}));
   if (request.job_keys.empty()) {
     // By default only the jobs whose receptive fields grow while recorded (online learning; a
     // batch model is trained before the recorded pass and stays flat).
@@ -322,7 +370,7 @@ std::vector<const JobResult*> choose_signal_jobs(const ResultsStore& store, cons
 
 Figure make_signals(const ResultsStore& store, const SweepData& data, const PlotRequest& request) {
   const auto jobs = choose_signal_jobs(store, data, request);
-  if (jobs.empty()) throw AnalysisError("sweep '" + data.name + "': no done job recorded the F and FF series");
+  if (jobs.empty()) throw AnalysisError("sweep '" + data.name + "': no done job recorded the F and FF series; " + advise_series({"F", "FF", "TOR"}));
   Figure figure;
   figure.title = jobs.size() == 1 ? "Feedback, feed-forward and composite torques: " + make_job_label(*jobs.front())
                                   : "Feedback, feed-forward and composite torques (sweep " + data.name + ")";
@@ -365,7 +413,7 @@ Figure make_signals(const ResultsStore& store, const SweepData& data, const Plot
 
 Figure make_tracking(const ResultsStore& store, const SweepData& data, const PlotRequest& request) {
   auto jobs = choose_jobs(store, data, request.job_keys, {"POS", "POS_D"});
-  if (jobs.empty()) throw AnalysisError("sweep '" + data.name + "': no done job recorded the POS and POS_D series");
+  if (jobs.empty()) throw AnalysisError("sweep '" + data.name + "': no done job recorded the POS and POS_D series; " + advise_series({"POS", "POS_D"}));
   Panel panel;
   panel.title = "end-effector path, y-z plane";
   panel.x_label = "y (m)";

@@ -7,6 +7,7 @@
 #include "analysis/sweep_data.hpp"
 #include "results/results_store.hpp"
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,6 +28,7 @@ struct PlotRequest {
   std::vector<std::string> job_keys;  ///< full keys or unique prefixes; empty = chosen from the sweep
   std::string metric;                 ///< metric-vs-param
   std::optional<int> joint;           ///< metric-vs-param: a per-joint metric's joint
+  std::optional<std::int64_t> checkpoint;  ///< metric-vs-param: a held-out metric's checkpoint
   std::string param;                  ///< metric-vs-param: x axis
   std::string group;                  ///< metric-vs-param: one curve per value (optional)
   std::string kernel_param = "learning.lwpr.init_D";

@@ -17,8 +17,8 @@ namespace armfarm {
 /// held-out evaluations the checkpoint.
 struct MetricId {
   std::string name;
-  std::optional<int> joint;
-  std::optional<std::int64_t> checkpoint;
+  std::optional<int> joint{};
+  std::optional<std::int64_t> checkpoint{};
   bool operator<(const MetricId& other) const;
   bool operator==(const MetricId& other) const;
 };

@@ -175,7 +175,7 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
     std::vector<std::optional<std::int64_t>> checkpoint_columns{std::nullopt};
     const auto checkpoints = checkpoints_by_name.find(name);
     const bool checkpointed = checkpoints != checkpoints_by_name.end();
-    if (checkpointed && !checkpoint_rows) checkpoint_columns.assign(checkpoints->second.begin(), checkpoints->second.end());
+    if (checkpointed && !checkpoint_rows) checkpoint_columns = decltype(checkpoint_columns)(checkpoints->second.begin(), checkpoints->second.end());
     for (const std::optional<std::int64_t>& checkpoint : checkpoint_columns) {
       TableColumn column;
       column.metric = MetricId{name, std::nullopt, checkpoint};
@@ -412,11 +412,8 @@ namespace {
 std::string format_cell(const SummaryStatistics& cell, Aggregate aggregate, bool latex, int footnote = 0) {
   const std::string mark = footnote ? (latex ? "$^{" + std::to_string(footnote) + "}$" : " [" + std::to_string(footnote) + "]") : "";
   if (cell.count == 0) return (latex ? std::string("--") : std::string("–")) + mark;
-  std::string text = format_number(cell.value(aggregate));
-  if (aggregate == Aggregate::mean && cell.count > 1) {
-    text += latex ? " $\\pm$ " : " ± ";
-    text += format_number(cell.std_dev, 2);
-  }
+  // The mean carries its 95 % Student-t interval over the repeats; other aggregates stand alone.
+  std::string text = aggregate == Aggregate::mean ? format_mean_ci(cell) : format_number(cell.value(aggregate));
   if (cell.count > 1) text += " (n=" + std::to_string(cell.count) + ")";
   return text + mark;
 }
@@ -496,6 +493,8 @@ std::string format_table(const Table& table, TableFormat format, Aggregate aggre
         field(column.header);
         field(column.header + " std");
         field(column.header + " n");
+        field(column.header + " ci95_low");
+        field(column.header + " ci95_high");
       }
       field("jobs_done");
       field("jobs_failed");
@@ -508,6 +507,8 @@ std::string format_table(const Table& table, TableFormat format, Aggregate aggre
           field(cell.count ? csv_number(cell.value(aggregate)) : "");
           field(cell.count ? csv_number(cell.std_dev) : "");
           field(std::to_string(cell.count));
+          field(cell.has_ci() ? csv_number(cell.ci_low) : "");
+          field(cell.has_ci() ? csv_number(cell.ci_high) : "");
         }
         field(std::to_string(row.jobs_done));
         field(std::to_string(row.jobs_failed));
@@ -568,6 +569,7 @@ std::string format_table(const Table& table, TableFormat format, Aggregate aggre
             value["value"] = cell.value(aggregate);
             value["mean"] = cell.mean;
             value["std"] = cell.std_dev;
+            if (cell.has_ci()) value["ci95"] = {cell.ci_low, cell.ci_high};
             value["min"] = cell.min;
             value["max"] = cell.max;
             value["median"] = cell.median;

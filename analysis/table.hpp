@@ -1,6 +1,6 @@
 #pragma once
 // Experiment tables: swept parameters (and optionally the joint) as rows, metrics as columns,
-// repeats (seeds) aggregated to mean ± standard deviation with their count. A row only pools
+// repeats (seeds) aggregated to the mean, its 95 % Student-t interval and their count. A row only pools
 // jobs that differ in nothing but their seed (anything else is refused, naming the
 // parameters). Jobs that did not finish (failed, diverged, timeout) are counted per row and
 // never averaged in. Undefined values (NULL in the store) are left out of a cell and footnoted
@@ -76,7 +76,8 @@ Table make_table(const SweepData& data, const TableSpec& spec);
 /// table of all job-level metrics otherwise.
 std::vector<TableSpec> make_default_table_specs(const SweepData& data);
 
-/// Renders a table as text in `format`, with cells as the chosen aggregate (mean adds ± std).
+/// Renders a table as text in `format`, with cells as the chosen aggregate; the mean adds its
+/// 95 % Student-t interval over the repeats, "0.2 [0.1, 0.3] (n=3)" (csv and json also the std).
 std::string format_table(const Table& table, TableFormat format, Aggregate aggregate);
 
 /// The candidate nearest to `word` by edit distance, if it is close enough to be a likely typo.

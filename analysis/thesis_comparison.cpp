@@ -219,6 +219,22 @@ bool job_matches(const JobResult& job, const ThesisMapping& mapping) {
   return true;
 }
 
+// The swept parameters (other than the seed) in which `jobs` differ, comma-separated.
+std::string find_differing_params(const SweepData& data, const std::vector<const JobResult*>& jobs) {
+  std::string names;
+  for (const std::string& path : data.varying_params) {
+    if (path == "seed" || jobs.empty()) continue;
+    const json first = find_param_value(*jobs.front(), path);
+    for (const JobResult* job : jobs) {
+      if (find_param_value(*job, path) != first) {
+        names += (names.empty() ? "" : ", ") + path;
+        break;
+      }
+    }
+  }
+  return names;
+}
+
 ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, SweepData>& sweeps, Aggregate aggregate) {
   ComparedCell result;
   result.thesis = &cell;
@@ -246,6 +262,7 @@ ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, Sw
   int matching = 0, done = 0, failed = 0, unfinished = 0, joint_missing = 0, undefined = 0;
   std::string undefined_reason;
   std::vector<double> values;
+  std::vector<const JobResult*> pooled;
   for (const JobResult& job : sweep->second.jobs) {
     if (!job_matches(job, mapping)) continue;
     ++matching;
@@ -267,6 +284,8 @@ ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, Sw
     if (metric == job.metrics.end()) continue;
     if (std::isfinite(metric->second)) {
       values.push_back(metric->second);
+      result.by_seed.emplace(job.seed, metric->second);
+      pooled.push_back(&job);
     } else {
       ++undefined;  // stored NULL: the metric is undefined for this job (its reason is in the store)
       auto reason = job.reasons.find(id);
@@ -288,6 +307,18 @@ ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, Sw
     result.reason = "metric " + make_metric_label(MetricId{*mapping.metric, mapping.active_joint}) + " absent";
   }
   if (values.empty()) return result;
+  // Repeats only: the pooled jobs may differ in their seed and nothing else.
+  const std::string differing = find_differing_params(sweep->second, pooled);
+  if (!differing.empty()) {
+    result.by_seed.clear();
+    result.reason = "the matching jobs differ in " + differing + ", not only in their seed; narrow the cell's where";
+    return result;
+  }
+  if (result.by_seed.size() != values.size()) {
+    result.by_seed.clear();
+    result.reason = "two matching jobs share a seed";
+    return result;
+  }
   result.state = CellState::compared;
   result.armfarm = calc_summary_statistics(values);
   result.armfarm_value = result.armfarm.value(aggregate);
@@ -304,9 +335,8 @@ std::string table_title(const ThesisTable& table) {
 
 std::string format_armfarm(const ComparedCell& cell, Aggregate aggregate) {
   if (cell.state == CellState::compared) {
-    std::string text = format_number(cell.armfarm_value);
-    if (aggregate == Aggregate::mean && cell.armfarm.count > 1) text += " ± " + format_number(cell.armfarm.std_dev);
-    return text;
+    const std::string text = aggregate == Aggregate::mean ? format_mean_ci(cell.armfarm) : format_number(cell.armfarm_value);
+    return text + " (" + std::to_string(cell.armfarm.count) + ")";
   }
   if (cell.state == CellState::not_run) return "not run (" + cell.reason + ")";
   if (cell.state == CellState::no_metric) return "no metric";
@@ -319,6 +349,15 @@ std::string csv_field(const std::string& text) {
   for (char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
   return quoted + "\"";
 }
+
+std::string format_verdict(const ComparedCell& cell) {
+  if (cell.verdict == Verdict::none) return "—";
+  std::string text = to_string(cell.verdict);
+  if (!cell.verdict_note.empty()) text += " (" + cell.verdict_note + ")";
+  return text;
+}
+
+std::string describe_ref(const ThesisCellRef& ref) { return ref.table + " " + ref.row + " / " + ref.column; }
 
 const char* to_string(CellState state) {
   switch (state) {
@@ -345,7 +384,164 @@ ThesisResults parse_thesis_results(const nlohmann::json& document, const std::st
     results.tables.push_back(parse_table(reader, tables[i], where));
     if (!ids.insert(results.tables.back().id).second) reader.fail(where + ".id", "'" + results.tables.back().id + "' appears twice");
   }
+  if (auto figures = document.find("figures"); figures != document.end() && !figures->is_null()) {
+    if (!figures->is_array()) reader.fail("figures", "expected an array");
+    for (std::size_t i = 0; i < figures->size(); ++i) {
+      const std::string where = "figures[" + std::to_string(i) + "]";
+      const json& figure = (*figures)[i];
+      if (!figure.is_object()) reader.fail(where, "expected an object");
+      const std::string number = reader.string(figure, where, "number");
+      if (auto mapping = figure.find("armfarm"); mapping != figure.end() && mapping->is_object()) {
+        if (auto sweep = mapping->find("sweep"); sweep != mapping->end() && sweep->is_string()) {
+          results.figure_sweeps[sweep->get<std::string>()].push_back(number);
+        }
+      }
+      auto fact_cells = figure.find("fact_cells");
+      if (fact_cells == figure.end() || fact_cells->is_null()) continue;
+      if (!fact_cells->is_array()) reader.fail(where + ".fact_cells", "expected an array");
+      ThesisTable table;
+      table.id = "fig" + number;
+      std::replace(table.id.begin(), table.id.end(), '.', '_');
+      table.caption = "Figure " + number + ": " + reader.string(figure, where, "caption") + " (stated facts)";
+      table.page = reader.optional_positive_int(figure, where, "page");
+      const ThesisMapping figure_mapping = reader.mapping(figure, where);
+      const json& facts = reader.member(figure, where, "facts");
+      for (std::size_t c = 0; c < fact_cells->size(); ++c) {
+        const std::string cell_where = where + ".fact_cells[" + std::to_string(c) + "]";
+        const json& node = (*fact_cells)[c];
+        if (!node.is_object()) reader.fail(cell_where, "expected an object {fact, label, armfarm}");
+        ThesisCell cell;
+        const std::string fact = reader.string(node, cell_where, "fact");
+        cell.row = reader.string(node, cell_where, "label");
+        cell.column = "fact";
+        const json* value = &facts;
+        for (std::size_t start = 0; start <= fact.size();) {
+          const std::size_t dot = std::min(fact.find('.', start), fact.size());
+          const std::string key = fact.substr(start, dot - start);
+          if (!value->is_object() || !value->contains(key)) reader.fail(cell_where + ".fact", "no fact '" + fact + "' in " + where + ".facts");
+          value = &(*value)[key];
+          start = dot + 1;
+        }
+        if (!value->is_number()) reader.fail(cell_where + ".fact", "'" + fact + "' is not a number");
+        cell.value = value->get<double>();
+        cell.printed = value->dump();
+        merge_into(cell.mapping, figure_mapping);
+        merge_into(cell.mapping, reader.mapping(node, cell_where));
+        table.cells.push_back(std::move(cell));
+      }
+      for (const ThesisTable& other : results.tables) {
+        if (other.id == table.id) reader.fail(where + ".number", "figure table '" + table.id + "' appears twice");
+      }
+      results.tables.push_back(std::move(table));
+    }
+  }
+  auto comparisons = document.find("comparisons");
+  if (comparisons == document.end() || comparisons->is_null()) return results;
+  if (!comparisons->is_array()) reader.fail("comparisons", "expected an array");
+  for (std::size_t i = 0; i < comparisons->size(); ++i) {
+    const std::string where = "comparisons[" + std::to_string(i) + "]";
+    const json& node = (*comparisons)[i];
+    if (!node.is_object()) reader.fail(where, "expected an object {claim, greater, less}");
+    ThesisClaim claim;
+    claim.claim = reader.string(node, where, "claim");
+    auto read_ref = [&](const std::string& key) -> std::pair<ThesisCellRef, double> {
+      const std::string ref_where = where + "." + key;
+      const json& ref_node = reader.member(node, where, key);
+      if (!ref_node.is_object()) reader.fail(ref_where, "expected an object {table, row, column}");
+      ThesisCellRef ref{reader.string(ref_node, ref_where, "table"), reader.string(ref_node, ref_where, "row"),
+                        reader.string(ref_node, ref_where, "column")};
+      for (const ThesisTable& table : results.tables) {
+        if (table.id != ref.table) continue;
+        for (const ThesisCell& cell : table.cells) {
+          if (cell.row == ref.row && cell.column == ref.column) return {ref, cell.value};
+        }
+        reader.fail(ref_where, "table '" + ref.table + "' has no cell '" + ref.row + "' / '" + ref.column + "'");
+      }
+      reader.fail(ref_where + ".table", "no table '" + ref.table + "'");
+    };
+    const auto [greater, greater_value] = read_ref("greater");
+    const auto [less, less_value] = read_ref("less");
+    if (!(greater_value > less_value)) {
+      reader.fail(where, "the thesis's own values (" + format_number(greater_value, 6) + " and " + format_number(less_value, 6) +
+                             ") do not have greater above less");
+    }
+    claim.greater = greater;
+    claim.less = less;
+    results.comparisons.push_back(std::move(claim));
+  }
   return results;
+}
+
+const char* to_string(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::none: return "none";
+    case Verdict::one_seed: return "one seed";
+    case Verdict::matches: return "matches";
+    case Verdict::same_direction: return "same direction";
+    case Verdict::differs: return "differs";
+  }
+  return "none";
+}
+
+bool holds_across_seeds(int successes, int trials) {
+  if (trials >= 2 && successes == trials) return true;
+  return calc_sign_test_p(successes, trials) < 0.05;
+}
+
+void assign_verdicts(const ThesisResults& thesis, std::vector<ComparedTable>& tables) {
+  auto locate = [&](const ThesisCellRef& ref) -> ComparedCell* {
+    for (ComparedTable& table : tables) {
+      if (table.thesis->id != ref.table) continue;
+      for (ComparedCell& cell : table.cells) {
+        if (cell.thesis->row == ref.row && cell.thesis->column == ref.column) return &cell;
+      }
+    }
+    return nullptr;
+  };
+  for (ComparedTable& table : tables) {
+    for (ComparedCell& cell : table.cells) {
+      cell.verdict = Verdict::none;
+      cell.verdict_note.clear();
+      if (cell.state != CellState::compared) continue;
+      if (!cell.armfarm.has_ci()) {
+        cell.verdict = Verdict::one_seed;
+        continue;
+      }
+      const double value = cell.thesis->value;
+      if (cell.armfarm.ci_low <= value && value <= cell.armfarm.ci_high) {
+        cell.verdict = Verdict::matches;
+        continue;
+      }
+      // Outside the interval: the thesis's comparisons on this cell, paired by seed.
+      int claims = 0, holding = 0;
+      std::string notes;
+      for (const ThesisClaim& claim : thesis.comparisons) {
+        ComparedCell* greater = locate(claim.greater);
+        ComparedCell* less = locate(claim.less);
+        if (greater != &cell && less != &cell) continue;
+        ++claims;
+        const ThesisCellRef& other_ref = greater == &cell ? claim.less : claim.greater;
+        const ComparedCell* other = greater == &cell ? less : greater;
+        std::string note = std::string(greater == &cell ? "above " : "below ") + describe_ref(other_ref) + ": ";
+        if (!other || other->state != CellState::compared) {
+          notes += (notes.empty() ? "" : "; ") + note + "not run";
+          continue;
+        }
+        int successes = 0, trials = 0;
+        for (const auto& [seed, mine] : greater->by_seed) {
+          auto paired = less->by_seed.find(seed);
+          if (paired == less->by_seed.end()) continue;
+          ++trials;
+          if (mine > paired->second) ++successes;
+        }
+        const bool holds = holds_across_seeds(successes, trials);
+        if (holds) ++holding;
+        notes += (notes.empty() ? "" : "; ") + note + std::to_string(successes) + " of " + std::to_string(trials) + " seeds";
+      }
+      cell.verdict = claims > 0 && holding == claims ? Verdict::same_direction : Verdict::differs;
+      cell.verdict_note = notes;
+    }
+  }
 }
 
 ThesisResults parse_thesis_results_text(const std::string& text, const std::string& path) {
@@ -353,8 +549,9 @@ ThesisResults parse_thesis_results_text(const std::string& text, const std::stri
 }
 
 ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::map<std::string, SweepData>& sweeps,
-                                        Aggregate aggregate, const std::optional<std::string>& only_sweep) {
-  ThesisComparison comparison;
+                                        Aggregate aggregate, const std::optional<std::string>& only_sweep,
+                                        const std::vector<std::string>& known_sweeps) {
+  std::vector<ComparedTable> all;
   for (const ThesisTable& table : thesis.tables) {
     ComparedTable compared;
     compared.thesis = &table;
@@ -364,10 +561,30 @@ ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::
       }
       compared.cells.push_back(compare_cell(cell, sweeps, aggregate));
     }
+    all.push_back(std::move(compared));
+  }
+  assign_verdicts(thesis, all);  // over every table: a comparison may cross tables
+  ThesisComparison comparison;
+  for (ComparedTable& compared : all) {
     if (only_sweep && std::find(compared.sweeps.begin(), compared.sweeps.end(), *only_sweep) == compared.sweeps.end()) continue;
     comparison.tables.push_back(std::move(compared));
   }
-  if (only_sweep && comparison.tables.empty()) throw AnalysisError(thesis.path + ": no table maps to sweep '" + *only_sweep + "'");
+  if (only_sweep && comparison.tables.empty()) {
+    auto figures = thesis.figure_sweeps.find(*only_sweep);
+    const bool known = sweeps.count(*only_sweep) ||
+                       std::find(known_sweeps.begin(), known_sweeps.end(), *only_sweep) != known_sweeps.end();
+    if (figures == thesis.figure_sweeps.end() && !known) {
+      throw AnalysisError(thesis.path + ": no table maps to sweep '" + *only_sweep + "', and the database holds no such sweep");
+    }
+    if (figures != thesis.figure_sweeps.end()) {
+      std::string numbers;
+      for (const std::string& number : figures->second) numbers += (numbers.empty() ? "" : ", ") + number;
+      comparison.note = "sweep " + *only_sweep + " draws figure(s) " + numbers + ", whose stated facts give no number armfarm compares; " +
+                        "read its metrics with `armfarm table DB --sweep " + *only_sweep + "`";
+    } else {
+      comparison.note = "sweep " + *only_sweep + " reproduces no table or figure of the thesis (" + thesis.path + ")";
+    }
+  }
   return comparison;
 }
 
@@ -383,12 +600,15 @@ ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const Resul
   for (const SweepRecord& record : store.find_sweeps()) {
     if (wanted.count(record.name)) sweeps[record.name] = load_sweep_data(store, record.name);
   }
-  return make_thesis_comparison(thesis, sweeps, aggregate, only_sweep);
+  std::vector<std::string> known;
+  for (const SweepRecord& record : store.find_sweeps()) known.push_back(record.name);
+  return make_thesis_comparison(thesis, sweeps, aggregate, only_sweep, known);
 }
 
 std::string format_thesis_comparison(const ThesisComparison& comparison, TableFormat format, Aggregate aggregate) {
   std::ostringstream out;
   if (format == TableFormat::latex) throw AnalysisError("--against prints md, csv or json, not latex");
+  if (!comparison.note.empty() && format == TableFormat::markdown) out << comparison.note << "\n\n";
   if (format == TableFormat::json) {
     json tables = json::array();
     for (const ComparedTable& table : comparison.tables) {
@@ -399,7 +619,13 @@ std::string format_thesis_comparison(const ThesisComparison& comparison, TableFo
         entry["armfarm"] = cell.state == CellState::compared ? json(cell.armfarm_value) : json(nullptr);
         entry["ratio"] = cell.ratio ? json(*cell.ratio) : json(nullptr);
         entry["n"] = cell.armfarm.count;
-        if (cell.state == CellState::compared && aggregate == Aggregate::mean) entry["std"] = cell.armfarm.std_dev;
+        if (cell.state == CellState::compared) {
+          entry["mean"] = cell.armfarm.mean;
+          entry["std"] = cell.armfarm.std_dev;
+          entry["ci95"] = cell.armfarm.has_ci() ? json::array({cell.armfarm.ci_low, cell.armfarm.ci_high}) : json(nullptr);
+        }
+        entry["verdict"] = cell.verdict == Verdict::none ? json(nullptr) : json(to_string(cell.verdict));
+        if (!cell.verdict_note.empty()) entry["verdict_note"] = cell.verdict_note;
         if (!cell.reason.empty()) entry["reason"] = cell.reason;
         cells.push_back(entry);
       }
@@ -414,30 +640,51 @@ std::string format_thesis_comparison(const ThesisComparison& comparison, TableFo
     out << tables.dump(2) << "\n";
     return out.str();
   }
-  if (format == TableFormat::csv) out << "table,row,column,thesis,armfarm,ratio,n,state,reason\n";
+  if (format == TableFormat::csv) out << "table,row,column,thesis,armfarm,ci95_low,ci95_high,ratio,n,verdict,state,reason\n";
   for (const ComparedTable& table : comparison.tables) {
     std::string sweeps;
     for (const std::string& sweep : table.sweeps) sweeps += (sweeps.empty() ? "" : ", ") + sweep;
     if (format == TableFormat::markdown) {
       out << "### " << table_title(*table.thesis) << "\n\n"
           << "armfarm: sweep " << (sweeps.empty() ? "(none mapped)" : sweeps) << ", " << to_string(aggregate)
-          << " over done jobs\n\n"
-          << "| row | column | thesis | armfarm | armfarm/thesis | n |\n|---|---|---|---|---|---|\n";
+          << (aggregate == Aggregate::mean ? " [95 % Student-t interval] (n seeds)" : " (n seeds)")
+          << " over done jobs; verdicts by the rule of sweeps/thesis/README.md\n\n"
+          << "| row | column | thesis | armfarm | armfarm/thesis | verdict |\n|---|---|---|---|---|---|\n";
     }
     for (const ComparedCell& cell : table.cells) {
       const std::string ratio = cell.ratio ? format_number(*cell.ratio) : "—";
       if (format == TableFormat::markdown) {
         out << "| " << cell.thesis->row << " | " << cell.thesis->column << " | " << cell.thesis->printed << " | "
-            << format_armfarm(cell, aggregate) << " | " << ratio << " | " << cell.armfarm.count << " |\n";
+            << format_armfarm(cell, aggregate) << " | " << ratio << " | " << format_verdict(cell) << " |\n";
       } else {
+        const bool ci = cell.state == CellState::compared && cell.armfarm.has_ci();
         out << csv_field(table.thesis->id) << "," << csv_field(cell.thesis->row) << "," << csv_field(cell.thesis->column) << ","
             << cell.thesis->printed << ","
             << (cell.state == CellState::compared ? format_number(cell.armfarm_value, 6) : "") << ","
-            << (cell.ratio ? format_number(*cell.ratio, 6) : "") << "," << cell.armfarm.count << "," << to_string(cell.state)
-            << "," << csv_field(cell.reason) << "\n";
+            << (ci ? format_number(cell.armfarm.ci_low, 6) : "") << "," << (ci ? format_number(cell.armfarm.ci_high, 6) : "") << ","
+            << (cell.ratio ? format_number(*cell.ratio, 6) : "") << "," << cell.armfarm.count << ","
+            << (cell.verdict == Verdict::none ? "" : to_string(cell.verdict)) << "," << to_string(cell.state) << ","
+            << csv_field(cell.reason) << "\n";
       }
     }
     if (format == TableFormat::markdown) out << "\n";
+  }
+  if (format == TableFormat::markdown) {
+    std::map<std::string, int> counts;
+    int cells = 0;
+    for (const ComparedTable& table : comparison.tables) {
+      for (const ComparedCell& cell : table.cells) {
+        ++cells;
+        ++counts[cell.verdict == Verdict::none ? "not compared" : to_string(cell.verdict)];
+      }
+    }
+    out << "Verdicts over " << cells << " cells:";
+    bool first = true;
+    for (const char* word : {"matches", "same direction", "differs", "one seed", "not compared"}) {
+      out << (first ? " " : ", ") << counts[word] << " " << word;
+      first = false;
+    }
+    out << "\n";
   }
   return out.str();
 }

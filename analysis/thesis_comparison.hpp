@@ -11,6 +11,13 @@
 // path an earlier one set), every other field is replaced. `"metric": null` says that armfarm has
 // no counterpart for the cell. `active_joint` k is the thesis's "Joint k", the k-th entry of the
 // job's `active_joints` (k itself when the job moves every joint); job-level metrics take none.
+//
+// A cell pools only jobs that differ in nothing but their seed. Each compared cell gets a
+// verdict by the rule written in sweeps/thesis/README.md ("Verdicts"): "matches" when the
+// thesis value lies inside armfarm's 95 % Student-t interval over the seeds; otherwise "same
+// direction" when every comparison the thesis draws on the cell (the file's `comparisons`:
+// cell A above cell B) holds in armfarm seed by seed, in every seed or by a one-sided sign
+// test at 5 %; otherwise "differs". One seed gives no interval and no verdict ("one seed").
 #include "analysis/summary_statistics.hpp"
 #include "analysis/sweep_data.hpp"
 #include "analysis/table.hpp"
@@ -53,9 +60,31 @@ struct ThesisTable {
   std::vector<ThesisCell> cells;      ///< in the file's order
 };
 
+/// A cell of the file, by table id, row and column label.
+struct ThesisCellRef {
+  std::string table;
+  std::string row;
+  std::string column;
+};
+
+/// A comparison the thesis draws: `greater` above `less` (the thesis's own values agree; the
+/// reader checks). Growth over reaches is the later checkpoint's cell above the earlier's.
+struct ThesisClaim {
+  std::string claim;  ///< the thesis's statement, in a few words
+  ThesisCellRef greater;
+  ThesisCellRef less;
+};
+
 struct ThesisResults {
   std::string path;
+  /// The printed tables, then one table per figure with `fact_cells` (id "fig6_7", no number,
+  /// one row per stated number, column "fact"; the value read from the figure's `facts` by its
+  /// dotted path, so the number has one home).
   std::vector<ThesisTable> tables;
+  std::vector<ThesisClaim> comparisons;
+  /// Sweeps the figures name (their `armfarm.sweep`), with the figure numbers: a --sweep that
+  /// only draws figures without numbers is still known.
+  std::map<std::string, std::vector<std::string>> figure_sweeps;
 };
 
 /// Parses the text of the thesis results file `path` (the runner reads it, see
@@ -73,6 +102,19 @@ enum class CellState {
   unmapped,   ///< no sweep named for the cell
 };
 
+enum class Verdict {
+  none,            ///< not compared
+  one_seed,        ///< a single seed: no interval, no verdict
+  matches,         ///< the thesis value lies inside the 95 % interval
+  same_direction,  ///< every comparison the thesis draws on the cell holds across the seeds
+  differs,         ///< neither
+};
+const char* to_string(Verdict verdict);
+
+/// Whether a comparison holds across paired seeds: in every seed (at least 2), or a one-sided
+/// sign test P(X ≥ successes | trials, ½) below 5 %.
+bool holds_across_seeds(int successes, int trials);
+
 struct ComparedCell {
   const ThesisCell* thesis = nullptr;
   CellState state = CellState::not_run;
@@ -80,6 +122,9 @@ struct ComparedCell {
   SummaryStatistics armfarm;    ///< over the matching done jobs that have the metric
   double armfarm_value = 0.0;   ///< the chosen aggregate
   std::optional<double> ratio;  ///< armfarm_value / thesis value (empty for a thesis 0)
+  std::map<std::int64_t, double> by_seed;  ///< the pooled values by seed, for paired comparisons
+  Verdict verdict = Verdict::none;
+  std::string verdict_note;  ///< for "same direction" and "differs": each claim's seed count
 };
 
 struct ComparedTable {
@@ -90,13 +135,19 @@ struct ComparedTable {
 
 struct ThesisComparison {
   std::vector<ComparedTable> tables;
+  std::string note;  ///< printed when no table maps to the chosen sweep
 };
 
+/// Assigns every compared cell its verdict (cells located by table id, row and column).
+void assign_verdicts(const ThesisResults& thesis, std::vector<ComparedTable>& tables);
+
 /// Compares every cell against `sweeps` (by name; an absent name gives "not run").
-/// `only_sweep`, when given, keeps the tables with a cell mapped to that sweep (AnalysisError
-/// when there is none). The result points into `thesis`, which must outlive it.
+/// `only_sweep`, when given, keeps the tables with a cell mapped to that sweep; when none is, the
+/// result has no table and a `note` (which figures the sweep draws, if any); AnalysisError when
+/// the file names the sweep nowhere and `known_sweeps` (the database's) lacks it too. The result points into `thesis`, which must outlive it.
 ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::map<std::string, SweepData>& sweeps,
-                                        Aggregate aggregate, const std::optional<std::string>& only_sweep = std::nullopt);
+                                        Aggregate aggregate, const std::optional<std::string>& only_sweep = std::nullopt,
+                                        const std::vector<std::string>& known_sweeps = {});
 
 /// Loads the sweeps the file names that the database holds, then compares.
 ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const ResultsStore& store, Aggregate aggregate,

@@ -6,6 +6,7 @@
 #include "results/sqlite_connection.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 namespace armfarm {
@@ -39,6 +40,32 @@ bool release_claim(SqliteConnection& db, std::int64_t job_id, const std::string&
       .bind(2, owner)
       .execute();
   return db.changes() > 0;
+}
+
+const char* const kFencingMigration = R"sql(
+CREATE TABLE claim_lease (
+  id INTEGER PRIMARY KEY CHECK (id = 1),
+  seconds REAL NOT NULL CHECK (typeof(seconds) = 'real' AND seconds > 0),
+  changed_at TEXT
+);
+INSERT INTO claim_lease (id, seconds) VALUES (1, 60.0);
+ALTER TABLE jobs ADD COLUMN claim_generation INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE job_claims ADD COLUMN generation INTEGER NOT NULL DEFAULT 0;
+)sql";
+
+bool is_claim_current(SqliteConnection& db, const std::string& key, const std::string& owner,
+                      std::int64_t generation) {
+  SqliteStatement current = db.prepare(
+      "SELECT 1 FROM jobs j JOIN job_claims c ON c.job_id = j.id AND c.state = 'live' "
+      "WHERE j.key = ? AND c.owner = ? AND c.generation = ? AND j.claim_generation = c.generation");
+  current.bind(1, key).bind(2, owner).bind(3, generation);
+  return current.step();
+}
+
+double read_lease_seconds(SqliteConnection& db) {
+  SqliteStatement lease = db.prepare("SELECT seconds FROM claim_lease WHERE id = 1");
+  if (!lease.step()) throw StoreError(db.path() + ": damaged armfarm database: table claim_lease has no row");
+  return lease.column_double(0);
 }
 
 }  // namespace job_claims_sql
@@ -76,11 +103,12 @@ std::string make_claim_owner_id(const std::string& host, std::int64_t pid) {
 }
 
 ClaimAttempt ResultsStore::claim_job(const std::string& key, const ClaimOwner& owner, const std::string& now,
-                                     double timeout_seconds, const std::optional<std::string>& redo_done_before) {
+                                     const std::optional<std::string>& redo_done_before) {
   SqliteTransaction transaction(*db_);
+  const double timeout_seconds = job_claims_sql::read_lease_seconds(*db_);
   SqliteStatement job = db_->prepare(std::string("SELECT j.id, j.status, j.finished_at, c.id, c.owner, c.run_id, ") +
                                      kAgeOfHeartbeat +
-                                     " FROM jobs j LEFT JOIN job_claims c ON c.job_id = j.id AND c.state = 'live' "
+                                     ", j.claim_generation FROM jobs j LEFT JOIN job_claims c ON c.job_id = j.id AND c.state = 'live' "
                                      "WHERE j.key = ?2");
   job.bind(1, now).bind(2, key);
   if (!job.step()) throw StoreError(path_ + ": job " + key + " is not registered");
@@ -90,7 +118,10 @@ ClaimAttempt ResultsStore::claim_job(const std::string& key, const ClaimOwner& o
   ClaimAttempt attempt;
   if (!job.is_null(3)) {
     const std::string holder = job.column_text(4);
-    if (holder == owner.owner) return attempt;  // already ours
+    if (holder == owner.owner) {  // already ours
+      attempt.generation = job.column_int(7);
+      return attempt;
+    }
     if (!(job.column_double(6) > timeout_seconds)) {
       attempt.result = ClaimResult::claimed_elsewhere;
       attempt.other_owner = holder;
@@ -106,22 +137,26 @@ ClaimAttempt ResultsStore::claim_job(const std::string& key, const ClaimOwner& o
     attempt.result = ClaimResult::done;
     return attempt;
   }
+  // The fencing token: one more than any claim of this job ever had.
+  attempt.generation = job.column_int(7) + 1;
   db_->prepare(
-         "INSERT INTO job_claims (job_id, run_id, owner, host, pid, claimed_at, heartbeat_at, state) "
-         "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?6, 'live')")
+         "INSERT INTO job_claims (job_id, run_id, owner, host, pid, claimed_at, heartbeat_at, state, generation) "
+         "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?6, 'live', ?7)")
       .bind(1, job_id)
       .bind(2, owner.run_id)
       .bind(3, owner.owner)
       .bind(4, owner.host)
       .bind(5, owner.pid)
       .bind(6, now)
+      .bind(7, attempt.generation)
       .execute();
   db_->prepare(
-         "UPDATE jobs SET status = 'running', attempts = attempts + 1, sweep = ?, started_at = ?, finished_at = NULL "
-         "WHERE id = ?")
+         "UPDATE jobs SET status = 'running', attempts = attempts + 1, sweep = ?, started_at = ?, finished_at = NULL, "
+         "claim_generation = ? WHERE id = ?")
       .bind(1, owner.sweep)
       .bind(2, now)
-      .bind(3, job_id)
+      .bind(3, attempt.generation)
+      .bind(4, job_id)
       .execute();
   transaction.commit();
   attempt.result = ClaimResult::claimed;
@@ -150,10 +185,10 @@ std::vector<std::string> ResultsStore::refresh_claims(const ClaimOwner& owner, c
   return keys;
 }
 
-StaleClaimReport ResultsStore::interrupt_stale_claims(const std::string& now, double timeout_seconds,
-                                                      const std::string& by_owner,
+StaleClaimReport ResultsStore::interrupt_stale_claims(const std::string& now, const std::string& by_owner,
                                                       const std::vector<std::string>& dead_owners) {
   SqliteTransaction transaction(*db_);
+  const double timeout_seconds = job_claims_sql::read_lease_seconds(*db_);
   StaleClaimReport report;
   struct Stale {
     std::int64_t claim_id, job_id;
@@ -228,6 +263,22 @@ std::vector<JobClaimRecord> ResultsStore::find_job_claims(const std::string& now
     claims.push_back(std::move(claim));
   }
   return claims;
+}
+
+}  // namespace armfarm
+
+namespace armfarm {
+
+double ResultsStore::find_lease_seconds() const { return job_claims_sql::read_lease_seconds(*db_); }
+
+void ResultsStore::update_lease_seconds(double seconds, const std::string& now) {
+  if (!(seconds > 0.0) || !std::isfinite(seconds)) {
+    throw StoreError(path_ + ": a lease must be a positive number of seconds");
+  }
+  SqliteTransaction transaction(*db_);
+  db_->prepare("UPDATE claim_lease SET seconds = ?, changed_at = ? WHERE id = 1").bind(1, seconds).bind(2, now).execute();
+  if (db_->changes() != 1) throw StoreError(path_ + ": damaged armfarm database: table claim_lease has no row");
+  transaction.commit();
 }
 
 }  // namespace armfarm

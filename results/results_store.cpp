@@ -39,8 +39,8 @@ ResultsStore ResultsStore::open(const std::string& path, Mode mode) {
 
 int ResultsStore::schema_version() const { return static_cast<int>(db_->query_int("PRAGMA user_version")); }
 
-std::string ResultsStore::check_integrity() const {
-  SqliteStatement statement = db_->prepare("PRAGMA integrity_check");
+std::string ResultsStore::check_integrity(bool quick) const {
+  SqliteStatement statement = db_->prepare(quick ? "PRAGMA quick_check" : "PRAGMA integrity_check");
   std::string findings;
   while (statement.step()) findings += (findings.empty() ? "" : "\n") + statement.column_text(0);
   return findings;

@@ -7,6 +7,7 @@
 // ISO-8601 text; durations and simulated times are seconds. Errors throw StoreError whose
 // message names the file.
 #include "results/job_claims.hpp"
+#include "results/search_store.hpp"
 #include "results/store_error.hpp"
 
 #include <Eigen/Core>
@@ -24,7 +25,7 @@ namespace armfarm {
 class SqliteConnection;
 
 /// The schema version this build writes and reads (PRAGMA user_version).
-inline constexpr int kResultsSchemaVersion = 4;
+inline constexpr int kResultsSchemaVersion = 6;
 
 /// Where a sweep's results came from: the armfarm build and the machine.
 struct Provenance {
@@ -71,8 +72,8 @@ struct MetricRecord {
   std::string name;
   std::optional<int> joint;                ///< 1-based joint number; empty for a job-level metric
   std::optional<double> value;             ///< empty = undefined (NULL), see `reason`
-  std::string reason;                      ///< why undefined, or a note on the value; empty = NULL
-  std::optional<std::int64_t> checkpoint;  ///< held-out evaluation checkpoint; empty otherwise (last, so
+  std::string reason{};                    ///< why undefined, or a note on the value; empty = NULL
+  std::optional<std::int64_t> checkpoint{};  ///< held-out evaluation checkpoint; empty otherwise (last, so
                                            ///< that {job_id, name, joint, value} still means what it says)
 };
 
@@ -148,6 +149,9 @@ struct JobResultRecord {
   std::vector<MetricRecord> metrics;
   std::vector<SeriesRecord> series;
   std::optional<StoredModelRecord> model;  ///< the job's learned model (learning.store_model); replaces an earlier one
+  /// With JobBatch::claim_owner: the fencing token of the claim the attempt ran under
+  /// (ClaimAttempt::generation); the result is discarded unless that claim is still current.
+  std::int64_t claim_generation = 0;
 };
 
 /// Events of a sweep run handed to the store by the writer thread.
@@ -157,7 +161,7 @@ struct JobBatch {
   std::vector<std::string> abandoned;
   /// The claim owner (results/job_claims.hpp) whose claims the finished and abandoned jobs
   /// release; empty when the jobs were not claimed (`started` marks them running instead).
-  std::string claim_owner;
+  std::string claim_owner{};
 };
 
 /// What `merge_from` did. A conflict is a job key present in both files with a different
@@ -185,8 +189,9 @@ class ResultsStore {
 
   const std::string& path() const { return path_; }
   int schema_version() const;
-  /// The result of PRAGMA integrity_check: "ok" for a sound file, otherwise SQLite's findings.
-  std::string check_integrity() const;
+  /// The result of PRAGMA integrity_check (`quick`: quick_check, which skips the indexes'
+  /// agreement with their tables): "ok" for a sound file, otherwise SQLite's findings.
+  std::string check_integrity(bool quick = false) const;
   /// Row by row, what armfarm itself would never have written: dangling references
   /// (foreign_key_check), stored JSON that does not parse or is not an object, values of the
   /// wrong storage class, series whose blob does not decode to rows × columns, and (with
@@ -220,6 +225,19 @@ class ResultsStore {
   /// Number of the sweep's jobs per status ("done" → 12, …).
   std::map<std::string, int> count_jobs_by_status(const std::string& sweep) const;
 
+  // Searches (results/search_store.hpp).
+  /// Writes `search` and its rungs for its (existing) sweep, unless the sweep already has one.
+  void insert_search(const SearchRecord& search);
+  std::optional<SearchRecord> find_search(const std::string& sweep) const;
+  /// Appends one step (its job registered already) and, for a new trial, the trial, in one transaction.
+  void insert_search_step(const std::string& sweep, const SearchStepRecord& step,
+                          const std::optional<SearchTrialRecord>& new_trial);
+  /// Marks step `step` committed with the objective it saw (empty: undefined, with `reason`).
+  void update_search_objective(const std::string& sweep, std::int64_t step, const std::optional<double>& objective,
+                               const std::string& reason);
+  std::vector<SearchTrialRecord> find_search_trials(const std::string& sweep) const;
+  std::vector<SearchStepRecord> find_search_steps(const std::string& sweep) const;
+
   // ---- writes (read_write only) ----
   /// Registers a run of a sweep: upserts the sweep row, inserts unknown jobs as pending, makes
   /// `jobs` the sweep's membership (replacing the old one unless `shard` is set, in which case
@@ -228,13 +246,20 @@ class ResultsStore {
   /// Applies a batch of job events in one transaction, in this order: `started` jobs become
   /// `running` (attempts + 1, `jobs.sweep` = sweep_name), `finished` attempts are recorded
   /// (status, message, timings; metrics and series replace earlier ones), `abandoned` jobs
-  /// (interrupted by Ctrl-C) go back to `pending`.
-  void insert_job_batch(const JobBatch& batch, const std::string& sweep_name);
+  /// (interrupted by Ctrl-C) go back to `pending`. With a claim owner, a finished result is
+  /// written only when its claim (owner and claim_generation) is still the job's current live
+  /// claim: the keys of results discarded because another runner took the claim over are
+  /// returned (the rest of the batch commits).
+  std::vector<std::string> insert_job_batch(const JobBatch& batch, const std::string& sweep_name);
   /// Closes a run: `complete` or `interrupted`; a complete run stamps sweeps.finished_at.
   /// Regenerates the sweep's `sweep_<name>` view.
   void update_run_finished(std::int64_t run_id, const std::string& status, int jobs_run, int jobs_skipped,
                            const std::string& finished_at);
+  /// Writes a consistent copy of this database (WAL contents included) to a new file `path`.
+  void copy_to(const std::string& path) const;
   /// Copies the sweeps, jobs, memberships, metrics and series of another database into this one.
+  /// A run of the other file already here (same sweep, start time, shard and host) is not added
+  /// again, so merging the same file twice adds nothing the second time.
   /// The other file is verified first (verify_file): a damaged input changes nothing here.
   MergeReport merge_from(const std::string& other_path);
   /// Recreates the `sweep_<name>` view of one sweep (columns: its params and metrics).
@@ -245,22 +270,28 @@ class ResultsStore {
   // ---- job claims (results/job_claims.hpp; defined in results/job_claims.cpp) ----
   /// One transaction: claims the job `key` for `owner` unless it is done (a done job is claimed
   /// again only when `redo_done_before` is set and it finished before that time: --force) or
-  /// another owner's live claim has a heartbeat at most `timeout_seconds` old at `now`; a staler
+  /// another owner's live claim has a heartbeat at most the file's lease old at `now`; a staler
   /// claim is marked interrupted (with its run) and taken over. A claim makes the job `running`
-  /// (attempts + 1, jobs.sweep = owner.sweep, started_at = now).
+  /// (attempts + 1, jobs.sweep = owner.sweep, started_at = now) under a new fencing token
+  /// (ClaimAttempt::generation).
   ClaimAttempt claim_job(const std::string& key, const ClaimOwner& owner, const std::string& now,
-                         double timeout_seconds, const std::optional<std::string>& redo_done_before = std::nullopt);
+                         const std::optional<std::string>& redo_done_before = std::nullopt);
   /// Sets the heartbeat of `owner`'s live claims and of its `runs` row (and the row's owner and
   /// pid) to `now`; returns the keys of the jobs it still holds (a claim another runner took
   /// over is missing).
   std::vector<std::string> refresh_claims(const ClaimOwner& owner, const std::string& now);
-  /// Marks every live claim whose heartbeat is older than `timeout_seconds` at `now` interrupted
+  /// Marks every live claim whose heartbeat is older than the file's lease at `now` interrupted
   /// (its job back to pending, its run interrupted), and `running` runs rows with a stale
   /// heartbeat interrupted; `running` jobs without a live claim go back to pending. Claims and
   /// runs of `dead_owners` (owners the caller knows have stopped, e.g. a pid gone on this host)
   /// count as stale whatever their heartbeat's age.
-  StaleClaimReport interrupt_stale_claims(const std::string& now, double timeout_seconds, const std::string& by_owner,
+  StaleClaimReport interrupt_stale_claims(const std::string& now, const std::string& by_owner,
                                           const std::vector<std::string>& dead_owners = {});
+  /// The lease of the file's claims, s (claim_lease; 60 s when the file is created): a claim
+  /// whose heartbeat is older is stale, and runners heartbeat at a sixth of it.
+  double find_lease_seconds() const;
+  /// Sets the lease (`armfarm lease DB SECONDS`); throws StoreError unless seconds > 0.
+  void update_lease_seconds(double seconds, const std::string& now);
   /// Claims (live only, or interrupted ones as well) with their heartbeat ages at `now`.
   std::vector<JobClaimRecord> find_job_claims(const std::string& now, bool live_only = true) const;
 

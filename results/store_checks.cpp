@@ -17,6 +17,14 @@ struct RowCheck {
 // Each query lists the rows armfarm would never have written. Storage classes are checked with
 // typeof() because SQLite's column affinity accepts any value in any column.
 constexpr RowCheck kRowChecks[] = {
+    // Values the schema's CHECKs allow only when they were bypassed (ignore_check_constraints).
+    {"SELECT 'jobs row ' || id || ' (' || key || ')', 'status ' || quote(status) || ' is not a job status' FROM jobs "
+     "WHERE status IS NOT 'pending' AND status IS NOT 'running' AND status IS NOT 'done' AND status IS NOT 'failed' "
+     "AND status IS NOT 'diverged' AND status IS NOT 'timeout'"},
+    {"SELECT 'runs row ' || id, 'status ' || quote(status) || ' is not a run status' FROM runs "
+     "WHERE status IS NOT 'running' AND status IS NOT 'complete' AND status IS NOT 'interrupted'"},
+    {"SELECT 'job_claims row ' || id, 'state ' || quote(state) || ' is not a claim state' FROM job_claims "
+     "WHERE state IS NOT 'live' AND state IS NOT 'interrupted'"},
     {"SELECT 'jobs row ' || id || ' (' || key || ')', 'params is not a JSON object' FROM jobs "
      "WHERE typeof(params) != 'text' OR NOT json_valid(params) OR json_type(params) != 'object'"},
     {"SELECT 'jobs row ' || id || ' (' || key || ')', 'config is not a JSON object' FROM jobs "

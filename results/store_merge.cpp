@@ -11,6 +11,8 @@ namespace armfarm {
 
 using namespace store_detail;
 
+void ResultsStore::copy_to(const std::string& path) const { db_->copy_to_file(path); }
+
 MergeReport ResultsStore::merge_from(const std::string& other_path) {
   // Checks the other file is an armfarm database this build reads before touching anything;
   // an older schema is merged from a migrated temporary copy (the file itself is only read).
@@ -81,8 +83,10 @@ MergeReport ResultsStore::merge_from(const std::string& other_path) {
       }
       db_->prepare(
              "INSERT INTO main.runs (sweep_id, started_at, finished_at, status, shard, jobs_total, jobs_skipped, "
-             "jobs_run, armfarm_version, git_commit, host) SELECT ?, started_at, finished_at, status, shard, "
-             "jobs_total, jobs_skipped, jobs_run, armfarm_version, git_commit, host FROM src.runs WHERE sweep_id = ?")
+             "jobs_run, armfarm_version, git_commit, host) SELECT ?1, started_at, finished_at, status, shard, "
+             "jobs_total, jobs_skipped, jobs_run, armfarm_version, git_commit, host FROM src.runs s WHERE sweep_id = ?2 "
+             "AND NOT EXISTS (SELECT 1 FROM main.runs r WHERE r.sweep_id = ?1 AND r.started_at = s.started_at AND "
+             "r.shard IS s.shard AND r.host IS s.host)")
           .bind(1, sweep_id_map[sweep.id])
           .bind(2, sweep.id)
           .execute();

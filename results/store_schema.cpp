@@ -2,6 +2,7 @@
 #include "results/store_internal.hpp"
 
 #include "results/job_claims.hpp"
+#include "results/search_store.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -141,6 +142,11 @@ CREATE TABLE models (
 );
 CREATE INDEX models_by_hash ON models(hash);
 )sql",
+      // 5: fenced claims: the file's lease and the claims' fencing tokens (results/job_claims.cpp).
+      job_claims_sql::kFencingMigration,
+      // 6: searches, their rungs, trials and steps (new trials and promotions) and the objective
+      // each step saw (results/search_store.cpp).
+      search_store_sql::kMigration,
   };
   return scripts;
 }
@@ -239,6 +245,11 @@ std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsS
   const bool read_only = mode == ResultsStore::Mode::read_only;
   if (read_only && !std::filesystem::exists(path)) throw StoreError(path + ": no such database file");
   if (std::filesystem::is_directory(path)) throw StoreError(path + ": is a directory, not a database file");
+  // A FIFO, a device or a socket would block or be read as garbage: refused before SQLite opens it.
+  const std::filesystem::file_status status = std::filesystem::status(path);
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status)) {
+    throw StoreError(path + ": not a regular file (a FIFO, device or socket), not a database file");
+  }
   auto db = std::make_unique<SqliteConnection>(path, read_only);
 
   std::int64_t application_id = 0, version = 0, n_tables = 0;

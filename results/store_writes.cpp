@@ -132,8 +132,9 @@ RegisteredRun ResultsStore::insert_sweep_run(const SweepRegistration& sweep, con
   return run;
 }
 
-void ResultsStore::insert_job_batch(const JobBatch& batch, const std::string& sweep_name) {
+std::vector<std::string> ResultsStore::insert_job_batch(const JobBatch& batch, const std::string& sweep_name) {
   SqliteTransaction transaction(*db_);
+  std::vector<std::string> discarded;
   if (!batch.started.empty()) {
     SqliteStatement started = db_->prepare(
         "UPDATE jobs SET status = 'running', attempts = attempts + 1, sweep = ?, started_at = ?, finished_at = NULL "
@@ -145,6 +146,13 @@ void ResultsStore::insert_job_batch(const JobBatch& batch, const std::string& sw
       "UPDATE jobs SET status = ?, message = ?, end_time = ?, wall_seconds = ?, started_at = ?, finished_at = ?, "
       "sweep = ? WHERE key = ? RETURNING id");
   for (const JobResultRecord& result : batch.finished) {
+    // The fence: a result whose claim was taken over (this runner was paused or cut off past the
+    // lease) is not written, whatever it says; the job belongs to the claim's new holder.
+    if (!batch.claim_owner.empty() &&
+        !job_claims_sql::is_claim_current(*db_, result.key, batch.claim_owner, result.claim_generation)) {
+      discarded.push_back(result.key);
+      continue;
+    }
     finished.bind(1, result.status)
         .bind(2, result.message.empty() ? std::optional<std::string>() : std::optional<std::string>(result.message))
         .bind(3, result.end_time)
@@ -175,6 +183,7 @@ void ResultsStore::insert_job_batch(const JobBatch& batch, const std::string& sw
     }
   }
   transaction.commit();
+  return discarded;
 }
 
 void ResultsStore::update_run_finished(std::int64_t run_id, const std::string& status, int jobs_run, int jobs_skipped,

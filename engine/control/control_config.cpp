@@ -23,7 +23,7 @@ const EnumNames& feed_forward_source_names() {
 const EnumNames& gain_set_names() {
   static const EnumNames names = {
       {"mass_bandwidth", static_cast<int>(GainSet::mass_bandwidth),
-       "kp = M_jj·bandwidth², kd = 2·damping_ratio·M_jj·bandwidth at the start posture"},
+       "kp = M_jj·bandwidth², kd = 2·damping_ratio·M_jj·bandwidth at the start posture, raised for the postures the job visits"},
       {"appendix_d", static_cast<int>(GainSet::appendix_d),
        "the thesis's paramfile PID lines (appendix D) for joints 1-6, joint 7 as joint 6; needs pd_substeps >= 10"},
   };
@@ -42,7 +42,7 @@ const std::vector<ConfigKey<ControlConfig>>& control_config_keys() {
        "the gains where kp / kd are empty: mass_bandwidth (kp = M_jj·bandwidth², kd = 2·damping_ratio·M_jj·bandwidth) or appendix_d (the thesis's PID lines; with pd_substeps >= 10)",
        [](C& c) { return make_choice_field(c.gain_set, gain_set_names()); }},
       {"kp", "N·m/rad", closed(0.0, 1e6), ListSize::per_joint,
-       "proportional gains; [] = by gain_set (mass_bandwidth: M_jj·bandwidth², M_jj the mass-matrix diagonal, armature included, at the start posture)",
+       "proportional gains; [] = by gain_set (mass_bandwidth: M_jj·bandwidth², M_jj the mass-matrix diagonal, armature included, at the start posture; raised for the postures the job visits, engine/README.md)",
        [](C& c) { return make_field(c.kp); }},
       {"kd", "N·m·s/rad", closed(0.0, 1e5), ListSize::per_joint, "derivative gains; [] = by gain_set (mass_bandwidth: 2·damping_ratio·M_jj·bandwidth)",
        [](C& c) { return make_field(c.kd); }},

@@ -41,7 +41,8 @@ struct ControlConfig {
   GainSet gain_set = GainSet::mass_bandwidth;
   /// PD gains, N·m/rad and N·m·s/rad. Empty: by gain_set; for mass_bandwidth kp = M_jj·bandwidth²,
   /// kd = 2·damping_ratio·M_jj·bandwidth with M_jj the diagonal of the mass matrix (armature
-  /// included) at the start posture.
+  /// included) at the start posture, raised for the postures the job visits (the placement
+  /// inertia and the gravity floor, pd_gains.hpp; engine/README.md). Set, they run as given.
   Eigen::VectorXd kp;
   Eigen::VectorXd kd;
   double bandwidth = 20.0;     ///< rad/s, for the default gains (stable under a 10 ms hold)

@@ -61,4 +61,52 @@ PdGains calc_pd_gains(const ControlConfig& control, const Eigen::VectorXd& inert
   return gains;
 }
 
+Eigen::MatrixXd make_gravity_stiffness(ArmDynamics& dynamics, const Eigen::VectorXd& q) {
+  constexpr double kStep = 1e-6;
+  const auto n = q.size();
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  Eigen::MatrixXd stiffness(n, n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    Eigen::VectorXd above = q, below = q;
+    above[k] += kStep;
+    below[k] -= kStep;
+    stiffness.col(k) = (dynamics.calc_inverse_dynamics(above, zero, zero) - dynamics.calc_inverse_dynamics(below, zero, zero)) / (2.0 * kStep);
+  }
+  return stiffness;
+}
+
+Eigen::VectorXd calc_gravity_kp_floor(const std::vector<Eigen::MatrixXd>& stiffness, int n, double margin) {
+  Eigen::VectorXd floor = Eigen::VectorXd::Zero(n);
+  for (const Eigen::MatrixXd& h : stiffness) {
+    if (h.rows() != n || h.cols() != n) throw std::invalid_argument("gravity stiffness: expected " + std::to_string(n) + " × " + std::to_string(n));
+    floor = floor.cwiseMax(margin * h.cwiseAbs().rowwise().sum());
+  }
+  return floor;
+}
+
+Eigen::VectorXd calc_placement_inertia(const Eigen::VectorXd& start_inertia, const Eigen::VectorXd& max_inertia) {
+  Eigen::VectorXd inertia = start_inertia;
+  for (Eigen::Index j = 0; j < inertia.size() && j < max_inertia.size(); ++j) {
+    const double floor = max_inertia[j] / kPlacementInertiaRatio;
+    if (floor > inertia[j]) inertia[j] = floor;
+  }
+  return inertia;
+}
+
+bool has_placed_gains(const ControlConfig& control) {
+  return control.gain_set == GainSet::mass_bandwidth && control.kp.size() == 0 && control.kd.size() == 0;
+}
+
+PdGains calc_floored_gains(const PdGains& gains, const Eigen::VectorXd& kp_floor, double scale) {
+  if (kp_floor.size() == 0 || !(scale > 0.0)) return gains;
+  PdGains floored = gains;
+  for (Eigen::Index j = 0; j < gains.kp.size() && j < kp_floor.size(); ++j) {
+    if (!(scale * gains.kp[j] < kp_floor[j])) continue;
+    const double kp = kp_floor[j] / scale;
+    if (gains.kp[j] > 0.0) floored.kd[j] = gains.kd[j] * std::sqrt(kp / gains.kp[j]);
+    floored.kp[j] = kp;
+  }
+  return floored;
+}
+
 }  // namespace armfarm

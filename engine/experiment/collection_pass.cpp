@@ -11,7 +11,7 @@ PassResult collect_samples(JobSetup& setup, ArmSimulation& plant, const Collecti
   const LearningConfig& learning = setup.config().learning;
   const ControlConfig& control = setup.config().control;
   const double scale = calc_collect_gain_scale(setup.config());
-  const CompositeController collector(ControlMode::feedback, setup.gains(), scale, calc_kd_scale(scale, control.keep_damping_ratio),
+  const CompositeController collector(ControlMode::feedback, setup.gains_at(scale), scale, calc_kd_scale(scale, control.keep_damping_ratio),
                                       setup.nominal().effort_limits(), control.limit_torque);
   RandomStream start_draws(setup.config().seed, std::string(plan.purpose) + ".start_state");
   RandomStream noise(setup.config().seed, std::string(plan.purpose) + ".sensor_noise");

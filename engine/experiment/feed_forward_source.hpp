@@ -23,7 +23,7 @@ struct LearnerClock {
 struct FeedForwardTerm {
   Eigen::VectorXd torque;     ///< N·m, n; zero on a joint whose output no trustworthy local model predicts
   bool from_learner = false;  ///< the term is the learner's prediction (scored by id_nmse)
-  std::vector<bool> output_trusted;  ///< learner: per joint, whether its output was trusted
+  std::vector<bool> output_trusted{};  ///< learner: per joint, whether its output was trusted
 };
 
 /// The prediction with each untrusted output replaced by 0: an untrusted output zeroes only

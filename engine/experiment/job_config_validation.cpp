@@ -558,11 +558,16 @@ ModelFacts make_model_facts(const ArmModel& model) {
       mass.diagonal() -= shared->armature;
       return mass;
     };
+    facts.gravity_stiffness_at = [shared](const Eigen::VectorXd& q) {
+      std::lock_guard<std::mutex> lock(shared->mutex);
+      return make_gravity_stiffness(shared->dynamics, q);
+    };
     facts.rigid_mass = facts.rigid_mass_at(shared->dynamics.start_positions());
     facts.damping = shared->dynamics.viscous_damping();
   } catch (const std::exception&) {
     facts.rigid_mass.resize(0, 0);  // a model Simbody cannot build fails where the job builds it
     facts.rigid_mass_at = nullptr;
+    facts.gravity_stiffness_at = nullptr;
   }
   return facts;
 }

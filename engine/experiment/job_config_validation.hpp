@@ -24,21 +24,24 @@ struct ConfigProblem {
 struct ModelFacts {
   int movable_joints = 0;
   /// Position limits per movable joint (rad or m; ±inf where unlimited); empty: not checked.
-  std::vector<double> lower_limits, upper_limits;
+  std::vector<double> lower_limits{}, upper_limits{};
   /// Per movable joint: velocity limits (rad/s or m/s, +inf where none) and start positions
   /// (rad or m); empty: trajectories are not checked against the velocity limits.
-  std::vector<double> velocity_limits, start_positions;
+  std::vector<double> velocity_limits{}, start_positions{};
   /// The step-stability facts at the start posture, every movable joint (job_steps.hpp): the
   /// rigid-body mass matrix (armature not included; n × n), the armature and the viscous
   /// damping (n); empty: the PD and integrator steps are not checked.
-  Eigen::MatrixXd rigid_mass;
-  Eigen::VectorXd armature, damping;
+  Eigen::MatrixXd rigid_mass{};
+  Eigen::VectorXd armature{}, damping{};
   /// The rigid-body mass matrix (n × n, every movable joint) at any posture, for a configured
   /// start_posture (thread-safe; unset: not available).
-  std::function<Eigen::MatrixXd(const Eigen::VectorXd& q)> rigid_mass_at;
+  std::function<Eigen::MatrixXd(const Eigen::VectorXd& q)> rigid_mass_at{};
+  /// The gravity stiffness ∂g/∂q (n × n, every movable joint, N·m/rad; make_gravity_stiffness)
+  /// at any posture, for the default gains' kp floor (thread-safe; unset: no floor is judged).
+  std::function<Eigen::MatrixXd(const Eigen::VectorXd& q)> gravity_stiffness_at{};
   /// Per movable joint, for messages: its name and whether it slides (m) rather than turns (rad).
-  std::vector<std::string> joint_names;
-  std::vector<bool> prismatic;
+  std::vector<std::string> joint_names{};
+  std::vector<bool> prismatic{};
 };
 
 /// The facts of `model`: its movable joints, their limits, names and start positions, and the

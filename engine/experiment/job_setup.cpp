@@ -44,7 +44,7 @@ JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
       end_effector_(make_end_effector_chain(nominal_)),
       n_(nominal_.dof()) {
   gains_ = make_pd_gains(config.control, nominal_, joint_numbers_);
-  choose_steps({});
+  fit_to_trajectories({});
   reach_ = calc_reach(model_);
   if (config.mismatch.payload.mass > 0.0) {
     true_dynamics_ = std::make_unique<ArmDynamics>(model_, active_indices_, config.mismatch.payload);
@@ -57,21 +57,38 @@ JobSetup::JobSetup(const ArmModel& model, const JobConfig& config)
                                                  : nominal_coulomb_;
 }
 
-void JobSetup::choose_steps(const std::vector<const JointTrajectory*>& trajectories) {
-  const Eigen::VectorXd damping = nominal_.viscous_damping();
-  const auto add_plants = [&](std::vector<LoopPlant>& plants, const Eigen::VectorXd& q) {
-    for (LoopPlant& plant : make_job_plants(config_, nominal_.calc_mass_matrix(q), damping)) plants.push_back(std::move(plant));
-  };
-  std::vector<LoopPlant> plants;
-  add_plants(plants, nominal_.start_positions());
+void JobSetup::fit_to_trajectories(const std::vector<const JointTrajectory*>& trajectories) {
+  std::vector<Eigen::VectorXd> postures{nominal_.start_positions()};
   for (const JointTrajectory* trajectory : trajectories) {
     const int size = trajectory ? trajectory->size() : 0;
     for (int i = 0; i < std::min(size, kStepPostures); ++i) {
       const int row = static_cast<int>((static_cast<long long>(i) * size) / std::min(size, kStepPostures));
-      add_plants(plants, trajectory->q.row(row).transpose());
+      postures.push_back(trajectory->q.row(row).transpose());
     }
   }
-  steps_ = calc_job_steps(config_, plants, make_job_controllers(config_, gains_));
+  const Eigen::VectorXd damping = nominal_.viscous_damping();
+  std::vector<LoopPlant> plants;
+  std::vector<Eigen::MatrixXd> stiffness;
+  Eigen::VectorXd max_inertia = Eigen::VectorXd::Zero(n_);
+  for (const Eigen::VectorXd& q : postures) {
+    const Eigen::MatrixXd mass = nominal_.calc_mass_matrix(q);
+    max_inertia = max_inertia.cwiseMax(mass.diagonal());
+    for (LoopPlant& plant : make_job_plants(config_, mass, damping)) plants.push_back(std::move(plant));
+    if (has_placed_gains(config_.control)) stiffness.push_back(make_gravity_stiffness(nominal_, q));
+  }
+  if (has_placed_gains(config_.control)) {
+    // Placed on the start posture's diagonal, raised where the postures visited carry far more.
+    const Eigen::VectorXd start_inertia = plants.front().mass.diagonal();
+    gains_ = calc_pd_gains(config_.control, calc_placement_inertia(start_inertia, max_inertia), joint_numbers_);
+  }
+  kp_floor_ = calc_gravity_kp_floor(stiffness, n_);
+  const std::vector<JobController> controllers = make_job_controllers(config_, gains_, kp_floor_);
+  steps_ = calc_job_steps(config_, plants, controllers);
+  step_problems_.clear();
+  if (!steps_.found) {
+    step_problems_ = check_job_steps(config_, plants, controllers, joint_numbers_,
+                                     trajectories.empty() ? "the start posture" : "a posture along the job's trajectories");
+  }
 }
 
 StepChoice JobSetup::calc_steps_at(const Eigen::VectorXd& q, const CompositeController& controller) {
@@ -83,7 +100,7 @@ StepChoice JobSetup::calc_steps_at(const Eigen::VectorXd& q, const CompositeCont
 
 CompositeController JobSetup::make_controller() {
   const ControlConfig& control = config_.control;
-  return CompositeController(control.mode, gains_, control.gain_scale, calc_kd_scale(control.gain_scale, control.keep_damping_ratio),
+  return CompositeController(control.mode, gains_at(control.gain_scale), control.gain_scale, calc_kd_scale(control.gain_scale, control.keep_damping_ratio),
                              nominal_.effort_limits(), control.limit_torque);
 }
 

@@ -47,13 +47,14 @@ Failure find_failure(const JobConfig& config, const std::vector<LoopPlant>& plan
 }
 
 /// "the PD loop is unstable on joint 7 at the start posture (…numbers…)" or the integrator's.
-std::string describe_failure(const JobConfig& config, const Failure& failure, int pd, int integrator, const std::vector<int>& joint_numbers) {
+std::string describe_failure(const JobConfig& config, const Failure& failure, int pd, int integrator, const std::vector<int>& joint_numbers,
+                             const std::string& where) {
   const LoopStability& s = failure.stability;
   const int joint = joint_numbers.at(static_cast<std::size_t>(s.joint));
   const double period = config.simulation.dt / pd;
   if (!s.integrator_stable()) {
     return "runge_kutta_4 in steps of " + format_figure(period / integrator) + " s amplifies the passive decay of joint " +
-           std::to_string(joint) + " at the start posture: λ·h_i = " + format_figure(s.passive_step_ratio) +
+           std::to_string(joint) + " at " + where + ": λ·h_i = " + format_figure(s.passive_step_ratio) +
            ", above RK4's bound " + format_figure(kRk4RealBound) + " (λ the fastest rate of M⁻¹B; joint " + std::to_string(joint) +
            " alone: b·h_i/M = " + format_figure(s.damping_ratio) + " with b = " +
            format_figure(s.damping_ratio * s.inertia * integrator / period) + " N·m·s/rad, M = " + format_figure(s.inertia) +
@@ -61,7 +62,7 @@ std::string describe_failure(const JobConfig& config, const Failure& failure, in
   }
   const JobController& controller = *failure.controller;
   const double kd = s.kd_ratio * s.inertia / period, kp = s.kp_ratio * s.inertia / (period * period);
-  return "the sampled PD loop is unstable on joint " + std::to_string(joint) + " at the start posture: PD period h = " +
+  return "the sampled PD loop is unstable on joint " + std::to_string(joint) + " at " + where + ": PD period h = " +
          format_figure(period) + " s, kd·h/M = " + format_figure(s.kd_ratio) + " (bound 2), kp·h²/M = " + format_figure(s.kp_ratio) +
          " (bound 2·kd·h/M = " + format_figure(2.0 * s.kd_ratio) + "), with M = " + format_figure(s.inertia) +
          " kg·m² (mass-matrix diagonal, armature included), kd = " + format_figure(kd) + " N·m·s/rad and kp = " + format_figure(kp) +
@@ -87,11 +88,12 @@ bool has_collection_passes(const JobConfig& config) {
   return mode == LearningMode::batch || (mode != LearningMode::none && config.learning.heldout);
 }
 
-std::vector<JobController> make_job_controllers(const JobConfig& config, const PdGains& gains) {
+std::vector<JobController> make_job_controllers(const JobConfig& config, const PdGains& gains, const Eigen::VectorXd& kp_floor) {
   const ControlConfig& control = config.control;
   const auto make = [&](double scale, const char* key) {
     const double kd_scale = calc_kd_scale(scale, control.keep_damping_ratio);
-    return JobController{LoopGains{gains.kp * scale, gains.kd * kd_scale}, key, scale};
+    const PdGains floored = calc_floored_gains(gains, kp_floor, scale);
+    return JobController{LoopGains{floored.kp * scale, floored.kd * kd_scale}, key, scale};
   };
   std::vector<JobController> controllers;
   if (control.mode != ControlMode::open_loop) controllers.push_back(make(control.gain_scale, "control.gain_scale"));
@@ -122,7 +124,8 @@ StepChoice calc_job_steps(const JobConfig& config, const std::vector<LoopPlant>&
 }
 
 std::vector<StepProblem> check_job_steps(const JobConfig& config, const std::vector<LoopPlant>& plants,
-                                         const std::vector<JobController>& controllers, const std::vector<int>& joint_numbers) {
+                                         const std::vector<JobController>& controllers, const std::vector<int>& joint_numbers,
+                                         const std::string& where) {
   const StepChoice run = calc_job_steps(config, plants, controllers);
   if (run.found) return {};
   const int pd = explicit_pd(config), integrator = explicit_integrator(config);
@@ -135,7 +138,7 @@ std::vector<StepProblem> check_job_steps(const JobConfig& config, const std::vec
   const int value = key == "pd_substeps" ? run.pd_substeps : run.integrator_steps;
   std::string message = (blamed_explicit ? std::to_string(value) + " is unstable: " : std::string("\"auto\" finds no stable value up to ") +
                                                                                          std::to_string(value) + ": ") +
-                        describe_failure(config, failure, run.pd_substeps, run.integrator_steps, joint_numbers);
+                        describe_failure(config, failure, run.pd_substeps, run.integrator_steps, joint_numbers, where);
   // The fix: the blamed key chosen by the criterion, the other held when it is explicit.
   const std::vector<LoopGains> gains = gains_of(controllers);
   const bool fixed = is_fixed_step(config);
@@ -180,6 +183,19 @@ std::optional<StartPostureLoops> make_start_posture_loops(const JobConfig& confi
     for (int j = 0; j < movable && same; ++j) same = posture[j] == facts.start_positions[static_cast<std::size_t>(j)];
     if (!same) rigid = facts.rigid_mass_at(posture);
   }
+  // The gravity stiffness at the same posture, for the default gains' kp floor.
+  std::vector<Eigen::MatrixXd> stiffness;
+  if (has_placed_gains(config.control) && facts.gravity_stiffness_at &&
+      facts.start_positions.size() == static_cast<std::size_t>(movable)) {
+    const Eigen::VectorXd start = posture.size() != 0 ? posture
+                                                     : Eigen::Map<const Eigen::VectorXd>(facts.start_positions.data(), movable).eval();
+    const Eigen::MatrixXd all = facts.gravity_stiffness_at(start);
+    Eigen::MatrixXd active(n, n);
+    for (Eigen::Index r = 0; r < n; ++r) {
+      for (Eigen::Index c = 0; c < n; ++c) active(r, c) = all(numbers[r] - 1, numbers[c] - 1);
+    }
+    stiffness.push_back(active);
+  }
   Eigen::MatrixXd mass(n, n);
   Eigen::VectorXd damping(n);
   for (Eigen::Index r = 0; r < n; ++r) {
@@ -194,7 +210,7 @@ std::optional<StartPostureLoops> make_start_posture_loops(const JobConfig& confi
     return std::nullopt;
   }
   loops.plants = make_job_plants(config, mass, damping);
-  loops.controllers = make_job_controllers(config, gains);
+  loops.controllers = make_job_controllers(config, gains, calc_gravity_kp_floor(stiffness, static_cast<int>(n)));
   return loops;
 }
 

@@ -34,9 +34,10 @@ struct JobController {
   double scale = 1.0;
 };
 
-/// The job's controllers from its full-scale `gains`: the evaluation controller (none in
-/// open_loop) and, when the job collects, the collection controller (when its scale differs).
-std::vector<JobController> make_job_controllers(const JobConfig& config, const PdGains& gains);
+/// The job's controllers from its full-scale `gains` and the kp floor after scale (empty: none;
+/// calc_floored_gains): the evaluation controller (none in open_loop) and, when the job
+/// collects, the collection controller (when its scale differs).
+std::vector<JobController> make_job_controllers(const JobConfig& config, const PdGains& gains, const Eigen::VectorXd& kp_floor);
 
 /// The plants a job's passes see at one posture: `mass` (n × n, armature included) with the
 /// nominal `damping` and, when mismatch.viscous is set, with the true plant's.
@@ -53,11 +54,13 @@ struct StepProblem {
   std::string message;
 };
 
-/// The problems of `config`'s steps on `plants` (at the start posture): an explicit
-/// pd_substeps or integrator_steps_per_tick that the criterion calls unstable (without margin),
-/// or "auto" finding no stable steps within the keys' ranges. `joint_numbers`: 1-based, for messages.
+/// The problems of `config`'s steps on `plants` (at `where`, for messages: the start posture, or
+/// the postures along the job's trajectories): an explicit pd_substeps or
+/// integrator_steps_per_tick that the criterion calls unstable (without margin), or "auto" finding
+/// no stable steps within the keys' ranges. `joint_numbers`: 1-based, for messages.
 std::vector<StepProblem> check_job_steps(const JobConfig& config, const std::vector<LoopPlant>& plants,
-                                         const std::vector<JobController>& controllers, const std::vector<int>& joint_numbers);
+                                         const std::vector<JobController>& controllers, const std::vector<int>& joint_numbers,
+                                         const std::string& where = "the start posture");
 
 /// A job's plants and controllers at the start posture, from the model's facts.
 struct StartPostureLoops {

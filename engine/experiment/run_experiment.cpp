@@ -84,7 +84,12 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
   const JointTrajectory& training = trajectories.training;
   if (training.size() < 2) throw std::invalid_argument("trajectory: needs at least 2 samples");
   // "auto" steps: the criterion over the postures the job's passes visit.
-  setup.choose_steps({&training, trajectories.heldout ? &*trajectories.heldout : nullptr});
+  setup.fit_to_trajectories({&training, trajectories.heldout ? &*trajectories.heldout : nullptr});
+  // Steps the criterion calls unstable there (validate() judged the start posture alone) are refused.
+  if (!setup.step_problems().empty()) {
+    const StepProblem& problem = setup.step_problems().front();
+    throw std::invalid_argument(problem.key + ": " + problem.message);
+  }
   const int n = setup.dof();
   std::unique_ptr<Learner> learner;
   if (config.learning.mode != LearningMode::none && !config.learning.initial_model_bytes.empty()) {

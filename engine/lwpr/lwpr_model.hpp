@@ -73,7 +73,7 @@ class LwprModel final : public Learner {
 
   const LwprParams& params() const { return params_; }
   const std::vector<ReceptiveField>& fields(int output) const { return fields_.at(output); }
-  std::uint64_t n_updates() const { return n_updates_; }
+  std::uint64_t n_updates() const override { return n_updates_; }
   /// Bytes of the fields' numbers (every statistic and cached derivative) and the activation
   /// scan's data (Learner::calc_memory_bytes).
   std::size_t calc_memory_bytes() const override;

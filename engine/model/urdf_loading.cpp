@@ -81,12 +81,6 @@ std::string find_close_name(const std::string& name, const std::set<std::string>
   return best;
 }
 
-std::string join_names(const std::set<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "<" : ", <") + name + ">";
-  return text;
-}
-
 // What the tinyxml2 pass learns besides the checks.
 struct UrdfExtras {
   ModelSourceLines lines;

@@ -80,7 +80,7 @@ class SsgprModel final : public Learner {
 
   const SsgprParams& params() const { return params_; }
   const SsgprState& state() const { return state_; }
-  std::uint64_t n_updates() const { return state_.n_updates; }
+  std::uint64_t n_updates() const override { return state_.n_updates; }
   /// Bytes of the model's numbers: L, B, W, Ω and the update scratch (Learner::calc_memory_bytes).
   std::size_t calc_memory_bytes() const override;
 

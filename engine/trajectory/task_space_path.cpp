@@ -156,7 +156,17 @@ JointTrajectory build_reaching(const ReachingConfig& config, Differentiation met
   Eigen::VectorXd q = solve_inverse_kinematics(chain, from, rest, rest).q;
   JointTrajectory trajectory;
   trajectory.dt = dt;
-  for (int reach = 0; reach < config.reaches; ++reach) {
+  // The redraw rule: when no target of 100 draws is feasible from the posture the previous reach
+  // left (a stall near a limit or a singularity), that previous reach is taken back and drawn
+  // again, the draws continuing the same seeded stream; at most kMaxTakeBacks times per
+  // trajectory. Deterministic in the seed: the same stalls take back the same reaches.
+  constexpr int kMaxTakeBacks = 100;
+  int take_backs = 0;
+  std::vector<Eigen::Vector3d> reach_from(static_cast<std::size_t>(config.reaches));
+  std::vector<Eigen::VectorXd> reach_q(static_cast<std::size_t>(config.reaches));
+  for (int reach = 0; reach < config.reaches;) {
+    reach_from[static_cast<std::size_t>(reach)] = from;
+    reach_q[static_cast<std::size_t>(reach)] = q;
     Eigen::MatrixXd segment_targets(points + 1, 3), segment;
     bool feasible = false;
     for (int attempt = 0; attempt < 100 && !feasible; ++attempt) {
@@ -177,15 +187,24 @@ JointTrajectory build_reaching(const ReachingConfig& config, Differentiation met
       }
       if (feasible) from = to;
     }
+    if (!feasible && reach > 0 && take_backs < kMaxTakeBacks) {
+      ++take_backs;
+      --reach;  // take the previous reach back; its rows are overwritten when it is redrawn
+      from = reach_from[static_cast<std::size_t>(reach)];
+      q = reach_q[static_cast<std::size_t>(reach)];
+      trajectory.segment_starts.pop_back();
+      continue;
+    }
     if (!feasible) {
       throw std::runtime_error("trajectory.reaching: no target for reach " + std::to_string(reach + 1) +
-                               " can be reached within the joint velocity limits in " + std::to_string(reach_time) +
-                               " s (raise points_per_reach or shrink the box)");
+                               " can be reached within the joint velocity limits in " + std::to_string(reach_time) + " s after " +
+                               std::to_string(take_backs) + " redrawn earlier reaches (raise points_per_reach or shrink the box)");
     }
     targets.middleRows(reach * points, points) = segment_targets.topRows(points);
     joints.middleRows(reach * points, points) = segment.topRows(points);
     q = segment.row(points).transpose();
     trajectory.segment_starts.push_back(reach * points);
+    ++reach;
   }
   trajectory.q = joints;
   trajectory.task_position = targets;

@@ -24,7 +24,11 @@ Eigen::MatrixXd calc_joint_path(const ArmDynamics& dynamics, const Eigen::Matrix
 /// repeated `loops` times so that every loop starts where the previous one ended.
 JointTrajectory build_figure_eight(const FigureEightConfig& config, Differentiation method, ArmDynamics& dynamics, double dt);
 
-/// Reaches between random targets in the box (redrawn when unreachable), deterministic in `seed`.
+/// Reaches between random targets in the box, deterministic in `seed`. A target is redrawn when
+/// the IK misses it or its joint path exceeds 80 % of a velocity limit (up to 100 draws); when
+/// every draw for a reach fails, the previous reach is taken back and redrawn from the same
+/// stream (at most 100 take-backs), so a posture that stalls does not fail the job. A seed
+/// that never stalls gives the same reaches as before the rule existed.
 JointTrajectory build_reaching(const ReachingConfig& config, Differentiation method, ArmDynamics& dynamics, double dt,
                                std::uint64_t seed);
 

@@ -1,8 +1,12 @@
 // `armfarm merge OUT.db IN.db...`: combines shard databases (or any results databases) into
 // OUT. A job present in several files must have the same results there; conflicts are reported
-// (exit 1) and OUT keeps its own row.
+// (exit 1) and OUT keeps its own row. The merge is written to a temporary file beside OUT
+// (a copy of OUT when it exists) and renamed into place once complete, so a merge cut short
+// leaves OUT as it was, never a part of the result that looks whole.
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
+
+#include <unistd.h>
 
 #include <filesystem>
 #include <iostream>
@@ -34,16 +38,39 @@ RunFunction setup_merge(CLI::App& parent) {
     // Every input is verified before the output is opened (or created): a damaged input leaves
     // the output as it was.
     for (const std::string& input : options->inputs) ResultsStore::verify_file(input);
-    ResultsStore store = ResultsStore::open(options->out, ResultsStore::Mode::read_write);
-    int conflicts = 0;
-    for (const std::string& input : options->inputs) {
-      const MergeReport report = store.merge_from(input);
-      std::cout << input << ": " << report.jobs_added << " jobs added, " << report.jobs_replaced
-                << " unfinished jobs completed, " << report.jobs_identical << " identical, " << report.conflicts.size()
-                << " conflicts\n";
-      for (const std::string& conflict : report.conflicts) std::cout << "  conflict: " << conflict << "\n";
-      conflicts += static_cast<int>(report.conflicts.size());
+    const std::string temporary = options->out + ".merging-" + std::to_string(::getpid());
+    struct RemoveUnlessRenamed {
+      std::string path;
+      bool renamed = false;
+      ~RemoveUnlessRenamed() {
+        std::error_code ignored;
+        if (!renamed) std::filesystem::remove(path, ignored);
+        for (const char* suffix : {"-wal", "-shm", "-journal"}) std::filesystem::remove(path + suffix, ignored);
+      }
+    } cleanup{temporary};
+    std::filesystem::remove(temporary);
+    if (std::filesystem::exists(options->out)) {
+      // Opened writable and closed once: a WAL left by a crash is folded into the file first.
+      ResultsStore::open(options->out, ResultsStore::Mode::read_write).copy_to(temporary);
+      if (std::filesystem::exists(options->out + "-wal")) {
+        std::cerr << "armfarm: " << options->out << ": in use by another process (its -wal file is open); merge when it is done\n";
+        return 2;
+      }
     }
+    int conflicts = 0;
+    {
+      ResultsStore store = ResultsStore::open(temporary, ResultsStore::Mode::read_write);
+      for (const std::string& input : options->inputs) {
+        const MergeReport report = store.merge_from(input);
+        std::cout << input << ": " << report.jobs_added << " jobs added, " << report.jobs_replaced
+                  << " unfinished jobs completed, " << report.jobs_identical << " identical, " << report.conflicts.size()
+                  << " conflicts\n";
+        for (const std::string& conflict : report.conflicts) std::cout << "  conflict: " << conflict << "\n";
+        conflicts += static_cast<int>(report.conflicts.size());
+      }
+    }  // closed: the last connection checkpoints its WAL into the file
+    std::filesystem::rename(temporary, options->out);
+    cleanup.renamed = true;
     return conflicts > 0 ? 1 : 0;
   };
 }

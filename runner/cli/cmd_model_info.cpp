@@ -223,7 +223,7 @@ void print_text(const ArmModel& model, const ControlFigures& control, std::ostre
   out << "  (effort N·m or N, velocity rad/s or m/s, armature kg·m², damping N·m·s/rad, start rad or m; - = unlimited;\n"
          "   start (default): the file gives none, so 0 clamped into the middle half of the range; a job's start_posture replaces it)\n";
   if (!figures.empty()) {
-    out << "\nthe default job on each joint (only \"model\" set; M_jj + armature at the start posture, gains after gain_scale):\n";
+    out << "\nthe default job on each joint (only \"model\" set; M_jj + armature at the start posture, gains as the job runs them):\n";
     out << "  " << std::left << std::setw(3) << "#" << std::setw(name_column) << "name";
     for (const FigureColumn& column : figure_columns()) out << pad(column.heading, column.width);
     out << "\n";

@@ -1,11 +1,13 @@
-// `armfarm plot DB KIND [--sweep NAME] [--job KEY] [--out FILE.svg|.png] [--metric M --param P
-// [--group P] [--joint J]]`: the thesis's figures from a results database, via gnuplot.
+// `armfarm plot DB KIND [--sweep NAME] [--job KEY] [--out FILE.pdf|.svg|.png] [--metric M --param P
+// [--group P] [--joint J] [--checkpoint N]] [--style paper|slide|screen] [--size W,H] [--font-size PT]
+// [--title T] [--xlabel X] [--ylabel Y]`: the thesis's figures from a results database, via gnuplot.
 #include "analysis/plots.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace armfarm::cli {
 namespace {
@@ -20,7 +22,12 @@ struct PlotOptions {
   std::string param;
   std::string group;
   int joint = 0;
+  int checkpoint = 0;
   bool log_x = false, log_y = false, linear_x = false, linear_y = false;
+  std::string style;
+  std::vector<double> size;
+  double font_size = 0;
+  std::optional<std::string> title, x_label, y_label;
   std::string kernel_param = "learning.lwpr.init_D";
   std::string adaptation_param = "learning.lwpr.update_D";
 };
@@ -36,11 +43,22 @@ RunFunction setup_plot(CLI::App& parent) {
       ->check(CLI::IsMember({"nmse-vs-kernel", "rf-growth", "signals", "tracking", "metric-vs-param"}));
   sub->add_option("--sweep", options->sweep, "Sweep name (needed when the database holds several)");
   sub->add_option("--job", options->jobs, "Job key or unique prefix (repeatable; default: chosen from the sweep)");
-  sub->add_option("--out", options->out, "Output file, .svg or .png (default: KIND.svg)");
+  sub->add_option("--out", options->out, "Output file, .pdf, .svg or .png by extension (default: KIND.svg)");
   sub->add_option("--metric", options->metric, "metric-vs-param: the metric on the y axis");
   sub->add_option("--param", options->param, "metric-vs-param: the swept parameter on the x axis");
   sub->add_option("--group", options->group, "metric-vs-param: one curve per value of this parameter");
   sub->add_option("--joint", options->joint, "metric-vs-param: joint of a per-joint metric (1-based)")->check(CLI::PositiveNumber);
+  sub->add_option("--checkpoint", options->checkpoint, "metric-vs-param: checkpoint of a held-out metric (heldout_*)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--style", options->style,
+                  "paper (3.5 in wide, 8 pt; default for .pdf and .png), slide (10 x 5.6 in, 16 pt) or screen (default for .svg)")
+      ->check(CLI::IsMember({"paper", "slide", "screen"}));
+  sub->add_option("--size", options->size, "Width,height in inches (overrides the style)")->delimiter(',')->expected(2)
+      ->check(CLI::Range(0.5, 100.0));
+  sub->add_option("--font-size", options->font_size, "Font size in points (overrides the style)")->check(CLI::Range(1.0, 200.0));
+  sub->add_option("--title", options->title, "Figure title (\"\" for none)");
+  sub->add_option("--xlabel", options->x_label, "x-axis label of every panel");
+  sub->add_option("--ylabel", options->y_label, "y-axis label of every panel");
   sub->add_flag("--logx", options->log_x, "Logarithmic x axis (default: automatic, where values span decades)");
   sub->add_flag("--logy", options->log_y, "Logarithmic y axis (default: automatic)");
   sub->add_flag("--linx", options->linear_x, "Linear x axis");
@@ -56,13 +74,27 @@ RunFunction setup_plot(CLI::App& parent) {
     request.param = options->param;
     request.group = options->group;
     if (options->joint > 0) request.joint = options->joint;
+    if (options->checkpoint > 0) request.checkpoint = options->checkpoint;
     request.kernel_param = options->kernel_param;
     request.adaptation_param = options->adaptation_param;
     if (options->log_x || options->linear_x) request.log_x = options->log_x;
     if (options->log_y || options->linear_y) request.log_y = options->log_y;
     const std::string out = options->out.empty() ? options->kind + ".svg" : options->out;
     const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
-    write_figure(make_plot_figure(store, request), out);
+    Figure figure = make_plot_figure(store, request);
+    if (options->title) figure.title = *options->title;
+    for (Panel& panel : figure.panels) {
+      if (options->x_label) panel.x_label = *options->x_label;
+      if (options->y_label) panel.y_label = *options->y_label;
+    }
+    FigureOptions figure_options;
+    if (!options->style.empty()) figure_options.style = parse_figure_style(options->style);
+    if (options->size.size() == 2) {
+      figure_options.width_in = options->size[0];
+      figure_options.height_in = options->size[1];
+    }
+    if (options->font_size > 0) figure_options.font_pt = options->font_size;
+    write_figure(figure, out, figure_options);
     std::cout << "wrote " << out << "\n";
     return 0;
   };

@@ -5,6 +5,7 @@
 #include "runner/execution/input_changes.hpp"
 #include "runner/execution/job_kind.hpp"
 #include "runner/execution/provenance.hpp"
+#include "runner/execution/search_runner.hpp"
 #include "runner/execution/stop_signal.hpp"
 #include "runner/execution/sweep_runner.hpp"
 #include "runner/spec/spec_error.hpp"
@@ -29,7 +30,7 @@ RunFunction setup_run(CLI::App& parent) {
     bool force = false;
     std::string shard;
     std::string shard_costs;
-    double claim_timeout = ClaimConfig{}.timeout_seconds;
+    double claim_timeout = 0.0;  // gone: the lease is the database's (cmd_lease.cpp)
     bool quiet = false;
     double heartbeat = ProgressConfig{}.heartbeat_seconds;
     ExpansionLimits limits;
@@ -48,10 +49,9 @@ RunFunction setup_run(CLI::App& parent) {
   app->add_option("--shard-costs", options->shard_costs,
                   "With --shard: a results database whose finished jobs' wall times calibrate the costs (give every shard "
                   "the same file)");
-  app->add_option("--claim-timeout", options->claim_timeout,
-                  "Seconds without a heartbeat after which another runner's claim on a job is taken over")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+  // Refused with a pointer to `armfarm lease`: a per-runner timeout let a runner with a shorter
+  // one take over the live claims of another (issue 30). Hidden from --help.
+  app->add_option("--claim-timeout", options->claim_timeout)->group("");
   app->add_flag("-q,--quiet", options->quiet, "No progress output; only the summary and errors");
   app->add_option("--heartbeat", options->heartbeat,
                   "When standard error is not a terminal: a progress line every this many seconds (0: none)")
@@ -60,7 +60,13 @@ RunFunction setup_run(CLI::App& parent) {
   app->add_option("--max-jobs", options->limits.max_jobs, "Refuse a sweep of more jobs than this")
       ->capture_default_str()->check(CLI::PositiveNumber);
 
-  return [options] {
+  return [options, app] {
+    if (app->count("--claim-timeout") > 0) {
+      std::cerr << "armfarm: --claim-timeout is gone: the lease is the database's, one for every runner "
+                   "(armfarm lease "
+                << options->db << " SECONDS)\n";
+      return 2;
+    }
     const JobKind kind = make_job_kind_from_environment(options->db);
     std::vector<SweepSpec> stages;
     RunOptions run;
@@ -89,7 +95,6 @@ RunFunction setup_run(CLI::App& parent) {
                                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     if (options->timeout > 0.0) run.timeout_seconds = options->timeout;
     run.force = options->force;
-    run.claims.timeout_seconds = options->claim_timeout;
     const bool terminal = isatty(STDERR_FILENO) != 0;
     run.progress.style = options->quiet ? ProgressStyle::quiet : terminal ? ProgressStyle::terminal : ProgressStyle::lines;
     run.progress.heartbeat_seconds = options->heartbeat;
@@ -102,6 +107,36 @@ RunFunction setup_run(CLI::App& parent) {
     // Stages run in order, each expanded only after the ones before it ran (its jobs may start
     // from the models they stored); a stage that is not all done stops the rest.
     for (std::size_t s = 0; s < stages.size(); ++s) {
+      if (stages[s].search) {
+        if (run.shard.count > 1) {
+          std::cerr << "armfarm: " << options->spec << ": a search decides its jobs as it runs and is not sharded; "
+                    << "run several runners on one database instead\n";
+          return 2;
+        }
+        const std::string name = stages[s].name;
+        std::cout << "search " << name << ": " << to_string(stages[s].search->settings.method) << ", " << run.threads
+                  << " threads, database " << run.db_path << std::endl;
+        SearchRunSummary result;
+        try {
+          result = run_search(stages[s], kind, run, options->limits, signals.stop_requested());
+        } catch (const StoreError& e) {
+          std::cerr << "armfarm: " << e.what() << "\n";
+          return 2;
+        } catch (const ConfigError& e) {
+          std::cerr << "armfarm: " << options->spec << ": " << e.what() << "\n";
+          return 2;
+        } catch (const SpecError& e) {
+          for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
+          return 2;
+        }
+        std::cout << "search " << name << ": " << result.steps << " steps (" << result.trials << " trials) in "
+                  << result.rounds << " rounds, spent " << result.spent << " of "
+                  << stages[s].search->budget << (stages[s].search->budget_unit == SpecSearch::BudgetUnit::jobs ? " jobs" : " cost units");
+        if (result.best) std::cout << "; best " << stages[s].search->objective.metric << " " << *result.best << " (trial " << result.best_trial << ")";
+        std::cout << (result.finished ? "; finished" : "; not finished: run the same command again to resume") << "\n";
+        if (!result.finished) return 1;
+        continue;
+      }
       ExpandedSweep sweep;
       try {
         sweep = expand_sweep(std::move(stages[s]), kind.schema, options->limits);
@@ -133,6 +168,11 @@ RunFunction setup_run(CLI::App& parent) {
       if (summary.done_elsewhere > 0) std::cout << "; " << summary.done_elsewhere << " done by another runner";
       if (summary.taken_over > 0) std::cout << "; " << summary.taken_over << " stale claims of stopped runners taken over";
       std::cout << "; wall time " << make_duration_text(summary.elapsed_seconds) << "\n";
+      if (summary.discarded > 0) {
+        std::cout << "sweep " << sweep.spec.name << ": " << summary.discarded
+                  << " finished results discarded: another runner took their claims over while this one went "
+                     "without a heartbeat past the lease (paused or cut off); those jobs are that runner's\n";
+      }
       if (summary.headline) std::cout << "sweep " << sweep.spec.name << ": " << make_headline_text(*summary.headline) << "\n";
       const std::size_t shown = std::min<std::size_t>(summary.failures.size(), 20);
       for (std::size_t i = 0; i < shown; ++i) std::cout << "  " << summary.failures[i] << "\n";

@@ -4,7 +4,6 @@
 // stored JSON, storage classes, series blobs) and exits 2 if it is damaged.
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
-#include "runner/execution/claim_keeper.hpp"
 
 #include <cstdio>
 
@@ -16,7 +15,7 @@ namespace {
 
 void print_claims(const ResultsStore& store, std::ostream& out) {
   const std::vector<JobClaimRecord> claims = store.find_job_claims(make_utc_timestamp(), false);
-  const double timeout = ClaimConfig{}.timeout_seconds;
+  const double lease = store.find_lease_seconds();
   int interrupted = 0;
   std::vector<const JobClaimRecord*> live;
   for (const JobClaimRecord& claim : claims) {
@@ -33,8 +32,9 @@ void print_claims(const ResultsStore& store, std::ostream& out) {
                   claim->heartbeat_age_seconds);
     out << "  " << claim->key.substr(0, 12) << " owner " << claim->owner << " host " << claim->host << " pid "
         << claim->pid << ": " << ages;
-    if (claim->heartbeat_age_seconds > timeout) {
-      out << " (stale after the default --claim-timeout of " << timeout << " s: the next run takes it over)";
+    if (claim->heartbeat_age_seconds > lease) {
+      out << " (stale: no heartbeat within the file's lease of " << lease
+          << " s, its runner stopped; the next run takes it over)";
     }
     out << "\n";
   }
@@ -59,6 +59,15 @@ RunFunction setup_status(CLI::App& parent) {
       for (const std::string& finding : findings) std::cerr << "armfarm: " << *db_path << ": " << finding << "\n";
       if (!findings.empty()) return 2;
       std::cout << *db_path << ": check passed (integrity, references, stored JSON, value types, series)\n";
+    } else {
+      // Without --check, SQLite's quick_check still runs: a file `table` would call malformed
+      // is not reported as fine.
+      const std::string quick = store.check_integrity(true);
+      if (quick != "ok") {
+        std::cerr << "armfarm: " << *db_path << ": damaged armfarm database: quick_check: "
+                  << quick.substr(0, quick.find('\n')) << " (armfarm status --check " << *db_path << " lists more)\n";
+        return 2;
+      }
     }
     const std::vector<SweepRecord> sweeps = store.find_sweeps();
     if (sweeps.empty()) std::cout << *db_path << ": no sweeps\n";

@@ -13,6 +13,7 @@ RunFunction setup_export(CLI::App& parent);
 RunFunction setup_plot(CLI::App& parent);
 RunFunction setup_report(CLI::App& parent);
 RunFunction setup_merge(CLI::App& parent);
+RunFunction setup_lease(CLI::App& parent);
 RunFunction setup_fit(CLI::App& parent);
 RunFunction setup_lwpr(CLI::App& parent);
 RunFunction setup_version(CLI::App& parent);
@@ -31,6 +32,7 @@ const std::vector<SubcommandEntry>& all_subcommands() {
       {"plot", setup_plot},
       {"report", setup_report},
       {"merge", setup_merge},
+      {"lease", setup_lease},
       {"fit", setup_fit},
       {"lwpr", setup_lwpr},
       {"version", setup_version},

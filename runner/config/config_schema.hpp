@@ -1,11 +1,13 @@
 #pragma once
 // The shape of a job configuration as the runner's spec layer sees it: defaults (and so types),
 // the check of a resolved configuration, and which values name files the job reads.
+#include "engine/config/config_key.hpp"
 #include "runner/config/config_error.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +48,9 @@ struct JobConfigSchema {
   /// its input files are recorded; returns whether it changed `config`. Throws
   /// std::runtime_error "dotted.path: problem". Unset: none.
   std::function<bool(nlohmann::json& config)> resolve_references;
+  /// The allowed range of the number at a dotted path, from the key table (a search axis's
+  /// bounds must lie inside it). Unset, or empty for a path: no range is known.
+  std::function<std::optional<Range>(const std::string& path)> find_key_range;
   /// Where input paths that no file wrote (the defaults) resolve: the armfarm data directory.
   std::string default_folder = ".";
 };

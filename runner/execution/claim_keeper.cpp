@@ -46,8 +46,8 @@ ClaimKeeper::ClaimKeeper(const std::string& db_path, const ClaimOwner& owner, co
       redo_done_before_(force ? std::optional<std::string>(run_started_at) : std::nullopt),
       store_(ResultsStore::open(db_path, ResultsStore::Mode::read_write)) {
   const std::string now = make_utc_timestamp();
-  stale_at_start_ =
-      store_.interrupt_stale_claims(now, config_.timeout_seconds, owner_.owner, find_dead_local_owners(store_, owner_, now));
+  lease_seconds_ = store_.find_lease_seconds();
+  stale_at_start_ = store_.interrupt_stale_claims(now, owner_.owner, find_dead_local_owners(store_, owner_, now));
   store_.refresh_claims(owner_, make_utc_timestamp());
   thread_ = std::thread([this] { heartbeat_loop(); });
 }
@@ -64,14 +64,20 @@ ClaimKeeper::~ClaimKeeper() {
 ClaimAttempt ClaimKeeper::claim(const std::string& key) {
   std::lock_guard store_lock(store_mutex_);
   const ClaimAttempt attempt =
-      store_.claim_job(key, owner_, make_utc_timestamp(), config_.timeout_seconds, redo_done_before_);
+      store_.claim_job(key, owner_, make_utc_timestamp(), redo_done_before_);
   std::lock_guard lock(mutex_);
   if (attempt.result == ClaimResult::claimed) {
-    held_.insert(key);
+    held_[key] = attempt.generation;
     lost_.erase(key);
   }
   if (!attempt.taken_over.empty()) ++taken_over_;
   return attempt;
+}
+
+std::int64_t ClaimKeeper::generation(const std::string& key) const {
+  std::lock_guard lock(mutex_);
+  const auto found = held_.find(key);
+  return found == held_.end() ? 0 : found->second;
 }
 
 bool ClaimKeeper::lost(const std::string& key) const {
@@ -100,7 +106,12 @@ int ClaimKeeper::taken_over() const {
 }
 
 void ClaimKeeper::wait_poll(const std::atomic<bool>& stop) const {
-  const double interval = std::min(config_.poll_seconds, config_.timeout_seconds / config_.heartbeats_per_timeout);
+  double lease = 0.0;
+  {
+    std::lock_guard lock(mutex_);
+    lease = lease_seconds_;
+  }
+  const double interval = std::min(config_.poll_seconds, lease / config_.heartbeats_per_lease);
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(interval);
   while (!stop.load() && std::chrono::steady_clock::now() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -108,18 +119,20 @@ void ClaimKeeper::wait_poll(const std::atomic<bool>& stop) const {
 }
 
 void ClaimKeeper::heartbeat_loop() {
-  const auto interval = std::chrono::duration<double>(config_.timeout_seconds / config_.heartbeats_per_timeout);
   for (;;) {
     {
       std::unique_lock lock(mutex_);
+      const auto interval = std::chrono::duration<double>(lease_seconds_ / config_.heartbeats_per_lease);
       if (wake_.wait_for(lock, interval, [&] { return closing_; })) return;
     }
     try {
       // Compared under the store lock, so that no claim lands between the refresh and the check.
       std::lock_guard store_lock(store_mutex_);
       const std::vector<std::string> still_held = store_.refresh_claims(owner_, make_utc_timestamp());
+      const double lease = store_.find_lease_seconds();  // `armfarm lease` may have changed it
       std::lock_guard lock(mutex_);
-      for (const std::string& key : held_) {
+      lease_seconds_ = lease;
+      for (const auto& [key, generation] : held_) {
         if (!std::binary_search(still_held.begin(), still_held.end(), key)) lost_.insert(key);
       }
     } catch (...) {

@@ -1,8 +1,9 @@
 #pragma once
 // A runner's side of job claims (results/job_claims.hpp): before a job runs, its worker claims
-// it here; a thread refreshes the heartbeats of this process's claims and of its `runs` row
-// every `timeout_seconds / 6`, and notices claims another runner took over (the job is then
-// stopped and its result discarded). Releasing a claim happens with the job's result, in the
+// it here; a thread of its own refreshes the heartbeats of this process's claims and of its
+// `runs` row every lease / 6 (the lease is the database's, results/job_claims.hpp, read again at
+// every beat), and notices claims another runner took over (the job is then stopped). Whatever
+// the keeper notices, the store's fence decides: a result commits only under its claim's token. Releasing a claim happens with the job's result, in the
 // writer's transaction (JobBatch::claim_owner).
 //
 // The keeper has its own connection to the database, apart from the ResultWriter's: a claim must
@@ -14,21 +15,21 @@
 #include <condition_variable>
 #include <exception>
 #include <mutex>
+#include <map>
 #include <set>
 #include <string>
 #include <thread>
 
 namespace armfarm {
 
-/// How runners sharing a database judge each other.
+/// How a runner keeps its claims. The lease itself (after how long without a heartbeat a claim
+/// is stale) is not here: it is the database's (`armfarm lease DB SECONDS`), so that every
+/// runner of a file judges by the same one.
 struct ClaimConfig {
-  /// A claim whose heartbeat is older than this is stale and taken over, s. Must exceed the
-  /// longest stall of a live runner (a busy database waits up to 10 s for its lock).
-  double timeout_seconds = 60.0;
-  /// Heartbeats per timeout: a live runner refreshes every timeout_seconds / this.
-  double heartbeats_per_timeout = 6.0;
+  /// Heartbeats per lease: a live runner refreshes every lease / this.
+  double heartbeats_per_lease = 6.0;
   /// How long a runner waits between looks at jobs another runner holds, s (at most
-  /// timeout / heartbeats_per_timeout).
+  /// lease / heartbeats_per_lease).
   double poll_seconds = 1.0;
 };
 
@@ -47,6 +48,8 @@ class ClaimKeeper {
 
   /// Tries to claim the job (thread-safe). Throws StoreError.
   ClaimAttempt claim(const std::string& key);
+  /// The fencing token of this process's claim of `key` (0 when it holds none).
+  std::int64_t generation(const std::string& key) const;
   /// True once another runner took over this process's claim of `key` (the job should stop).
   bool lost(const std::string& key) const;
   /// Forgets a claim locally (the store releases it with the job's result or abandonment).
@@ -76,7 +79,9 @@ class ClaimKeeper {
   mutable std::mutex mutex_;  // guards what follows
   std::condition_variable wake_;
   bool closing_ = false;
-  std::set<std::string> held_, lost_;
+  std::map<std::string, std::int64_t> held_;  // key -> fencing token
+  std::set<std::string> lost_;
+  double lease_seconds_ = 60.0;
   int taken_over_ = 0;
   std::exception_ptr error_;
   std::thread thread_;

@@ -4,6 +4,7 @@
 // fields: the spec layer resolves and hashes them, and the job loads them from the resolved
 // paths recorded under "inputs". The arm a job runs on is make_job_model's (job_models.hpp). Trajectories are built once per distinct trajectory key and
 // shared read-only by the jobs that use it (trajectory_cache.hpp).
+#include "engine/experiment/job_config.hpp"
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/model/model_loading.hpp"
 #include "runner/config/job_config_json.hpp"
@@ -110,6 +111,12 @@ JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stor
     return std::function<void(const nlohmann::json&)>([models, stored, contents](const nlohmann::json& recorded) {
       check_config(recorded, *models, stored, contents.get());
     });
+  };
+  schema.find_key_range = [](const std::string& path) -> std::optional<Range> {
+    for (const JobConfigKey& key : job_config_keys()) {
+      if (key.path == path) return key.range;
+    }
+    return std::nullopt;
   };
   schema.resolve_references = [stored](nlohmann::json& config) {
     // Only a reference object (or null, which means none and is removed) is rewritten.

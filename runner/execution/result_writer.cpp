@@ -1,5 +1,7 @@
 #include "runner/execution/result_writer.hpp"
 
+#include <algorithm>
+
 namespace armfarm {
 
 ResultWriter::ResultWriter(ResultsStore& store, std::string sweep_name, std::string claim_owner)
@@ -16,7 +18,7 @@ ResultWriter::~ResultWriter() {
   }
 }
 
-void ResultWriter::push_finished(JobResultRecord result, std::function<void()> on_committed) {
+void ResultWriter::push_finished(JobResultRecord result, std::function<void(bool)> on_committed) {
   std::lock_guard lock(mutex_);
   queued_.finished.push_back(std::move(result));
   queued_callbacks_.push_back(std::move(on_committed));
@@ -59,6 +61,11 @@ int ResultWriter::finished_not_saved() const {
   return not_saved_;
 }
 
+int ResultWriter::discarded() const {
+  std::lock_guard lock(mutex_);
+  return discarded_;
+}
+
 std::string ResultWriter::error_text() const {
   std::lock_guard lock(mutex_);
   return error_text_;
@@ -67,7 +74,7 @@ std::string ResultWriter::error_text() const {
 void ResultWriter::write_loop() {
   for (;;) {
     JobBatch batch;
-    std::vector<std::function<void()>> callbacks;
+    std::vector<std::function<void(bool)>> callbacks;
     bool last = false;
     bool failed = false;
     {
@@ -86,9 +93,10 @@ void ResultWriter::write_loop() {
       not_saved_ += static_cast<int>(batch.finished.size());
     } else if (!batch.started.empty() || !batch.finished.empty() || !batch.abandoned.empty()) {
       bool committed = false;
+      std::vector<std::string> fenced_out;
       try {
         batch.claim_owner = claim_owner_;
-        store_.insert_job_batch(batch, sweep_name_);
+        fenced_out = store_.insert_job_batch(batch, sweep_name_);
         committed = true;
       } catch (const std::exception& e) {
         std::lock_guard lock(mutex_);
@@ -105,9 +113,12 @@ void ResultWriter::write_loop() {
         {
           std::lock_guard lock(mutex_);
           ++batches_;
+          discarded_ += static_cast<int>(fenced_out.size());
         }
-        for (const std::function<void()>& callback : callbacks) {
-          if (callback) callback();
+        std::sort(fenced_out.begin(), fenced_out.end());
+        for (std::size_t i = 0; i < callbacks.size(); ++i) {
+          const bool written = !std::binary_search(fenced_out.begin(), fenced_out.end(), batch.finished[i].key);
+          if (callbacks[i]) callbacks[i](written);
         }
       }
     }

@@ -27,9 +27,10 @@ class ResultWriter {
   ResultWriter(const ResultWriter&) = delete;
   ResultWriter& operator=(const ResultWriter&) = delete;
 
-  /// `on_committed` (may be empty) runs on the writer thread after the commit that holds `result`;
-  /// never when that commit fails.
-  void push_finished(JobResultRecord result, std::function<void()> on_committed = {});
+  /// `on_committed` (may be empty) runs on the writer thread after the commit that holds `result`,
+  /// with true when the result was written and false when the store's fence discarded it (its
+  /// claim was taken over, ResultsStore::insert_job_batch); never when that commit fails.
+  void push_finished(JobResultRecord result, std::function<void(bool written)> on_committed = {});
   void push_abandoned(const std::string& key);
 
   /// Writes what is queued, stops the thread; rethrows the first store error.
@@ -40,6 +41,8 @@ class ResultWriter {
   int batches_written() const;
   /// Finished jobs whose results were not committed because a write failed.
   int finished_not_saved() const;
+  /// Finished jobs whose results the fence discarded (their claims were taken over).
+  int discarded() const;
   /// The first write error's message ("" while none).
   std::string error_text() const;
 
@@ -52,11 +55,12 @@ class ResultWriter {
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   JobBatch queued_;
-  std::vector<std::function<void()>> queued_callbacks_;  ///< one per queued_.finished entry
+  std::vector<std::function<void(bool)>> queued_callbacks_;  ///< one per queued_.finished entry
   bool closing_ = false;
   std::exception_ptr error_;
   int batches_ = 0;
   int not_saved_ = 0;
+  int discarded_ = 0;
   std::string error_text_;
   std::thread thread_;
 };

@@ -68,7 +68,9 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
 
   std::vector<const ExpandedJob*> to_run;
   for (const ExpandedJob* job : shard_jobs) {
-    if (options.force || registered.status_by_key.at(job->key) != "done") {
+    const std::string& status = registered.status_by_key.at(job->key);
+    const bool unsuccessful = status == "failed" || status == "diverged" || status == "timeout";
+    if (options.force || (status != "done" && (options.rerun_unsuccessful || !unsuccessful))) {
       to_run.push_back(job);
     } else {
       ++summary.skipped;
@@ -156,6 +158,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
         outcome.message = "unknown exception";
       }
       const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - job_start).count();
+      const std::int64_t generation = claims.generation(job.key);
       claims.forget(job.key);  // before the writer releases the claim
       if (claim_lost && outcome.status != JobStatus::done) {
         writer.push_abandoned(job.key);  // another runner took it over: wait for its result
@@ -183,7 +186,14 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
         if (!metric.joint && !metric.checkpoint && metric.value) headline.metrics[metric.name] = *metric.value;
       }
       // Counted and reported on the writer thread, once the result is committed.
-      auto on_committed = [&, index, status, wall, message = outcome.message, headline = std::move(headline)]() mutable {
+      auto on_committed = [&, index, status, wall, message = outcome.message,
+                           headline = std::move(headline)](bool written) mutable {
+        if (!written) {  // fenced out: the claim was taken over while this attempt ran
+          progress.job_dropped(index);
+          std::lock_guard lock(summary_mutex);
+          ++summary.discarded;
+          return;
+        }
         progress.job_committed(index, status, wall, message);
         std::lock_guard lock(summary_mutex);
         ++summary.run;
@@ -197,8 +207,9 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
           summary.failures.push_back(headline.label + ": " + status + ": " + message);
         }
       };
-      writer.push_finished(make_job_result_record(job.key, std::move(outcome), wall, started_at, make_utc_timestamp()),
-                           std::move(on_committed));
+      JobResultRecord record = make_job_result_record(job.key, std::move(outcome), wall, started_at, make_utc_timestamp());
+      record.claim_generation = generation;
+      writer.push_finished(std::move(record), std::move(on_committed));
     };
 
     tbb::global_control allow(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));

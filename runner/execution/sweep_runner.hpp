@@ -27,6 +27,7 @@ struct RunOptions {
   int threads = 0;                         ///< 0: one per core
   std::optional<double> timeout_seconds;   ///< per job, wall clock, s
   bool force = false;                      ///< run done jobs again
+  bool rerun_unsuccessful = true;          ///< run failed, diverged and timed-out jobs again (searches: no, their outcome is the trial's)
   Shard shard;
   std::vector<double> job_costs;           ///< per job of the sweep (job_cost.hpp): deals the shards, weights the ETA; empty: 1 each
   ClaimConfig claims;                      ///< runners sharing the database (claim_keeper.hpp)
@@ -45,6 +46,7 @@ struct RunSummary {
   int done_elsewhere = 0;  ///< done by another runner on the same database while this one ran
   int taken_over = 0;      ///< stale claims of other runners this run took over (or found at its start)
   int not_saved = 0;  ///< finished, but lost because a commit failed (they run again on resume)
+  int discarded = 0;  ///< finished after another runner took the claim over: not written (the fence)
   std::string write_error;  ///< the failed commit's error ("" when every write succeeded)
   bool interrupted = false;
   double elapsed_seconds = 0.0;

@@ -74,6 +74,33 @@ std::vector<Factor> make_factors(const SweepSpec& spec, const std::vector<PathSe
     }
     factors.push_back(std::move(factor));
   }
+  if (spec.search) {
+    // The steps decided before any result (the search runner decides the rest as jobs finish).
+    std::vector<std::pair<search::SearchPoint, std::size_t>> decided;
+    if (spec.search->decided) {
+      decided = *spec.search->decided;
+    } else {
+      const search::SearchHistory initial = calc_initial_search_steps(*spec.search);
+      for (const search::SearchStep& step : initial.steps) decided.emplace_back(initial.trials[step.trial].point, step.rung);
+    }
+    Factor factor;
+    for (std::size_t s = 0; s < decided.size(); ++s) {
+      const nlohmann::json params = calc_search_step_params(*spec.search, decided[s].first, decided[s].second);
+      FactorEntry entry;
+      const std::string where = " (step " + std::to_string(s) + ", rung " + std::to_string(decided[s].second) + ")";
+      for (std::size_t d = 0; d < spec.search->axes.size(); ++d) {
+        const SpecSearchAxis& axis = spec.search->axes[d];
+        const std::string& path = spec.search->settings.space.axes[d].path;
+        entry.push_back({path, &axis.segments, params.at(path), axis.location + where});
+      }
+      if (params.contains("learning.heldout_checkpoints")) {
+        entry.push_back({"learning.heldout_checkpoints", &spec.search->checkpoint_segments,
+                         params.at("learning.heldout_checkpoints"), "sweep.search.objective.checkpoint" + where});
+      }
+      factor.push_back(std::move(entry));
+    }
+    factors.push_back(std::move(factor));
+  }
   if (!spec.repeat_seeds.empty()) {
     Factor factor;
     for (std::size_t i = 0; i < spec.repeat_seeds.size(); ++i) {
@@ -152,6 +179,10 @@ std::uint64_t calc_expansion_count(const SweepSpec& spec) {
     count = multiply_saturating(count, group.axes.empty() ? 1 : group.axes.front().values.size());
   }
   if (spec.random) count = multiply_saturating(count, static_cast<std::uint64_t>(spec.random->samples));
+  if (spec.search) {
+    count = multiply_saturating(count, spec.search->decided ? spec.search->decided->size()
+                                                            : std::max<std::uint64_t>(spec.search->settings.slots, 1));
+  }
   if (!spec.repeat_seeds.empty()) count = multiply_saturating(count, spec.repeat_seeds.size());
   return count;
 }

@@ -1,5 +1,6 @@
 #include "runner/spec/sweep_spec.hpp"
 
+#include "engine/experiment/metric_catalog.hpp"
 #include "engine/io/input_file.hpp"
 
 #include "runner/spec/canonical_json.hpp"
@@ -8,6 +9,7 @@
 #include "runner/spec/input_files.hpp"
 #include "runner/spec/json_document.hpp"
 #include "runner/spec/spec_error.hpp"
+#include "runner/search/search_sequence.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -109,11 +111,19 @@ class SpecParser {
       if (!sweep.is_object()) {
         error("sweep", "expected an object with grid, zip, random and/or repeat");
       } else {
-        check_keys(sweep, "sweep", {"grid", "zip", "random", "repeat"});
+        check_keys(sweep, "sweep", {"grid", "zip", "random", "repeat", "search"});
         if (sweep.contains("grid")) read_grid(sweep["grid"], spec);
         if (sweep.contains("zip")) read_zip(sweep["zip"], spec);
         if (sweep.contains("random")) read_random(sweep["random"], spec);
         if (sweep.contains("repeat")) read_repeat(sweep["repeat"], spec);
+        if (sweep.contains("search")) {
+          for (const char* other : {"grid", "zip", "random", "repeat"}) {
+            if (sweep.contains(other)) {
+              error(std::string("sweep.") + other, "does not combine with sweep.search (a search decides its own jobs)");
+            }
+          }
+          read_search(sweep["search"], spec);
+        }
       }
     }
     if (!errors_.empty()) throw SpecError(errors_);
@@ -133,6 +143,9 @@ class SpecParser {
     }
     if (spec.random) {
       for (const SpecRandomParam& param : spec.random->params) axes.push_back(param.segments);
+    }
+    if (spec.search) {
+      for (const SpecSearchAxis& axis : spec.search->axes) axes.push_back(axis.segments);
     }
     for (const InputFileField& field : schema_.input_files) {
       const std::vector<PathSegment> segments = parse_config_path(field.path);
@@ -382,6 +395,271 @@ class SpecParser {
     spec.random = std::move(result);
   }
 
+  // An integer member `key` of `object` in [low, high], or `fallback` when absent.
+  std::size_t read_count(const nlohmann::json& object, const std::string& location, const std::string& key, long long low,
+                         long long high, std::size_t fallback) {
+    if (!object.contains(key)) return fallback;
+    const nlohmann::json& value = object[key];
+    if (!value.is_number_integer() || value.get<long long>() < low || value.get<long long>() > high) {
+      error(location + "." + key, "expected an integer in [" + std::to_string(low) + ", " + std::to_string(high) + "]");
+      return fallback;
+    }
+    return static_cast<std::size_t>(value.get<long long>());
+  }
+
+  void read_search(const nlohmann::json& block, SweepSpec& spec) {
+    const std::string at = "sweep.search";
+    if (!block.is_object()) {
+      error(at, "expected an object {\"method\": ..., \"objective\": {...}, \"space\": {...}, \"budget\": {...}}");
+      return;
+    }
+    check_keys(block, at, {"method", "sampler", "seed", "eta", "slots", "max_trials", "bracket_size", "objective", "space", "budget", "comment"});
+    SpecSearch result;
+    search::SearchSettings& settings = result.settings;
+    const std::vector<std::string> methods = {"random", "tpe", "asha", "successive_halving", "hyperband"};
+    if (!block.contains("method") || !block["method"].is_string()) {
+      error(at + ".method", "expected one of \"random\", \"tpe\", \"asha\", \"successive_halving\", \"hyperband\"");
+    } else {
+      const std::string method = block["method"].get<std::string>();
+      const auto found = std::find(methods.begin(), methods.end(), method);
+      if (found == methods.end()) {
+        error(at + ".method", "unknown method '" + method + "'" + make_did_you_mean(method, methods));
+      } else {
+        settings.method = static_cast<search::SearchMethod>(found - methods.begin());
+      }
+    }
+    const bool multi_rung = settings.method == search::SearchMethod::asha ||
+                            settings.method == search::SearchMethod::successive_halving ||
+                            settings.method == search::SearchMethod::hyperband;
+    if (block.contains("sampler")) {
+      const nlohmann::json& sampler = block["sampler"];
+      if (!multi_rung) {
+        error(at + ".sampler", "applies to asha, successive_halving and hyperband (tpe and random are samplers themselves)");
+      } else if (!sampler.is_string() || (sampler != "random" && sampler != "tpe")) {
+        error(at + ".sampler", "expected \"random\" or \"tpe\"");
+      } else {
+        settings.sampler = sampler == "tpe" ? search::SearchSampler::tpe : search::SearchSampler::random;
+      }
+    }
+    if (block.contains("seed")) {
+      if (!block["seed"].is_number_unsigned()) {
+        error(at + ".seed", "expected a non-negative integer");
+      } else {
+        settings.seed = block["seed"].get<std::uint64_t>();
+      }
+    } else {
+      settings.seed = 0;
+    }
+    settings.eta = read_count(block, at, "eta", 2, 100, settings.eta);
+    settings.slots = read_count(block, at, "slots", 1, 1024, settings.slots);
+    settings.max_trials = read_count(block, at, "max_trials", 1, 1000000, 0);
+    if (block.contains("bracket_size") && settings.method != search::SearchMethod::successive_halving) {
+      error(at + ".bracket_size", "applies to successive_halving only");
+    }
+    settings.bracket_size = read_count(block, at, "bracket_size", 1, 1000000, 0);
+    if (block.contains("max_trials") && settings.method != search::SearchMethod::asha &&
+        settings.method != search::SearchMethod::random && settings.method != search::SearchMethod::tpe) {
+      error(at + ".max_trials", "applies to random, tpe and asha (brackets fix their own sizes)");
+    }
+    read_search_budget(block, at, result);
+    read_search_objective(block, at, result, multi_rung);
+    read_search_space(block, at, result);
+    spec.search = std::move(result);
+  }
+
+  void read_search_budget(const nlohmann::json& block, const std::string& at, SpecSearch& result) {
+    const std::string location = at + ".budget";
+    if (!block.contains("budget")) {
+      error(location, "missing; give {\"jobs\": N} or {\"cpu_seconds\": S}");
+      return;
+    }
+    const nlohmann::json& budget = block["budget"];
+    if (!budget.is_object() || budget.size() != 1 || (!budget.contains("jobs") && !budget.contains("cpu_seconds"))) {
+      if (budget.is_object()) check_keys(budget, location, {"jobs", "cpu_seconds"});
+      error(location, "expected {\"jobs\": N} or {\"cpu_seconds\": S}");
+      return;
+    }
+    if (budget.contains("jobs")) {
+      result.budget_unit = SpecSearch::BudgetUnit::jobs;
+      result.budget = static_cast<double>(read_count(budget, location, "jobs", 1, 10000000, 0));
+      return;
+    }
+    result.budget_unit = SpecSearch::BudgetUnit::cpu_seconds;
+    const nlohmann::json& seconds = budget["cpu_seconds"];
+    if (!seconds.is_number() || !(seconds.get<double>() > 0.0) || !std::isfinite(seconds.get<double>())) {
+      error(location + ".cpu_seconds", "expected a positive number of CPU-seconds");
+      return;
+    }
+    result.budget = seconds.get<double>();
+  }
+
+  void read_search_objective(const nlohmann::json& block, const std::string& at, SpecSearch& result, bool multi_rung) {
+    const std::string location = at + ".objective";
+    if (!block.contains("objective") || !block["objective"].is_object()) {
+      error(location, "expected {\"metric\": NAME, \"joint\": N or \"mean\", \"checkpoint\": N or \"last\"}");
+      return;
+    }
+    const nlohmann::json& objective = block["objective"];
+    check_keys(objective, location, {"metric", "joint", "checkpoint"});
+    if (!objective.contains("metric") || !objective["metric"].is_string()) {
+      error(location + ".metric", "expected the name of a result metric of the catalog");
+      return;
+    }
+    const std::string name = objective["metric"].get<std::string>();
+    std::vector<std::string> names;
+    for (const MetricInfo& info : metric_catalog()) names.push_back(info.name);
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      error(location + ".metric", "'" + name + "' is not a metric of the catalog" + make_did_you_mean(name, names));
+      return;
+    }
+    const MetricInfo& info = find_metric_info(name);
+    if (info.direction == MetricDirection::none) {
+      error(location + ".metric", "'" + name + "' has no direction of better in the catalog: a search cannot optimise it");
+      return;
+    }
+    if (info.kind != MetricKind::result) {
+      error(location + ".metric", "'" + name + "' is a " + to_string(info.kind) + " metric, not a result: it varies run to run");
+      return;
+    }
+    result.objective.metric = name;
+    result.objective.lower_is_better = info.direction == MetricDirection::lower;
+    const bool per_joint = info.scope == MetricScope::joint || info.scope == MetricScope::checkpoint;
+    if (objective.contains("joint")) {
+      const nlohmann::json& joint = objective["joint"];
+      if (!per_joint) {
+        error(location + ".joint", "'" + name + "' is a " + to_string(info.scope) + " metric, not one per joint");
+      } else if (joint == "mean") {
+        result.objective.joint = 0;
+      } else if (!joint.is_number_integer() || joint.get<long long>() < 1 || joint.get<long long>() > 1000) {
+        error(location + ".joint", "expected a 1-based joint number or \"mean\"");
+      } else {
+        result.objective.joint = joint.get<int>();
+      }
+    }
+    // Checkpoints: the rungs. A metric without checkpoints has one rung (the whole job).
+    std::vector<std::int64_t> checkpoints;
+    if (resolved_.contains("learning") && resolved_["learning"].contains("heldout_checkpoints")) {
+      for (const nlohmann::json& c : resolved_["learning"]["heldout_checkpoints"]) {
+        // The list's elements may be stored as reals (an empty default list means "numbers").
+        if (c.is_number() && c.get<double>() == std::floor(c.get<double>())) checkpoints.push_back(static_cast<std::int64_t>(c.get<double>()));
+      }
+    }
+    if (info.scope != MetricScope::checkpoint) {
+      if (objective.contains("checkpoint")) {
+        error(location + ".checkpoint", "'" + name + "' is not measured at checkpoints");
+      }
+      if (multi_rung) {
+        error(location + ".metric", "successive halving needs an objective measured at learning checkpoints (heldout_*), not '" + name + "'");
+      }
+      result.rungs = {0};
+      return;
+    }
+    if (checkpoints.empty()) {
+      if (multi_rung) {
+        error(location + ".checkpoint", "successive halving needs learning.heldout_checkpoints in base (its rungs)");
+      }
+      if (objective.contains("checkpoint") && objective["checkpoint"] != "last") {
+        error(location + ".checkpoint", "base sets no learning.heldout_checkpoints: only \"last\" exists");
+      }
+      result.rungs = {0};
+      return;
+    }
+    std::size_t last = checkpoints.size() - 1;
+    if (objective.contains("checkpoint") && objective["checkpoint"] != "last") {
+      const nlohmann::json& wanted = objective["checkpoint"];
+      const auto found = wanted.is_number_integer()
+                             ? std::find(checkpoints.begin(), checkpoints.end(), wanted.get<std::int64_t>())
+                             : checkpoints.end();
+      if (found == checkpoints.end()) {
+        error(location + ".checkpoint", "expected \"last\" or one of learning.heldout_checkpoints " + nlohmann::json(checkpoints).dump());
+        return;
+      }
+      last = static_cast<std::size_t>(found - checkpoints.begin());
+    }
+    result.objective.checkpoint = checkpoints[last];
+    result.checkpoint_segments = parse_config_path("learning.heldout_checkpoints");
+    result.rungs.assign(checkpoints.begin(), checkpoints.begin() + static_cast<std::ptrdiff_t>(last + 1));
+    if (multi_rung && result.rungs.size() < 2) {
+      error(location + ".checkpoint", "successive halving needs at least two checkpoints up to the objective's");
+    }
+  }
+
+  void read_search_space(const nlohmann::json& block, const std::string& at, SpecSearch& result) {
+    const std::string location = at + ".space";
+    if (!block.contains("space") || !block["space"].is_object() || block["space"].empty()) {
+      error(location, "expected an object {\"dotted.path\": {\"uniform\": [low, high]}, ...}");
+      return;
+    }
+    const std::vector<std::string> kinds = {"uniform", "log_uniform", "integer", "categorical"};
+    for (const auto& [path, distribution] : block["space"].items()) {
+      const std::string where = quoted(location, path);
+      SpecSearchAxis axis;
+      axis.location = where;
+      search::SearchAxis sampled;
+      sampled.path = path;
+      const nlohmann::json* reference = nullptr;
+      if (!resolve_path(path, where, axis.segments, reference)) continue;
+      if (!distribution.is_object() || distribution.size() != 1) {
+        error(where, "expected one of {\"uniform\": [low, high]}, {\"log_uniform\": [low, high]}, {\"integer\": [low, high]}, {\"categorical\": [...]}");
+        continue;
+      }
+      const std::string kind = distribution.begin().key();
+      const nlohmann::json& arguments = distribution.begin().value();
+      const auto found = std::find(kinds.begin(), kinds.end(), kind);
+      if (found == kinds.end()) {
+        error(where + "." + kind, "unknown distribution" + make_did_you_mean(kind, kinds));
+        continue;
+      }
+      sampled.kind = static_cast<search::AxisKind>(found - kinds.begin());
+      if (sampled.kind == search::AxisKind::categorical) {
+        if (!arguments.is_array() || arguments.size() < 2) {
+          error(where + ".categorical", "expected a list of at least two values");
+          continue;
+        }
+        std::vector<std::string> lines;
+        for (std::size_t i = 0; i < arguments.size(); ++i) {
+          axis.choices.push_back(calc_checked_value(arguments[i], *reference, where + ".categorical[" + std::to_string(i) + "]", lines));
+        }
+        for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line));
+        if (!lines.empty()) continue;
+        sampled.choice_count = axis.choices.size();
+      } else {
+        const std::string here = where + "." + kind;
+        const bool integer = sampled.kind == search::AxisKind::integer;
+        if (integer ? !(reference->is_number_integer() || reference->is_null()) : !(reference->is_number_float() || reference->is_null())) {
+          error(here, "draws " + std::string(integer ? "integers" : "real numbers") + ", but '" + path + "' is " +
+                          (integer ? "not an integer" : "not a real number") + " (use categorical)");
+          continue;
+        }
+        if (!arguments.is_array() || arguments.size() != 2 || !arguments[0].is_number() || !arguments[1].is_number() ||
+            (integer && (!arguments[0].is_number_integer() || !arguments[1].is_number_integer()))) {
+          error(here, integer ? "expected [low, high], whole numbers" : "expected [low, high]");
+          continue;
+        }
+        sampled.low = arguments[0].get<double>();
+        sampled.high = arguments[1].get<double>();
+        if (!std::isfinite(sampled.low) || !std::isfinite(sampled.high) || !(sampled.low < sampled.high)) {
+          error(here, "empty range [" + arguments[0].dump() + ", " + arguments[1].dump() + "]: low must be below high");
+          continue;
+        }
+        if (sampled.kind == search::AxisKind::log_uniform && !(sampled.low > 0.0)) {
+          error(here, "log_uniform needs 0 < low < high");
+          continue;
+        }
+        if (schema_.find_key_range) {
+          if (const std::optional<Range> range = schema_.find_key_range(path)) {
+            if (!range->contains(sampled.low) || !range->contains(sampled.high)) {
+              error(here, "[" + arguments[0].dump() + ", " + arguments[1].dump() + "] leaves the key's range " + range->describe());
+              continue;
+            }
+          }
+        }
+      }
+      result.settings.space.axes.push_back(sampled);
+      result.axes.push_back(std::move(axis));
+    }
+  }
+
   void read_repeat(const nlohmann::json& repeat, SweepSpec& spec) {
     std::vector<PathSegment> segments;
     const nlohmann::json* reference = nullptr;
@@ -433,6 +711,35 @@ class SpecParser {
 };
 
 }  // namespace
+
+nlohmann::json calc_search_step_params(const SpecSearch& search, const search::SearchPoint& point, std::size_t rung) {
+  nlohmann::json params = nlohmann::json::object();
+  for (std::size_t d = 0; d < search.axes.size(); ++d) {
+    const search::SearchAxis& axis = search.settings.space.axes[d];
+    switch (axis.kind) {
+      case search::AxisKind::uniform:
+      case search::AxisKind::log_uniform: params[axis.path] = point[d]; break;
+      case search::AxisKind::integer: params[axis.path] = static_cast<std::int64_t>(point[d]); break;
+      case search::AxisKind::categorical: params[axis.path] = search.axes[d].choices[static_cast<std::size_t>(point[d])]; break;
+    }
+  }
+  if (search.objective.checkpoint) {
+    params["learning.heldout_checkpoints"] =
+        std::vector<std::int64_t>(search.rungs.begin(), search.rungs.begin() + static_cast<std::ptrdiff_t>(rung + 1));
+  }
+  return params;
+}
+
+search::SearchHistory calc_initial_search_steps(const SpecSearch& search) {
+  search::SearchSettings settings = search.settings;
+  settings.rung_cost.assign(search.rungs.size(), 1.0);  // costs do not change which steps come first
+  search::SearchHistory history;
+  for (;;) {
+    const search::NextStep next = search::calc_next_step(settings, history);
+    if (next.needs_loss || next.decision.kind != search::SearchDecision::Kind::run) return history;
+    search::add_step(next.decision, next.visible, history);
+  }
+}
 
 SweepSpec parse_sweep_spec(const std::string& text, const std::string& file, const std::string& folder,
                            const JobConfigSchema& schema) {

@@ -4,6 +4,7 @@
 // seeds. Parsing checks everything that can be checked without running a job; errors name the
 // file and the JSON path.
 #include "runner/config/config_schema.hpp"
+#include "runner/search/search_schedule.hpp"
 #include "runner/spec/config_path.hpp"
 
 #include <nlohmann/json.hpp>
@@ -47,6 +48,47 @@ struct SpecRandom {
   std::vector<SpecRandomParam> params;  ///< drawn in this order (sorted by path)
 };
 
+/// The objective of a search (sweeps/README.md, "Search"): a result metric of the catalog, better
+/// in the catalog's direction, of one joint or the mean over the joints, at a checkpoint.
+struct SpecObjective {
+  std::string metric;
+  bool lower_is_better = true;  ///< from the catalog
+  int joint = 0;                ///< 1-based joint number; 0: the job-level mean row
+  /// The checkpoint's number (a learning.heldout_checkpoints value); empty for a metric without
+  /// checkpoints. The search's rungs are the checkpoints up to and including it.
+  std::optional<std::int64_t> checkpoint;
+};
+
+/// One axis of a search space, where it was written and, for a categorical axis, its values.
+struct SpecSearchAxis {
+  std::vector<PathSegment> segments;
+  std::vector<nlohmann::json> choices;  ///< categorical: normalized to the configuration's type
+  std::string location;
+};
+
+/// `sweep.search`: the trials are decided as the search runs (runner/search/).
+struct SpecSearch {
+  search::SearchSettings settings;     ///< space, method, sampler, seed, η, slots, limits; costs set by the runner
+  std::vector<SpecSearchAxis> axes;    ///< parallel to settings.space.axes
+  SpecObjective objective;
+  std::vector<std::int64_t> rungs;     ///< the checkpoints that are rungs, increasing (one rung when none)
+  enum class BudgetUnit { jobs, cpu_seconds } budget_unit = BudgetUnit::jobs;
+  double budget = 0.0;
+  /// "learning.heldout_checkpoints": a step to rung r runs the checkpoints rungs[0 … r].
+  std::vector<PathSegment> checkpoint_segments;
+  /// The steps to expand, (point, rung) each, as the search runner decided them; unset: the steps
+  /// decided before any result (calc_initial_search_steps).
+  std::optional<std::vector<std::pair<search::SearchPoint, std::size_t>>> decided;
+};
+
+/// The values a search step sets, {"dotted.path": value}: each axis's value at `point` (a
+/// categorical axis's choice, an integer axis's whole number) and, when the objective has
+/// checkpoints, learning.heldout_checkpoints up to rung `rung`.
+nlohmann::json calc_search_step_params(const SpecSearch& search, const search::SearchPoint& point, std::size_t rung);
+
+/// The steps a search decides before any job has finished (at most `slots`), with their trials.
+search::SearchHistory calc_initial_search_steps(const SpecSearch& search);
+
 /// A file the spec includes, as the job configurations record it under "inputs".
 struct SpecInclude {
   std::string path;      ///< as written in `include`
@@ -64,6 +106,7 @@ struct SweepSpec {
   std::vector<SpecAxis> grid;
   std::vector<SpecZipGroup> zip;
   std::optional<SpecRandom> random;
+  std::optional<SpecSearch> search;
   std::vector<std::int64_t> repeat_seeds;  ///< empty: no repeat axis
   std::vector<SpecInclude> includes;       ///< in the order they are merged
   /// For each input-file field of the schema, the folder its value resolves against: that of

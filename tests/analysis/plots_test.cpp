@@ -3,6 +3,7 @@
 #include "analysis/analysis_error.hpp"
 #include "analysis/plots.hpp"
 #include "analysis/report.hpp"
+#include "svg_text_boxes.hpp"
 #include "test_database.hpp"
 
 #include <gtest/gtest.h>
@@ -79,6 +80,55 @@ class PlotTest : public ::testing::Test {
       tracking_jobs.push_back(job);
     }
     testing::write_test_sweep(db_, "tracking", tracking_jobs);
+
+    // update_D fixed (in every config, not swept), one job diverged, a held-out metric at checkpoints.
+    std::vector<testing::TestJob> fixed_jobs;
+    for (double init_d : {1.0, 10.0, 100.0}) {
+      for (int seed = 1; seed <= 2; ++seed) {
+        testing::TestJob job;
+        job.params = {{"learning.lwpr.init_D", init_d}, {"seed", seed}};
+        const double nmse = 0.1 / std::sqrt(init_d) + 0.001 * seed;
+        job.metrics = {{0, "same_run_test_nmse", 1, nmse, ""}, {0, "n_receptive_fields", std::nullopt, 5 * init_d, ""}};
+        MetricRecord heldout{0, "heldout_test_nmse", 1, nmse / 2, ""};
+        heldout.checkpoint = 1;
+        job.metrics.push_back(heldout);
+        if (init_d == 100.0 && seed == 2) {
+          job.status = "diverged";
+          job.metrics.clear();
+        }
+        fixed_jobs.push_back(job);
+      }
+    }
+    testing::write_test_sweep(db_, "fixed", fixed_jobs);
+
+    // A 7-joint arm: seven panels of nMSE and torques, long legend entries, narrow tick spacing.
+    std::vector<testing::TestJob> seven_jobs;
+    for (const char* mode : {"online", "batch"}) {
+      for (double init_d : {0.5, 5.0, 50.0, 500.0}) {
+        testing::TestJob job;
+        job.params = {{"learning.mode", mode}, {"learning.lwpr.init_D", init_d}};
+        for (int j = 1; j <= 7; ++j) job.metrics.push_back({0, "same_run_test_nmse", j, 0.01 * j / std::sqrt(init_d), ""});
+        job.metrics.push_back({0, "n_receptive_fields", std::nullopt, 3 * init_d, ""});
+        std::vector<std::string> columns{"t"};
+        for (int j = 1; j <= 7; ++j) columns.push_back("joint " + std::to_string(j));
+        for (const char* name : {"F", "FF", "TOR"}) {
+          job.series.push_back(make_series(name, columns, 120, [&](int r, int c) {
+            return c == 0 ? 0.24 + 0.0004 * r : 12.5 * std::sin(0.05 * r * c) / c;
+          }));
+        }
+        job.series.push_back(make_series("POS_D", {"t", "x", "y", "z"}, 120, [](int r, int c) {
+          return c == 0 ? 0.01 * r : c == 2 ? 0.2 * std::sin(0.05 * r) : c == 3 ? 0.4 + 0.1 * std::cos(0.05 * r) : 0.5;
+        }));
+        job.series.push_back(make_series("POS", {"t", "x", "y", "z"}, 120, [&](int r, int c) {
+          return c == 0 ? 0.01 * r : c == 2 ? 0.2 * std::sin(0.05 * r) + 0.001 * init_d : c == 3 ? 0.4 + 0.1 * std::cos(0.05 * r) : 0.5;
+        }));
+        job.series.push_back(make_series("RF", {"trial", "n_receptive_fields"}, 20, [&](int r, int c) {
+          return c == 0 ? r + 1 : (std::string(mode) == "online" ? r * init_d : init_d);
+        }));
+        seven_jobs.push_back(job);
+      }
+    }
+    testing::write_test_sweep(db_, "seven", seven_jobs);
   }
 
   std::string render(const std::string& arguments, const std::string& out) {
@@ -150,6 +200,100 @@ TEST_F(PlotTest, MissingDataIsAOneLineErrorAndNoFile) {
   EXPECT_NE(result.output.find("no done job recorded the F and FF series"), std::string::npos) << result.output;
   EXPECT_FALSE(std::filesystem::exists(out));
   EXPECT_EQ(testing::run_armfarm("plot " + db_ + " signals --out " + out).exit_code, 2);  // two sweeps, none chosen
+}
+
+TEST_F(PlotTest, PdfIsOnePageAtPaperWidth) {
+  const std::string out = directory_.file("nmse.pdf");
+  const auto result = testing::run_armfarm("plot " + db_ + " nmse-vs-kernel --sweep kernel --out " + out);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  keep_for_inspection(out);
+  const std::string pdf = read_file(out);
+  ASSERT_EQ(pdf.substr(0, 4), "%PDF");
+  std::size_t pages = 0;
+  for (auto at = pdf.find("/Type /Page"); at != std::string::npos; at = pdf.find("/Type /Page", at + 1)) {
+    if (pdf.compare(at, 12, "/Type /Pages") != 0) ++pages;
+  }
+  EXPECT_EQ(pages, 1u);
+  // Three panels in two columns: one column of a paper, 3.5 in = 252 pt wide.
+  EXPECT_NE(pdf.find("/MediaBox [ 0 0 252 "), std::string::npos) << pdf.substr(0, 2000);
+  EXPECT_EQ(testing::run_armfarm("plot " + db_ + " nmse-vs-kernel --sweep kernel --out " + directory_.file("n.eps")).exit_code, 2);
+}
+
+TEST_F(PlotTest, StyleSizeFontAndLabelOverrides) {
+  const std::string svg = render("metric-vs-param --sweep kernel --metric same_run_test_nmse --joint 1 --param learning.lwpr.init_D "
+                                 "--style paper --size 5,3 --font-size 9 --title 'My title' --xlabel 'width' --ylabel 'error'",
+                                 directory_.file("styled.svg"));
+  EXPECT_NE(svg.find("width=\"360\""), std::string::npos);  // 5 in at 72 units per inch
+  EXPECT_NE(svg.find("height=\"216\""), std::string::npos);
+  EXPECT_NE(svg.find("font-size=\"9.00\""), std::string::npos);
+  for (const char* text : {"My title", ">width<", ">error<"}) EXPECT_NE(svg.find(text), std::string::npos) << text;
+  EXPECT_EQ(testing::run_armfarm("plot " + db_ + " tracking --sweep tracking --style poster --out " + directory_.file("p.svg")).exit_code,
+            2);
+}
+
+TEST_F(PlotTest, LegendListsExactlyTheVaryingParametersAndDivergedJobsAreCounted) {
+  const std::string svg = render("nmse-vs-kernel --sweep fixed", directory_.file("fixed.svg"));
+  EXPECT_EQ(svg.find("update_D"), std::string::npos);  // in every config, never swept: not a legend entry
+  EXPECT_NE(svg.find("jobs not shown: 1 diverged"), std::string::npos);
+  const std::string kernel = render("nmse-vs-kernel --sweep kernel", directory_.file("kernel.svg"));
+  EXPECT_NE(kernel.find("update_D=true"), std::string::npos);
+  EXPECT_EQ(kernel.find("seed="), std::string::npos);  // repeats are error bars, not curves
+  EXPECT_EQ(kernel.find("jobs not shown"), std::string::npos);
+  const std::string metric = render("metric-vs-param --sweep fixed --metric same_run_test_nmse --joint 1 --param learning.lwpr.init_D",
+                                    directory_.file("fixed_metric.svg"));
+  EXPECT_NE(metric.find("jobs not shown: 1 diverged"), std::string::npos);
+}
+
+TEST_F(PlotTest, HeldOutMetricNeedsAndTakesACheckpoint) {
+  const std::string base = "plot " + db_ + " metric-vs-param --sweep fixed --metric heldout_test_nmse --joint 1 --param learning.lwpr.init_D";
+  const auto refused = testing::run_armfarm(base + " --out " + directory_.file("h.svg"));
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.output.find("--checkpoint"), std::string::npos) << refused.output;
+  const std::string svg = render("metric-vs-param --sweep fixed --metric heldout_test_nmse --joint 1 --param learning.lwpr.init_D --checkpoint 1",
+                                 directory_.file("heldout.svg"));
+  EXPECT_NE(svg.find("heldout_test_nmse j1 c1"), std::string::npos);
+}
+
+TEST_F(PlotTest, MissingSeriesSaysWhatToSet) {
+  for (const char* kind : {"signals", "tracking", "rf-growth"}) {
+    const auto result = testing::run_armfarm("plot " + db_ + " " + kind + " --sweep kernel --out " + directory_.file("x.svg"));
+    EXPECT_EQ(result.exit_code, 2) << kind;
+    EXPECT_NE(result.output.find("recording.series"), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("\"recording\": {\"series\": [\""), std::string::npos) << result.output;
+  }
+}
+
+TEST_F(PlotTest, NoTextOverlapsOnAnyPlotKindOfASevenJointSweep) {
+  const std::vector<std::string> plots = {
+      "nmse-vs-kernel", "rf-growth", "signals", "tracking",
+      "metric-vs-param --metric same_run_test_nmse --joint 7 --param learning.lwpr.init_D --group learning.mode"};
+  for (const char* style : {"paper", "screen", "slide"}) {
+    for (const std::string& plot : plots) {
+      const std::string out = directory_.file(plot.substr(0, plot.find(' ')) + "_" + style + ".svg");
+      const std::string svg = render(plot + " --sweep seven --style " + style, out);
+      const auto boxes = testing::find_text_boxes(svg);
+      EXPECT_GE(boxes.size(), 8u) << plot;  // the checker sees the labels
+      const auto overlaps = testing::find_overlapping_text(svg);
+      EXPECT_TRUE(overlaps.empty()) << plot << " (" << style << "): " << overlaps.size() << " overlaps, first "
+                                    << (overlaps.empty() ? "" : overlaps.front());
+    }
+  }
+}
+
+TEST(SvgTextBoxes, FindsADeliberateOverlapAndNotItsSeparatedTwin) {
+  const std::string label_a = "<g transform=\"translate(100.00,50.00)\" stroke=\"none\" font-size=\"12.00\" text-anchor=\"end\">\n"
+                              "<text>torque (N·m)</text>\n</g>\n";
+  const std::string label_b = "<g transform=\"translate(95.00,54.00)\" stroke=\"none\" font-size=\"12.00\">\n<text>0.24</text>\n</g>\n";
+  const std::string rotated = "<g transform=\"translate(20.00,200.00) rotate(270)\" font-size=\"10.00\" text-anchor=\"middle\">\n"
+                              "<text>time (s)</text>\n</g>\n";
+  const std::string beside = "<g transform=\"translate(40.00,200.00)\" font-size=\"10.00\">\n<text>1e-02</text>\n</g>\n";
+  const std::string on_it = "<g transform=\"translate(16.00,210.00)\" font-size=\"10.00\">\n<text>x</text>\n</g>\n";
+  EXPECT_EQ(testing::find_overlapping_text("<svg>" + label_a + label_b + "</svg>").size(), 1u);
+  EXPECT_TRUE(testing::find_overlapping_text("<svg>" + label_a + rotated + beside + "</svg>").empty());
+  EXPECT_EQ(testing::find_overlapping_text("<svg>" + rotated + on_it + "</svg>").size(), 1u);  // rotated box is vertical
+  const auto boxes = testing::find_text_boxes("<svg>" + rotated + "</svg>");
+  ASSERT_EQ(boxes.size(), 1u);
+  EXPECT_GT(boxes[0].bottom - boxes[0].top, boxes[0].right - boxes[0].left);
 }
 
 TEST_F(PlotTest, ReportIsSelfContainedHtmlPerSweep) {

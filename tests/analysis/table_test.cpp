@@ -98,17 +98,66 @@ TEST(Table, FormatsCarryTheNumbers) {
   spec.metrics = {"test_nmse"};
   const Table table = make_table(make_data(), spec);
   const std::string markdown = format_table(table, TableFormat::markdown, Aggregate::mean);
-  EXPECT_NE(markdown.find("| 10 | 0.2 ± 0.1 (n=3) |"), std::string::npos) << markdown;
+  // 0.2 ∓ t(0.975, 2)·0.1/√3 = 0.2 ∓ 4.302653·0.057735 = 0.2 ∓ 0.248414.
+  EXPECT_NE(markdown.find("| 10 | 0.2 [-0.04841, 0.4484] (n=3) |"), std::string::npos) << markdown;
   EXPECT_NE(markdown.find("1, 1 failed"), std::string::npos) << markdown;
   const std::string latex = format_table(table, TableFormat::latex, Aggregate::mean);
   EXPECT_NE(latex.find("\\begin{tabular}"), std::string::npos);
   EXPECT_NE(latex.find("test\\_nmse j1"), std::string::npos) << latex;
-  EXPECT_NE(latex.find("0.2 $\\pm$ 0.1"), std::string::npos) << latex;
+  EXPECT_NE(latex.find("0.2 [-0.04841, 0.4484]"), std::string::npos) << latex;
   const auto json = nlohmann::json::parse(format_table(table, TableFormat::json, Aggregate::median));
   EXPECT_DOUBLE_EQ(json["rows"][0]["cells"]["test_nmse j1"]["value"].get<double>(), 0.2);
   EXPECT_EQ(json["rows"][1]["jobs_failed"].get<int>(), 1);
   const std::string csv = format_table(table, TableFormat::csv, Aggregate::mean);
-  EXPECT_NE(csv.find("learning.lwpr.init_D,test_nmse j1,test_nmse j1 std,test_nmse j1 n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("learning.lwpr.init_D,test_nmse j1,test_nmse j1 std,test_nmse j1 n,test_nmse j1 ci95_low,test_nmse j1 ci95_high"),
+            std::string::npos) << csv;
+  EXPECT_NE(csv.find(",3,-0.048413"), std::string::npos) << csv;
+}
+
+// The interval against a hand computation: 1, 2, 3, 4, 5 have mean 3, std √2.5 = 1.581139,
+// standard error 0.707107; t(0.975, 4) = 2.776445 (printed t tables), so 3 ∓ 1.963243.
+TEST(SummaryStatistics, ConfidenceIntervalEqualsTheHandComputation) {
+  const SummaryStatistics five = calc_summary_statistics({5.0, 1.0, 4.0, 2.0, 3.0});
+  EXPECT_EQ(five.count, 5);
+  ASSERT_TRUE(five.has_ci());
+  EXPECT_NEAR(five.ci_low, 3.0 - 1.963243, 2e-6);
+  EXPECT_NEAR(five.ci_high, 3.0 + 1.963243, 2e-6);
+  // Two values: t(0.975, 1) = tan(0.475π) = 12.706205 in closed form; 0.5 ∓ 12.706205·0.5.
+  const SummaryStatistics two = calc_summary_statistics({0.0, 1.0});
+  EXPECT_NEAR(two.ci_high, 0.5 + 0.5 * std::tan(0.475 * M_PI), 1e-9);
+  EXPECT_NEAR(two.ci_low, 0.5 - 0.5 * std::tan(0.475 * M_PI), 1e-9);
+  // One value has no interval; equal values an empty one.
+  const SummaryStatistics one = calc_summary_statistics({0.7});
+  EXPECT_FALSE(one.has_ci());
+  EXPECT_EQ(format_mean_ci(one), "0.7");
+  const SummaryStatistics same = calc_summary_statistics({0.7, 0.7, 0.7});
+  EXPECT_DOUBLE_EQ(same.ci_low, 0.7);
+  EXPECT_DOUBLE_EQ(same.ci_high, 0.7);
+  EXPECT_EQ(format_mean_ci(five), "3 [1.037, 4.963]");
+}
+
+// The quantile against closed forms (ν = 1: tan(π(p − ½)); ν = 2: (2p − 1)/√(2p(1 − p))) and
+// against printed tables for larger ν (t(0.975, 9) = 2.262157, t(0.975, 29) = 2.045230); it
+// tends to the normal 1.959964.
+TEST(SummaryStatistics, StudentTQuantileMatchesClosedFormsAndTables) {
+  for (double p : {0.6, 0.9, 0.975, 0.995}) {
+    EXPECT_NEAR(calc_student_t_quantile(p, 1), std::tan(M_PI * (p - 0.5)), 1e-9 * std::tan(M_PI * (p - 0.5))) << p;
+    EXPECT_NEAR(calc_student_t_quantile(p, 2), (2 * p - 1) / std::sqrt(2 * p * (1 - p)), 1e-10) << p;
+  }
+  EXPECT_NEAR(calc_student_t_quantile(0.975, 9), 2.262157, 1e-6);
+  EXPECT_NEAR(calc_student_t_quantile(0.975, 29), 2.045230, 1e-6);
+  EXPECT_NEAR(calc_student_t_quantile(0.975, 100000), 1.959964, 1e-4);
+  EXPECT_NEAR(calc_student_t_quantile(0.025, 4), -2.776445, 1e-6);
+  EXPECT_NEAR(calc_student_t_cdf(0.0, 7), 0.5, 1e-15);
+}
+
+// The one-sided sign test: 5 of 5 gives 1/32, 4 of 5 gives 6/32, 9 of 10 gives 11/1024.
+TEST(SummaryStatistics, SignTestIsTheBinomialTail) {
+  EXPECT_NEAR(calc_sign_test_p(5, 5), 1.0 / 32, 1e-15);
+  EXPECT_NEAR(calc_sign_test_p(4, 5), 6.0 / 32, 1e-14);
+  EXPECT_NEAR(calc_sign_test_p(9, 10), 11.0 / 1024, 1e-14);
+  EXPECT_NEAR(calc_sign_test_p(0, 4), 1.0, 1e-14);
+  EXPECT_EQ(calc_sign_test_p(0, 0), 1.0);
 }
 
 TEST(Table, NumbersUseScientificNotationWhereTheThesisDoes) {

@@ -51,10 +51,21 @@ std::string error_of(const std::string& text) {
 
 TEST(ThesisResults, ShippedFileHoldsEveryTableOfChapterSixAsPrinted) {
   const ThesisResults results = load_thesis_results(kThesisFile);
-  ASSERT_EQ(results.tables.size(), 9u);  // 6.1–6.7 and the two unnumbered tables of figures 6.12, 6.13
+  // 6.1–6.7, the two unnumbered tables of figures 6.12, 6.13, then the figures' stated numbers
+  // (6.7: fields after 1, 200 and 1000 reaches; 6.8–6.10: the model's fields).
+  ASSERT_EQ(results.tables.size(), 13u);
   std::size_t cells = 0;
-  for (const ThesisTable& table : results.tables) cells += table.cells.size();
+  for (std::size_t t = 0; t < 9; ++t) cells += results.tables[t].cells.size();
   EXPECT_EQ(cells, 6u * 4 * 2 + 2u * 2 * 2 + 3u * 4 * 5);
+  const ThesisTable& f67 = find_table(results, "fig6_7");
+  ASSERT_EQ(f67.cells.size(), 3u);
+  EXPECT_EQ(f67.cells[2].value, 271);  // read from figures[6].facts.receptive_fields_after_reaches
+  EXPECT_EQ(*f67.cells[2].mapping.metric, "n_receptive_fields");
+  EXPECT_TRUE(f67.cells[0].mapping.metric_given && !f67.cells[0].mapping.metric);  // the RF series, no metric
+  const ThesisCell& f69 = find_table(results, "fig6_9").cells.at(0);
+  EXPECT_EQ(f69.value, 173);
+  EXPECT_EQ(*f69.mapping.sweep, "table6_5_7_heldout_reaching");
+  EXPECT_EQ(*f69.mapping.checkpoint, 200);
 
   // Literal values from the thesis (table, row, column as printed).
   const ThesisCell& t61 = find_cell(find_table(results, "table6_1"), "Joint 1", "avg(ff/fb)");
@@ -78,6 +89,11 @@ TEST(ThesisResults, ShippedFileHoldsEveryTableOfChapterSixAsPrinted) {
   EXPECT_FALSE(t65.page);  // the text places figure 6.8 on page 57, not the table
   EXPECT_FALSE(find_table(results, "fig6_12_numerical").number);
   EXPECT_EQ(find_table(results, "fig6_12_numerical").caption, "Numerical results from Figure 6.12.");
+  // The comparisons the thesis's text draws (table 6.1's major joints over 1, 5, 6; composite over
+  // feedback in 6.2, 6.3; the sine over the eight; 6.7 over 6.5), each checked against its values.
+  ASSERT_EQ(results.comparisons.size(), 27u);  // and the growth 12 → 173 → 271 of figures 6.8–6.10
+  EXPECT_EQ(results.comparisons[9].greater.column, "Feedback control nMSE");
+  EXPECT_EQ(results.comparisons[24].less.table, "table6_7");
 
   // The mapping: held-out reaching at checkpoint 200, the second active joint.
   const ThesisMapping& m = find_cell(find_table(results, "table6_6"), "Joint 2", "var(ff/fb)").mapping;
@@ -233,18 +249,130 @@ TEST(ThesisComparison, MarkdownShowsThesisArmfarmAndRatio) {
       format_thesis_comparison(make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::mean), TableFormat::markdown,
                                Aggregate::mean);
   EXPECT_NE(text.find("### Table 6.2: tracking"), std::string::npos) << text;
-  EXPECT_NE(text.find("| Y | FB | 2.0E-03 | 4.000e-03 ± 1.414e-03 | 2 | 2 |"), std::string::npos) << text;
-  EXPECT_NE(text.find("| W | CO | 1 | no metric | — | 0 |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| Y | FB | 2.0E-03 | 4.000e-03 [-8.706e-03, 0.01671] (2) | 2 | matches |"), std::string::npos) << text;
+  EXPECT_NE(text.find("| W | CO | 1 | no metric | — | — |"), std::string::npos) << text;
   EXPECT_NE(text.find("### absent (page 57)"), std::string::npos) << text;
   EXPECT_NE(text.find("not run (sweep never_run absent)"), std::string::npos) << text;
   const std::string csv =
       format_thesis_comparison(make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::mean), TableFormat::csv,
                                Aggregate::mean);
-  EXPECT_NE(csv.find("t_track,J2,CO,0.5,0.6,1.2,1,compared,\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("t_track,J2,CO,0.5,0.6,,,1.2,1,one seed,compared,\n"), std::string::npos) << csv;
   const nlohmann::json json = nlohmann::json::parse(format_thesis_comparison(
       make_thesis_comparison(thesis, {{"track", small_sweep()}}, Aggregate::mean), TableFormat::json, Aggregate::mean));
   EXPECT_DOUBLE_EQ(json[0]["cells"][0]["ratio"].get<double>(), 2.0);
   EXPECT_TRUE(json[1]["cells"][0]["armfarm"].is_null());
+}
+
+// Verdicts on constructed cases: table "t" with cells A (thesis 1.0) and B (thesis 0.5), the
+// thesis drawing A > B, and C (thesis 2.0) that no comparison names.
+const char* kVerdictThesis = R"json({"tables": [
+  {"id": "t", "number": "9.9", "caption": "verdicts", "page": null, "armfarm": {"sweep": "v"},
+   "columns": [{"label": "value"}],
+   "rows": [{"label": "A", "armfarm": {"metric": "m_a"}}, {"label": "B", "armfarm": {"metric": "m_b"}},
+            {"label": "C", "armfarm": {"metric": "m_c"}}],
+   "cells": [{"row": "A", "column": "value", "value": 1.0, "printed": "1.0"},
+             {"row": "B", "column": "value", "value": 0.5, "printed": "0.5"},
+             {"row": "C", "column": "value", "value": 2.0, "printed": "2.0"}]}],
+ "comparisons": [{"claim": "A above B", "greater": {"table": "t", "row": "A", "column": "value"},
+                  "less": {"table": "t", "row": "B", "column": "value"}}]})json";
+
+// One job per seed with m_a, m_b, m_c as given.
+SweepData make_verdict_sweep(const std::vector<double>& a, const std::vector<double>& b, const std::vector<double>& c) {
+  SweepData data;
+  data.name = "v";
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    JobResult job;
+    job.key = "v" + std::to_string(i);
+    job.status = "done";
+    job.seed = static_cast<std::int64_t>(i);
+    job.params = {{"seed", job.seed}};
+    job.metrics = {{{"m_a", {}}, a[i]}, {{"m_b", {}}, b[i]}, {{"m_c", {}}, c[i]}};
+    data.jobs.push_back(job);
+  }
+  data.varying_params = calc_varying_params(data.jobs);
+  return data;
+}
+
+std::vector<Verdict> verdicts_of(const SweepData& data) {
+  const ThesisResults thesis = parse_thesis_results(nlohmann::json::parse(kVerdictThesis), "verdicts.json");
+  const ThesisComparison comparison = make_thesis_comparison(thesis, {{"v", data}}, Aggregate::mean);
+  std::vector<Verdict> verdicts;
+  for (const ComparedCell& cell : comparison.tables.at(0).cells) verdicts.push_back(cell.verdict);
+  return verdicts;
+}
+
+TEST(ThesisComparison, VerdictsFollowTheRuleOnConstructedCases) {
+  // A's five seeds have mean 1.0 and interval 1.0 ∓ 2.776·0.0791 ⊃ 1.0: matches. B's interval
+  // [2.08, 2.32] misses 0.5 but A > B fails in every seed: differs. C: no comparison, outside: differs.
+  EXPECT_EQ(verdicts_of(make_verdict_sweep({0.9, 1.0, 1.1, 0.95, 1.05}, {2.0, 2.1, 2.2, 2.3, 2.4}, {5, 5.1, 5.2, 5.3, 5.4})),
+            (std::vector<Verdict>{Verdict::matches, Verdict::differs, Verdict::differs}));
+  // A far above 1.0 and B far above 0.5, but A > B in all five seeds (sign test p = 1/32):
+  // both "same direction"; C inside its interval matches.
+  EXPECT_EQ(verdicts_of(make_verdict_sweep({3.0, 3.1, 3.2, 3.3, 3.4}, {2.0, 2.1, 2.2, 2.3, 2.4}, {1.9, 2.0, 2.1, 2.0, 2.0})),
+            (std::vector<Verdict>{Verdict::same_direction, Verdict::same_direction, Verdict::matches}));
+  // A > B in 4 of 5 seeds: p = 6/32 > 5 %, so differs.
+  EXPECT_EQ(verdicts_of(make_verdict_sweep({3.0, 3.1, 3.2, 3.3, 2.0}, {2.0, 2.1, 2.2, 2.3, 2.4}, {5, 5.1, 5.2, 5.3, 5.4}))[0],
+            Verdict::differs);
+  // 9 of 10 seeds: p = 11/1024 < 5 %, so the comparison holds without holding in every seed.
+  std::vector<double> a, b, c;
+  for (int i = 0; i < 10; ++i) {
+    a.push_back(3.0 + 0.1 * i);
+    b.push_back(i == 9 ? 9.0 : 2.0 + 0.1 * i);
+    c.push_back(2.0);
+  }
+  EXPECT_EQ(verdicts_of(make_verdict_sweep(a, b, c))[0], Verdict::same_direction);
+  // One seed: no interval, no verdict.
+  EXPECT_EQ(verdicts_of(make_verdict_sweep({3.0}, {2.0}, {2.0}))[0], Verdict::one_seed);
+  EXPECT_TRUE(holds_across_seeds(2, 2));
+  EXPECT_FALSE(holds_across_seeds(1, 1));
+  EXPECT_FALSE(holds_across_seeds(4, 5));
+
+  // The printed cell: thesis | mean [interval] (n) | ratio | verdict with the seed count.
+  const ThesisResults thesis = parse_thesis_results(nlohmann::json::parse(kVerdictThesis), "verdicts.json");
+  const std::string text = format_thesis_comparison(
+      make_thesis_comparison(thesis, {{"v", make_verdict_sweep({3.0, 3.1, 3.2, 3.3, 3.4}, {2.0, 2.1, 2.2, 2.3, 2.4}, {2, 2, 2, 2, 2})}},
+                             Aggregate::mean),
+      TableFormat::markdown, Aggregate::mean);
+  EXPECT_NE(text.find("| A | value | 1.0 | 3.2 [3.004, 3.396] (5) | 3.2 | same direction (above t B / value: 5 of 5 seeds) |"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("Verdicts over 3 cells: 1 matches, 2 same direction, 0 differs, 0 one seed, 0 not compared"), std::string::npos)
+      << text;
+}
+
+// A cell whose matching jobs differ in more than their seed is not pooled.
+TEST(ThesisComparison, CellsPoolOnlyJobsThatDifferInTheirSeed) {
+  SweepData data = make_verdict_sweep({1.0, 1.1}, {0.5, 0.6}, {2.0, 2.1});
+  data.jobs[1].params["learning.lwpr.init_D"] = 0.5;
+  data.jobs[0].params["learning.lwpr.init_D"] = 0.1;
+  data.varying_params = calc_varying_params(data.jobs);
+  const ThesisResults thesis = parse_thesis_results(nlohmann::json::parse(kVerdictThesis), "verdicts.json");
+  const ThesisComparison comparison = make_thesis_comparison(thesis, {{"v", data}}, Aggregate::mean);
+  EXPECT_EQ(comparison.tables[0].cells[0].state, CellState::not_run);
+  EXPECT_NE(comparison.tables[0].cells[0].reason.find("differ in learning.lwpr.init_D"), std::string::npos)
+      << comparison.tables[0].cells[0].reason;
+}
+
+TEST(ThesisResults, ComparisonsMustAgreeWithTheThesissOwnValues) {
+  auto with_claim = [](const std::string& greater, const std::string& less) {
+    nlohmann::json document = nlohmann::json::parse(kVerdictThesis);
+    document["comparisons"][0]["greater"]["row"] = greater;
+    document["comparisons"][0]["less"]["row"] = less;
+    return document;
+  };
+  EXPECT_NO_THROW(parse_thesis_results(with_claim("C", "A"), "x.json"));  // 2.0 above 1.0
+  try {
+    parse_thesis_results(with_claim("B", "A"), "x.json");  // 0.5 above 1.0 is not what the thesis printed
+    FAIL() << "accepted";
+  } catch (const AnalysisError& e) {
+    EXPECT_EQ(std::string(e.what()), "x.json: comparisons[0]: the thesis's own values (0.5 and 1) do not have greater above less");
+  }
+  try {
+    parse_thesis_results(with_claim("Z", "A"), "x.json");
+    FAIL() << "accepted";
+  } catch (const AnalysisError& e) {
+    EXPECT_EQ(std::string(e.what()), "x.json: comparisons[0].greater: table 't' has no cell 'Z' / 'value'");
+  }
 }
 
 TEST(ThesisResults, MalformedFilesNameTheJsonPath) {
@@ -281,22 +409,56 @@ TEST(ThesisComparison, ArmfarmTableAgainstPrintsEveryThesisCell) {
 
   const auto result = testing::run_armfarm("table " + db + " --against " + kThesisFile);
   EXPECT_EQ(result.exit_code, 0) << result.output;
-  EXPECT_NE(result.output.find("| Joint 1 | avg(ff/fb) | 0.912390 | 0.4562 | 0.5 | 1 |"), std::string::npos) << result.output;
-  EXPECT_NE(result.output.find("| Joint 6 | avg(fb) | 0.001557 | 1.557e-03 | 1 | 1 |"), std::string::npos);
+  EXPECT_NE(result.output.find("| Joint 1 | avg(ff/fb) | 0.912390 | 0.4562 (1) | 0.5 | one seed |"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("| Joint 6 | avg(fb) | 0.001557 | 1.557e-03 (1) | 1 | one seed |"), std::string::npos);
   EXPECT_NE(result.output.find("not run (sweep table6_1_figure_eight absent)"), std::string::npos);
-  EXPECT_NE(result.output.find("| Joint 2 | avg(ff) | 0.329532 | not run (metric ff_abs_avg j2 absent) | — | 0 |"),
+  EXPECT_NE(result.output.find("| Joint 2 | avg(ff) | 0.329532 | not run (metric ff_abs_avg j2 absent) | — | — |"),
             std::string::npos);
 
   const auto only = testing::run_armfarm("table " + db + " --sweep table6_4_sine --against " + kThesisFile + " --format csv");
   EXPECT_EQ(only.exit_code, 0) << only.output;
   EXPECT_EQ(only.output.find("table6_1"), std::string::npos) << only.output;
-  EXPECT_NE(only.output.find("table6_4,Joint 1,avg(ff/fb),0.912390,0.456195,0.5,1,compared,"), std::string::npos) << only.output;
+  EXPECT_NE(only.output.find("table6_4,Joint 1,avg(ff/fb),0.912390,0.456195,,,0.5,1,one seed,compared,"), std::string::npos) << only.output;
 
   const std::string bad = dir.file("bad.json");
   std::ofstream(bad) << R"({"tables": [{"id": "t", "caption": "c", "page": "57"}]})";
   const auto failure = testing::run_armfarm("table " + db + " --against " + bad);
   EXPECT_EQ(failure.exit_code, 2);
   EXPECT_EQ(failure.output, "armfarm: " + bad + ": tables[0].page: expected a positive integer or null\n");
+}
+
+// --sweep takes every shipped spec: one mapped through a figure's facts prints that figure's
+// table; one that draws figures without numbers, or no thesis content, prints why and exits 0;
+// a name neither the file nor the database knows exits 2.
+TEST(ThesisComparison, ArmfarmTableAgainstAcceptsEveryShippedSweep) {
+  testing::TemporaryDirectory dir;
+  const std::string db = dir.file("results.db");
+  std::vector<testing::TestJob> jobs(2);
+  jobs[0].params = {{"seed", 0}};
+  jobs[0].metrics = {{0, "n_receptive_fields", std::nullopt, 300}};
+  jobs[1].params = {{"seed", 1}};
+  jobs[1].metrics = {{0, "n_receptive_fields", std::nullopt, 310}};
+  testing::write_test_sweep(db, "fig6_7_reaching_fields", jobs);
+  testing::write_test_sweep(db, "fig6_1_kernel_width", jobs);
+  testing::write_test_sweep(db, "controllers_sine", jobs);
+
+  const auto fields = testing::run_armfarm("table " + db + " --sweep fig6_7_reaching_fields --against " + kThesisFile);
+  EXPECT_EQ(fields.exit_code, 0) << fields.output;
+  EXPECT_NE(fields.output.find("### Figure 6.7: Number of receptive fields"), std::string::npos) << fields.output;
+  // 305 ∓ 12.706·5: [241.5, 368.5] holds 271.
+  EXPECT_NE(fields.output.find("| receptive fields after 1000 reaches (summed over the outputs) | fact | 271 | 305 [241.5, 368.5] (2) | 1.125 | matches |"),
+            std::string::npos)
+      << fields.output;
+  EXPECT_NE(fields.output.find("| receptive fields after 1 reach | fact | 12 | no metric | — | — |"), std::string::npos) << fields.output;
+
+  const auto kernel = testing::run_armfarm("table " + db + " --sweep fig6_1_kernel_width --against " + kThesisFile);
+  EXPECT_EQ(kernel.exit_code, 0) << kernel.output;
+  EXPECT_NE(kernel.output.find("sweep fig6_1_kernel_width draws figure(s) 6.1, 6.2"), std::string::npos) << kernel.output;
+  const auto other = testing::run_armfarm("table " + db + " --sweep controllers_sine --against " + kThesisFile);
+  EXPECT_EQ(other.exit_code, 0) << other.output;
+  EXPECT_NE(other.output.find("sweep controllers_sine reproduces no table or figure of the thesis"), std::string::npos) << other.output;
+  const auto typo = testing::run_armfarm("table " + db + " --sweep fig6_7_reaching_feilds --against " + kThesisFile);
+  EXPECT_EQ(typo.exit_code, 2) << typo.output;
 }
 
 }  // namespace

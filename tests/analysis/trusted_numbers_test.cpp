@@ -204,12 +204,21 @@ TEST(TrustedFigures, LogAxesPositiveErrorBarsAndNoSilentPooling) {
   for (Panel& p : many.panels) {
     for (int c = 0; c < 13; ++c) p.curves.push_back(Curve{"curve " + std::to_string(c), {0, 1}, {0, 1}, {}, {}});
   }
-  const std::string script = make_gnuplot_script(many, "set terminal svg", "out.svg", "/tmp");
+  const std::string script = make_gnuplot_script(many, TerminalSettings{"set terminal svg"}, "out.svg", "/tmp");
   EXPECT_NE(script.find("lc rgb '#332288' dt 2"), std::string::npos);  // the 13th curve: first colour, dashed
   EXPECT_NE(script.find("notitle"), std::string::npos);                // second panel repeats no legend
   std::size_t titled = 0;
   for (auto at = script.find(" title 'curve "); at != std::string::npos; at = script.find(" title 'curve ", at + 1)) ++titled;
   EXPECT_EQ(titled, 13u);
+  // The same group keeps its colour in every panel, whatever the order it is drawn in.
+  Figure swapped;
+  swapped.panels.resize(2);
+  swapped.panels[0].curves = {Curve{"online", {0, 1}, {0, 1}, {}, {}}, Curve{"batch", {0, 1}, {1, 0}, {}, {}}};
+  swapped.panels[1].curves = {Curve{"batch", {0, 1}, {0, 1}, {}, {}}};
+  const std::string two = make_gnuplot_script(swapped, TerminalSettings{"set terminal svg"}, "out.svg", "/tmp");
+  const auto batch_colour = two.find("lc rgb '#88CCEE'");
+  ASSERT_NE(batch_colour, std::string::npos);
+  EXPECT_NE(two.find("lc rgb '#88CCEE'", batch_colour + 1), std::string::npos) << two;  // batch twice, one colour
 }
 
 }  // namespace

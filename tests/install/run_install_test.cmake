@@ -1,6 +1,6 @@
 # ctest InstalledPackage.ConsumerBuildsAndRuns (cmake -P): installs the build tree into a scratch
 # prefix, checks the installed headers (exactly engine/**/*.hpp but *_internal.hpp, and the
-# store's two public headers; none includes Simbody, SQLite, urdfdom or tinyxml2), configures and builds
+# store's public headers; none includes Simbody, SQLite, urdfdom or tinyxml2), configures and builds
 # tests/install/consumer against the prefix, and checks that the consumer's job prints the same
 # tracking_nmse as the installed `armfarm job` on the same configuration (default model from
 # the installed share/armfarm).
@@ -28,7 +28,7 @@ run_checked(ignored ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 file(GLOB_RECURSE installed RELATIVE ${prefix}/include/armfarm ${prefix}/include/armfarm/*)
 file(GLOB_RECURSE expected RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/engine/*.hpp)
 list(FILTER expected EXCLUDE REGEX "_internal\\.hpp$")
-list(APPEND expected results/results_store.hpp results/store_error.hpp results/job_claims.hpp)
+list(APPEND expected results/results_store.hpp results/store_error.hpp results/job_claims.hpp results/search_store.hpp)
 list(SORT installed)
 list(SORT expected)
 if(NOT installed STREQUAL expected)

@@ -9,6 +9,8 @@
 #include "support/scratch_file.hpp"
 #include <sqlite3.h>
 
+#include <sys/stat.h>
+
 #include <filesystem>
 
 namespace armfarm {
@@ -130,6 +132,19 @@ TEST_F(DamagedDatabaseTest, BrokenStoredJsonIsFoundAndMergeRefusesIt) {
   expect_merge_refused(damaged, "config is not a JSON object");
 }
 
+// Issue 30, case 6: `status --check` passed a jobs.status of 'weird' (written with the CHECKs off).
+TEST_F(DamagedDatabaseTest, AnUnknownStatusValueIsFound) {
+  const std::string damaged = damage(
+      "PRAGMA ignore_check_constraints = ON; UPDATE jobs SET status = 'weird' WHERE id = 1; "
+      "UPDATE runs SET status = 'lost'");
+  const ResultsStore store = ResultsStore::open(damaged, ResultsStore::Mode::read_only);
+  const std::vector<std::string> findings = store.check_contents(false);
+  ASSERT_GE(findings.size(), 2u);
+  EXPECT_NE(findings[0].find("status 'weird' is not a job status"), std::string::npos) << findings[0];
+  EXPECT_NE(findings[1].find("status 'lost' is not a run status"), std::string::npos) << findings[1];
+  expect_merge_refused(damaged, "is not a job status");
+}
+
 TEST_F(DamagedDatabaseTest, ATextWhereANumberBelongsIsNeverReadAsZero) {
   // The CHECK constraint refuses the write; a script that switches checks off gets it in.
   EXPECT_NE(error_of([&] {
@@ -165,6 +180,30 @@ TEST_F(DamagedDatabaseTest, ASeriesBlobThatDoesNotDecodeIsFound) {
                 "rows or raw_bytes disagree"),
             std::string::npos);
   expect_merge_refused(damaged, "series of job row 1 (POS)");
+}
+
+}  // namespace
+}  // namespace armfarm
+
+namespace armfarm {
+namespace {
+
+// Issue 30, case 7: a FIFO given as the database blocked every command in open(); now it is
+// refused, read-only and writable, before SQLite opens it (a hang here is ended by ctest's timeout).
+TEST(DamagedDatabase, AFifoIsRefusedBeforeItIsOpened) {
+  const std::filesystem::path folder = test_support::make_scratch_folder("fifo");
+  const std::string fifo = (folder / "results.db").string();
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  for (const ResultsStore::Mode mode : {ResultsStore::Mode::read_only, ResultsStore::Mode::read_write}) {
+    try {
+      ResultsStore::open(fifo, mode);
+      ADD_FAILURE() << "a FIFO was opened";
+    } catch (const StoreError& e) {
+      EXPECT_EQ(std::string(e.what()), fifo + ": not a regular file (a FIFO, device or socket), not a database file");
+    }
+  }
+  EXPECT_THROW(ResultsStore::verify_file(fifo), StoreError);
+  std::filesystem::remove_all(folder);
 }
 
 }  // namespace

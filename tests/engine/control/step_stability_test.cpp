@@ -7,6 +7,7 @@
 // and the criterion must call the same side stable.
 #include "engine/control/step_stability.hpp"
 #include "engine/physics/arm_simulation.hpp"
+#include "../physics/test_arms.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,26 +19,8 @@ namespace {
 
 /// A link on a vertical pin: COM on the axis, I_zz = `inertia`, plus `armature` and `damping`.
 ArmModel make_turntable(double inertia, double armature, double damping) {
-  ArmModel model;
-  model.name = "turntable";
-  model.source_file = "(inline)";
-  model.links.resize(2);
-  model.links[0].name = "base";
-  model.links[0].fixed_to_world = true;
-  model.links[1].name = "table";
-  model.links[1].inertial.mass = 1.0;
-  model.links[1].inertial.inertia = Eigen::Vector3d(0.5, 0.5, inertia).asDiagonal();
-  Joint joint;
-  joint.name = "spin";
-  joint.parent_link = 0;
-  joint.child_link = 1;
-  joint.axis = Eigen::Vector3d::UnitZ();
-  joint.armature = armature;
-  joint.damping = damping;
-  joint.effort_limit = joint.velocity_limit = std::numeric_limits<double>::infinity();
-  model.joints.push_back(joint);
-  model.end_effector = {1, Eigen::Vector3d::Zero()};
-  return model;
+  return testing::make_one_link_arm("turntable", 1.0, Eigen::Vector3d::Zero(), Eigen::Vector3d(0.5, 0.5, inertia).asDiagonal(),
+                                    Eigen::Vector3d::UnitZ(), armature, damping);
 }
 
 struct PdRun {

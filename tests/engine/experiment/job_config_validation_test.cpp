@@ -25,7 +25,7 @@ std::set<std::string> paths_of(const JobConfig& config) {
 }
 
 TEST(JobConfigValidation, DefaultsAreValid) {
-  EXPECT_EQ(problems_of(JobConfig{}), "");
+  EXPECT_EQ(problems_of(JobConfig()), "");
   JobConfig config;
   config.active_joints = {2, 4};
   EXPECT_EQ(problems_of(config), "");
@@ -36,10 +36,10 @@ TEST(JobConfigValidation, EveryDefaultLiesInItsRange) {
   JobConfig config;
   for (const JobConfigKey& key : job_config_keys()) {
     const FieldRef field = key.field(config);
-    if (field.kind == ValueKind::real) EXPECT_TRUE(key.range.contains(field.real())) << key.path;
-    if (field.kind == ValueKind::integer) EXPECT_TRUE(key.range.contains(static_cast<double>(field.get_integer(field.field)))) << key.path;
-    if (field.kind == ValueKind::integer_or_auto && field.optional_integer()) EXPECT_TRUE(key.range.contains(*field.optional_integer())) << key.path;
-    if (field.kind == ValueKind::real_or_auto && field.optional_real()) EXPECT_TRUE(key.range.contains(*field.optional_real())) << key.path;
+    if (field.kind == ValueKind::real) { EXPECT_TRUE(key.range.contains(field.real())) << key.path; }
+    if (field.kind == ValueKind::integer) { EXPECT_TRUE(key.range.contains(static_cast<double>(field.get_integer(field.field)))) << key.path; }
+    if (field.kind == ValueKind::integer_or_auto && field.optional_integer()) { EXPECT_TRUE(key.range.contains(*field.optional_integer())) << key.path; }
+    if (field.kind == ValueKind::real_or_auto && field.optional_real()) { EXPECT_TRUE(key.range.contains(*field.optional_real())) << key.path; }
   }
 }
 
@@ -84,12 +84,12 @@ TEST(JobConfigValidation, RefusesJobsAboveTheCostBoundSayingWhy) {
   config.learning.mode = LearningMode::batch;
   EXPECT_EQ(paths_of(config), std::set<std::string>{"trajectory.sine.duration"});
   // Figure-eight: points × loops.
-  config = JobConfig{};
+  config = JobConfig();
   config.trajectory.kind = TrajectoryKind::figure_eight;
   config.trajectory.figure_eight.loops = 10000;
   EXPECT_EQ(paths_of(config), std::set<std::string>{"trajectory.figure_eight.loops"});
   // Epochs × samples: 1000 epochs over 0.75 × 2 × 2000 samples = 3e6 updates is fine, × 10 is not.
-  config = JobConfig{};
+  config = JobConfig();
   config.learning.mode = LearningMode::batch;
   config.learning.epochs = 1000;
   EXPECT_EQ(paths_of(config), std::set<std::string>{});
@@ -214,7 +214,7 @@ TEST(JobConfigValidation, SsgprBlockIsCheckedWhenSsgprLearns) {
   EXPECT_NE(problems_of(config).find("learning.ssgpr.lengthscales: has 4 values; give 1 or one per input (3 × 7 active joints = 21)"),
             std::string::npos)
       << problems_of(config);
-  config = JobConfig{};
+  config = JobConfig();
   config.learning.learner = LearnerKind::ssgpr;
   EXPECT_TRUE(validate(config, kLwr3).empty()) << problems_of(config);
 }

@@ -32,7 +32,7 @@ TEST(JobModel, TheConfiguredLinkIsTheEndEffectorAndTheFileStaysAsItWas) {
   ArmDynamics a(at_tcp), b(at_flange);
   const Eigen::VectorXd q = (Eigen::VectorXd(7) << 0.3, -0.6, 0.2, 1.1, -0.4, 0.7, 0.1).finished();
   EXPECT_NEAR((a.calc_end_effector_position(q) - b.calc_end_effector_position(q)).norm(), 0.10, 1e-12);
-  EXPECT_THROW(make_job_model(file, JobConfig{}), ModelError);
+  EXPECT_THROW(make_job_model(file, JobConfig()), ModelError);
 }
 
 TEST(JobModel, StartPostureReplacesEveryJointsStart) {
@@ -47,7 +47,7 @@ TEST(JobModel, StartPostureReplacesEveryJointsStart) {
   }
   EXPECT_EQ(check_job_model(made, config), "");
   // The file's model does not carry the configured posture: a job refuses it.
-  EXPECT_NE(check_job_model(make_job_model(file, JobConfig{}), config), "");
+  EXPECT_NE(check_job_model(make_job_model(file, JobConfig()), config), "");
   config.start_posture.resize(3);
   EXPECT_THROW(make_job_model(file, config), std::invalid_argument);
 }

@@ -88,7 +88,7 @@ TEST(JobSteps, TheLwrIiiDefaultJobKeepsOnePdPeriodAndOneStepPerTick) {
   JobConfig config;
   JobSetup setup(model, config);
   const JobTrajectories trajectories = build_job_trajectories(config, setup.nominal());
-  setup.choose_steps({&trajectories.training, &*trajectories.heldout});
+  setup.fit_to_trajectories({&trajectories.training, &*trajectories.heldout});
   EXPECT_EQ(setup.pd_substeps(), 1);
   EXPECT_EQ(setup.integrator_steps(), 1);
   const StepChoice start = calc_start_posture_steps(config, make_model_facts(model));
@@ -183,10 +183,10 @@ TEST(JobSteps, CollectionUsesTheJobsGainsUnlessCollectGainScaleIsSet) {
   config.learning.mode = LearningMode::batch;
   EXPECT_EQ(calc_collect_gain_scale(config), 0.2);
   const PdGains gains{Eigen::VectorXd::Constant(2, 100.0), Eigen::VectorXd::Constant(2, 10.0)};
-  EXPECT_EQ(make_job_controllers(config, gains).size(), 1u);  // one controller: the job's
+  EXPECT_EQ(make_job_controllers(config, gains, Eigen::VectorXd()).size(), 1u);  // one controller: the job's
   config.learning.collect_gain_scale = 1.0;
   EXPECT_EQ(calc_collect_gain_scale(config), 1.0);
-  const std::vector<JobController> both = make_job_controllers(config, gains);
+  const std::vector<JobController> both = make_job_controllers(config, gains, Eigen::VectorXd());
   ASSERT_EQ(both.size(), 2u);
   EXPECT_EQ(both[1].scale_key, "learning.collect_gain_scale");
   EXPECT_EQ(both[1].gains.kp[0], 100.0);

@@ -242,7 +242,7 @@ TEST(RunExperiment, EveryMetricIsCatalogued) {
   ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
   for (const Metric& metric : outcome.metrics) {
     EXPECT_NO_THROW(find_metric_info(metric.name)) << metric.name;
-    if (!metric.value) EXPECT_FALSE(metric.reason.empty()) << metric.name;
+    if (!metric.value) { EXPECT_FALSE(metric.reason.empty()) << metric.name; }
   }
 }
 

@@ -44,7 +44,7 @@ void expect_identical(const JobOutcome& a, const JobOutcome& b) {
     EXPECT_EQ(x.joint, y.joint) << x.name;
     if (find_metric_info(x.name).kind == MetricKind::timing) continue;
     ASSERT_EQ(x.value.has_value(), y.value.has_value()) << x.name;
-    if (x.value) EXPECT_TRUE(same_bits(*x.value, *y.value)) << x.name << ": " << *x.value << " vs " << *y.value;
+    if (x.value) { EXPECT_TRUE(same_bits(*x.value, *y.value)) << x.name << ": " << *x.value << " vs " << *y.value; }
     ++compared;
   }
   EXPECT_GT(compared, 30);

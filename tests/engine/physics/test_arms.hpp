@@ -1,9 +1,10 @@
 #pragma once
 // Arms for the physics tests: a 2-link planar arm built inline (its closed-form dynamics are in
-// arm_dynamics_test.cpp) and the shipped 7-DOF LWR III model.
+// arm_dynamics_test.cpp), a one-link arm, and the shipped 7-DOF LWR III model.
 #include "engine/model/arm_model.hpp"
 #include "engine/model/model_loading.hpp"
 
+#include <limits>
 #include <string>
 
 namespace armfarm::testing {
@@ -45,6 +46,34 @@ inline ArmModel make_planar_arm(const PlanarArmParameters& p) {
     model.joints.push_back(joint);
   }
   model.end_effector = {2, Eigen::Vector3d(0.8, 0, 0)};
+  return model;
+}
+
+/// One link on one revolute joint at the world origin, turning about `axis`: `mass` at `com`
+/// (link frame), `inertia` about the COM, the joint's `armature` and viscous `damping`, no limits;
+/// the end effector at the COM. The closed-form cases of the control tests (turntable, pendulum).
+inline ArmModel make_one_link_arm(const std::string& name, double mass, const Eigen::Vector3d& com, const Eigen::Matrix3d& inertia,
+                                  const Eigen::Vector3d& axis, double armature = 0.0, double damping = 0.0) {
+  ArmModel model;
+  model.name = name;
+  model.source_file = "(inline)";
+  model.links.resize(2);
+  model.links[0].name = "base";
+  model.links[0].fixed_to_world = true;
+  model.links[1].name = "link";
+  model.links[1].inertial.mass = mass;
+  model.links[1].inertial.com = com;
+  model.links[1].inertial.inertia = inertia;
+  Joint joint;
+  joint.name = "joint";
+  joint.parent_link = 0;
+  joint.child_link = 1;
+  joint.axis = axis;
+  joint.armature = armature;
+  joint.damping = damping;
+  joint.effort_limit = joint.velocity_limit = std::numeric_limits<double>::infinity();
+  model.joints.push_back(joint);
+  model.end_effector = {1, com};
   return model;
 }
 

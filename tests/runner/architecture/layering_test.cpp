@@ -2,7 +2,8 @@
 // runner/ (README.md, "Where things are"; HELPERS' house rules): engine knows nothing of the
 // runner, the store, the analysis, JSON, SQLite or TBB; results depends on nothing of ours;
 // analysis on results only; engine/control not on engine/experiment; runner/spec and
-// runner/config not on runner/execution; only engine/physics/simbody_* include Simbody.
+// runner/config not on runner/execution; runner/search (the samplers) on none of the runner's
+// other folders, the store, JSON, SQLite or TBB; only engine/physics/simbody_* include Simbody.
 // A fixture tree with deliberately wrong includes proves the check fails.
 #include <gtest/gtest.h>
 
@@ -30,6 +31,8 @@ const std::vector<Rule>& layering_rules() {
       {"engine/control/", {"engine/experiment/"}, "control is a part the experiment assembles, not the other way"},
       {"runner/spec/", {"runner/execution/", "runner/cli/"}, "spec expansion does not know how jobs run"},
       {"runner/config/", {"runner/execution/", "runner/cli/"}, "configuration does not know how jobs run"},
+      {"runner/search/", {"runner/execution/", "runner/cli/", "runner/spec/", "runner/config/", "results/", "analysis/", "nlohmann/", "sqlite3.h", "tbb/"},
+       "the samplers are pure: no spec, store, JSON, SQLite or threads"},
   };
   return rules;
 }
@@ -113,6 +116,7 @@ TEST(LayeringTest, FixtureWithWrongIncludesFails) {
       "engine/control/gains.hpp:5: includes engine/experiment/run_experiment.hpp: control is a part the experiment assembles, not the other way",
       "engine/control/gains.hpp:6: includes Simbody.h: only engine/physics/simbody_* include Simbody",
       "results/store.cpp:2: includes engine/model/arm_model.hpp: results/ depends on nothing of ours",
+      "runner/search/sampler.cpp:3: includes nlohmann/json.hpp: the samplers are pure: no spec, store, JSON, SQLite or threads",
       "runner/spec/expand.cpp:2: includes runner/execution/job_executor.hpp: spec expansion does not know how jobs run",
   };
   EXPECT_EQ(violations, expected);

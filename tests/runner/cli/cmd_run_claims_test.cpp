@@ -1,6 +1,6 @@
 // Runners sharing one database through job claims (processes of the built binary, fake jobs):
 // two runners started together on a fresh file split 24 jobs with every job run once; a runner
-// killed with SIGKILL has its claims taken over after the (test-short) --claim-timeout and every
+// killed with SIGKILL has its claims taken over after the (test-short) lease of the file and every
 // job ends done exactly once; `status` lists the live claims with owner, host, pid and ages.
 #include "results/results_store.hpp"
 
@@ -114,7 +114,9 @@ TEST_F(CmdRunClaimsTest, TwoRunnersOnOneFreshDatabaseRunEveryJobOnce) {
 // Starts a runner on `db` and SIGKILLs it after 4 jobs are done; returns its pid and the keys of
 // the jobs it held (claimed and running) when it died.
 std::pair<pid_t, std::vector<std::string>> CmdRunClaimsTest::kill_a_runner_mid_sweep(const std::string& db) {
-  const Process victim = start({"run", path("s24.json"), "--db", db, "-j", "2", "--claim-timeout", "1"}, path("v.txt"));
+  // The file's lease, 1 s for this test, for both runners.
+  EXPECT_EQ(wait_exit_code(start({"lease", db, "1"}, path("lease.txt"))), 0) << read_text(path("lease.txt"));
+  const Process victim = start({"run", path("s24.json"), "--db", db, "-j", "2"}, path("v.txt"));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   // Killed while it holds a job: after 4 are done, at a moment a job is running.
   while ((count_status(db, "done") < 4 || count_status(db, "running") == 0) && std::chrono::steady_clock::now() < deadline) {
@@ -160,7 +162,7 @@ TEST_F(CmdRunClaimsTest, AKilledRunnersClaimsAreTakenOverAfterTheTimeout) {
 
   // Started at once, the survivor sees the claims live, waits out the 1 s timeout, takes them over.
   const auto start_time = std::chrono::steady_clock::now();
-  const Process survivor = start({"run", path("s24.json"), "--db", db, "-j", "2", "--claim-timeout", "1"}, path("s.txt"));
+  const Process survivor = start({"run", path("s24.json"), "--db", db, "-j", "2"}, path("s.txt"));
   const int survivor_exit = wait_exit_code(survivor);
   const std::string out = read_text(survivor.output_path);
   EXPECT_EQ(survivor_exit, 0) << out;

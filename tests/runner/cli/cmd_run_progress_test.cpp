@@ -128,10 +128,10 @@ TEST_F(CmdRunProgressTest, AFullDiskPrintsNoDoneThatWasNotCommittedAndTheNextRun
 
   // Room again: the next run skips exactly the saved jobs and runs exactly the others.
   ASSERT_EQ(mount("tmpfs", disk.c_str(), "tmpfs", MS_REMOUNT, "size=64m"), 0) << std::strerror(errno);
-  // The stopped run's claims could not be released on the full disk: a short claim timeout lets
-  // the next run take them over at once instead of after the default minute.
-  const CommandResult resumed =
-      run_armfarm("run " + path("full.json") + " --db " + db + " -j 2 --heartbeat 0 --claim-timeout 0.5");
+  // The stopped run's claims could not be released on the full disk: a short lease lets the next
+  // run take them over at once instead of after the default minute.
+  ASSERT_EQ(run_armfarm("lease " + db + " 0.5").exit_code, 0);
+  const CommandResult resumed = run_armfarm("run " + path("full.json") + " --db " + db + " -j 2 --heartbeat 0");
   EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_NE(resumed.output.find(std::to_string(stored.size()) + " already done (skipped)"), std::string::npos)
       << resumed.output;

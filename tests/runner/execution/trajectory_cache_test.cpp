@@ -71,7 +71,7 @@ TEST(TrajectoryCache, SweepOnSharedTrajectoriesMatchesFreshExecutorsBitForBit) {
     for (std::size_t m = 0; m < a.metrics.size(); ++m) {
       if (find_metric_info(a.metrics[m].name).kind == MetricKind::timing) continue;
       ASSERT_EQ(a.metrics[m].value.has_value(), b.metrics[m].value.has_value()) << a.metrics[m].name;
-      if (a.metrics[m].value) EXPECT_TRUE(same_bits(*a.metrics[m].value, *b.metrics[m].value)) << a.metrics[m].name;
+      if (a.metrics[m].value) { EXPECT_TRUE(same_bits(*a.metrics[m].value, *b.metrics[m].value)) << a.metrics[m].name; }
     }
   }
 }

@@ -1,0 +1,63 @@
+#pragma once
+// A search's record in the store (results/README.md, "Searches"): its settings and objective
+// (`searches`), its rungs (`search_rungs`), its trials (`search_trials`) and its steps — new
+// trials and promotions, each one job with a normal key (`search_steps`; the view
+// `search_promotions` lists the promotions). A resumed search reads them back and replays its
+// decisions (runner/search/search_sequence.hpp); the objective value each step saw is stored
+// with it so the replay needs no metric lookups, and `table`, `plot search` and `status` read
+// the same rows. Costs are estimated CPU-seconds (or 1 per job for a budget in jobs).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace armfarm {
+
+struct SearchRungRecord {
+  std::int64_t rung = 0;
+  std::optional<std::int64_t> checkpoint;  ///< the learning checkpoint it stops at; empty: the whole job
+  double cost = 0.0;                       ///< estimated cost of a job from scratch to this rung
+};
+
+struct SearchRecord {
+  std::string sweep;
+  std::string method;   ///< random, tpe, asha, successive_halving, hyperband
+  std::string sampler;  ///< random, tpe
+  std::int64_t seed = 0;
+  std::int64_t eta = 3;
+  std::int64_t slots = 1;
+  std::string budget_unit;  ///< jobs, cpu_seconds
+  double budget = 0.0;
+  bool resumable = true;    ///< promotions continue from the stored model (false: they rerun, costing the whole rung)
+  std::string objective_metric;
+  std::string objective_direction;  ///< lower, higher
+  std::optional<std::int64_t> objective_joint;       ///< empty: the mean over the joints
+  std::optional<std::int64_t> objective_checkpoint;  ///< empty: a metric without checkpoints
+  std::vector<SearchRungRecord> rungs;
+};
+
+struct SearchTrialRecord {
+  std::int64_t trial = 0;
+  std::int64_t bracket = 0;
+  std::string params;  ///< JSON object of the axes' values {"dotted.path": value}
+};
+
+struct SearchStepRecord {
+  std::int64_t step = 0;
+  std::int64_t trial = 0;
+  std::int64_t rung = 0;
+  std::int64_t visible = 0;  ///< the steps whose objectives the decision saw
+  std::string kind;          ///< new, promotion
+  double cost = 0.0;
+  std::string job_key;
+  std::optional<double> objective;  ///< the value seen (signed as the metric, not as a loss); empty until committed or undefined
+  std::string reason;               ///< why `objective` is empty once the job ended (failed, diverged, NULL metric)
+  bool committed = false;           ///< the job ended and its objective (or reason) is stored
+};
+
+namespace search_store_sql {
+/// The migration step that adds the search tables (appended to the store's migration list).
+extern const char* const kMigration;
+}  // namespace search_store_sql
+
+}  // namespace armfarm

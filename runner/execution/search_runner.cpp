@@ -1,0 +1,205 @@
+#include "runner/execution/search_runner.hpp"
+
+#include <filesystem>
+#include <limits>
+#include <map>
+
+#include "runner/search/search_sequence.hpp"
+
+namespace armfarm {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// The expanded job of one step (its key is the job key).
+ExpandedJob expand_step(const SweepSpec& spec, const JobConfigSchema& schema, const search::SearchPoint& point,
+                        std::size_t rung) {
+  SweepSpec one = spec;
+  one.search->decided = std::vector<std::pair<search::SearchPoint, std::size_t>>{{point, rung}};
+  ExpandedSweep sweep = expand_sweep(std::move(one), schema);
+  return sweep.jobs.front();
+}
+
+// The objective of a done job at `rung` (as the metric), or empty when the metric is NULL or absent.
+std::optional<double> find_objective(const ResultsStore& store, std::int64_t job_id, const SpecSearch& search,
+                                     std::size_t rung) {
+  const std::optional<std::int64_t> checkpoint =
+      search.objective.checkpoint ? std::optional<std::int64_t>(search.rungs[rung]) : std::nullopt;
+  const std::optional<int> joint = search.objective.joint > 0 ? std::optional<int>(search.objective.joint) : std::nullopt;
+  for (const MetricRecord& m : store.find_metrics(job_id)) {
+    if (m.name == search.objective.metric && m.joint == joint && m.checkpoint == checkpoint) return m.value;
+  }
+  return std::nullopt;
+}
+
+struct Replay {
+  search::SearchHistory history;
+  std::vector<std::string> keys;                 ///< per step
+  std::vector<std::optional<double>> objectives;  ///< per committed step, as the metric
+  std::vector<std::string> reasons;               ///< per committed step, why the objective is empty
+  bool finished = false;                          ///< the search decided it is over
+};
+
+Replay replay(const SweepSpec& spec, const search::SearchSettings& settings, const JobConfigSchema& schema,
+              const std::string& db_path, std::map<std::pair<std::size_t, std::size_t>, std::string>& key_cache) {
+  Replay r;
+  std::optional<ResultsStore> store;
+  if (std::filesystem::exists(db_path)) store = ResultsStore::open(db_path, ResultsStore::Mode::read_only);
+  // Takes the committed outcome of the next step without a loss; false when its job has not run.
+  const auto take_loss = [&] {
+    const std::size_t s = r.history.losses.size();
+    const std::optional<JobRecord> job = store ? store->find_job(r.keys[s]) : std::nullopt;
+    if (!job || (job->status != "done" && job->status != "failed" && job->status != "diverged" && job->status != "timeout")) {
+      return false;
+    }
+    std::optional<double> objective;
+    std::string reason = job->status;
+    if (job->status == "done") {
+      objective = find_objective(*store, job->id, *spec.search, r.history.steps[s].rung);
+      reason = objective ? "" : "the objective metric is undefined (NULL) or missing";
+    }
+    r.history.losses.push_back(!objective ? kInfinity : spec.search->objective.lower_is_better ? *objective : -*objective);
+    r.objectives.push_back(objective);
+    r.reasons.push_back(reason);
+    return true;
+  };
+  for (;;) {
+    const search::NextStep next = search::calc_next_step(settings, r.history);
+    if (next.needs_loss) {
+      if (!take_loss()) return r;  // not run yet: the replay stops here
+      continue;
+    }
+    if (next.decision.kind != search::SearchDecision::Kind::run) {
+      r.finished = true;
+      while (r.history.losses.size() < r.history.steps.size() && take_loss()) {
+      }
+      return r;
+    }
+    search::add_step(next.decision, next.visible, r.history);
+    const search::SearchStep& step = r.history.steps.back();
+    const auto id = std::make_pair(step.trial, step.rung);
+    auto cached = key_cache.find(id);
+    if (cached == key_cache.end()) {
+      cached = key_cache.emplace(id, expand_step(spec, schema, r.history.trials[step.trial].point, step.rung).key).first;
+    }
+    r.keys.push_back(cached->second);
+  }
+}
+
+// Writes what the store lacks of the replayed search: the search row, new steps, objectives.
+void record_search(const SweepSpec& spec, const search::SearchSettings& settings, const Replay& r,
+                   const std::string& db_path) {
+  ResultsStore store = ResultsStore::open(db_path, ResultsStore::Mode::read_write);
+  if (!store.find_sweep(spec.name)) return;
+  const SpecSearch& search = *spec.search;
+  SearchRecord record;
+  record.sweep = spec.name;
+  record.method = search::to_string(settings.method);
+  record.sampler = search::to_string(settings.sampler);
+  record.seed = static_cast<std::int64_t>(settings.seed);
+  record.eta = static_cast<std::int64_t>(settings.eta);
+  record.slots = static_cast<std::int64_t>(settings.slots);
+  record.budget_unit = search.budget_unit == SpecSearch::BudgetUnit::jobs ? "jobs" : "cpu_seconds";
+  record.budget = settings.budget;
+  record.resumable = settings.resumable;
+  record.objective_metric = search.objective.metric;
+  record.objective_direction = search.objective.lower_is_better ? "lower" : "higher";
+  if (search.objective.joint > 0) record.objective_joint = search.objective.joint;
+  record.objective_checkpoint = search.objective.checkpoint;
+  for (std::size_t k = 0; k < settings.rung_cost.size(); ++k) {
+    SearchRungRecord rung;
+    rung.rung = static_cast<std::int64_t>(k);
+    if (search.objective.checkpoint) rung.checkpoint = search.rungs[k];
+    rung.cost = settings.rung_cost[k];
+    record.rungs.push_back(rung);
+  }
+  store.insert_search(record);
+  const std::vector<SearchStepRecord> stored = store.find_search_steps(spec.name);
+  std::size_t trials_stored = store.find_search_trials(spec.name).size();
+  for (std::size_t s = stored.size(); s < r.history.steps.size(); ++s) {
+    if (!store.find_job(r.keys[s])) break;  // registered by a later round
+    const search::SearchStep& step = r.history.steps[s];
+    SearchStepRecord row;
+    row.step = static_cast<std::int64_t>(s);
+    row.trial = static_cast<std::int64_t>(step.trial);
+    row.rung = static_cast<std::int64_t>(step.rung);
+    row.visible = static_cast<std::int64_t>(step.visible);
+    row.cost = step.cost;
+    row.job_key = r.keys[s];
+    const bool new_trial = step.trial >= trials_stored;
+    row.kind = new_trial ? "new" : "promotion";
+    std::optional<SearchTrialRecord> trial;
+    if (new_trial) {
+      trial = SearchTrialRecord{row.trial, static_cast<std::int64_t>(r.history.trials[step.trial].bracket),
+                                calc_search_step_params(search, r.history.trials[step.trial].point, step.rung).dump()};
+      trials_stored = step.trial + 1;
+    }
+    store.insert_search_step(spec.name, row, trial);
+  }
+  const std::vector<SearchStepRecord> now = store.find_search_steps(spec.name);
+  for (std::size_t s = 0; s < now.size() && s < r.objectives.size(); ++s) {
+    if (!now[s].committed) store.update_search_objective(spec.name, static_cast<std::int64_t>(s), r.objectives[s], r.reasons[s]);
+  }
+}
+
+}  // namespace
+
+SearchRunSummary run_search(const SweepSpec& spec, const JobKind& kind, const RunOptions& options,
+                            const ExpansionLimits& limits, const std::atomic<bool>& stop_requested) {
+  const SpecSearch& search = *spec.search;
+  search::SearchSettings settings = search.settings;
+  settings.resumable = false;  // promotions rerun from scratch (see the header)
+  settings.budget = search.budget;
+  settings.rung_cost.assign(search.rungs.size(), 1.0);
+  if (search.budget_unit == SpecSearch::BudgetUnit::cpu_seconds) {
+    // Each rung's job at the first prior point (the axes change little of a job's cost; the
+    // checkpoints, i.e. the rung, decide it).
+    RandomStream stream = search::make_trial_stream(settings.seed, 0);
+    const search::SearchPoint point = search::calc_random_point(settings.space, stream);
+    for (std::size_t k = 0; k < search.rungs.size(); ++k) {
+      settings.rung_cost[k] = kind.estimate_cost(expand_step(spec, kind.schema, point, k).config()).cost;
+    }
+  }
+  RunOptions round = options;
+  round.rerun_unsuccessful = false;  // a failed or diverged trial is an outcome (+∞), not retried every round
+  std::map<std::pair<std::size_t, std::size_t>, std::string> key_cache;
+  SearchRunSummary summary;
+  for (;;) {
+    const Replay r = replay(spec, settings, kind.schema, options.db_path, key_cache);
+    summary.steps = r.history.steps.size();
+    summary.trials = r.history.trials.size();
+    summary.spent = search::calc_spent(r.history);
+    const std::size_t last = settings.rung_cost.size() - 1;
+    summary.best.reset();
+    for (std::size_t s = 0; s < r.objectives.size(); ++s) {
+      if (r.history.steps[s].rung != last || !r.objectives[s]) continue;
+      const double loss = r.history.losses[s];
+      if (!summary.best || loss < (search.objective.lower_is_better ? *summary.best : -*summary.best)) {
+        summary.best = r.objectives[s];
+        summary.best_trial = r.history.steps[s].trial;
+      }
+    }
+    if (summary.rounds > 0 || std::filesystem::exists(options.db_path)) record_search(spec, settings, r, options.db_path);
+    if (r.finished && r.history.losses.size() == r.history.steps.size()) {
+      summary.finished = true;
+      return summary;
+    }
+    if (r.history.steps.size() == r.history.losses.size()) return summary;  // nothing to run: cannot happen
+    SweepSpec expanded = spec;
+    expanded.search->decided.emplace();
+    for (const search::SearchStep& step : r.history.steps) {
+      expanded.search->decided->emplace_back(r.history.trials[step.trial].point, step.rung);
+    }
+    const ExpandedSweep sweep = expand_sweep(std::move(expanded), kind.schema, limits);
+    summary.last = run_sweep(sweep, kind.executor, round, stop_requested);
+    ++summary.rounds;
+    if (summary.last.interrupted || !summary.last.write_error.empty() || summary.last.abandoned > 0 ||
+        stop_requested.load()) {
+      const Replay after = replay(spec, settings, kind.schema, options.db_path, key_cache);
+      record_search(spec, settings, after, options.db_path);
+      return summary;
+    }
+  }
+}
+
+}  // namespace armfarm

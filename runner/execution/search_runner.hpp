@@ -1,0 +1,48 @@
+#pragma once
+// Runs a sweep with a `search` block (sweeps/README.md, "Search"): decides steps with the
+// samplers of runner/search/, runs them as ordinary jobs with run_sweep, and records the search
+// in the store (results/search_store.hpp).
+//
+// Rounds. Each round first *replays* the search from the database: the decisions are taken again
+// from the start (calc_next_step), and whenever one needs the objective of step s the job of
+// step s is looked up by its key — done: its objective metric at the step's checkpoint (signed
+// into a loss by the catalog's direction; NULL → +∞); failed, diverged or timed out: +∞; not yet
+// run: the replay stops there. The steps decided so far whose jobs are not finished are run
+// (at most `slots` of them: the visibility rule bounds how far decisions run ahead of results),
+// then the next round replays again. So the trial sequence is a function of the spec and the
+// committed results only: the same at -j1 and -j8, after kill -9 (the killed round's jobs are
+// pending and run again), and with several runners on one file (claims share the jobs).
+//
+// Promotions rerun. A step to rung r is a job whose learning.heldout_checkpoints stop at rung r's
+// checkpoint, started from scratch: this build's jobs cannot continue a learning pass from a
+// stored model and the trajectory state at a checkpoint, so a promotion costs the whole rung
+// (SearchSettings::resumable = false) and the budget counts it.
+//
+// Costs. A budget in jobs counts 1 per step. A budget in cpu_seconds counts the job-cost
+// model's uncalibrated estimate of each rung's job (job_cost.hpp, joint-seconds: the same on
+// every machine, so the decisions stay a function of the spec).
+#include "runner/execution/job_kind.hpp"
+#include "runner/execution/sweep_runner.hpp"
+
+#include <atomic>
+#include <string>
+
+namespace armfarm {
+
+struct SearchRunSummary {
+  std::size_t steps = 0;
+  std::size_t trials = 0;
+  std::size_t rounds = 0;
+  double spent = 0.0;          ///< in the budget's unit
+  bool finished = false;       ///< the search decided it is over and every step is committed
+  RunSummary last;             ///< the last round's run_sweep summary
+  std::optional<double> best;  ///< the best objective at the last rung (as the metric, not the loss)
+  std::size_t best_trial = 0;
+};
+
+/// Runs `spec` (which has a search) to its end, or until a round is interrupted or fails to
+/// write. Throws SpecError, ConfigError or StoreError as expand_sweep and run_sweep do.
+SearchRunSummary run_search(const SweepSpec& spec, const JobKind& kind, const RunOptions& options,
+                            const ExpansionLimits& limits, const std::atomic<bool>& stop_requested);
+
+}  // namespace armfarm

@@ -1,0 +1,110 @@
+#include "runner/search/parzen_estimator.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace armfarm::search {
+namespace {
+
+constexpr double kInverseSqrtTwo = 0.70710678118654752440;
+constexpr double kInverseSqrtTwoPi = 0.39894228040143267794;
+
+// Draws a truncated normal by rejection. Every centre lies in [a, b] and σ ≤ b − a, so at least
+// Φ(1) − Φ(0) ≈ 0.34 of the mass is inside and 200 tries fail with probability below 1e-36; the
+// clamp after them only keeps the function total.
+double draw_truncated_normal(double mean, double deviation, InternalInterval interval, RandomStream& stream) {
+  for (int attempt = 0; attempt < 200; ++attempt) {
+    const double z = stream.normal(mean, deviation);
+    if (z >= interval.low && z <= interval.high) return z;
+  }
+  return std::clamp(mean, interval.low, interval.high);
+}
+
+}  // namespace
+
+double calc_normal_cdf(double x) { return 0.5 * std::erfc(-x * kInverseSqrtTwo); }
+
+NumericParzen make_numeric_parzen(const SearchAxis& axis, std::vector<double> values) {
+  NumericParzen parzen;
+  parzen.interval = calc_internal_interval(axis);
+  parzen.integer = axis.kind == AxisKind::integer;
+  std::sort(values.begin(), values.end());
+  parzen.centres = values;
+  const std::size_t m = values.size();
+  const double width = parzen.interval.high - parzen.interval.low;
+  const double smallest = width / std::min(100.0, static_cast<double>(m + 1));
+  parzen.bandwidths.resize(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const double left = i == 0 ? parzen.interval.low : values[i - 1];
+    const double right = i + 1 == m ? parzen.interval.high : values[i + 1];
+    const double gap = std::max(values[i] - left, right - values[i]);
+    parzen.bandwidths[i] = std::clamp(gap, smallest, width);
+  }
+  return parzen;
+}
+
+double calc_log_density(const NumericParzen& parzen, double z) {
+  const double a = parzen.interval.low;
+  const double b = parzen.interval.high;
+  const double width = b - a;
+  if (!(width > 0.0)) return 0.0;  // a single-value axis: every draw is that value
+  const double m = static_cast<double>(parzen.centres.size());
+  // The prior: density 1/(b−a), or mass 1/(b−a) for an integer cell of width 1.
+  double sum = 1.0 / width;
+  for (std::size_t i = 0; i < parzen.centres.size(); ++i) {
+    const double mu = parzen.centres[i];
+    const double sigma = parzen.bandwidths[i];
+    const double mass_inside = calc_normal_cdf((b - mu) / sigma) - calc_normal_cdf((a - mu) / sigma);
+    if (parzen.integer) {
+      const double lo = std::max(a, z - 0.5);
+      const double hi = std::min(b, z + 0.5);
+      sum += (calc_normal_cdf((hi - mu) / sigma) - calc_normal_cdf((lo - mu) / sigma)) / mass_inside;
+    } else {
+      const double u = (z - mu) / sigma;
+      sum += kInverseSqrtTwoPi * std::exp(-0.5 * u * u) / (sigma * mass_inside);
+    }
+  }
+  return std::log(sum / (m + 1.0));
+}
+
+double calc_parzen_draw(const NumericParzen& parzen, RandomStream& stream) {
+  const std::size_t component = stream.uniform_index(parzen.centres.size() + 1);
+  double z = 0.0;
+  if (component == parzen.centres.size()) {
+    z = stream.uniform(parzen.interval.low, parzen.interval.high);
+  } else {
+    z = draw_truncated_normal(parzen.centres[component], parzen.bandwidths[component], parzen.interval, stream);
+  }
+  if (parzen.integer) {
+    z = std::clamp(std::nearbyint(z), std::ceil(parzen.interval.low), std::floor(parzen.interval.high));
+  }
+  return z;
+}
+
+CategoricalParzen make_categorical_parzen(std::size_t choice_count, const std::vector<double>& choices) {
+  CategoricalParzen parzen;
+  const double k = static_cast<double>(choice_count);
+  const double m = static_cast<double>(choices.size());
+  std::vector<double> counts(choice_count, 0.0);
+  for (double choice : choices) counts[static_cast<std::size_t>(choice)] += 1.0;
+  parzen.probabilities.resize(choice_count);
+  for (std::size_t c = 0; c < choice_count; ++c) parzen.probabilities[c] = (counts[c] + 1.0 / k) / (m + 1.0);
+  return parzen;
+}
+
+double calc_log_density(const CategoricalParzen& parzen, double choice) {
+  return std::log(parzen.probabilities[static_cast<std::size_t>(choice)]);
+}
+
+double calc_parzen_draw(const CategoricalParzen& parzen, RandomStream& stream) {
+  // Inverse of the cumulative probabilities; the last choice takes any rounding remainder.
+  const double u = stream.uniform();
+  double cumulative = 0.0;
+  for (std::size_t c = 0; c + 1 < parzen.probabilities.size(); ++c) {
+    cumulative += parzen.probabilities[c];
+    if (u < cumulative) return static_cast<double>(c);
+  }
+  return static_cast<double>(parzen.probabilities.size() - 1);
+}
+
+}  // namespace armfarm::search

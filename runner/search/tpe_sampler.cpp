@@ -1,0 +1,93 @@
+#include "runner/search/tpe_sampler.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "runner/search/parzen_estimator.hpp"
+
+namespace armfarm::search {
+namespace {
+
+// The good and bad estimators of one axis.
+struct AxisEstimators {
+  NumericParzen good_numeric;
+  NumericParzen bad_numeric;
+  CategoricalParzen good_categorical;
+  CategoricalParzen bad_categorical;
+};
+
+std::vector<double> axis_values(const SearchAxis& axis, std::size_t index, const std::vector<const Observation*>& group) {
+  std::vector<double> values;
+  values.reserve(group.size());
+  for (const Observation* o : group) {
+    const double value = o->point[index];
+    values.push_back(axis.kind == AxisKind::categorical ? value : calc_internal_coordinate(axis, value));
+  }
+  return values;
+}
+
+}  // namespace
+
+SearchPoint calc_tpe_point(const SearchSpace& space, const TpeSettings& settings, const std::vector<Observation>& known,
+                           const std::vector<Observation>& pending, RandomStream& stream) {
+  if (known.size() < std::max<std::size_t>(settings.startup, 2)) return calc_random_point(space, stream);
+
+  // The liars take the worst known loss (a failed trial's +∞ included: it still sorts last).
+  double worst = -std::numeric_limits<double>::infinity();
+  for (const Observation& o : known) worst = std::max(worst, o.loss);
+  std::vector<Observation> liars = pending;
+  for (Observation& liar : liars) liar.loss = worst;
+
+  std::vector<const Observation*> all;
+  for (const Observation& o : known) all.push_back(&o);
+  for (const Observation& o : liars) all.push_back(&o);
+  std::stable_sort(all.begin(), all.end(), [](const Observation* x, const Observation* y) {
+    if (x->loss != y->loss) return x->loss < y->loss;
+    return x->trial < y->trial;
+  });
+  const auto n = static_cast<double>(known.size());
+  const std::size_t n_good = std::clamp<std::size_t>(static_cast<std::size_t>(std::ceil(settings.gamma * n)), 1,
+                                                     std::min(settings.max_good, known.size() - 1));
+  const std::vector<const Observation*> good(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(n_good));
+  const std::vector<const Observation*> bad(all.begin() + static_cast<std::ptrdiff_t>(n_good), all.end());
+
+  std::vector<AxisEstimators> estimators(space.axes.size());
+  for (std::size_t d = 0; d < space.axes.size(); ++d) {
+    const SearchAxis& axis = space.axes[d];
+    if (axis.kind == AxisKind::categorical) {
+      estimators[d].good_categorical = make_categorical_parzen(axis.choice_count, axis_values(axis, d, good));
+      estimators[d].bad_categorical = make_categorical_parzen(axis.choice_count, axis_values(axis, d, bad));
+    } else {
+      estimators[d].good_numeric = make_numeric_parzen(axis, axis_values(axis, d, good));
+      estimators[d].bad_numeric = make_numeric_parzen(axis, axis_values(axis, d, bad));
+    }
+  }
+
+  SearchPoint best;
+  double best_score = -std::numeric_limits<double>::infinity();
+  for (std::size_t c = 0; c < std::max<std::size_t>(settings.candidates, 1); ++c) {
+    SearchPoint candidate(space.axes.size());
+    double score = 0.0;
+    for (std::size_t d = 0; d < space.axes.size(); ++d) {
+      const SearchAxis& axis = space.axes[d];
+      const AxisEstimators& e = estimators[d];
+      if (axis.kind == AxisKind::categorical) {
+        const double choice = calc_parzen_draw(e.good_categorical, stream);
+        candidate[d] = choice;
+        score += calc_log_density(e.good_categorical, choice) - calc_log_density(e.bad_categorical, choice);
+      } else {
+        const double z = calc_parzen_draw(e.good_numeric, stream);
+        candidate[d] = calc_axis_value(axis, z);
+        score += calc_log_density(e.good_numeric, z) - calc_log_density(e.bad_numeric, z);
+      }
+    }
+    if (best.empty() || score > best_score) {
+      best = candidate;
+      best_score = score;
+    }
+  }
+  return best;
+}
+
+}  // namespace armfarm::search

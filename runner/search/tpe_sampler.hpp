@@ -1,0 +1,50 @@
+#pragma once
+// Tree-structured Parzen estimator proposals (Bergstra et al. 2011, section 4), univariate: each
+// axis has its own pair of estimators and the axes multiply.
+//
+// Split. The n observations (point, loss), lower loss better, are sorted by loss (ties by trial
+// number, so the split is a function of the observations alone) and the first
+//   n_good = min(max_good, ⌈γ · n⌉)          (γ = 0.25, max_good = 25 by default)
+// form the good group, the rest the bad group. ℓ(x) is the Parzen estimator
+// (parzen_estimator.hpp) of the good points, g(x) of the bad ones, per axis.
+//
+// Acquisition. With y* the split's loss, TPE's expected improvement is
+//   EI(x) ∝ ( γ + (1 − γ) · g(x) / ℓ(x) )^(−1),
+// which grows with ℓ(x)/g(x). The proposal draws `candidates` points from ℓ and keeps the one
+// with the largest Σ_axes [ln ℓ_d(x_d) − ln g_d(x_d)] (ties: the first drawn).
+//
+// Parallel proposals: the constant liar (Ginsbourger, Le Riche & Carraro 2010). A trial already
+// proposed whose loss is not known yet counts as an observation with the worst known loss, so it
+// joins the bad group and pushes the next proposal away from where others are already looking.
+// Which trials are pending is decided by the search's fixed visibility rule
+// (search_schedule.hpp), never by timing.
+//
+// Until `startup` losses are known, proposals are prior draws (calc_random_point).
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "runner/search/search_space.hpp"
+
+namespace armfarm::search {
+
+struct TpeSettings {
+  std::size_t startup = 10;     ///< known losses before the estimators are used
+  double gamma = 0.25;          ///< γ: the fraction of observations in the good group
+  std::size_t max_good = 25;    ///< at most this many good observations
+  std::size_t candidates = 24;  ///< draws from ℓ scored per proposal
+};
+
+/// A point and its loss (lower is better; +∞ for a failed trial).
+struct Observation {
+  std::size_t trial = 0;
+  SearchPoint point;
+  double loss = 0.0;
+};
+
+/// The proposal for trial `trial` from its stream (make_trial_stream), the known observations
+/// and the points of the pending trials (the liars).
+SearchPoint calc_tpe_point(const SearchSpace& space, const TpeSettings& settings, const std::vector<Observation>& known,
+                           const std::vector<Observation>& pending, RandomStream& stream);
+
+}  // namespace armfarm::search

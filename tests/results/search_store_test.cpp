@@ -1,0 +1,138 @@
+// The search tables: a database of the previous schema (version 5, before searches) migrates
+// with its jobs kept; a search, its rungs, trials and steps round-trip and are what a plain SQL
+// reader sees (the search_promotions view); a step naming no job is refused.
+#include "results/results_store.hpp"
+
+#include <gtest/gtest.h>
+
+#include "support/scratch_file.hpp"
+#include <sqlite3.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace armfarm {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SearchStoreTest : public ::testing::Test {
+ protected:
+  void SetUp() override { folder_ = test_support::make_scratch_folder("search_store"); }
+  void TearDown() override { fs::remove_all(folder_); }
+  std::string path(const std::string& name) const { return (folder_ / name).string(); }
+  fs::path folder_;
+};
+
+std::vector<std::string> query(const std::string& file, const std::string& sql) {
+  sqlite3* db = nullptr;
+  std::vector<std::string> rows;
+  if (sqlite3_open(file.c_str(), &db) != SQLITE_OK) return rows;
+  sqlite3_exec(
+      db, sql.c_str(),
+      [](void* out, int n, char** values, char**) {
+        std::string row;
+        for (int i = 0; i < n; ++i) row += (i ? "|" : "") + std::string(values[i] ? values[i] : "NULL");
+        static_cast<std::vector<std::string>*>(out)->push_back(row);
+        return 0;
+      },
+      &rows, nullptr);
+  sqlite3_close(db);
+  return rows;
+}
+
+SweepRegistration make_sweep(const std::string& name) {
+  SweepRegistration sweep;
+  sweep.name = name;
+  sweep.spec_text = "{}";
+  sweep.spec_hash = "h";
+  sweep.started_at = make_utc_timestamp();
+  return sweep;
+}
+
+SearchRecord make_search(const std::string& sweep) {
+  SearchRecord search;
+  search.sweep = sweep;
+  search.method = "asha";
+  search.sampler = "tpe";
+  search.seed = 7;
+  search.eta = 3;
+  search.slots = 2;
+  search.budget_unit = "cpu_seconds";
+  search.budget = 3600.0;
+  search.objective_metric = "heldout_test_nmse";
+  search.objective_direction = "lower";
+  search.objective_checkpoint = 200;
+  search.rungs = {{0, 10, 12.5}, {1, 50, 60.0}, {2, 200, 240.0}};
+  return search;
+}
+
+TEST_F(SearchStoreTest, AVersionFiveDatabaseMigratesKeepingItsJobs) {
+  // A file of schema version 5: today's file without the search tables (migration 6 only adds them).
+  {
+    ResultsStore store = ResultsStore::open(path("v5.db"), ResultsStore::Mode::read_write);
+    store.insert_sweep_run(make_sweep("old"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}});
+  }
+  query(path("v5.db"), "DROP VIEW search_promotions; DROP TABLE search_steps; DROP TABLE search_trials; "
+                       "DROP TABLE search_rungs; DROP TABLE searches; PRAGMA user_version = 5;");
+  ASSERT_EQ(query(path("v5.db"), "PRAGMA user_version"), std::vector<std::string>{"5"});
+  {
+    const ResultsStore reader = ResultsStore::open(path("v5.db"), ResultsStore::Mode::read_only);
+    EXPECT_EQ(reader.schema_version(), kResultsSchemaVersion);  // a migrated in-memory copy
+    EXPECT_FALSE(reader.find_search("old").has_value());
+  }
+  EXPECT_EQ(query(path("v5.db"), "PRAGMA user_version"), std::vector<std::string>{"5"});  // untouched by a reader
+  {
+    ResultsStore writer = ResultsStore::open(path("v5.db"), ResultsStore::Mode::read_write);
+    EXPECT_EQ(writer.schema_version(), kResultsSchemaVersion);
+    EXPECT_TRUE(writer.find_job("k1").has_value());
+    writer.insert_search(make_search("old"));
+  }
+  EXPECT_EQ(query(path("v5.db"), "PRAGMA user_version"), std::vector<std::string>{std::to_string(kResultsSchemaVersion)});
+  EXPECT_EQ(query(path("v5.db"), "SELECT method, objective_metric FROM searches"), std::vector<std::string>{"asha|heldout_test_nmse"});
+  EXPECT_TRUE(ResultsStore::open(path("v5.db"), ResultsStore::Mode::read_only).check_contents(true).empty());
+}
+
+TEST_F(SearchStoreTest, ASearchRoundTripsAndPlainSqlSeesItsPromotions) {
+  {
+    ResultsStore store = ResultsStore::open(path("s.db"), ResultsStore::Mode::read_write);
+    store.insert_sweep_run(make_sweep("s"), {{"ka", {{"x", 1}}, {{"x", 1}}, 0}, {"kb", {{"x", 2}}, {{"x", 2}}, 0},
+                                             {"ka1", {{"x", 1}}, {{"x", 1}}, 0}});
+    store.insert_search(make_search("s"));
+    store.insert_search(make_search("s"));  // a resumed run: written once
+    store.insert_search_step("s", {0, 0, 0, 0, "new", 12.5, "ka"}, SearchTrialRecord{0, 0, R"({"x":1})"});
+    store.insert_search_step("s", {1, 1, 0, 0, "new", 12.5, "kb"}, SearchTrialRecord{1, 0, R"({"x":2})"});
+    store.update_search_objective("s", 0, 0.25, "");
+    store.update_search_objective("s", 1, std::nullopt, "diverged");
+    store.insert_search_step("s", {2, 0, 1, 2, "promotion", 47.5, "ka1"}, std::nullopt);
+    EXPECT_THROW(store.insert_search_step("s", {3, 1, 1, 2, "promotion", 47.5, "nokey"}, std::nullopt), StoreError);
+  }
+  const ResultsStore store = ResultsStore::open(path("s.db"), ResultsStore::Mode::read_only);
+  const std::optional<SearchRecord> search = store.find_search("s");
+  ASSERT_TRUE(search.has_value());
+  EXPECT_EQ(search->seed, 7);
+  EXPECT_EQ(search->objective_checkpoint, 200);
+  EXPECT_FALSE(search->objective_joint.has_value());
+  ASSERT_EQ(search->rungs.size(), 3u);
+  EXPECT_EQ(search->rungs[1].checkpoint, 50);
+  EXPECT_DOUBLE_EQ(search->rungs[2].cost, 240.0);
+  const std::vector<SearchTrialRecord> trials = store.find_search_trials("s");
+  ASSERT_EQ(trials.size(), 2u);
+  EXPECT_EQ(trials[1].params, R"({"x":2})");
+  const std::vector<SearchStepRecord> steps = store.find_search_steps("s");
+  ASSERT_EQ(steps.size(), 3u);  // the refused step left nothing behind
+  EXPECT_EQ(steps[0].objective, 0.25);
+  EXPECT_TRUE(steps[0].committed);
+  EXPECT_FALSE(steps[1].objective.has_value());
+  EXPECT_EQ(steps[1].reason, "diverged");
+  EXPECT_FALSE(steps[2].committed);
+  EXPECT_EQ(steps[2].job_key, "ka1");
+  EXPECT_EQ(steps[2].visible, 2);
+  EXPECT_EQ(query(path("s.db"), "SELECT trial, from_rung, to_rung, key FROM search_promotions"),
+            std::vector<std::string>{"0|0|1|ka1"});
+  EXPECT_THROW(store.find_search_steps("nosuch"), StoreError);
+}
+
+}  // namespace
+}  // namespace armfarm

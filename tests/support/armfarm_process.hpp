@@ -1,0 +1,51 @@
+// Runs the built armfarm binary as a child process with fake jobs, for tests that stop, resume
+// or kill runners (tests/faults/).
+#pragma once
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+namespace armfarm::test_support {
+
+struct ArmfarmProcess {
+  pid_t pid = 0;
+  std::string output_path;  ///< stdout and stderr
+};
+
+/// Starts `armfarm ARGS` with ARMFARM_FAKE_JOBS=1, stdout and stderr into `output_path`.
+inline ArmfarmProcess start_armfarm(const std::vector<std::string>& arguments, const std::string& output_path) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    setenv("ARMFARM_FAKE_JOBS", "1", 1);
+    if (!freopen(output_path.c_str(), "w", stdout)) _exit(126);
+    dup2(fileno(stdout), fileno(stderr));
+    std::vector<char*> argv = {const_cast<char*>(ARMFARM_BINARY)};
+    for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(ARMFARM_BINARY, argv.data());
+    _exit(127);
+  }
+  return {pid, output_path};
+}
+
+/// Waits for the process: its exit code, or 128 + the signal that ended it.
+inline int wait_armfarm(const ArmfarmProcess& process) {
+  int status = 0;
+  waitpid(process.pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+inline std::string read_output(const ArmfarmProcess& process) {
+  std::ifstream in(process.output_path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+}  // namespace armfarm::test_support
