@@ -110,6 +110,8 @@ RunFunction setup_slurm(CLI::App& parent) {
     std::string setup;
     bool dry_run = false;
     bool retry_failed = false;
+    int signal_before = SlurmPlan{}.signal_before;
+    bool requeue = SlurmPlan{}.requeue;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -138,6 +140,13 @@ RunFunction setup_slurm(CLI::App& parent) {
                   "A file both scripts source before armfarm runs (module load lines, a virtual environment)");
   app->add_flag("--retry-failed", options->retry_failed,
                 "Run failed, diverged and timed-out jobs again (by default they are results and stay)");
+  app->add_option("--signal-before", options->signal_before,
+                  "Seconds before the time limit at which Slurm warns a task (SIGUSR1): it stops and saves")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 65535));
+  app->add_flag("--requeue,!--no-requeue", options->requeue,
+                "A task stopped by the warning (time limit, preemption) requeues itself and resumes its shard")
+      ->capture_default_str();
   app->add_flag("--dry-run", options->dry_run, "Print the scripts and the submit commands; write and submit nothing");
 
   return [options] {
@@ -210,6 +219,8 @@ RunFunction setup_slurm(CLI::App& parent) {
     plan.job_timeout = options->job_timeout;
     plan.sbatch_args = options->sbatch_args;
     plan.retry_failed = options->retry_failed;
+    plan.signal_before = options->signal_before;
+    plan.requeue = options->requeue;
     if (!options->setup.empty()) plan.setup = fs::absolute(options->setup).lexically_normal().string();
 
     // What is done already: in DB (a finished earlier submission) and in the shard files.

@@ -172,6 +172,8 @@ std::string make_array_script(const SlurmPlan& plan) {
   write_common_directives(out, plan);
   write_directive(out, "gres", plan.gres);
   write_directive(out, "constraint", plan.constraint);
+  out << "#SBATCH --signal=B:USR1@" << plan.signal_before << "\n";
+  if (plan.requeue) out << "#SBATCH --requeue\n#SBATCH --open-mode=append\n";
   out << "#SBATCH --output=" << plan.db << ".slurm-%A_%a.log\n";
   write_setup(out, plan);
   out << "set -u\n"
@@ -182,19 +184,37 @@ std::string make_array_script(const SlurmPlan& plan) {
       << "saved=" << make_shell_quoted(plan.db) << ".shard-\"$shard\".saved\n"
       << "rm -f -- \"$saved\"\n"
       << "echo \"armfarm slurm: shard $shard/$count on $(hostname) into $db\"\n"
+      << "# Slurm's warning (--signal=B:USR1@" << plan.signal_before << ": a time limit or preemption ahead) goes to this\n"
+      << "# shell; it is passed on to armfarm, which stops taking jobs, stops the running ones and saves.\n"
+      << "signalled=0\n"
+      << "pid=\n"
+      << "trap 'signalled=1; [ -n \"$pid\" ] && kill -USR1 \"$pid\" 2>/dev/null' USR1\n"
       << make_shell_quoted(plan.armfarm) << " run " << make_shell_quoted(plan.spec)
       << " --shard \"$shard/$count\" --db \"$db\" -j \"${SLURM_CPUS_PER_TASK:-" << plan.cpus_per_task << "}\"";
   if (plan.job_timeout > 0) out << " --timeout " << make_seconds_text(plan.job_timeout);
   if (!plan.retry_failed) out << " --keep-failed";
-  out << "\n"
+  out << " &\n"
+      << "pid=$!\n"
+      << "wait \"$pid\"\n"
       << "status=$?\n"
+      << "# A trapped signal ends `wait` early: wait again until armfarm has exited.\n"
+      << "while kill -0 \"$pid\" 2>/dev/null; do wait \"$pid\"; status=$?; done\n"
+      << "if [ \"$signalled\" -eq 1 ] && [ \"$status\" -ne 0 ]; then\n"
+      << "  echo \"armfarm slurm: shard $shard/$count stopped by Slurm's warning signal (armfarm run exit $status); its finished jobs are saved\"\n";
+  if (plan.requeue) {
+    out << "  # Requeued, the task resumes its shard file: what finished is not run again.\n"
+        << "  scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\" && { echo \"armfarm slurm: shard $shard/$count requeued\"; exit 0; }\n";
+  }
+  out << "  echo \"armfarm slurm: shard $shard/$count not requeued: not marked saved, submit again to finish it\" >&2\n"
+      << "  exit 75\n"
+      << "fi\n"
       << "# 0: every job done and saved. 1: every job ran and its outcome is saved, some failed, diverged\n"
       << "# or timed out; those are results too: the merge brings them in"
       << (plan.retry_failed ? " (--retry-failed: a resubmission runs them again).\n"
                             : " and a resubmission keeps them (armfarm slurm --retry-failed runs them again).\n")
       << "# Anything else (" << kExitResultsNotSaved << ": finished jobs not saved, a full disk; 2: bad input) fails the task.\n"
       << "if [ \"$status\" -ne 0 ] && [ \"$status\" -ne 1 ]; then\n"
-      << "  echo \"armfarm slurm: shard $shard/$count failed (armfarm run exit $status): not marked saved, the merge will not run\" >&2\n"
+      << "  echo \"armfarm slurm: shard $shard/$count failed (armfarm run exit $status): not marked saved, the merge leaves it out\" >&2\n"
       << "  exit \"$status\"\n"
       << "fi\n"
       << "if [ \"$status\" -eq 1 ]; then\n"

@@ -34,7 +34,9 @@ struct SlurmPlan {
   std::vector<std::string> sbatch_args;  ///< more sbatch options, one #SBATCH line each (both scripts)
   std::string setup;          ///< a file both scripts source before armfarm runs (module load, ...); empty: none
   std::vector<int> shards;    ///< the shards (1-based) the array runs; empty: all 1..tasks
-  bool retry_failed = false;  ///< run failed, diverged and timed-out jobs again (else they are results: `run --keep-failed`)
+  bool retry_failed = false;
+  int signal_before = 300;    ///< seconds before the time limit at which Slurm warns the task (SIGUSR1)
+  bool requeue = true;        ///< a warned task that stopped early requeues itself (scontrol requeue)  ///< run failed, diverged and timed-out jobs again (else they are results: `run --keep-failed`)
 };
 
 /// "<db>.shard-<shard>.db", shard 1-based.

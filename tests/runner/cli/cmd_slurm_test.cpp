@@ -441,6 +441,66 @@ TEST_F(SlurmCommand, ShardsRunByTheScriptsMergeToOneRunsResultsAndResumeAfterALo
   EXPECT_EQ(read_metrics(db_, "fake_small"), read_metrics(local, "fake_small"));
 }
 
+TEST(SlurmScript, WarningSignalAndRequeue) {
+  SlurmPlan plan = make_plan();
+  const std::string array = make_array_script(plan);
+  EXPECT_NE(array.find("#SBATCH --signal=B:USR1@300\n#SBATCH --requeue\n#SBATCH --open-mode=append\n"), std::string::npos) << array;
+  EXPECT_NE(array.find("scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\""), std::string::npos);
+  EXPECT_EQ(make_merge_script(plan).find("--signal"), std::string::npos);
+  plan.signal_before = 45;
+  plan.requeue = false;
+  const std::string no_requeue = make_array_script(plan);
+  EXPECT_NE(no_requeue.find("#SBATCH --signal=B:USR1@45\n"), std::string::npos);
+  EXPECT_EQ(no_requeue.find("requeue"), no_requeue.find("requeued")) << no_requeue;  // only in the message
+  EXPECT_EQ(no_requeue.find("--requeue"), std::string::npos);
+  EXPECT_EQ(no_requeue.find("scontrol"), std::string::npos);
+}
+
+// Slurm's warning before a time limit: the task script passes SIGUSR1 on, armfarm stops and
+// saves what finished, the task requeues itself (scontrol, a stand-in here) without marking the
+// shard saved; the requeued task resumes the shard file and no finished job runs again.
+TEST_F(SlurmCommand, AWarnedTaskSavesRequeuesAndTheRequeuedTaskCompletesTheShard) {
+  const std::string spec = (dir_ / "slow.json").string();
+  std::ofstream(spec) << R"({"name": "slow", "base": {"fake": {"sleep_ms": 400}},
+      "sweep": {"grid": {"learning.lwpr.init_D": [10, 20, 30, 40, 50, 60, 70, 80, 90, 100]}}})";
+  const fs::path bin = dir_ / "bin";
+  fs::create_directories(bin);
+  const std::string log = (dir_ / "scontrol.log").string();
+  std::ofstream(bin / "scontrol") << "#!/bin/sh\necho \"$*\" >> '" << log << "'\n";
+  fs::permissions(bin / "scontrol", fs::perms::owner_all);
+  ASSERT_EQ(run_armfarm("slurm " + spec + " --db " + db_ + " --tasks 1").exit_code, 0);
+  const std::string script = make_array_script_path(db_);
+  const std::string shard = make_shard_db_path(db_, 1);
+  // The warning once the shard has a finished job.
+  const CommandResult warned = run_shell(
+      "PATH=" + bin.string() + ":$PATH SLURM_ARRAY_JOB_ID=77 SLURM_ARRAY_TASK_ID=0 SLURM_CPUS_PER_TASK=2 bash " + script +
+      " & task=$!; n=0; while [ \"$n\" -lt 600 ] && ! sqlite3 '" + shard +
+      "' \"select 1 from jobs where status='done'\" 2>/dev/null | grep -q 1; do sleep 0.05; n=$((n+1)); done; "
+      "kill -USR1 $task; wait $task");
+  EXPECT_EQ(warned.exit_code, 0) << warned.output;
+  EXPECT_NE(warned.output.find("stopped by Slurm's warning signal"), std::string::npos) << warned.output;
+  EXPECT_NE(warned.output.find("shard 1/1 requeued"), std::string::npos) << warned.output;
+  EXPECT_EQ(read_text(log), "requeue 77_0\n");
+  EXPECT_FALSE(fs::exists(make_shard_saved_path(db_, 1)));
+  std::map<std::string, std::string> first = read_statuses(shard, "slow");
+  int done_first = 0;
+  for (const auto& [key, status] : first) done_first += status == "done";
+  EXPECT_GE(done_first, 1);
+  EXPECT_LT(done_first, 10) << warned.output;
+  // The requeued task.
+  const CommandResult resumed = run_array_task(script, 0);
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find(std::to_string(done_first) + " already done (skipped)"), std::string::npos) << resumed.output;
+  EXPECT_TRUE(fs::exists(make_shard_saved_path(db_, 1)));
+  const ResultsStore store = ResultsStore::open(shard, ResultsStore::Mode::read_only);
+  const std::vector<JobRecord> jobs = store.find_jobs("slow");
+  EXPECT_EQ(jobs.size(), 10u);
+  for (const JobRecord& job : jobs) {
+    EXPECT_EQ(job.status, "done") << job.key;
+    if (first.at(job.key) == "done") EXPECT_EQ(job.attempts, 1) << job.key << ": a finished job ran again";
+  }
+}
+
 // Issue 29: a shard that never ran does not hold back the others. The merge brings in what is
 // there and names the missing shard; `armfarm slurm` again submits only that shard.
 TEST_F(SlurmCommand, APartialMergeNamesTheMissingShardAndTheResubmissionRunsOnlyIt) {
@@ -516,7 +576,7 @@ TEST_F(SlurmCommand, AShardOnAFullDiskFailsItsTaskAndTheMergeNamesIt) {
   // The one shard fills the disk.
   const CommandResult task = run_array_task(make_array_script_path(db), 0);
   EXPECT_EQ(task.exit_code, 3) << task.output;
-  EXPECT_NE(task.output.find("not marked saved, the merge will not run"), std::string::npos) << task.output;
+  EXPECT_NE(task.output.find("not marked saved, the merge leaves it out"), std::string::npos) << task.output;
   EXPECT_FALSE(fs::exists(make_shard_saved_path(db, 1)));
   const CommandResult merged = run_shell("bash " + make_merge_script_path(db));
   EXPECT_EQ(merged.exit_code, 1) << merged.output;
