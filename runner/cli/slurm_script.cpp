@@ -5,8 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdio>
-#include <cstdlib>
+#include <charconv>
 #include <sstream>
 #include <stdexcept>
 
@@ -48,14 +47,11 @@ void write_setup(std::ostream& out, const SlurmPlan& plan) {
       << " >&2; exit 2; }\n";
 }
 
-/// A time in seconds as the shortest decimal text that reads back the same.
+/// A time in seconds as the shortest decimal text that reads back the same ("60", "90.5").
 std::string make_seconds_text(double seconds) {
   char text[64];
-  for (int digits = 1; digits <= 17; ++digits) {
-    std::snprintf(text, sizeof text, "%.*g", digits, seconds);
-    if (std::strtod(text, nullptr) == seconds) break;
-  }
-  return text;
+  const std::to_chars_result end = std::to_chars(text, text + sizeof text, seconds);
+  return std::string(text, end.ptr);
 }
 
 /// The array's task indices (shard - 1): "0-N" for every shard, else ranges of the listed ones.

@@ -228,7 +228,7 @@ TEST(SlurmScript, EachSiteOptionReachesItsDirective) {
   const std::string merge = make_merge_script(plan);
   EXPECT_NE(array.find("#SBATCH --mem='4G'\n"), std::string::npos) << array;
   EXPECT_NE(array.find("#SBATCH --array=0-3%2\n"), std::string::npos) << array;
-  EXPECT_NE(array.find(" -j \"${SLURM_CPUS_PER_TASK:-3}\" --timeout 90.5\n"), std::string::npos) << array;
+  EXPECT_NE(array.find(" -j \"${SLURM_CPUS_PER_TASK:-3}\" --timeout 90.5 --keep-failed &\n"), std::string::npos) << array;
   const std::vector<std::string> array_arguments = read_sbatch_arguments(array);
   const std::vector<std::string> merge_arguments = read_sbatch_arguments(merge);
   for (const char* both : {"--mem=4G", "--account=proj-123", "--qos=normal", "--mail-type=END,FAIL", "--exclusive"}) {
@@ -287,7 +287,8 @@ TEST(SlurmScript, HostileOptionValuesStayOneArgument) {
 // --setup: the file is sourced before armfarm runs, in both scripts, even from a hostile path.
 TEST_F(SlurmCommand, SetupLinesRunBeforeArmfarm) {
   const std::string sentinel = (dir_ / "sentinel").string();
-  const fs::path setup = dir_ / ("site's setup $(touch " + sentinel + ").sh");
+  // The script runs in dir_: a `touch sentinel` that ran would make dir_/sentinel.
+  const fs::path setup = dir_ / "site's setup $(touch sentinel) `touch sentinel`.sh";
   std::ofstream(setup) << "# what a site puts here: module load gcc/12\nexport ARMFARM_SITE_MARK=loaded\n";
   const std::string stub = (dir_ / "armfarm-stub").string();
   std::ofstream(stub) << "#!/bin/sh\necho \"stub $1 saw ${ARMFARM_SITE_MARK:-nothing}\"\n";
@@ -331,7 +332,7 @@ TEST_F(SlurmCommand, DryRunPrintsTheScriptsAndWritesNothing) {
         std::string("#SBATCH --array=0-1%1\n"), std::string("#SBATCH --mem='2G'\n"), std::string("#SBATCH --account='lab'\n"),
         std::string("#SBATCH --qos='long'\n"), std::string("#SBATCH --gres='gpu:1'\n"),
         std::string("#SBATCH --constraint='avx2'\n"), std::string("#SBATCH '--mail-type=END'\n"),
-        std::string("#SBATCH '--exclusive'\n"), "source '" + setup + "'", std::string(" --timeout 60\n"),
+        std::string("#SBATCH '--exclusive'\n"), "source '" + setup + "'", std::string(" --timeout 60 --keep-failed &\n"),
         std::string("array=$(sbatch --parsable ")}) {
     EXPECT_NE(result.output.find(expected), std::string::npos) << expected << "\n" << result.output;
   }
@@ -343,7 +344,7 @@ TEST_F(SlurmCommand, BadSiteOptionsExitTwoWithOneLine) {
   for (const std::string& options :
        {std::string("--mem 4GB"), std::string("--mem-per-cpu x"), std::string("--mem 1G --mem-per-cpu 1G"),
         std::string("--array-throttle -1"), std::string("--job-timeout -5"), std::string("--sbatch-arg=--array=0-1"),
-        std::string("--sbatch-arg=exclusive"), std::string("--setup ") + (dir_ / "no such file").string(),
+        std::string("--sbatch-arg=exclusive"), "--setup '" + (dir_ / "no such file").string() + "'",
         std::string("--account \"$(printf 'a\\nb')\""), std::string("--gres \"$(printf 'gpu\\t1')\"")}) {
     const CommandResult result = run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 2 " + options);
     EXPECT_EQ(result.exit_code, 2) << options << ": " << result.output;
@@ -497,7 +498,9 @@ TEST_F(SlurmCommand, AWarnedTaskSavesRequeuesAndTheRequeuedTaskCompletesTheShard
   EXPECT_EQ(jobs.size(), 10u);
   for (const JobRecord& job : jobs) {
     EXPECT_EQ(job.status, "done") << job.key;
-    if (first.at(job.key) == "done") EXPECT_EQ(job.attempts, 1) << job.key << ": a finished job ran again";
+    if (first.at(job.key) == "done") {
+      EXPECT_EQ(job.attempts, 1) << job.key << ": a finished job ran again";
+    }
   }
 }
 
