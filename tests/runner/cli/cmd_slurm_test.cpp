@@ -547,7 +547,9 @@ TEST_F(SlurmCommand, AHostileSweepNameNeverLeavesItsCommentLine) {
     std::istringstream lines(script);
     std::string line;
     while (std::getline(lines, line)) {
-      if (line.find("rm -rf") != std::string::npos) EXPECT_EQ(line.rfind("# ", 0), 0u) << line;
+      if (line.find("rm -rf") != std::string::npos) {
+        EXPECT_EQ(line.rfind("# ", 0), 0u) << line;
+      }
       EXPECT_EQ(line.find('\x1b'), std::string::npos) << line;
     }
     const std::string path = (dir_ / "s.sh").string();
