@@ -426,7 +426,8 @@ void write_figure(const Figure& figure, const std::string& out_path, const Figur
   }
   // gnuplot writes into the work folder, whose name we chose; the user's path never reaches its
   // script. The result is copied next to the destination and renamed: whole or absent.
-  const fs::path rendered = work / (ends_with(out_path, ".svg") ? "figure.svg" : ends_with(out_path, ".pdf") ? "figure.pdf" : "figure.png");
+  const fs::path rendered =
+      work / (ends_with(out_path, ".svg") ? "figure.svg" : ends_with(out_path, ".pdf") ? "figure.pdf" : "figure.png");
   {
     std::ofstream script_file(work / "plot.gp");
     script_file << make_gnuplot_script(figure, terminal, rendered.string(), work.string());

@@ -28,6 +28,7 @@ RunFunction setup_run(CLI::App& parent) {
     int threads = 0;
     double timeout = 0.0;
     bool force = false;
+    bool keep_failed = false;
     std::string shard;
     std::string shard_costs;
     double claim_timeout = 0.0;  // gone: the lease is the database's (cmd_lease.cpp)
@@ -44,6 +45,8 @@ RunFunction setup_run(CLI::App& parent) {
   app->add_option("--timeout", options->timeout, "Stop a job after this many seconds of wall clock (0: none)")
       ->check(CLI::NonNegativeNumber);
   app->add_flag("--force", options->force, "Run every job again, even those already done");
+  app->add_flag("--keep-failed", options->keep_failed,
+                "Failed, diverged and timed-out jobs are results: do not run them again (armfarm slurm's tasks)");
   app->add_option("--shard", options->shard,
                   "Run only shard I of N (I/N, 1-based), to split a sweep across machines; jobs are dealt by estimated cost");
   app->add_option("--shard-costs", options->shard_costs,
@@ -95,6 +98,7 @@ RunFunction setup_run(CLI::App& parent) {
                                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     if (options->timeout > 0.0) run.timeout_seconds = options->timeout;
     run.force = options->force;
+    run.rerun_unsuccessful = !options->keep_failed;
     const bool terminal = isatty(STDERR_FILENO) != 0;
     run.progress.style = options->quiet ? ProgressStyle::quiet : terminal ? ProgressStyle::terminal : ProgressStyle::lines;
     run.progress.heartbeat_seconds = options->heartbeat;

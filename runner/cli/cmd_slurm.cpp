@@ -26,19 +26,38 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// How many of `keys` are done in the database at `path` (0 when there is no such file).
-int count_done_jobs(const std::string& path, const std::vector<std::string>& keys, std::set<std::string>& done) {
+/// How many of `keys` are finished in the database at `path` (0 when there is no such file):
+/// done, and unless `retry_failed` also failed, diverged or timed out (those are results).
+int count_done_jobs(const std::string& path, const std::vector<std::string>& keys, bool retry_failed,
+                    std::set<std::string>& done) {
   if (!fs::exists(path)) return 0;
   const ResultsStore store = ResultsStore::open(path, ResultsStore::Mode::read_only);
   int count = 0;
   for (const std::string& key : keys) {
     const std::optional<JobRecord> job = store.find_job(key);
-    if (job && job->status == "done") {
+    const bool finished = job && (job->status == "done" || (!retry_failed && (job->status == "failed" || job->status == "diverged" ||
+                                                                           job->status == "timeout")));
+    if (finished) {
       ++count;
       done.insert(key);
     }
   }
   return count;
+}
+
+/// Whether shard `shard`'s task has nothing left to do: its results are marked saved and every
+/// job its file registered is finished (done, or a kept failure unless `retry_failed`).
+bool is_shard_complete(const std::string& db, int shard, const std::string& sweep, bool retry_failed) {
+  const std::string path = make_shard_db_path(db, shard);
+  if (!fs::exists(make_shard_saved_path(db, shard)) || !fs::exists(path)) return false;
+  const ResultsStore store = ResultsStore::open(path, ResultsStore::Mode::read_only);
+  const std::vector<JobRecord> jobs = store.find_jobs(sweep);
+  if (jobs.empty()) return false;
+  for (const JobRecord& job : jobs) {
+    const bool kept = !retry_failed && (job.status == "failed" || job.status == "diverged" || job.status == "timeout");
+    if (job.status != "done" && !kept) return false;
+  }
+  return true;
 }
 
 /// Writes `text` to `path` whole or not at all (a temporary file renamed over it).
@@ -84,6 +103,15 @@ RunFunction setup_slurm(CLI::App& parent) {
     std::string partition;
     int cpus_per_task = 1;
     bool submit = false;
+    std::string mem, mem_per_cpu, account, qos, gres, constraint;
+    int array_throttle = 0;
+    double job_timeout = 0.0;
+    std::vector<std::string> sbatch_args;
+    std::string setup;
+    bool dry_run = false;
+    bool retry_failed = false;
+    int signal_before = SlurmPlan{}.signal_before;
+    bool requeue = SlurmPlan{}.requeue;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -97,6 +125,29 @@ RunFunction setup_slurm(CLI::App& parent) {
   app->add_option("--cpus-per-task", options->cpus_per_task, "CPUs per task; each task runs that many jobs at once")
       ->capture_default_str();
   app->add_flag("--submit", options->submit, "Submit the scripts with sbatch and print the job ids");
+  app->add_option("--mem", options->mem, "Memory per task (sbatch --mem, e.g. 4G), array and merge");
+  app->add_option("--mem-per-cpu", options->mem_per_cpu, "Memory per CPU (sbatch --mem-per-cpu), array and merge");
+  app->add_option("--account", options->account, "Account charged (sbatch --account), array and merge");
+  app->add_option("--qos", options->qos, "Quality of service (sbatch --qos), array and merge");
+  app->add_option("--gres", options->gres, "Generic resources per task (sbatch --gres, e.g. gpu:1), array only");
+  app->add_option("--constraint", options->constraint, "Node features (sbatch --constraint), array only");
+  app->add_option("--array-throttle", options->array_throttle, "At most K tasks of the array at once (--array=...%K)");
+  app->add_option("--job-timeout", options->job_timeout,
+                  "Stop each job after this many seconds (armfarm run --timeout in each task; 0: none)");
+  app->add_option("--sbatch-arg", options->sbatch_args,
+                  "One more sbatch option for both scripts (repeatable), e.g. --sbatch-arg=--mail-type=END");
+  app->add_option("--setup", options->setup,
+                  "A file both scripts source before armfarm runs (module load lines, a virtual environment)");
+  app->add_flag("--retry-failed", options->retry_failed,
+                "Run failed, diverged and timed-out jobs again (by default they are results and stay)");
+  app->add_option("--signal-before", options->signal_before,
+                  "Seconds before the time limit at which Slurm warns a task (SIGUSR1): it stops and saves")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 65535));
+  app->add_flag("--requeue,!--no-requeue", options->requeue,
+                "A task stopped by the warning (time limit, preemption) requeues itself and resumes its shard")
+      ->capture_default_str();
+  app->add_flag("--dry-run", options->dry_run, "Print the scripts and the submit commands; write and submit nothing");
 
   return [options] {
     SlurmPlan plan;
@@ -108,6 +159,28 @@ RunFunction setup_slurm(CLI::App& parent) {
       }
       if (!options->time_limit.empty()) check_slurm_time_limit(options->time_limit);
       if (!options->partition.empty()) check_slurm_partition(options->partition);
+      if (!options->mem.empty()) check_slurm_memory("--mem", options->mem);
+      if (!options->mem_per_cpu.empty()) check_slurm_memory("--mem-per-cpu", options->mem_per_cpu);
+      if (!options->mem.empty() && !options->mem_per_cpu.empty()) {
+        throw std::invalid_argument("--mem " + options->mem + ": sbatch takes --mem or --mem-per-cpu, not both");
+      }
+      const std::pair<const char*, const std::string*> quoted[] = {
+          {"--account", &options->account}, {"--qos", &options->qos}, {"--gres", &options->gres},
+          {"--constraint", &options->constraint}};
+      for (const auto& [option, value] : quoted) make_sbatch_quoted(option, *value);
+      if (options->array_throttle < 0) {
+        throw std::invalid_argument("--array-throttle " + std::to_string(options->array_throttle) + ": needs at least 1");
+      }
+      if (!(options->job_timeout >= 0.0 && options->job_timeout < 1e9)) {
+        throw std::invalid_argument("--job-timeout: seconds, 0 (none) or more");
+      }
+      for (const std::string& arg : options->sbatch_args) check_sbatch_arg(arg);
+      if (!options->setup.empty()) {
+        std::ifstream setup(options->setup);
+        if (!setup || fs::is_directory(options->setup)) {
+          throw std::invalid_argument("--setup " + options->setup + ": cannot read that file");
+        }
+      }
       const JobKind kind = make_job_kind_from_environment();
       sweep = expand_sweep(load_sweep_spec(options->spec, kind.schema), kind.schema);
       if (options->tasks > static_cast<int>(sweep.jobs.size())) {
@@ -136,25 +209,56 @@ RunFunction setup_slurm(CLI::App& parent) {
     plan.time_limit = options->time_limit;
     plan.partition = options->partition;
     plan.cpus_per_task = options->cpus_per_task;
+    plan.mem = options->mem;
+    plan.mem_per_cpu = options->mem_per_cpu;
+    plan.account = options->account;
+    plan.qos = options->qos;
+    plan.gres = options->gres;
+    plan.constraint = options->constraint;
+    plan.array_throttle = options->array_throttle;
+    plan.job_timeout = options->job_timeout;
+    plan.sbatch_args = options->sbatch_args;
+    plan.retry_failed = options->retry_failed;
+    plan.signal_before = options->signal_before;
+    plan.requeue = options->requeue;
+    if (!options->setup.empty()) plan.setup = fs::absolute(options->setup).lexically_normal().string();
 
     // What is done already: in DB (a finished earlier submission) and in the shard files.
     std::vector<std::string> keys;
     for (const ExpandedJob& job : sweep.jobs) keys.push_back(job.key);
     std::set<std::string> done_in_db, done_in_shards;
-    const int in_db = count_done_jobs(plan.db, keys, done_in_db);
+    const int in_db = count_done_jobs(plan.db, keys, plan.retry_failed, done_in_db);
     for (int shard = 1; shard <= plan.tasks; ++shard) {
-      count_done_jobs(make_shard_db_path(plan.db, shard), keys, done_in_shards);
+      count_done_jobs(make_shard_db_path(plan.db, shard), keys, plan.retry_failed, done_in_shards);
     }
-    std::cout << "sweep " << plan.sweep << ": " << plan.jobs << " jobs, " << in_db << " done in " << plan.db << ", "
-              << done_in_shards.size() << " done in its " << plan.tasks << " shard files" << std::endl;
+    std::cout << "sweep " << plan.sweep << ": " << plan.jobs << " jobs, " << in_db << " finished in " << plan.db << ", "
+              << done_in_shards.size() << " finished in its " << plan.tasks << " shard files" << std::endl;
     if (in_db == plan.jobs) {
-      std::cout << "nothing to submit: every job is done in " << plan.db << "\n";
+      std::cout << "nothing to submit: every job is finished in " << plan.db << "\n";
       return 0;
     }
     const bool array_needed = static_cast<int>(done_in_shards.size()) < plan.jobs;
+    // Only the shards with something left to do are submitted again (all when none looks complete).
+    for (int shard = 1; shard <= plan.tasks && array_needed; ++shard) {
+      if (!is_shard_complete(plan.db, shard, plan.sweep, plan.retry_failed)) plan.shards.push_back(shard);
+    }
+    if (static_cast<int>(plan.shards.size()) == plan.tasks) plan.shards.clear();
+    if (!plan.shards.empty()) {
+      std::cout << "resubmitting " << plan.shards.size() << " of " << plan.tasks << " shards (the others are complete):";
+      for (const int shard : plan.shards) std::cout << " " << shard;
+      std::cout << "\n";
+    }
 
     const std::string array_script = make_array_script_path(plan.db);
     const std::string merge_script = make_merge_script_path(plan.db);
+    if (options->dry_run) {
+      if (array_needed) std::cout << "--- " << array_script << "\n" << make_array_script(plan);
+      std::cout << "--- " << merge_script << "\n" << make_merge_script(plan) << "--- submit with (dry run: nothing written)\n";
+      const std::vector<std::string> commands = array_needed ? make_submit_commands(plan)
+                                                             : std::vector<std::string>{"sbatch --parsable " + make_shell_quoted(merge_script)};
+      for (const std::string& command : commands) std::cout << "  " << command << "\n";
+      return 0;
+    }
     if (array_needed) write_script(array_script, make_array_script(plan));
     write_script(merge_script, make_merge_script(plan));
     std::vector<std::string> commands = make_submit_commands(plan);
@@ -165,7 +269,7 @@ RunFunction setup_slurm(CLI::App& parent) {
       commands = {"sbatch --parsable " + make_shell_quoted(merge_script)};
       // Every job is done in the shard files, read just now: each shard's results are saved.
       for (int shard = 1; shard <= plan.tasks; ++shard) std::ofstream(make_shard_saved_path(plan.db, shard));
-      std::cout << "every job is done in the shard files: only the merge is needed\nwrote " << merge_script << "\n";
+      std::cout << "every job is finished in the shard files: only the merge is needed\nwrote " << merge_script << "\n";
     }
     if (!options->submit) {
       std::cout << "submit with:\n";
@@ -181,12 +285,12 @@ RunFunction setup_slurm(CLI::App& parent) {
     std::cout << "submitted array job " << array_id << " (" << plan.tasks << " tasks)" << std::endl;
     std::string merge_id;
     try {
-      merge_id = run_sbatch("sbatch --parsable --dependency=afterok:" + array_id + " " + make_shell_quoted(merge_script),
+      merge_id = run_sbatch("sbatch --parsable --dependency=afterany:" + array_id + " " + make_shell_quoted(merge_script),
                             "merge job");
     } catch (const std::runtime_error& e) {
-      throw std::runtime_error(std::string(e.what()) + "; the array job " + array_id + " is queued: submit the merge by hand: sbatch --dependency=afterok:" + array_id + " " + make_shell_quoted(merge_script));
+      throw std::runtime_error(std::string(e.what()) + "; the array job " + array_id + " is queued: submit the merge by hand: sbatch --dependency=afterany:" + array_id + " " + make_shell_quoted(merge_script));
     }
-    std::cout << "submitted merge job " << merge_id << " (after array job " << array_id << " succeeds)\n";
+    std::cout << "submitted merge job " << merge_id << " (after array job " << array_id << " ends)\n";
     return 0;
   };
 }

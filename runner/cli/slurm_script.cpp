@@ -3,7 +3,9 @@
 #include "analysis/printable_text.hpp"
 #include "runner/cli/subcommand.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <sstream>
 #include <stdexcept>
 
@@ -20,10 +22,55 @@ std::string make_job_name(const std::string& sweep) {
   return name;
 }
 
-/// The #SBATCH lines both scripts share.
+/// "#SBATCH --<option>=<value quoted>" when `value` is not empty.
+void write_directive(std::ostream& out, const std::string& option, const std::string& value) {
+  if (!value.empty()) out << "#SBATCH --" << option << "=" << make_sbatch_quoted("--" + option, value) << "\n";
+}
+
+/// The #SBATCH lines both scripts share: limits, the site's accounting, the user's own options.
 void write_common_directives(std::ostream& out, const SlurmPlan& plan) {
   if (!plan.time_limit.empty()) out << "#SBATCH --time=" << plan.time_limit << "\n";
   if (!plan.partition.empty()) out << "#SBATCH --partition=" << plan.partition << "\n";
+  write_directive(out, "account", plan.account);
+  write_directive(out, "qos", plan.qos);
+  write_directive(out, "mem", plan.mem);
+  write_directive(out, "mem-per-cpu", plan.mem_per_cpu);
+  for (const std::string& arg : plan.sbatch_args) out << "#SBATCH " << make_sbatch_quoted("--sbatch-arg", arg) << "\n";
+}
+
+/// The setup lines (`--setup FILE`), sourced before anything else runs; a setup that fails
+/// fails the script before armfarm starts.
+void write_setup(std::ostream& out, const SlurmPlan& plan) {
+  if (plan.setup.empty()) return;
+  out << "# Site setup (--setup): module loads, environments.\n"
+      << "source " << make_shell_quoted(plan.setup) << " || { echo \"armfarm slurm: the setup file failed: \"" << make_shell_quoted(plan.setup)
+      << " >&2; exit 2; }\n";
+}
+
+/// A time in seconds as the shortest decimal text that reads back the same ("60", "90.5").
+std::string make_seconds_text(double seconds) {
+  char text[64];
+  const std::to_chars_result end = std::to_chars(text, text + sizeof text, seconds);
+  return std::string(text, end.ptr);
+}
+
+/// The array's task indices (shard - 1): "0-N" for every shard, else ranges of the listed ones.
+std::string make_array_indices(const SlurmPlan& plan) {
+  if (plan.shards.empty()) return "0-" + std::to_string(plan.tasks - 1);
+  std::vector<int> indices;
+  for (const int shard : plan.shards) indices.push_back(shard - 1);
+  std::sort(indices.begin(), indices.end());
+  indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
+  std::string text;
+  for (std::size_t i = 0; i < indices.size();) {
+    std::size_t j = i;
+    while (j + 1 < indices.size() && indices[j + 1] == indices[j] + 1) ++j;
+    if (!text.empty()) text += ",";
+    text += std::to_string(indices[i]);
+    if (j > i) text += "-" + std::to_string(indices[j]);
+    i = j + 1;
+  }
+  return text;
 }
 
 /// A decimal field of a time limit: digits only, non-empty.
@@ -69,6 +116,41 @@ std::string make_shell_quoted(const std::string& text) {
   return quoted + "'";
 }
 
+std::string make_sbatch_quoted(const std::string& option, const std::string& text) {
+  std::string quoted = "'";
+  for (const char c : text) {
+    if (std::iscntrl(static_cast<unsigned char>(c))) {
+      throw std::invalid_argument(option + " " + make_printable_text(text) + ": control characters (a newline, a tab) cannot go in an #SBATCH line");
+    }
+    if (c == '\'' || c == '\\') quoted += '\\';
+    quoted += c;
+  }
+  return quoted + "'";
+}
+
+void check_slurm_memory(const std::string& option, const std::string& text) {
+  std::size_t digits = 0;
+  while (digits < text.size() && std::isdigit(static_cast<unsigned char>(text[digits]))) ++digits;
+  const std::string unit = text.substr(digits);
+  const bool unit_ok = unit.empty() || (unit.size() == 1 && std::string("KMGTkmgt").find(unit[0]) != std::string::npos);
+  if (digits == 0 || digits > 12 || !unit_ok) {
+    throw std::invalid_argument(option + " " + make_printable_text(text) + ": expected a size such as 4000, 500M, 4G or 1T");
+  }
+}
+
+void check_sbatch_arg(const std::string& text) {
+  if (text.size() < 2 || text[0] != '-') {
+    throw std::invalid_argument("--sbatch-arg " + make_printable_text(text) + ": expected one sbatch option, such as --mail-type=END");
+  }
+  for (const char* own : {"--array", "--dependency", "--output", "--job-name", "-a", "-d", "-o", "-J"}) {
+    const std::string name(own);
+    if (text == name || text.rfind(name + "=", 0) == 0 || (name.size() == 2 && text.rfind(name, 0) == 0)) {
+      throw std::invalid_argument("--sbatch-arg " + make_printable_text(text) + ": armfarm slurm writes " + name + " itself");
+    }
+  }
+  make_sbatch_quoted("--sbatch-arg", text);
+}
+
 std::string make_array_script(const SlurmPlan& plan) {
   std::ostringstream out;
   out << "#!/bin/bash\n"
@@ -78,12 +160,19 @@ std::string make_array_script(const SlurmPlan& plan) {
       << " into its own database file; a merge job combines them.\n"
       << "# Submitting again runs only what is missing: each shard resumes from its file.\n"
       << "#SBATCH --job-name=" << make_job_name(plan.sweep) << "\n"
-      << "#SBATCH --array=0-" << plan.tasks - 1 << "\n"
+      << "#SBATCH --array=" << make_array_indices(plan);
+  if (plan.array_throttle > 0) out << "%" << plan.array_throttle;
+  out << "\n"
       << "#SBATCH --ntasks=1\n"
       << "#SBATCH --cpus-per-task=" << plan.cpus_per_task << "\n";
   write_common_directives(out, plan);
-  out << "#SBATCH --output=" << plan.db << ".slurm-%A_%a.log\n"
-      << "set -u\n"
+  write_directive(out, "gres", plan.gres);
+  write_directive(out, "constraint", plan.constraint);
+  out << "#SBATCH --signal=B:USR1@" << plan.signal_before << "\n";
+  if (plan.requeue) out << "#SBATCH --requeue\n#SBATCH --open-mode=append\n";
+  out << "#SBATCH --output=" << plan.db << ".slurm-%A_%a.log\n";
+  write_setup(out, plan);
+  out << "set -u\n"
       << "cd " << make_shell_quoted(plan.work_dir) << " || exit 2\n"
       << "count=" << plan.tasks << "\n"
       << "shard=$((SLURM_ARRAY_TASK_ID + 1))\n"
@@ -91,14 +180,37 @@ std::string make_array_script(const SlurmPlan& plan) {
       << "saved=" << make_shell_quoted(plan.db) << ".shard-\"$shard\".saved\n"
       << "rm -f -- \"$saved\"\n"
       << "echo \"armfarm slurm: shard $shard/$count on $(hostname) into $db\"\n"
+      << "# Slurm's warning (--signal=B:USR1@" << plan.signal_before << ": a time limit or preemption ahead) goes to this\n"
+      << "# shell; it is passed on to armfarm, which stops taking jobs, stops the running ones and saves.\n"
+      << "signalled=0\n"
+      << "pid=\n"
+      << "trap 'signalled=1; [ -n \"$pid\" ] && kill -USR1 \"$pid\" 2>/dev/null' USR1\n"
       << make_shell_quoted(plan.armfarm) << " run " << make_shell_quoted(plan.spec)
-      << " --shard \"$shard/$count\" --db \"$db\" -j \"${SLURM_CPUS_PER_TASK:-" << plan.cpus_per_task << "}\"\n"
+      << " --shard \"$shard/$count\" --db \"$db\" -j \"${SLURM_CPUS_PER_TASK:-" << plan.cpus_per_task << "}\"";
+  if (plan.job_timeout > 0) out << " --timeout " << make_seconds_text(plan.job_timeout);
+  if (!plan.retry_failed) out << " --keep-failed";
+  out << " &\n"
+      << "pid=$!\n"
+      << "wait \"$pid\"\n"
       << "status=$?\n"
+      << "# A trapped signal ends `wait` early: wait again until armfarm has exited.\n"
+      << "while kill -0 \"$pid\" 2>/dev/null; do wait \"$pid\"; status=$?; done\n"
+      << "if [ \"$signalled\" -eq 1 ] && [ \"$status\" -ne 0 ]; then\n"
+      << "  echo \"armfarm slurm: shard $shard/$count stopped by Slurm's warning signal (armfarm run exit $status); its finished jobs are saved\"\n";
+  if (plan.requeue) {
+    out << "  # Requeued, the task resumes its shard file: what finished is not run again.\n"
+        << "  scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\" && { echo \"armfarm slurm: shard $shard/$count requeued\"; exit 0; }\n";
+  }
+  out << "  echo \"armfarm slurm: shard $shard/$count not requeued: not marked saved, submit again to finish it\" >&2\n"
+      << "  exit 75\n"
+      << "fi\n"
       << "# 0: every job done and saved. 1: every job ran and its outcome is saved, some failed, diverged\n"
-      << "# or timed out; those are results too: the merge brings them in (a resubmission runs them again).\n"
+      << "# or timed out; those are results too: the merge brings them in"
+      << (plan.retry_failed ? " (--retry-failed: a resubmission runs them again).\n"
+                            : " and a resubmission keeps them (armfarm slurm --retry-failed runs them again).\n")
       << "# Anything else (" << kExitResultsNotSaved << ": finished jobs not saved, a full disk; 2: bad input) fails the task.\n"
       << "if [ \"$status\" -ne 0 ] && [ \"$status\" -ne 1 ]; then\n"
-      << "  echo \"armfarm slurm: shard $shard/$count failed (armfarm run exit $status): not marked saved, the merge will not run\" >&2\n"
+      << "  echo \"armfarm slurm: shard $shard/$count failed (armfarm run exit $status): not marked saved, the merge leaves it out\" >&2\n"
       << "  exit \"$status\"\n"
       << "fi\n"
       << "if [ \"$status\" -eq 1 ]; then\n"
@@ -115,32 +227,35 @@ std::string make_merge_script(const SlurmPlan& plan) {
       << "# Merges the " << plan.tasks << " shard databases of sweep " << make_comment_text(plan.sweep) << " into "
       << make_comment_text(plan.db)
       << ", written by `armfarm slurm`.\n"
-      << "# Submitted with --dependency=afterok:<array job>; merging again is harmless (identical jobs stay).\n"
+      << "# Submitted with --dependency=afterany:<array job>: it runs however the tasks ended, merges the\n"
+      << "# shards that saved their results and names the others; merging again is harmless.\n"
       << "#SBATCH --job-name=" << make_job_name(plan.sweep) << "-merge\n"
       << "#SBATCH --ntasks=1\n"
       << "#SBATCH --cpus-per-task=1\n"
       << "#SBATCH --kill-on-invalid-dep=yes\n";
   write_common_directives(out, plan);
-  out << "#SBATCH --output=" << plan.db << ".slurm-%j-merge.log\n"
-      << "set -u\n"
+  out << "#SBATCH --output=" << plan.db << ".slurm-%j-merge.log\n";
+  write_setup(out, plan);
+  out << "set -u\n"
       << "cd " << make_shell_quoted(plan.work_dir) << " || exit 2\n"
       << "db=" << make_shell_quoted(plan.db) << "\n"
-      << "# Only shards whose task saved every outcome are merged; otherwise say which are missing.\n"
+      << "# Only shards whose task saved every outcome are merged; the others are named.\n"
+      << "saved=()\n"
       << "missing=()\n"
       << "for shard in $(seq 1 " << plan.tasks << "); do\n"
-      << "  [ -e \"$db.shard-$shard.saved\" ] || missing+=(\"$shard\")\n"
+      << "  if [ -e \"$db.shard-$shard.saved\" ]; then saved+=(\"$db.shard-$shard.db\"); else missing+=(\"$shard\"); fi\n"
       << "done\n"
+      << "if [ ${#saved[@]} -gt 0 ]; then\n"
+      << "  " << make_shell_quoted(plan.armfarm) << " merge \"$db\" \"${saved[@]}\" || exit $?\n"
+      << "fi\n"
       << "if [ ${#missing[@]} -gt 0 ]; then\n"
       << "  shown=\"${missing[*]:0:10}\"\n"
       << "  [ ${#missing[@]} -gt 10 ] && shown=\"$shown ... and $((${#missing[@]} - 10)) more\"\n"
-      << "  echo \"armfarm slurm: not merging: ${#missing[@]} of " << plan.tasks
-      << " shards did not save their results (shard $shown); see $db.slurm-*.log and submit again\" >&2\n"
-      << "  exit 1\n"
+      << "  echo \"armfarm slurm: merged ${#saved[@]} of " << plan.tasks << " shards; ${#missing[@]} did not save their results "
+      << "(shard $shown; see $db.slurm-*.log): run the same armfarm slurm command again to submit only those, then a merge\" >&2\n"
       << "fi\n"
-      << make_shell_quoted(plan.armfarm) << " merge \"$db\"";
-  for (int shard = 1; shard <= plan.tasks; ++shard) out << " \"$db.shard-" << shard << ".db\"";
-  out << " || exit $?\n"
-      << make_shell_quoted(plan.armfarm) << " status \"$db\"\n"
+      << "[ -e \"$db\" ] && " << make_shell_quoted(plan.armfarm) << " status \"$db\"\n"
+      << "[ ${#missing[@]} -eq 0 ] || exit 1\n"
       << "exit 0\n";
   return out.str();
 }
@@ -148,7 +263,7 @@ std::string make_merge_script(const SlurmPlan& plan) {
 std::vector<std::string> make_submit_commands(const SlurmPlan& plan) {
   return {
       "array=$(sbatch --parsable " + make_shell_quoted(make_array_script_path(plan.db)) + ")",
-      "sbatch --parsable --dependency=afterok:${array%%;*} " + make_shell_quoted(make_merge_script_path(plan.db)),
+      "sbatch --parsable --dependency=afterany:${array%%;*} " + make_shell_quoted(make_merge_script_path(plan.db)),
   };
 }
 

@@ -2,7 +2,8 @@
 // The text of what `armfarm slurm` submits: an sbatch script for a job array whose task I
 // (1-based: SLURM_ARRAY_TASK_ID + 1) runs shard I/N of a sweep into its own database file
 // `<DB>.shard-I.db`, and an sbatch script for the job that merges the N shard files into DB
-// once the array has succeeded (`--dependency=afterok`). Pure functions of the plan: no I/O.
+// once the array has ended, however its tasks did (`--dependency=afterany`). Pure functions of
+// the plan: no I/O.
 #include <string>
 #include <vector>
 
@@ -20,6 +21,22 @@ struct SlurmPlan {
   std::string time_limit; ///< sbatch --time text per task and for the merge; empty: the partition's default
   std::string partition;  ///< sbatch --partition; empty: the cluster's default
   int cpus_per_task = 1;  ///< sbatch --cpus-per-task; each task runs that many jobs at once (-j)
+  // What a site's policy asks for. Empty (0): not stated, the cluster's default. Each reaches
+  // its #SBATCH line quoted (make_sbatch_quoted), the array tasks only unless said otherwise.
+  std::string mem;            ///< sbatch --mem per task (array and merge), e.g. 4G
+  std::string mem_per_cpu;    ///< sbatch --mem-per-cpu (array and merge)
+  std::string account;        ///< sbatch --account (array and merge)
+  std::string qos;            ///< sbatch --qos (array and merge)
+  std::string gres;           ///< sbatch --gres (array only: the merge needs no GPU)
+  std::string constraint;     ///< sbatch --constraint (array only)
+  int array_throttle = 0;     ///< at most this many tasks at once (--array=0-N%K); 0: no limit
+  double job_timeout = 0.0;   ///< `armfarm run --timeout` in each task, seconds; 0: none
+  std::vector<std::string> sbatch_args;  ///< more sbatch options, one #SBATCH line each (both scripts)
+  std::string setup;          ///< a file both scripts source before armfarm runs (module load, ...); empty: none
+  std::vector<int> shards;    ///< the shards (1-based) the array runs; empty: all 1..tasks
+  bool retry_failed = false;
+  int signal_before = 300;    ///< seconds before the time limit at which Slurm warns the task (SIGUSR1)
+  bool requeue = true;        ///< a warned task that stopped early requeues itself (scontrol requeue)  ///< run failed, diverged and timed-out jobs again (else they are results: `run --keep-failed`)
 };
 
 /// "<db>.shard-<shard>.db", shard 1-based.
@@ -34,13 +51,14 @@ std::string make_shard_saved_path(const std::string& db, int shard);
 
 /// The job array's sbatch script. A task's `armfarm run` exit status 1 (jobs ran and some
 /// failed, diverged or timed out, all recorded) counts as success so that the merge still
-/// brings those results in, and marks the shard saved; any other status (bad input, results not
+/// brings those results in, and marks the shard saved; those jobs are not run again by a
+/// resubmission unless plan.retry_failed; any other status (bad input, results not
 /// saved on a full disk, the task killed) fails the task and leaves the shard unmarked.
 /// No user string (sweep name, paths) reaches the script but single-quoted, or in a comment with
 /// control characters replaced.
 std::string make_array_script(const SlurmPlan& plan);
-/// The merge job's sbatch script: refuses (exit 1, naming the shards, "… and N more") unless every
-/// shard is marked saved; then `armfarm merge DB <the N shard files>`, then `armfarm status DB`.
+/// The merge job's sbatch script: `armfarm merge DB <the shard files marked saved>`, then
+/// `armfarm status DB`; when shards are missing it names them ("… and N more") and exits 1.
 std::string make_merge_script(const SlurmPlan& plan);
 
 /// The shell commands that submit the two scripts (the merge after the array), as printed.
@@ -60,5 +78,17 @@ void check_slurm_db_path(const std::string& path);
 
 /// `text` quoted for a POSIX shell ('...' with embedded ' as '\'').
 std::string make_shell_quoted(const std::string& text);
+/// `text` quoted for an #SBATCH line, which sbatch splits itself: '...' with ' and \\ escaped
+/// by a backslash (inside quotes sbatch takes a backslash as escaping the next character).
+/// Throws std::invalid_argument for control characters (a newline would end the directive and
+/// start a shell line).
+std::string make_sbatch_quoted(const std::string& option, const std::string& text);
+
+/// Throws std::invalid_argument unless `text` is a memory size as sbatch takes it: digits with
+/// an optional unit K, M, G or T (either case).
+void check_slurm_memory(const std::string& option, const std::string& text);
+/// Throws std::invalid_argument unless `text` is one sbatch option ("--name[=value]" or "-x"),
+/// not one `armfarm slurm` writes itself (--array, --dependency, --output, --job-name).
+void check_sbatch_arg(const std::string& text);
 
 }  // namespace armfarm::cli

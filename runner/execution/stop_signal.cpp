@@ -13,6 +13,7 @@ static_assert(std::atomic<bool>::is_always_lock_free, "the stop flag must be saf
 
 struct sigaction g_previous_int {};
 struct sigaction g_previous_term {};
+struct sigaction g_previous_usr1 {};
 
 extern "C" void handle_stop_signal(int signal_number) {
   g_signal_number.store(signal_number);
@@ -31,11 +32,15 @@ StopSignalScope::StopSignalScope() {
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, &g_previous_int);
   sigaction(SIGTERM, &action, &g_previous_term);
+  // Slurm's warning before a time limit or preemption (sbatch --signal=B:USR1@T, forwarded by the
+  // task script): the same stop. It keeps this handler, so a second warning does not kill.
+  sigaction(SIGUSR1, &action, &g_previous_usr1);
 }
 
 StopSignalScope::~StopSignalScope() {
   sigaction(SIGINT, &g_previous_int, nullptr);
   sigaction(SIGTERM, &g_previous_term, nullptr);
+  sigaction(SIGUSR1, &g_previous_usr1, nullptr);
 }
 
 const std::atomic<bool>& StopSignalScope::stop_requested() const { return g_stop_requested; }

@@ -3,9 +3,11 @@
 # slurmd from Debian's slurm-wlm and munge, installed with apt-get when missing), submits a
 # six-job sweep with `armfarm slurm --submit` as an array of 3 shard tasks plus the merge,
 # waits for them (bounded), and checks that `armfarm compare merged.db local.db` exits 0 against
-# a local `armfarm run` of the same spec. First one task is cancelled right after submission: the
-# merge must not run; then the same command again runs only the missing shard's jobs and merges;
-# once more it finds nothing to submit.
+# a local `armfarm run` of the same spec. The submission has a --setup file (its line must run
+# before armfarm, in every task) and a hostile --sbatch-arg=--comment=... value (it must reach
+# Slurm as written and run nothing). First one task is cancelled right after submission: the
+# merge still runs (afterany), merges the two other shards and names shard 2; then the same
+# command again submits only shard 2 and a merge; once more it finds nothing to submit.
 # Stops the daemons it started, by pid, on every exit path. Skips (exit 0, one line) when not
 # root or when the packages cannot be installed.
 #
@@ -136,12 +138,17 @@ say "one-node cluster up: $(sinfo -h -o '%P %D node(s) %c CPUs %T')"
 cd "$work"
 db=$work/merged.db
 deadline=$((started + timeout))
+# A site's setup file (module lines there) and an option value that would run code if interpolated.
+setup="$work/site setup's.sh"
+printf 'echo "site setup ran on $(hostname)"\nexport ARMFARM_SITE=1\n' > "$setup"
+hostile="it's \$(touch $work/owned) \"x\" \\ #"
 
 # Submits the sweep with `armfarm slurm --submit` and waits until its jobs leave the queue;
 # sets array_id, merge_id and merge_state, prints each task's state and log.
 submit_and_wait() {
   local submitted
-  submitted=$("$armfarm" slurm "$spec" --db "$db" --tasks 3 --cpus-per-task 1 --time 30 --submit)
+  submitted=$("$armfarm" slurm "$spec" --db "$db" --tasks 3 --cpus-per-task 1 --time 30 \
+    --setup "$setup" --sbatch-arg="--comment=$hostile" --submit)
   echo "$submitted"
   array_id=$(sed -n 's/^submitted array job \([0-9]*\).*/\1/p' <<<"$submitted")
   merge_id=$(sed -n 's/^submitted merge job \([0-9]*\).*/\1/p' <<<"$submitted")
@@ -179,18 +186,29 @@ cancel_task_2() {
   say "cancelled array task 1 (shard 2)"
   local_run
 }
-say "1. array task 1 (shard 2) cancelled right after submission: the merge must not run"
+say "1. array task 1 (shard 2) cancelled right after submission: the merge merges shards 1 and 3 and names shard 2"
 submit_and_wait cancel_task_2
-[ "$merge_state" != COMPLETED ] || { say "the merge ran although a task failed"; exit 1; }
-[ ! -e "$db" ] || { say "$db exists although the merge did not run"; exit 1; }
+[ "$merge_state" = FAILED ] || { say "the merge job ended $merge_state, expected FAILED (exit 1: a shard missing)"; exit 1; }
+[ -e "$db" ] || { say "$db was not written by the partial merge"; exit 1; }
+grep -q "merged 2 of 3 shards; 1 did not save their results (shard 2;" "$db.slurm-$merge_id-merge.log" ||
+  { say "the merge log does not name shard 2"; exit 1; }
+[ ! -e "$work/owned" ] || { say "the hostile --sbatch-arg value ran as code"; exit 1; }
+scontrol -o show job "$merge_id" | grep -qF "Comment=it's \$(touch $work/owned)" ||
+  { say "the hostile --comment did not reach Slurm as written: $(scontrol -o show job "$merge_id" | grep -o 'Comment=.*')"; exit 1; }
+for task in 0 2; do
+  log="$db.slurm-${array_id}_$task.log"
+  grep -q "^site setup ran on" "$log" || { say "task $task: the --setup line did not run"; exit 1; }
+  [ "$(grep -n -m1 "^site setup ran on" "$log" | cut -d: -f1)" -lt "$(grep -n -m1 "^armfarm slurm: shard" "$log" | cut -d: -f1)" ] ||
+    { say "task $task: the --setup line ran after armfarm"; exit 1; }
+done
 
-say "2. the same command again: only shard 2's jobs run, then the merge"
+say "2. the same command again: only shard 2 is submitted, then the merge"
 submit_and_wait
 [ "$merge_state" = COMPLETED ] || { say "the merge job did not complete"; exit 1; }
 for task in 0 2; do
-  grep -q " 0 done, .* already done (skipped)" "$db.slurm-${array_id}_$task.log" ||
-    { say "task $task ran jobs again that were done"; exit 1; }
+  [ ! -e "$db.slurm-${array_id}_$task.log" ] || { say "task $task ran again although its shard was complete"; exit 1; }
 done
+[ -e "$db.slurm-${array_id}_1.log" ] || { say "shard 2 did not run"; exit 1; }
 say "armfarm compare merged.db local.db"
 "$armfarm" compare "$db" "$work/local.db"
 

@@ -2,7 +2,7 @@
 // executed by bash the way Slurm runs them (SLURM_ARRAY_TASK_ID per task, fake jobs): the
 // shards merge into the same results as one run, a resubmission after a lost shard runs only
 // what is missing, a task whose jobs failed still lets the merge run, and --submit calls sbatch
-// (a stand-in on PATH) with the array id as the merge's afterok dependency.
+// (a stand-in on PATH) with the array id as the merge's afterany dependency.
 #include "results/results_store.hpp"
 #include "runner/cli/slurm_script.hpp"
 
@@ -128,14 +128,19 @@ TEST(SlurmScript, MergeScriptMergesEveryShardAfterTheArray) {
   const SlurmPlan plan = make_plan();
   const std::string script = make_merge_script(plan);
   EXPECT_NE(script.find("#SBATCH --kill-on-invalid-dep=yes\n"), std::string::npos);
-  EXPECT_NE(script.find("merge \"$db\" \"$db.shard-1.db\" \"$db.shard-2.db\" \"$db.shard-3.db\" \"$db.shard-4.db\" || exit $?\n"),
-            std::string::npos)
-      << script;
-  EXPECT_EQ(script.find("shard-5"), std::string::npos);
+  EXPECT_NE(script.find("for shard in $(seq 1 4); do\n"), std::string::npos) << script;
+  EXPECT_NE(script.find(" merge \"$db\" \"${saved[@]}\" || exit $?\n"), std::string::npos) << script;
   const std::vector<std::string> commands = make_submit_commands(plan);
   ASSERT_EQ(commands.size(), 2u);
   EXPECT_EQ(commands[0], "array=$(sbatch --parsable '/scratch/me/results.db.array.sbatch')");
-  EXPECT_EQ(commands[1], "sbatch --parsable --dependency=afterok:${array%%;*} '/scratch/me/results.db.merge.sbatch'");
+  EXPECT_EQ(commands[1], "sbatch --parsable --dependency=afterany:${array%%;*} '/scratch/me/results.db.merge.sbatch'");
+  // A resubmission of some shards lists their task indices (shard - 1) as ranges.
+  SlurmPlan some = plan;
+  some.tasks = 9;
+  some.shards = {2, 9, 3, 4, 7};
+  EXPECT_NE(make_array_script(some).find("#SBATCH --array=1-3,6,8\n"), std::string::npos) << make_array_script(some);
+  some.array_throttle = 2;
+  EXPECT_NE(make_array_script(some).find("#SBATCH --array=1-3,6,8%2\n"), std::string::npos);
   EXPECT_EQ(make_shard_db_path("/a/r.db", 7), "/a/r.db.shard-7.db");
 }
 
@@ -152,6 +157,201 @@ TEST(SlurmScript, TimeLimitsInSbatchForms) {
   for (const char* bad : {"/a b/r.db", "/a/r%j.db", "/a/'r.db", "/a/r\n.db"}) {
     EXPECT_THROW(check_slurm_db_path(bad), std::invalid_argument) << bad;
   }
+}
+
+/// The arguments of an #SBATCH line split as sbatch splits them (a second reading, written from
+/// sbatch's documented rule: white space separates, '...' and "..." group, a backslash takes the
+/// next character as it is, also inside quotes; an unquoted # starts a comment).
+std::vector<std::string> split_sbatch_line(const std::string& line) {
+  EXPECT_EQ(line.rfind("#SBATCH ", 0), 0u) << line;
+  std::vector<std::string> arguments;
+  std::string current;
+  bool in_argument = false, escaped = false;
+  char quote = 0;
+  for (std::size_t i = 8; i < line.size(); ++i) {
+    const char c = line[i];
+    if (escaped) {
+      current += c;
+      escaped = false;
+    } else if (c == '\\') {
+      escaped = in_argument = true;
+    } else if (quote != 0) {
+      if (c == quote) quote = 0; else current += c;
+    } else if (c == '\'' || c == '"') {
+      quote = c;
+      in_argument = true;
+    } else if (c == ' ' || c == '\t') {
+      if (in_argument) arguments.push_back(current);
+      current.clear();
+      in_argument = false;
+    } else if (c == '#') {
+      break;
+    } else {
+      current += c;
+      in_argument = true;
+    }
+  }
+  if (in_argument) arguments.push_back(current);
+  return arguments;
+}
+
+/// Every #SBATCH line of `script` as sbatch reads it, in order (it stops at the first command).
+std::vector<std::string> read_sbatch_arguments(const std::string& script) {
+  std::vector<std::string> arguments;
+  std::istringstream lines(script);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("#SBATCH ", 0) == 0) {
+      for (const std::string& argument : split_sbatch_line(line)) arguments.push_back(argument);
+    } else if (!line.empty() && line[0] != '#') {
+      break;
+    }
+  }
+  return arguments;
+}
+
+bool contains(const std::vector<std::string>& items, const std::string& item) {
+  return std::find(items.begin(), items.end(), item) != items.end();
+}
+
+TEST(SlurmScript, EachSiteOptionReachesItsDirective) {
+  SlurmPlan plan = make_plan();
+  plan.mem = "4G";
+  plan.account = "proj-123";
+  plan.qos = "normal";
+  plan.gres = "gpu:a100:1";
+  plan.constraint = "skylake&ib";
+  plan.array_throttle = 2;
+  plan.job_timeout = 90.5;
+  plan.sbatch_args = {"--mail-type=END,FAIL", "--exclusive"};
+  const std::string array = make_array_script(plan);
+  const std::string merge = make_merge_script(plan);
+  EXPECT_NE(array.find("#SBATCH --mem='4G'\n"), std::string::npos) << array;
+  EXPECT_NE(array.find("#SBATCH --array=0-3%2\n"), std::string::npos) << array;
+  EXPECT_NE(array.find(" -j \"${SLURM_CPUS_PER_TASK:-3}\" --timeout 90.5 --keep-failed &\n"), std::string::npos) << array;
+  const std::vector<std::string> array_arguments = read_sbatch_arguments(array);
+  const std::vector<std::string> merge_arguments = read_sbatch_arguments(merge);
+  for (const char* both : {"--mem=4G", "--account=proj-123", "--qos=normal", "--mail-type=END,FAIL", "--exclusive"}) {
+    EXPECT_TRUE(contains(array_arguments, both)) << both << "\n" << array;
+    EXPECT_TRUE(contains(merge_arguments, both)) << both << "\n" << merge;
+  }
+  // The merge needs no GPU or node feature, and runs once.
+  for (const char* array_only : {"--gres=gpu:a100:1", "--constraint=skylake&ib", "--array=0-3%2"}) {
+    EXPECT_TRUE(contains(array_arguments, array_only)) << array_only << "\n" << array;
+    EXPECT_FALSE(contains(merge_arguments, array_only)) << array_only << "\n" << merge;
+  }
+  EXPECT_EQ(merge.find("--timeout"), std::string::npos);
+  plan.mem.clear();
+  plan.mem_per_cpu = "1500M";
+  EXPECT_TRUE(contains(read_sbatch_arguments(make_array_script(plan)), "--mem-per-cpu=1500M"));
+  // Unset options write no line.
+  const std::string plain = make_array_script(make_plan());
+  for (const char* absent : {"--mem", "--account", "--qos", "--gres", "--constraint", "%", "--timeout", "source "}) {
+    EXPECT_EQ(plain.find(std::string("#SBATCH ") + absent), std::string::npos) << absent;
+  }
+  EXPECT_EQ(plain.find("source "), std::string::npos);
+  EXPECT_EQ(plain.find("--timeout"), std::string::npos);
+}
+
+TEST(SlurmScript, HostileOptionValuesStayOneArgument) {
+  SlurmPlan plan = make_plan();
+  const std::string hostile = "x' --wrap='touch /tmp/owned' \"$(id)\" \\ # `id`";
+  plan.account = hostile;
+  plan.qos = hostile;
+  plan.gres = hostile;
+  plan.constraint = hostile;
+  plan.sbatch_args = {"--comment=" + hostile};
+  for (const std::string& script : {make_array_script(plan), make_merge_script(plan)}) {
+    const std::vector<std::string> arguments = read_sbatch_arguments(script);
+    EXPECT_TRUE(contains(arguments, "--account=" + hostile)) << script;
+    EXPECT_TRUE(contains(arguments, "--qos=" + hostile)) << script;
+    EXPECT_TRUE(contains(arguments, "--comment=" + hostile)) << script;
+    for (const std::string& argument : arguments) EXPECT_NE(argument.rfind("--wrap", 0), 0u) << argument;
+  }
+  EXPECT_TRUE(contains(read_sbatch_arguments(make_array_script(plan)), "--gres=" + hostile));
+  EXPECT_EQ(make_sbatch_quoted("--qos", "it's a\\b"), "'it\\'s a\\\\b'");
+  for (const char* bad : {"a\nb", "a\rb", "a\tb", "\x1b[31m"}) {
+    EXPECT_THROW(make_sbatch_quoted("--account", bad), std::invalid_argument) << bad;
+  }
+  for (const char* good : {"0", "4000", "500M", "4G", "1t", "16g"}) EXPECT_NO_THROW(check_slurm_memory("--mem", good)) << good;
+  for (const char* bad : {"", "G", "4GB", "4.5G", "-1", "4 G", "4G;id"}) {
+    EXPECT_THROW(check_slurm_memory("--mem", bad), std::invalid_argument) << bad;
+  }
+  for (const char* good : {"--exclusive", "--mail-type=END", "-N1", "--comment=a b"}) EXPECT_NO_THROW(check_sbatch_arg(good)) << good;
+  for (const char* bad : {"", "-", "exclusive", "--array=0-9", "--dependency=afterok:1", "--output=x", "-J", "-oX",
+                          "--job-name=y", "--comment=a\nid"}) {
+    EXPECT_THROW(check_sbatch_arg(bad), std::invalid_argument) << bad;
+  }
+}
+
+// --setup: the file is sourced before armfarm runs, in both scripts, even from a hostile path.
+TEST_F(SlurmCommand, SetupLinesRunBeforeArmfarm) {
+  const std::string sentinel = (dir_ / "sentinel").string();
+  // The script runs in dir_: a `touch sentinel` that ran would make dir_/sentinel.
+  const fs::path setup = dir_ / "site's setup $(touch sentinel) `touch sentinel`.sh";
+  std::ofstream(setup) << "# what a site puts here: module load gcc/12\nexport ARMFARM_SITE_MARK=loaded\n";
+  const std::string stub = (dir_ / "armfarm-stub").string();
+  std::ofstream(stub) << "#!/bin/sh\necho \"stub $1 saw ${ARMFARM_SITE_MARK:-nothing}\"\n";
+  fs::permissions(stub, fs::perms::owner_all);
+  SlurmPlan plan = make_plan();
+  plan.armfarm = stub;
+  plan.db = db_;
+  plan.work_dir = dir_.string();
+  plan.setup = setup.string();
+  const std::string array = make_array_script(plan);
+  EXPECT_LT(array.find("source "), array.find("set -u")) << array;
+  const std::string path = (dir_ / "a.sh").string();
+  std::ofstream(path) << array;
+  const CommandResult task = run_shell("SLURM_ARRAY_TASK_ID=0 bash " + path);
+  EXPECT_NE(task.output.find("stub run saw loaded"), std::string::npos) << task.output;
+  // The merge's status line runs after the setup too (every shard marked saved first).
+  for (int shard = 1; shard <= plan.tasks; ++shard) std::ofstream(make_shard_saved_path(db_, shard));
+  std::ofstream(path) << make_merge_script(plan);
+  const CommandResult merge = run_shell("bash " + path);
+  EXPECT_NE(merge.output.find("stub merge saw loaded"), std::string::npos) << merge.output;
+  EXPECT_FALSE(fs::exists(sentinel));
+  // A setup that fails stops the task before armfarm.
+  std::ofstream(setup) << "false\n";
+  plan.setup = setup.string();
+  std::ofstream(path) << make_array_script(plan);
+  const CommandResult failed = run_shell("SLURM_ARRAY_TASK_ID=0 bash " + path);
+  EXPECT_EQ(failed.exit_code, 2) << failed.output;
+  EXPECT_EQ(failed.output.find("stub run"), std::string::npos) << failed.output;
+}
+
+TEST_F(SlurmCommand, DryRunPrintsTheScriptsAndWritesNothing) {
+  const std::string setup = (dir_ / "setup.sh").string();
+  std::ofstream(setup) << "module load armfarm\n";
+  const CommandResult result =
+      run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 2 --mem 2G --account lab --qos long --gres gpu:1 "
+                  "--constraint avx2 --array-throttle 1 --job-timeout 60 --sbatch-arg=--mail-type=END "
+                  "--sbatch-arg=--exclusive --setup " + setup + " --dry-run");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  for (const std::string& expected :
+       {std::string("--- ") + make_array_script_path(db_), std::string("--- ") + make_merge_script_path(db_),
+        std::string("#SBATCH --array=0-1%1\n"), std::string("#SBATCH --mem='2G'\n"), std::string("#SBATCH --account='lab'\n"),
+        std::string("#SBATCH --qos='long'\n"), std::string("#SBATCH --gres='gpu:1'\n"),
+        std::string("#SBATCH --constraint='avx2'\n"), std::string("#SBATCH '--mail-type=END'\n"),
+        std::string("#SBATCH '--exclusive'\n"), "source '" + setup + "'", std::string(" --timeout 60 --keep-failed &\n"),
+        std::string("array=$(sbatch --parsable ")}) {
+    EXPECT_NE(result.output.find(expected), std::string::npos) << expected << "\n" << result.output;
+  }
+  EXPECT_FALSE(fs::exists(make_array_script_path(db_)));
+  EXPECT_FALSE(fs::exists(make_merge_script_path(db_)));
+}
+
+TEST_F(SlurmCommand, BadSiteOptionsExitTwoWithOneLine) {
+  for (const std::string& options :
+       {std::string("--mem 4GB"), std::string("--mem-per-cpu x"), std::string("--mem 1G --mem-per-cpu 1G"),
+        std::string("--array-throttle -1"), std::string("--job-timeout -5"), std::string("--sbatch-arg=--array=0-1"),
+        std::string("--sbatch-arg=exclusive"), "--setup '" + (dir_ / "no such file").string() + "'",
+        std::string("--account \"$(printf 'a\\nb')\""), std::string("--gres \"$(printf 'gpu\\t1')\"")}) {
+    const CommandResult result = run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 2 " + options);
+    EXPECT_EQ(result.exit_code, 2) << options << ": " << result.output;
+    EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << options << ": " << result.output;
+    EXPECT_EQ(result.output.rfind("armfarm: --", 0), 0u) << options << ": " << result.output;
+  }
+  EXPECT_FALSE(fs::exists(make_array_script_path(db_)));
 }
 
 TEST_F(SlurmCommand, BadOptionsExitTwoWithOneLine) {
@@ -171,7 +371,7 @@ TEST_F(SlurmCommand, BadOptionsExitTwoWithOneLine) {
 TEST_F(SlurmCommand, ShardsRunByTheScriptsMergeToOneRunsResultsAndResumeAfterALostShard) {
   const CommandResult written = run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 3 --time 5");
   ASSERT_EQ(written.exit_code, 0) << written.output;
-  EXPECT_NE(written.output.find("sbatch --parsable --dependency=afterok:"), std::string::npos) << written.output;
+  EXPECT_NE(written.output.find("sbatch --parsable --dependency=afterany:"), std::string::npos) << written.output;
   const std::string array_script = make_array_script_path(db_);
   const std::string merge_script = make_merge_script_path(db_);
   for (int task = 0; task < 3; ++task) {
@@ -216,9 +416,12 @@ TEST_F(SlurmCommand, ShardsRunByTheScriptsMergeToOneRunsResultsAndResumeAfterALo
   const auto shard2 = read_statuses(make_shard_db_path(db_, 2), "fake_small");
   fs::remove(make_shard_db_path(db_, 2));
   const CommandResult partial = run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 3");
-  EXPECT_NE(partial.output.find(std::to_string(12 - shard2.size()) + " done in its 3 shard files"), std::string::npos)
+  EXPECT_NE(partial.output.find(std::to_string(12 - shard2.size()) + " finished in its 3 shard files"), std::string::npos)
       << partial.output;
   ASSERT_TRUE(fs::exists(array_script));
+  EXPECT_NE(partial.output.find("resubmitting 1 of 3 shards (the others are complete): 2\n"), std::string::npos)
+      << partial.output;
+  EXPECT_NE(read_text(array_script).find("#SBATCH --array=1\n"), std::string::npos) << read_text(array_script);
   for (int task = 0; task < 3; ++task) {
     const CommandResult result = run_array_task(array_script, task);
     ASSERT_EQ(result.exit_code, 0) << result.output;
@@ -237,6 +440,95 @@ TEST_F(SlurmCommand, ShardsRunByTheScriptsMergeToOneRunsResultsAndResumeAfterALo
   EXPECT_EQ(read_statuses(make_shard_db_path(db_, 2), "fake_small"), shard2);
   ASSERT_EQ(run_shell("bash " + merge_script).exit_code, 0);
   EXPECT_EQ(read_metrics(db_, "fake_small"), read_metrics(local, "fake_small"));
+}
+
+TEST(SlurmScript, WarningSignalAndRequeue) {
+  SlurmPlan plan = make_plan();
+  const std::string array = make_array_script(plan);
+  EXPECT_NE(array.find("#SBATCH --signal=B:USR1@300\n#SBATCH --requeue\n#SBATCH --open-mode=append\n"), std::string::npos) << array;
+  EXPECT_NE(array.find("scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\""), std::string::npos);
+  EXPECT_EQ(make_merge_script(plan).find("--signal"), std::string::npos);
+  plan.signal_before = 45;
+  plan.requeue = false;
+  const std::string no_requeue = make_array_script(plan);
+  EXPECT_NE(no_requeue.find("#SBATCH --signal=B:USR1@45\n"), std::string::npos);
+  EXPECT_EQ(no_requeue.find("requeue"), no_requeue.find("requeued")) << no_requeue;  // only in the message
+  EXPECT_EQ(no_requeue.find("--requeue"), std::string::npos);
+  EXPECT_EQ(no_requeue.find("scontrol"), std::string::npos);
+}
+
+// Slurm's warning before a time limit: the task script passes SIGUSR1 on, armfarm stops and
+// saves what finished, the task requeues itself (scontrol, a stand-in here) without marking the
+// shard saved; the requeued task resumes the shard file and no finished job runs again.
+TEST_F(SlurmCommand, AWarnedTaskSavesRequeuesAndTheRequeuedTaskCompletesTheShard) {
+  const std::string spec = (dir_ / "slow.json").string();
+  std::ofstream(spec) << R"({"name": "slow", "base": {"fake": {"sleep_ms": 400}},
+      "sweep": {"grid": {"learning.lwpr.init_D": [10, 20, 30, 40, 50, 60, 70, 80, 90, 100]}}})";
+  const fs::path bin = dir_ / "bin";
+  fs::create_directories(bin);
+  const std::string log = (dir_ / "scontrol.log").string();
+  std::ofstream(bin / "scontrol") << "#!/bin/sh\necho \"$*\" >> '" << log << "'\n";
+  fs::permissions(bin / "scontrol", fs::perms::owner_all);
+  ASSERT_EQ(run_armfarm("slurm " + spec + " --db " + db_ + " --tasks 1").exit_code, 0);
+  const std::string script = make_array_script_path(db_);
+  const std::string shard = make_shard_db_path(db_, 1);
+  // The warning once the shard has a finished job.
+  const CommandResult warned = run_shell(
+      "PATH=" + bin.string() + ":$PATH SLURM_ARRAY_JOB_ID=77 SLURM_ARRAY_TASK_ID=0 SLURM_CPUS_PER_TASK=2 bash " + script +
+      " & task=$!; n=0; while [ \"$n\" -lt 600 ] && ! sqlite3 '" + shard +
+      "' \"select 1 from jobs where status='done'\" 2>/dev/null | grep -q 1; do sleep 0.05; n=$((n+1)); done; "
+      "kill -USR1 $task; wait $task");
+  EXPECT_EQ(warned.exit_code, 0) << warned.output;
+  EXPECT_NE(warned.output.find("stopped by Slurm's warning signal"), std::string::npos) << warned.output;
+  EXPECT_NE(warned.output.find("shard 1/1 requeued"), std::string::npos) << warned.output;
+  EXPECT_EQ(read_text(log), "requeue 77_0\n");
+  EXPECT_FALSE(fs::exists(make_shard_saved_path(db_, 1)));
+  std::map<std::string, std::string> first = read_statuses(shard, "slow");
+  int done_first = 0;
+  for (const auto& [key, status] : first) done_first += status == "done";
+  EXPECT_GE(done_first, 1);
+  EXPECT_LT(done_first, 10) << warned.output;
+  // The requeued task.
+  const CommandResult resumed = run_array_task(script, 0);
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find(std::to_string(done_first) + " already done (skipped)"), std::string::npos) << resumed.output;
+  EXPECT_TRUE(fs::exists(make_shard_saved_path(db_, 1)));
+  const ResultsStore store = ResultsStore::open(shard, ResultsStore::Mode::read_only);
+  const std::vector<JobRecord> jobs = store.find_jobs("slow");
+  EXPECT_EQ(jobs.size(), 10u);
+  for (const JobRecord& job : jobs) {
+    EXPECT_EQ(job.status, "done") << job.key;
+    if (first.at(job.key) == "done") {
+      EXPECT_EQ(job.attempts, 1) << job.key << ": a finished job ran again";
+    }
+  }
+}
+
+// Issue 29: a shard that never ran does not hold back the others. The merge brings in what is
+// there and names the missing shard; `armfarm slurm` again submits only that shard.
+TEST_F(SlurmCommand, APartialMergeNamesTheMissingShardAndTheResubmissionRunsOnlyIt) {
+  ASSERT_EQ(run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 3").exit_code, 0);
+  const std::string array_script = make_array_script_path(db_);
+  const std::string merge_script = make_merge_script_path(db_);
+  ASSERT_EQ(run_array_task(array_script, 0).exit_code, 0);
+  ASSERT_EQ(run_array_task(array_script, 2).exit_code, 0);
+  const CommandResult merged = run_shell("bash " + merge_script);
+  EXPECT_EQ(merged.exit_code, 1) << merged.output;
+  EXPECT_NE(merged.output.find("merged 2 of 3 shards; 1 did not save their results (shard 2;"), std::string::npos)
+      << merged.output;
+  const std::size_t in_1_and_3 = read_statuses(make_shard_db_path(db_, 1), "fake_small").size() +
+                                 read_statuses(make_shard_db_path(db_, 3), "fake_small").size();
+  EXPECT_EQ(read_statuses(db_, "fake_small").size(), in_1_and_3);
+  EXPECT_LT(in_1_and_3, 12u);
+  const CommandResult again = run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 3");
+  EXPECT_NE(again.output.find("resubmitting 1 of 3 shards (the others are complete): 2\n"), std::string::npos) << again.output;
+  EXPECT_NE(read_text(array_script).find("#SBATCH --array=1\n"), std::string::npos) << read_text(array_script);
+  ASSERT_EQ(run_array_task(array_script, 1).exit_code, 0);
+  const CommandResult complete = run_shell("bash " + merge_script);
+  EXPECT_EQ(complete.exit_code, 0) << complete.output;
+  const auto statuses = read_statuses(db_, "fake_small");
+  EXPECT_EQ(statuses.size(), 12u);
+  for (const auto& [key, status] : statuses) EXPECT_EQ(status, "done") << key;
 }
 
 // Issue 30, case 4: a sweep named "x\nrm -rf DIR\n#" put a bare `rm -rf DIR` line above the
@@ -289,11 +581,11 @@ TEST_F(SlurmCommand, AShardOnAFullDiskFailsItsTaskAndTheMergeNamesIt) {
   // The one shard fills the disk.
   const CommandResult task = run_array_task(make_array_script_path(db), 0);
   EXPECT_EQ(task.exit_code, 3) << task.output;
-  EXPECT_NE(task.output.find("not marked saved, the merge will not run"), std::string::npos) << task.output;
+  EXPECT_NE(task.output.find("not marked saved, the merge leaves it out"), std::string::npos) << task.output;
   EXPECT_FALSE(fs::exists(make_shard_saved_path(db, 1)));
   const CommandResult merged = run_shell("bash " + make_merge_script_path(db));
   EXPECT_EQ(merged.exit_code, 1) << merged.output;
-  EXPECT_NE(merged.output.find("not merging: 1 of 1 shards did not save their results (shard 1)"), std::string::npos)
+  EXPECT_NE(merged.output.find("merged 0 of 1 shards; 1 did not save their results (shard 1;"), std::string::npos)
       << merged.output;
   EXPECT_FALSE(fs::exists(db));
 }
@@ -312,6 +604,20 @@ TEST_F(SlurmCommand, TaskWithFailedJobsSucceedsSoTheMergeBringsThemIn) {
   for (const auto& [key, status] : read_statuses(db_, "failing")) ++counts[status];
   EXPECT_EQ(counts["done"], 2);
   EXPECT_EQ(counts["failed"], 2);
+  // Failures are results (issue 29): the task run again runs nothing, and `armfarm slurm` finds
+  // nothing to submit; only --retry-failed runs the failed jobs again.
+  const CommandResult again = run_array_task(make_array_script_path(db_), 0);
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("0 done, 0 failed, 0 diverged, 0 timed out, 4 already done (skipped)"), std::string::npos)
+      << again.output;
+  const CommandResult resubmitted = run_armfarm("slurm " + spec + " --db " + db_ + " --tasks 1");
+  EXPECT_NE(resubmitted.output.find("nothing to submit"), std::string::npos) << resubmitted.output;
+  const CommandResult retry = run_armfarm("slurm " + spec + " --db " + db_ + " --tasks 1 --retry-failed");
+  EXPECT_NE(retry.output.find("2 finished in"), std::string::npos) << retry.output;
+  EXPECT_EQ(read_text(make_array_script_path(db_)).find("--keep-failed"), std::string::npos);
+  const CommandResult retried = run_array_task(make_array_script_path(db_), 0);
+  EXPECT_NE(retried.output.find("0 done, 2 failed, 0 diverged, 0 timed out, 2 already done (skipped)"), std::string::npos)
+      << retried.output;
   // A bad spec (exit 2) fails the task.
   std::ofstream(spec) << "{";
   EXPECT_EQ(run_array_task(make_array_script_path(db_), 0).exit_code, 2);
@@ -329,10 +635,10 @@ TEST_F(SlurmCommand, SubmitPassesTheArrayIdToTheMergeDependency) {
       run_shell("PATH=" + bin.string() + ":$PATH " + ARMFARM_BINARY + " slurm " + spec_ + " --db " + db_ + " --tasks 2 --submit");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("submitted array job 4241 (2 tasks)"), std::string::npos) << result.output;
-  EXPECT_NE(result.output.find("submitted merge job 4242 (after array job 4241 succeeds)"), std::string::npos)
+  EXPECT_NE(result.output.find("submitted merge job 4242 (after array job 4241 ends)"), std::string::npos)
       << result.output;
   const std::string calls = read_text(log);
-  EXPECT_EQ(calls, "--parsable " + make_array_script_path(db_) + "\n--parsable --dependency=afterok:4241 " +
+  EXPECT_EQ(calls, "--parsable " + make_array_script_path(db_) + "\n--parsable --dependency=afterany:4241 " +
                        make_merge_script_path(db_) + "\n");
 
   // sbatch failing: exit 2 with one line.
