@@ -21,6 +21,27 @@
 
 namespace armfarm::cli {
 
+namespace {
+
+// Runs `step`; an error of the spec, its configuration or the store is printed as its one line
+// (the configuration's prefixed by the spec's path) and gives false: the command exits 2.
+template <class Step>
+bool reports_input_errors(const std::string& spec, Step&& step) {
+  try {
+    step();
+    return true;
+  } catch (const StoreError& e) {
+    std::cerr << "armfarm: " << e.what() << "\n";
+  } catch (const ConfigError& e) {
+    std::cerr << "armfarm: " << spec << ": " << e.what() << "\n";
+  } catch (const SpecError& e) {
+    for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
+  }
+  return false;
+}
+
+}  // namespace
+
 RunFunction setup_run(CLI::App& parent) {
   struct Options {
     std::string spec;
@@ -121,16 +142,9 @@ RunFunction setup_run(CLI::App& parent) {
         std::cout << "search " << name << ": " << to_string(stages[s].search->settings.method) << ", " << run.threads
                   << " threads, database " << run.db_path << std::endl;
         SearchRunSummary result;
-        try {
-          result = run_search(stages[s], kind, run, options->limits, signals.stop_requested());
-        } catch (const StoreError& e) {
-          std::cerr << "armfarm: " << e.what() << "\n";
-          return 2;
-        } catch (const ConfigError& e) {
-          std::cerr << "armfarm: " << options->spec << ": " << e.what() << "\n";
-          return 2;
-        } catch (const SpecError& e) {
-          for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
+        if (!reports_input_errors(options->spec, [&] {
+              result = run_search(stages[s], kind, run, options->limits, signals.stop_requested());
+            })) {
           return 2;
         }
         std::cout << "search " << name << ": " << result.steps << " steps (" << result.trials << " trials) in "
@@ -142,18 +156,11 @@ RunFunction setup_run(CLI::App& parent) {
         continue;
       }
       ExpandedSweep sweep;
-      try {
-        sweep = expand_sweep(std::move(stages[s]), kind.schema, options->limits);
-        // The jobs' estimated costs deal the shards and weight the progress ETA.
-        run.job_costs = calc_job_costs(sweep, kind.estimate_cost, cost_reference ? &*cost_reference : nullptr);
-      } catch (const StoreError& e) {
-        std::cerr << "armfarm: " << e.what() << "\n";
-        return 2;
-      } catch (const ConfigError& e) {
-        std::cerr << "armfarm: " << options->spec << ": " << e.what() << "\n";
-        return 2;
-      } catch (const SpecError& e) {
-        for (const std::string& line : e.lines()) std::cerr << "armfarm: " << line << "\n";
+      if (!reports_input_errors(options->spec, [&] {
+            sweep = expand_sweep(std::move(stages[s]), kind.schema, options->limits);
+            // The jobs' estimated costs deal the shards and weight the progress ETA.
+            run.job_costs = calc_job_costs(sweep, kind.estimate_cost, cost_reference ? &*cost_reference : nullptr);
+          })) {
         return 2;
       }
       const std::string stage_text = stages.size() > 1 ? " (stage " + std::to_string(s + 1) + " of " + std::to_string(stages.size()) + ")" : "";
