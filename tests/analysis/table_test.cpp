@@ -1,7 +1,7 @@
 // Tables: cells equal hand-computed aggregates; failed jobs are counted, never averaged in.
 #include "analysis/analysis_error.hpp"
 #include "analysis/table.hpp"
-#include "test_database.hpp"
+#include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
 
