@@ -91,6 +91,11 @@ LegendLayout make_legend_layout(const Figure& figure, double char_width_fraction
       entries.push_back(curve.title);
       longest = std::max(longest, curve.title.size());
     }
+    const std::string& marks = panel.edge_mark_title;
+    if (!panel.edge_marks_x.empty() && !marks.empty() && std::find(entries.begin(), entries.end(), marks) == entries.end()) {
+      entries.push_back(marks);
+      longest = std::max(longest, marks.size());
+    }
   }
   const std::size_t per_row =
       std::max<std::size_t>(1, static_cast<std::size_t>(0.95 / (char_width_fraction * (static_cast<double>(longest) + 8))));
@@ -128,6 +133,9 @@ std::string make_tics_lines(const Panel& panel, int max_x_ticks, int max_y_ticks
           }
         }
       }
+    }
+    for (double v : axis == 0 ? panel.edge_marks_x : std::vector<double>(panel.y_min ? 1 : 0, panel.y_min.value_or(0))) {
+      if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v);
     }
     const char* name = axis == 0 ? "xtics" : "ytics";
     const int max_ticks = std::max(1, (axis == 0 ? max_x_ticks : max_y_ticks) - 1);
@@ -243,6 +251,8 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
     if (!figure.title.empty()) layout += " title " + quote_gnuplot(figure_title);
     script << layout << "\n";
   }
+  // A red that none of the curves' colours is close to, for the marks of jobs without a value.
+  static const char* const kEdgeMarkColour = "#CC3311";
   // Paul Tol's "muted" and "bright" schemes: distinguishable, also in greyscale print.
   static const char* const kColours[12] = {"#332288", "#88CCEE", "#44AA99", "#117733", "#999933", "#DDCC77",
                                            "#CC6677", "#882255", "#AA4499", "#4477AA", "#EE6677", "#000000"};
@@ -272,6 +282,21 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
            << (panel.log_x ? "set logscale x\nset format x '%g'\n" : "unset logscale x\nset format x '%g'\n")
            << (panel.log_y ? "set logscale y\nset format y '%.0e'\n" : "unset logscale y\nset format y '%g'\n")
            << (panel.equal_axes ? "set size ratio -1\n" : "set size noratio\n");
+    if (panel.y_min) {
+      char range[64];
+      std::snprintf(range, sizeof range, "set yrange [%.17g:*]\n", *panel.y_min);
+      script << range;
+    } else {
+      script << "set autoscale y\n";
+    }
+    // Edge marks: graph coordinates in y, so they sit on the top frame whatever the data's range.
+    script << "unset label\n";
+    for (std::size_t m = 0; m < panel.edge_marks_x.size(); ++m) {
+      char label[128];
+      std::snprintf(label, sizeof label, "set label %zu '' at first %.17g, graph 1 point pt 11 ps 1.4 lc rgb '%s' front\n", m + 1,
+                    panel.edge_marks_x[m], kEdgeMarkColour);
+      script << label;
+    }
     script << "plot ";
     // Emphasised curves last, so that they are drawn on top.
     std::vector<std::size_t> order;
@@ -303,6 +328,17 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
       } else {
         script << " title " << quote_gnuplot(curve.title);
         titles_shown.push_back(curve.title);
+      }
+    }
+    if (!panel.edge_marks_x.empty()) {
+      // Its legend entry (once per figure), as the curves' titles are.
+      const bool repeated = std::find(titles_shown.begin(), titles_shown.end(), panel.edge_mark_title) != titles_shown.end();
+      script << (order.empty() ? "" : ", \\\n     ") << "keyentry with points pt 11 ps 1.4 lc rgb '" << kEdgeMarkColour << "'";
+      if (repeated || panel.edge_mark_title.empty()) {
+        script << " notitle";
+      } else {
+        script << " title " << quote_gnuplot(panel.edge_mark_title);
+        titles_shown.push_back(panel.edge_mark_title);
       }
     }
     script << "\n";

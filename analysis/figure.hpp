@@ -25,7 +25,12 @@ struct Panel {
   bool log_x = false;
   bool log_y = false;
   bool equal_axes = false;  ///< same scale on x and y (paths in a plane)
+  std::optional<double> y_min;  ///< the y axis starts here (a bar clipped at the axis ends on it); empty = automatic
   std::vector<Curve> curves;
+  /// x positions of marks drawn on the top edge of the panel (jobs without a value there, e.g.
+  /// diverged ones), with one legend entry `edge_mark_title`.
+  std::vector<double> edge_marks_x;
+  std::string edge_mark_title;
 };
 
 struct Figure {

@@ -234,14 +234,14 @@ TEST_F(PlotTest, StyleSizeFontAndLabelOverrides) {
 TEST_F(PlotTest, LegendListsExactlyTheVaryingParametersAndDivergedJobsAreCounted) {
   const std::string svg = render("nmse-vs-kernel --sweep fixed", directory_.file("fixed.svg"));
   EXPECT_EQ(svg.find("update_D"), std::string::npos);  // in every config, never swept: not a legend entry
-  EXPECT_NE(svg.find("jobs not shown: 1 diverged"), std::string::npos);
+  EXPECT_NE(svg.find("marked on the top edge: 1 diverged"), std::string::npos);
   const std::string kernel = render("nmse-vs-kernel --sweep kernel", directory_.file("kernel.svg"));
   EXPECT_NE(kernel.find("update_D=true"), std::string::npos);
   EXPECT_EQ(kernel.find("seed="), std::string::npos);  // repeats are error bars, not curves
   EXPECT_EQ(kernel.find("jobs not shown"), std::string::npos);
   const std::string metric = render("metric-vs-param --sweep fixed --metric same_run_test_nmse --joint 1 --param learning.lwpr.init_D",
                                     directory_.file("fixed_metric.svg"));
-  EXPECT_NE(metric.find("jobs not shown: 1 diverged"), std::string::npos);
+  EXPECT_NE(metric.find("marked on the top edge: 1 diverged"), std::string::npos);
 }
 
 TEST_F(PlotTest, HeldOutMetricNeedsAndTakesACheckpoint) {

@@ -180,24 +180,28 @@ TEST(TrustedFigures, LogAxesPositiveErrorBarsAndNoSilentPooling) {
   const Panel& panel = figure.panels[0];
   EXPECT_TRUE(panel.log_x);
   EXPECT_TRUE(panel.log_y);
-  EXPECT_EQ(panel.y_label, "tracking_nmse (dimensionless)");  // unit from metric_info
-  ASSERT_EQ(panel.curves.size(), 2u);                          // online and batch, not pooled
+  EXPECT_EQ(panel.y_label, "tracking nMSE");  // readable; unit "1" of metric_info: dimensionless, no unit
+  ASSERT_EQ(panel.curves.size(), 2u);          // online and batch, not pooled
   EXPECT_EQ(panel.curves[0].title, "mode=online");
+  // The mean and its 95 % Student-t interval, as the tables print them: the two seeds' values
+  // a = 0.1 v and b = 1.9 v have mean v and half-width t(0.975, 1) · |b − a| / 2 = 12.7062 · 0.9 v.
+  ASSERT_TRUE(panel.y_min.has_value());  // the low ends are below zero: clipped at the axis
+  EXPECT_GT(*panel.y_min, 0.0);
   for (const Curve& curve : panel.curves) {
     ASSERT_EQ(curve.x.size(), 3u);
     for (std::size_t i = 0; i < curve.y.size(); ++i) {
-      EXPECT_GT(curve.y_low[i], 0.0);
-      EXPECT_LT(curve.y_low[i], curve.y[i]);
-      EXPECT_GT(curve.y_high[i], curve.y[i]);
-      // Geometric mean of the two seeds.
-      const double init_d = curve.x[i] * (curve.title == "mode=online" ? 1.0 : 100.0);
-      EXPECT_NEAR(curve.y[i], init_d * std::sqrt(0.1 * 1.9), 1e-12 * init_d);
+      const double v = curve.x[i] * (curve.title == "mode=online" ? 1.0 : 100.0);
+      EXPECT_NEAR(curve.y[i], v, 1e-12 * v);
+      EXPECT_NEAR(curve.y_high[i], v + 12.7062047 * 0.9 * v, 1e-6 * v);
+      EXPECT_DOUBLE_EQ(curve.y_low[i], *panel.y_min);  // on the axis, never at or below zero
+      EXPECT_LT(curve.y_low[i], 0.01);                 // below every mean drawn
     }
   }
-  request.log_y = false;  // forced linear: mean ± std, honestly below zero
+  request.log_y = false;  // forced linear: the interval reaches below zero, the bar stops at zero
   const Figure linear = make_plot_figure(store, request);
   EXPECT_FALSE(linear.panels[0].log_y);
-  EXPECT_LT(linear.panels[0].curves[0].y_low[0], 0.0);
+  EXPECT_FALSE(linear.panels[0].y_min.has_value());
+  EXPECT_EQ(linear.panels[0].curves[0].y_low[0], 0.0);
   // Twelve colours before line styles repeat; one legend entry per title.
   Figure many;
   many.panels.resize(2);
