@@ -81,6 +81,29 @@ bool spans_decades(const std::vector<double>& values) {
   return high > 0.0 && high / low >= 20.0;
 }
 
+// Whether swept values want a log axis: positive, and either spanning decades or spaced by
+// steadier ratios than differences (0.02, 0.05, 0.2 is log-spaced; 1, 2, 3 is not).
+bool is_log_spaced(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  values.erase(std::unique(values.begin(), values.end()), values.end());
+  if (values.empty() || !(values.front() > 0.0)) return false;
+  if (spans_decades(values)) return true;
+  if (values.size() < 3 || values.back() / values.front() < 4.0) return false;
+  const auto spread = [](const std::vector<double>& steps) {  // coefficient of variation
+    double mean = 0, square = 0;
+    for (double step : steps) mean += step;
+    mean /= static_cast<double>(steps.size());
+    for (double step : steps) square += (step - mean) * (step - mean);
+    return std::sqrt(square / static_cast<double>(steps.size())) / mean;
+  };
+  std::vector<double> differences, ratios;
+  for (std::size_t i = 1; i < values.size(); ++i) {
+    differences.push_back(values[i] - values[i - 1]);
+    ratios.push_back(std::log(values[i] / values[i - 1]));
+  }
+  return spread(ratios) < spread(differences);
+}
+
 // The done jobs' values of `metric` by curve and x. A curve is one value of every varying
 // parameter other than `x_param` and the seed, so nothing unplotted is pooled.
 struct CurvePoints {
@@ -175,7 +198,7 @@ std::vector<double> all_values(const std::vector<CurvePoints>& points, bool x) {
 // neither draws nor marks (add_unfinished_marks marks those with an x value); "" when none.
 std::string describe_jobs_not_shown(const SweepData& data, const MetricId& metric, const std::string& x_param) {
   std::map<std::string, int> by_status;
-  int undefined = 0;
+  int undefined = 0, absent = 0;
   for (const JobResult& job : data.jobs) {
     if (job.status != "done") {
       const bool marked = job.status != "pending" && job.status != "running" && as_number(find_param_value(job, x_param));
@@ -183,16 +206,28 @@ std::string describe_jobs_not_shown(const SweepData& data, const MetricId& metri
       continue;
     }
     const auto value = job.metrics.find(metric);
-    if (value == job.metrics.end() || !std::isfinite(value->second)) ++undefined;
+    if (value == job.metrics.end()) ++absent;
+    else if (!std::isfinite(value->second)) ++undefined;
   }
   std::string text;
   for (const auto& [status, count] : by_status) text += (text.empty() ? "" : ", ") + std::to_string(count) + " " + status;
   if (undefined > 0) text += (text.empty() ? "" : ", ") + std::to_string(undefined) + " done with " + make_metric_label(metric) + " undefined";
+  if (absent > 0) text += (text.empty() ? "" : ", ") + std::to_string(absent) + " done without " + make_metric_label(metric);
   return text.empty() ? "" : "jobs not shown: " + text;
 }
 
 std::string describe_error_bars(bool log_y) {
-  return std::string("mean and 95 % interval over seeds") + (log_y ? ", clipped at the axis" : "");
+  return std::string("mean, 95 % CI over seeds") + (log_y ? " (clipped at the axis)" : "");
+}
+
+// Whether any point of the curves has a bar (more than one seed).
+bool has_bars(const std::vector<Curve>& curves) {
+  for (const Curve& curve : curves) {
+    for (std::size_t i = 0; i < curve.y.size(); ++i) {
+      if (curve.y_low[i] != curve.y[i] || curve.y_high[i] != curve.y[i]) return true;
+    }
+  }
+  return false;
 }
 
 // The jobs that have an x value but no y value because they did not finish (diverged, failed,
@@ -319,11 +354,17 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
                                            MetricId{"n_receptive_fields", std::nullopt, std::nullopt});
   const bool fields_log = request.log_y.value_or(spans_decades(all_values(field_points, false)));
   fields.y_label = make_metric_axis_label(data.metric_info, MetricId{"n_receptive_fields", std::nullopt, std::nullopt});
-  figure.title += "\nerror bars: nMSE " + describe_error_bars(log_y) + ", receptive fields " + describe_error_bars(fields_log);
   fields.log_x = log_x;
   fields.log_y = fields_log;
   fields.curves = make_error_bar_curves(field_points, fields_log, "n_receptive_fields", fields);
   add_unfinished_marks(data, request.kernel_param, fields);
+  bool bars = has_bars(fields.curves);
+  for (const Panel& panel : figure.panels) bars = bars || has_bars(panel.curves);
+  if (bars) {
+    figure.title += "\nerror bars: " + (log_y == fields_log ? describe_error_bars(log_y)
+                                                            : "nMSE " + describe_error_bars(log_y) + ", receptive fields " +
+                                                                  describe_error_bars(fields_log));
+  }
   if (!fields.curves.empty()) figure.panels.push_back(std::move(fields));
   return figure;
 }
@@ -356,19 +397,41 @@ Figure make_metric_vs_param(const SweepData& data, const PlotRequest& request) {
     throw AnalysisError("sweep '" + data.name + "': no done job has metric " + make_metric_label(metric) +
                         " and a numeric " + request.param);
   }
-  panel.log_x = request.log_x.value_or(spans_decades(all_values(points, true)));
+  panel.log_x = request.log_x.value_or(is_log_spaced(all_values(points, true)));
   panel.log_y = request.log_y.value_or(spans_decades(all_values(points, false)));
   panel.y_label = make_metric_axis_label(data.metric_info, metric);
-  panel.title += " (error bars: " + describe_error_bars(panel.log_y) + ")";
   panel.curves = make_error_bar_curves(points, panel.log_y, make_metric_label(metric), panel);
   const std::string marked = add_unfinished_marks(data, request.param, panel);
   Figure figure;
   figure.title = make_metric_label(metric) + " against " + request.param + " (sweep " + data.name + ")";
   const std::string dropped = describe_jobs_not_shown(data, metric, request.param);
+  if (has_bars(panel.curves)) figure.title += "\nerror bars: " + describe_error_bars(panel.log_y);
   if (!marked.empty()) figure.title += "\n" + marked;
   if (!dropped.empty()) figure.title += "\n" + dropped;
+  panel.title.clear();  // one panel: the figure's title says it
   figure.panels.push_back(std::move(panel));
   return figure;
+}
+
+// A job's label among `jobs`: the parameters that tell them apart ("init_D=0.05"), its key's
+// start when none does; for a single job, all its varying parameters (make_job_label).
+std::string make_distinguishing_label(const JobResult& job, const std::vector<const JobResult*>& jobs) {
+  if (jobs.size() <= 1) return make_job_label(job);
+  std::string label;
+  for (const auto& item : job.params.items()) {
+    const bool differs = std::any_of(jobs.begin(), jobs.end(), [&](const JobResult* other) {
+      return find_param_value(*other, item.key()) != item.value();
+    });
+    if (differs) label += (label.empty() ? "" : ", ") + last_segment_of(item.key()) + "=" + format_param_value(item.value());
+  }
+  return label.empty() ? job.key.substr(0, 8) : label;
+}
+
+// "j3" (a series column) → "joint 3".
+std::string make_joint_title(const std::string& column) {
+  const bool numbered = column.size() > 1 && column[0] == 'j' &&
+                        std::all_of(column.begin() + 1, column.end(), [](char c) { return c >= '0' && c <= '9'; });
+  return numbered ? "joint " + column.substr(1) : column;
 }
 
 Figure make_rf_growth(const ResultsStore& store, const SweepData& data, const PlotRequest& request) {
@@ -392,9 +455,10 @@ Figure make_rf_growth(const ResultsStore& store, const SweepData& data, const Pl
     const int y_column = find_column(series, "n_receptive_fields", static_cast<int>(series.columns.size()) - 1);
     panel.x_label = series.columns.empty() ? "trial" : series.columns[0];
     if (panel.x_label == "t") panel.x_label = "time (s)";
-    panel.curves.push_back(make_series_curve(series, 0, y_column, make_job_label(*job)));
+    panel.curves.push_back(make_series_curve(series, 0, y_column, make_distinguishing_label(*job, jobs)));
   }
   panel.y_label = "receptive fields (count)";
+  panel.tight_x = true;
   Figure figure;
   figure.title = "Receptive-field growth (sweep " + data.name + ")";
   figure.panels.push_back(std::move(panel));
@@ -425,23 +489,14 @@ Figure make_signals(const ResultsStore& store, const SweepData& data, const Plot
     const SeriesRecord feedback = require_series(store, *job, "F");
     const SeriesRecord feedforward = require_series(store, *job, "FF");
     const auto composite = store.find_series(job->id, "TOR");
-    std::string prefix;
-    if (jobs.size() > 1) {
-      // Name each job by the parameters that tell the chosen jobs apart.
-      for (const auto& item : job->params.items()) {
-        const bool differs = std::any_of(jobs.begin(), jobs.end(), [&](const JobResult* other) {
-          return find_param_value(*other, item.key()) != item.value();
-        });
-        if (differs) prefix += (prefix.empty() ? "" : ", ") + last_segment_of(item.key()) + "=" + format_param_value(item.value());
-      }
-      prefix = (prefix.empty() ? job->key.substr(0, 8) : prefix) + ": ";
-    }
+    const std::string prefix = jobs.size() > 1 ? make_distinguishing_label(*job, jobs) + ": " : "";
     for (Eigen::Index c = 1; c < feedback.rows.cols(); ++c) {
       const std::size_t p = static_cast<std::size_t>(c - 1);
       if (figure.panels.size() <= p) {
         Panel panel;
-        panel.title = feedback.columns[static_cast<std::size_t>(c)];
+        panel.title = make_joint_title(feedback.columns[static_cast<std::size_t>(c)]);
         panel.x_label = "time (s)";
+        panel.tight_x = true;
         panel.y_label = "torque (N·m)";
         figure.panels.push_back(std::move(panel));
       }
@@ -469,7 +524,7 @@ Figure make_tracking(const ResultsStore& store, const SweepData& data, const Plo
   for (const JobResult* job : jobs) {
     const SeriesRecord actual = require_series(store, *job, "POS");
     const nlohmann::json mode = find_param_value(*job, "control.mode");
-    std::string title = make_job_label(*job);
+    std::string title = make_distinguishing_label(*job, jobs);
     if (mode.is_string() && title.find(mode.get<std::string>()) == std::string::npos) title = mode.get<std::string>() + ", " + title;
     panel.curves.push_back(make_series_curve(actual, find_column(actual, "y", 2), find_column(actual, "z", 3), title));
   }

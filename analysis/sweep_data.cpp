@@ -33,12 +33,12 @@ MetricInfoTable load_metric_info(const ResultsStore& store) {
 std::string make_readable_metric_name(const std::string& name) {
   static const std::map<std::string, std::string> kWords = {
       {"nmse", "nMSE"}, {"rmse", "RMSE"}, {"ff", "feed-forward"}, {"fb", "feedback"}, {"id", "ID"}, {"rf", "RF"},
-      {"avg", "mean"},  {"abs", "|·|"},   {"us", "µs"},           {"heldout", "held-out"}, {"pd", "PD"}};
+      {"avg", "mean"},  {"abs", "absolute"},   {"us", "µs"},           {"heldout", "held-out"}, {"pd", "PD"}};
   std::string readable, word;
   std::size_t index = 0;
   auto flush = [&] {
     std::string shown = word;
-    if (index == 0 && word == "n") shown = "number of";
+    if (index == 0 && word == "n") shown = "";  // "n_receptive_fields": the unit says "count"
     else if (const auto found = kWords.find(word); found != kWords.end()) shown = found->second;
     if (!shown.empty()) readable += (readable.empty() ? "" : " ") + shown;
     word.clear();
@@ -62,7 +62,7 @@ std::string make_metric_axis_label(const MetricInfoTable& info, const MetricId& 
   const auto found = info.find(id.name);
   if (found == info.end()) return label;
   const std::string& unit = found->second.unit;
-  return unit.empty() || unit == "1" || unit == "count" ? label : label + " (" + unit + ")";
+  return unit.empty() || unit == "1" ? label : label + " (" + unit + ")";
 }
 
 namespace {
