@@ -387,13 +387,14 @@ std::string make_job_page(const ResultsStore& store, const SweepData& data, cons
   page << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>armfarm job " << escape_html(job.key.substr(0, 8))
        << "</title>" << kStyle << "</head><body>\n<p><a href=\"index.html\">all sweeps</a> · <a href=\"" << escape_html(sweep_file)
        << "\">sweep " << escape_html(data.name) << "</a></p>\n<h1>Job <code>" << escape_html(job.key) << "</code></h1>\n";
-  page << "<table><tr><th>status</th><td" << (job.status == "done" ? "" : " class=\"bad\"") << ">" << escape_html(job.status)
+  page << "<div class=\"scroll\"><table><tr><th>status</th><td" << (job.status == "done" ? " class=\"name\"" : " class=\"bad\"") << ">" << escape_html(job.status)
        << (job.message.empty() ? "" : ": " + escape_html(job.message)) << "</td></tr>\n<tr><th>seed</th><td class=\"num\">"
        << job.seed << "</td></tr>\n";
   for (const std::string& path : data.varying_params) {
-    page << "<tr><th>" << escape_html(path) << "</th><td>" << escape_html(format_param_value(find_param_value(job, path))) << "</td></tr>\n";
+    page << "<tr><th>" << escape_html(path) << "</th><td class=\"name\">" << escape_html(format_param_value(find_param_value(job, path)))
+         << "</td></tr>\n";
   }
-  page << "</table>\n<nav><ul><li><a href=\"#metrics\">Metrics</a></li><li><a href=\"#figures\">Figures</a></li>"
+  page << "</table></div>\n<nav><ul><li><a href=\"#metrics\">Metrics</a></li><li><a href=\"#figures\">Figures</a></li>"
        << "<li><a href=\"#config\">Configuration</a></li></ul></nav>\n";
 
   page << "<h2 id=\"metrics\">Metrics</h2>\n<div class=\"scroll\"><table class=\"sortable\">\n"
