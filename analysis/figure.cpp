@@ -99,7 +99,7 @@ LegendLayout make_legend_layout(const Figure& figure, double char_width_fraction
     }
   }
   const std::size_t per_row =
-      std::max<std::size_t>(1, static_cast<std::size_t>(0.95 / (char_width_fraction * (static_cast<double>(longest) + 8))));
+      std::max<std::size_t>(1, static_cast<std::size_t>(0.95 / (char_width_fraction * (1.15 * static_cast<double>(longest) + 12))));
   return {(entries.size() + per_row - 1) / per_row};
 }
 
@@ -277,9 +277,9 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
         title_lines_panel = std::max(title_lines_panel, 1.0 + static_cast<double>(std::count(t.begin(), t.end(), '\n')));
       }
       char margins[160];
-      std::snprintf(margins, sizeof margins, " margins %.4f,%.4f,%.4f,%.4f spacing %.4f,%.4f", std::min(0.3, 10 * char_w),
+      std::snprintf(margins, sizeof margins, " margins %.4f,%.4f,%.4f,%.4f spacing %.4f,%.4f", std::min(0.3, 12 * char_w),
                     1 - 2 * char_w, std::min(0.7, (3.0 + x_label_lines + 1.25 * static_cast<double>(key_rows)) * char_h),
-                    std::max(0.55, 1 - (2.6 + title_lines_panel + 1.1 * static_cast<double>(title_lines)) * char_h), std::min(0.3, 11 * char_w),
+                    std::max(0.55, 1 - (2.6 + title_lines_panel + 1.1 * static_cast<double>(title_lines)) * char_h), std::min(0.3, 12 * char_w),
                     std::min(0.3, (4.8 + x_label_lines + title_lines_panel) * char_h));
       layout += margins;
       if (key_rows > 0) script << "set key at screen 0.5, screen 0.005 center bottom vertical maxrows " << key_rows << "\n";
