@@ -225,5 +225,46 @@ TEST(TrustedFigures, LogAxesPositiveErrorBarsAndNoSilentPooling) {
   EXPECT_NE(two.find("lc rgb '#88CCEE'", batch_colour + 1), std::string::npos) << two;  // batch twice, one colour
 }
 
+// Log x for log-spaced swept values even within one decade (0.02, 0.05, 0.2, the quick start's
+// init_D), not for evenly spaced ones; a diverged job is a mark on the top edge at its x.
+TEST(TrustedFigures, LogSpacedValuesGetALogAxisAndUnfinishedJobsAMark) {
+  testing::TemporaryDirectory directory;
+  const std::string db = directory.file("r.db");
+  const auto write = [&](const std::string& sweep, const std::vector<double>& values) {
+    std::vector<testing::TestJob> jobs;
+    for (double value : values) {
+      testing::TestJob job;
+      job.params = {{"learning.lwpr.init_D", value}};
+      job.metrics = {{0, "tracking_nmse", std::nullopt, 0.01 + value / 100, ""}};
+      jobs.push_back(job);
+    }
+    jobs.back().status = "diverged";
+    jobs.back().metrics.clear();
+    testing::write_test_sweep(db, sweep, jobs);
+  };
+  write("log", {0.02, 0.05, 0.2, 0.5});
+  write("even", {1.0, 2.0, 3.0, 4.0});
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  PlotRequest request;
+  request.kind = PlotKind::metric_vs_param;
+  request.metric = "tracking_nmse";
+  request.param = "learning.lwpr.init_D";
+  request.sweep = "log";
+  const Figure log = make_plot_figure(store, request);
+  EXPECT_TRUE(log.panels[0].log_x);
+  EXPECT_EQ(log.panels[0].edge_marks_x, std::vector<double>{0.5});
+  EXPECT_NE(log.title.find("marked on the top edge: 1 diverged"), std::string::npos) << log.title;
+  request.sweep = "even";
+  const Figure even = make_plot_figure(store, request);
+  EXPECT_FALSE(even.panels[0].log_x);
+  EXPECT_EQ(even.panels[0].edge_marks_x, std::vector<double>{4.0});
+  // The mark is drawn on the frame in graph coordinates, with one legend entry.
+  const std::string script = make_gnuplot_script(even, TerminalSettings{"set terminal svg"}, "out.svg", "/tmp");
+  EXPECT_NE(script.find("set label 1 '' at first 4, graph 1 point pt 11"), std::string::npos) << script;
+  EXPECT_NE(script.find("keyentry with points pt 11 ps 1.4 lc rgb '#CC3311' title 'not finished (1 diverged), at its init_D'"),
+            std::string::npos)
+      << script;
+}
+
 }  // namespace
 }  // namespace armfarm
