@@ -180,6 +180,12 @@ std::vector<Curve> make_error_bar_curves(const std::vector<CurvePoints>& points,
       }
     }
   }
+  // A curve without repeats has no bars to draw: points joined by lines, no caps of zero length.
+  for (Curve& curve : curves) {
+    bool bars = false;
+    for (std::size_t i = 0; i < curve.y.size(); ++i) bars = bars || curve.y_low[i] != curve.y[i] || curve.y_high[i] != curve.y[i];
+    if (!bars) curve.style = Curve::Style::lines_points;
+  }
   return curves;
 }
 
@@ -374,20 +380,19 @@ Figure make_metric_vs_param(const SweepData& data, const PlotRequest& request) {
     throw AnalysisError("metric-vs-param needs --metric NAME and --param PATH");
   }
   const MetricId metric{request.metric, request.joint, request.checkpoint};
-  if (!request.checkpoint) {
-    // A held-out metric exists only at checkpoints: say which to choose.
-    std::set<std::int64_t> checkpoints;
-    for (const JobResult& job : data.jobs) {
-      for (const auto& [id, value] : job.metrics) {
-        if (id.name == metric.name && id.joint == metric.joint && id.checkpoint) checkpoints.insert(*id.checkpoint);
-      }
+  // A held-out metric exists only at checkpoints: say which to choose.
+  std::set<std::int64_t> checkpoints;
+  for (const JobResult& job : data.jobs) {
+    for (const auto& [id, value] : job.metrics) {
+      if (id.name == metric.name && id.joint == metric.joint && id.checkpoint) checkpoints.insert(*id.checkpoint);
     }
-    if (!checkpoints.empty()) {
-      std::string list;
-      for (std::int64_t c : checkpoints) list += (list.empty() ? "" : ", ") + std::to_string(c);
-      throw AnalysisError("sweep '" + data.name + "': metric " + metric.name + " is recorded at checkpoints " + list +
-                          "; choose one with --checkpoint N");
-    }
+  }
+  if (!checkpoints.empty() && (!request.checkpoint || !checkpoints.count(*request.checkpoint))) {
+    std::string list;
+    for (std::int64_t c : checkpoints) list += (list.empty() ? "" : ", ") + std::to_string(c);
+    throw AnalysisError("sweep '" + data.name + "': metric " + metric.name + " is recorded at checkpoints " + list +
+                        (request.checkpoint ? ", not " + std::to_string(*request.checkpoint) : std::string()) +
+                        "; choose one with --checkpoint N");
   }
   Panel panel;
   panel.title = make_metric_label(metric);

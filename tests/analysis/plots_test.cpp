@@ -249,6 +249,9 @@ TEST_F(PlotTest, HeldOutMetricNeedsAndTakesACheckpoint) {
   const auto refused = testing::run_armfarm(base + " --out " + directory_.file("h.svg"));
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.output.find("--checkpoint"), std::string::npos) << refused.output;
+  const auto absent = testing::run_armfarm(base + " --checkpoint 7 --out " + directory_.file("h7.svg"));
+  EXPECT_EQ(absent.exit_code, 2);
+  EXPECT_NE(absent.output.find("recorded at checkpoints 1, not 7; choose one with --checkpoint N"), std::string::npos) << absent.output;
   const std::string svg = render("metric-vs-param --sweep fixed --metric heldout_test_nmse --joint 1 --param learning.lwpr.init_D --checkpoint 1",
                                  directory_.file("heldout.svg"));
   EXPECT_NE(svg.find("heldout_test_nmse_j1_c1"), std::string::npos);
