@@ -6,13 +6,16 @@
 #include "results/results_store.hpp"
 #include "runner/cli/slurm_script.hpp"
 #include "runner/cli/subcommand.hpp"
+#include "runner/execution/job_cost.hpp"
 #include "runner/execution/job_kind.hpp"
+#include "runner/execution/progress_reporter.hpp"
 #include "runner/spec/spec_error.hpp"
 #include "runner/spec/sweep_expansion.hpp"
 #include "runner/spec/sweep_spec.hpp"
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -110,7 +113,7 @@ RunFunction setup_slurm(CLI::App& parent) {
     std::string setup;
     bool dry_run = false;
     bool retry_failed = false;
-    int signal_before = SlurmPlan{}.signal_before;
+    int signal_before = 0;  // 0: from the job-cost model (choose_signal_before)
     bool requeue = SlurmPlan{}.requeue;
   };
   auto options = std::make_shared<Options>();
@@ -141,9 +144,10 @@ RunFunction setup_slurm(CLI::App& parent) {
   app->add_flag("--retry-failed", options->retry_failed,
                 "Run failed, diverged and timed-out jobs again (by default they are results and stay)");
   app->add_option("--signal-before", options->signal_before,
-                  "Seconds before the time limit at which Slurm warns a task (SIGUSR1): it stops and saves")
+                  "Seconds before the time limit at which Slurm warns a task (SIGUSR1): it lets the jobs that can "
+                  "end in time finish, stops the others and saves (0: chosen from the job-cost model)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 65535));
+      ->check(CLI::Range(0, 65535));
   app->add_flag("--requeue,!--no-requeue", options->requeue,
                 "A task stopped by the warning (time limit, preemption) requeues itself and resumes its shard")
       ->capture_default_str();
@@ -219,8 +223,6 @@ RunFunction setup_slurm(CLI::App& parent) {
     plan.job_timeout = options->job_timeout;
     plan.sbatch_args = options->sbatch_args;
     plan.retry_failed = options->retry_failed;
-    plan.signal_before = options->signal_before;
-    plan.requeue = options->requeue;
     if (!options->setup.empty()) plan.setup = fs::absolute(options->setup).lexically_normal().string();
 
     // What is done already: in DB (a finished earlier submission) and in the shard files.
@@ -249,6 +251,26 @@ RunFunction setup_slurm(CLI::App& parent) {
       std::cout << "\n";
     }
 
+    // The warning time from the expected wall times, calibrated by the jobs DB finished before.
+    {
+      std::optional<ResultsStore> reference;
+      if (fs::exists(plan.db)) reference = ResultsStore::open(plan.db, ResultsStore::Mode::read_only);
+      const JobKind kind = make_job_kind_from_environment();
+      const std::vector<double> seconds = calc_job_seconds(sweep, kind.estimate_cost, reference ? &*reference : nullptr);
+      const double longest = seconds.empty() ? 0.0 : *std::max_element(seconds.begin(), seconds.end());
+      plan.signal_before = options->signal_before > 0 ? options->signal_before : choose_signal_before(seconds, plan.time_limit);
+      std::cout << "warning signal " << plan.signal_before << " s before a task's time limit ("
+                << (options->signal_before > 0 ? "--signal-before" : "from the job-cost model") << "; the longest job is expected to take "
+                << make_duration_text(longest) << (reference ? " as measured in " + plan.db : "") << "): running jobs expected to end within "
+                << calc_stop_grace(plan.signal_before) << " s finish, the others stop and stay pending\n";
+      const std::optional<long> limit = plan.time_limit.empty() ? std::nullopt : calc_slurm_time_seconds(plan.time_limit);
+      if (limit && longest > static_cast<double>(*limit - plan.signal_before)) {
+        std::cout << "armfarm slurm: warning: the longest job is expected to take " << make_duration_text(longest)
+                  << ", more than a task's --time " << plan.time_limit << " less the warning (" << *limit - plan.signal_before
+                  << " s): it may never finish and its task be requeued again and again\n";
+      }
+    }
+    plan.requeue = options->requeue;
     const std::string array_script = make_array_script_path(plan.db);
     const std::string merge_script = make_merge_script_path(plan.db);
     if (options->dry_run) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -181,12 +182,14 @@ std::string make_array_script(const SlurmPlan& plan) {
       << "rm -f -- \"$saved\"\n"
       << "echo \"armfarm slurm: shard $shard/$count on $(hostname) into $db\"\n"
       << "# Slurm's warning (--signal=B:USR1@" << plan.signal_before << ": a time limit or preemption ahead) goes to this\n"
-      << "# shell; it is passed on to armfarm, which stops taking jobs, stops the running ones and saves.\n"
+      << "# shell; it is passed on to armfarm, which stops taking jobs, lets the running ones it expects to end\n"
+      << "# within " << calc_stop_grace(plan.signal_before) << " s finish (--stop-grace), stops the others (they stay pending) and saves.\n"
       << "signalled=0\n"
       << "pid=\n"
       << "trap 'signalled=1; [ -n \"$pid\" ] && kill -USR1 \"$pid\" 2>/dev/null' USR1\n"
       << make_shell_quoted(plan.armfarm) << " run " << make_shell_quoted(plan.spec)
-      << " --shard \"$shard/$count\" --db \"$db\" -j \"${SLURM_CPUS_PER_TASK:-" << plan.cpus_per_task << "}\"";
+      << " --shard \"$shard/$count\" --db \"$db\" -j \"${SLURM_CPUS_PER_TASK:-" << plan.cpus_per_task << "}\""
+      << " --stop-grace " << calc_stop_grace(plan.signal_before);
   if (plan.job_timeout > 0) out << " --timeout " << make_seconds_text(plan.job_timeout);
   if (!plan.retry_failed) out << " --keep-failed";
   out << " &\n"
@@ -301,6 +304,49 @@ void check_slurm_time_limit(const std::string& text) {
   } else if (values.size() == 3) {
     if (values[1] >= 60 || values[2] >= 60) fail("minutes and seconds must be below 60");
   }
+}
+
+std::optional<long> calc_slurm_time_seconds(const std::string& text) {
+  std::string lower;
+  for (const char c : text) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (lower == "infinite" || lower == "unlimited") return std::nullopt;
+  long days = 0;
+  std::string clock = text;
+  const std::size_t dash = text.find('-');
+  if (dash != std::string::npos) {
+    days = std::stol(text.substr(0, dash));
+    clock = text.substr(dash + 1);
+  }
+  std::vector<long> fields;
+  for (const std::string& field : split(clock, ':')) fields.push_back(std::stol(field));
+  long seconds = 0;
+  if (dash != std::string::npos) {  // D-H, D-H:M, D-H:M:S
+    const long scale[] = {3600, 60, 1};
+    for (std::size_t i = 0; i < fields.size(); ++i) seconds += fields[i] * scale[i];
+  } else if (fields.size() == 1) {  // M
+    seconds = fields[0] * 60;
+  } else if (fields.size() == 2) {  // M:S
+    seconds = fields[0] * 60 + fields[1];
+  } else {  // H:M:S
+    seconds = fields[0] * 3600 + fields[1] * 60 + fields[2];
+  }
+  return days * 86400 + seconds;
+}
+
+int calc_stop_grace(int signal_before) { return std::max(0, signal_before - std::max(5, signal_before / 10)); }
+
+int choose_signal_before(const std::vector<double>& job_seconds, const std::string& time_limit) {
+  double longest = 0.0;
+  for (const double seconds : job_seconds) longest = std::max(longest, seconds);
+  // T - max(5, T / 10) >= 1.5 × longest: T = 1.5 × longest + 5 while that is below 50, else (1.5 × longest) / 0.9.
+  const double room = 1.5 * longest;
+  double chosen = room + 5.0 <= 50.0 ? room + 5.0 : room / 0.9;
+  chosen = std::min(65535.0, std::max(60.0, std::ceil(chosen)));
+  if (!time_limit.empty()) {
+    const std::optional<long> limit = calc_slurm_time_seconds(time_limit);
+    if (limit) chosen = std::min(chosen, static_cast<double>(*limit / 2));
+  }
+  return std::max(1, static_cast<int>(chosen));
 }
 
 void check_slurm_partition(const std::string& text) {
