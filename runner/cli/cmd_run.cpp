@@ -135,6 +135,7 @@ RunFunction setup_run(CLI::App& parent) {
     run.progress_out = &std::cerr;
     run.provenance = make_provenance();
     StopSignalScope signals;
+    run.stop_at_once = &signals.stop_at_once();
 
     // Stages run in order, each expanded only after the ones before it ran (its jobs may start
     // from the models they stored); a stage that is not all done stops the rest.
@@ -217,7 +218,7 @@ RunFunction setup_run(CLI::App& parent) {
       if (summary.interrupted) {
         std::cout << "interrupted: " << summary.abandoned << " jobs not finished";
         if (run.stop_grace_seconds) {
-          std::cout << " (" << summary.finished_in_grace << " running ones finished within the stop grace of "
+          std::cout << " (" << summary.finished_in_grace << " of the running ones finished within the stop grace of "
                     << *run.stop_grace_seconds << " s)";
         }
         std::cout << "; run the same command again to resume\n";

@@ -180,7 +180,7 @@ std::string make_array_script(const SlurmPlan& plan) {
       << "db=" << make_shell_quoted(plan.db) << ".shard-\"$shard\".db\n"
       << "saved=" << make_shell_quoted(plan.db) << ".shard-\"$shard\".saved\n"
       << "rm -f -- \"$saved\"\n"
-      << "echo \"armfarm slurm: shard $shard/$count on $(hostname) into $db\"\n"
+      << "echo \"armfarm slurm: shard $shard/$count on $(hostname) into $db at $(date -u +%T)\"\n"
       << "# Slurm's warning (--signal=B:USR1@" << plan.signal_before << ": a time limit or preemption ahead) goes to this\n"
       << "# shell; it is passed on to armfarm, which stops taking jobs, lets the running ones it expects to end\n"
       << "# within " << calc_stop_grace(plan.signal_before) << " s finish (--stop-grace), stops the others (they stay pending) and saves.\n"
@@ -199,7 +199,7 @@ std::string make_array_script(const SlurmPlan& plan) {
       << "# A trapped signal ends `wait` early: wait again until armfarm has exited.\n"
       << "while kill -0 \"$pid\" 2>/dev/null; do wait \"$pid\"; status=$?; done\n"
       << "if [ \"$signalled\" -eq 1 ] && [ \"$status\" -ne 0 ]; then\n"
-      << "  echo \"armfarm slurm: shard $shard/$count stopped by Slurm's warning signal (armfarm run exit $status); its finished jobs are saved\"\n";
+      << "  echo \"armfarm slurm: shard $shard/$count stopped by Slurm's warning signal (armfarm run exit $status) at $(date -u +%T); its finished jobs are saved\"\n";
   if (plan.requeue) {
     out << "  # Requeued, the task resumes its shard file: what finished is not run again.\n"
         << "  scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\" && { echo \"armfarm slurm: shard $shard/$count requeued\"; exit 0; }\n";

@@ -141,7 +141,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
       const auto sweep_index = static_cast<std::size_t>(&job - sweep.jobs.data());
       // Whether the stop grace lets this job run on now (stop_grace_seconds).
       const auto in_grace = [&] {
-        if (!options.stop_grace_seconds) return false;
+        if (!options.stop_grace_seconds || (options.stop_at_once != nullptr && options.stop_at_once->load())) return false;
         const auto now = std::chrono::steady_clock::now();
         const auto seen = find_stop_seen(now);
         const double grace = *options.stop_grace_seconds;
@@ -275,7 +275,8 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
     if (summary.write_error.empty()) claims.rethrow_error();
   }
   summary.taken_over += claims.taken_over();
-  summary.interrupted = stop_requested.load();
+  // A stop that came after (or let finish) every job of the shard interrupted nothing.
+  summary.interrupted = stop_requested.load() && summary.abandoned > 0;
   summary.headline = choose_run_headline(headline_jobs);
   if (summary.write_error.empty()) {
     store.update_run_finished(registered.run_id, summary.interrupted ? "interrupted" : "complete", summary.run,

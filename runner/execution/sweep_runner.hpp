@@ -35,6 +35,7 @@ struct RunOptions {
   /// the others stop at once. Unset: every running job stops at once. Either way a stopped job is
   /// not failed: it goes back to pending.
   std::optional<double> stop_grace_seconds;
+  const std::atomic<bool>* stop_at_once = nullptr;  ///< set: the stop request waits for no grace (SIGINT, SIGTERM: StopSignalScope)
   std::vector<double> job_seconds;         ///< per job of the sweep, expected wall s (calc_job_seconds); a job without one is not expected to end
   ClaimConfig claims;                      ///< runners sharing the database (claim_keeper.hpp)
   ProgressConfig progress;                 ///< style quiet by default
