@@ -3,12 +3,15 @@
 // SQLite file, never one file shared over a network filesystem), plus a merge job after the
 // array; prints the commands that submit them, or with --submit submits them. Run again after
 // a partial failure it submits only what is missing (done shards resume as no-ops).
+#include "analysis/printable_text.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/slurm_script.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/job_cost.hpp"
 #include "runner/execution/job_kind.hpp"
 #include "runner/execution/progress_reporter.hpp"
+#include "runner/execution/shard.hpp"
+#include "runner/execution/sweep_runner.hpp"
 #include "runner/spec/spec_error.hpp"
 #include "runner/spec/sweep_expansion.hpp"
 #include "runner/spec/sweep_spec.hpp"
@@ -95,6 +98,36 @@ std::string run_sbatch(const std::string& command, const std::string& what) {
   return id;
 }
 
+/// The jobs of `sweep` not in `finished`, each with its shard of plan.tasks (dealt as the tasks'
+/// `armfarm run --shard` deals them), at most 10 lines and "... and N more".
+void print_missing_jobs(const ExpandedSweep& sweep, const SlurmPlan& plan, const std::set<std::string>& finished) {
+  std::vector<std::string> keys;
+  for (const ExpandedJob& job : sweep.jobs) keys.push_back(job.key);
+  const JobKind kind = make_job_kind_from_environment();
+  const std::vector<int> shard_of = calc_shard_assignment(keys, calc_job_costs(sweep, kind.estimate_cost), plan.tasks);
+  std::set<int> shards;
+  std::vector<std::size_t> missing;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if (finished.count(keys[i]) > 0) continue;
+    missing.push_back(i);
+    shards.insert(shard_of[i]);
+  }
+  std::cout << "armfarm slurm: " << keys.size() - missing.size() << " of " << keys.size() << " jobs of sweep "
+            << make_printable_text(plan.sweep) << " finished in " << plan.db;
+  if (missing.empty()) {
+    std::cout << "; none missing\n";
+    return;
+  }
+  std::cout << "; " << missing.size() << " missing, in shard" << (shards.size() == 1 ? "" : "s");
+  for (const int shard : shards) std::cout << " " << shard;
+  std::cout << " of " << plan.tasks << ":\n";
+  const std::size_t shown = std::min<std::size_t>(missing.size(), 10);
+  for (std::size_t i = 0; i < shown; ++i) {
+    std::cout << "  shard " << shard_of[missing[i]] << ": " << make_printable_text(make_job_label(sweep.jobs[missing[i]])) << "\n";
+  }
+  if (missing.size() > shown) std::cout << "  ... and " << missing.size() - shown << " more\n";
+}
+
 }  // namespace
 
 RunFunction setup_slurm(CLI::App& parent) {
@@ -112,6 +145,7 @@ RunFunction setup_slurm(CLI::App& parent) {
     std::vector<std::string> sbatch_args;
     std::string setup;
     bool dry_run = false;
+    bool missing = false;
     bool retry_failed = false;
     int signal_before = 0;  // 0: from the job-cost model (choose_signal_before)
     bool requeue = SlurmPlan{}.requeue;
@@ -152,6 +186,8 @@ RunFunction setup_slurm(CLI::App& parent) {
                 "A task stopped by the warning (time limit, preemption) requeues itself and resumes its shard")
       ->capture_default_str();
   app->add_flag("--dry-run", options->dry_run, "Print the scripts and the submit commands; write and submit nothing");
+  app->add_flag("--missing", options->missing,
+                "Name the jobs not finished in DB and their shards (the merge job runs it), exit 1 if any; write and submit nothing");
 
   return [options] {
     SlurmPlan plan;
@@ -235,6 +271,10 @@ RunFunction setup_slurm(CLI::App& parent) {
     }
     std::cout << "sweep " << plan.sweep << ": " << plan.jobs << " jobs, " << in_db << " finished in " << plan.db << ", "
               << done_in_shards.size() << " finished in its " << plan.tasks << " shard files" << std::endl;
+    if (options->missing) {
+      print_missing_jobs(sweep, plan, done_in_db);
+      return in_db == plan.jobs ? 0 : 1;
+    }
     if (in_db == plan.jobs) {
       std::cout << "nothing to submit: every job is finished in " << plan.db << "\n";
       return 0;

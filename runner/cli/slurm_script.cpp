@@ -254,6 +254,9 @@ std::string make_merge_script(const SlurmPlan& plan) {
       << "if [ ${#missing[@]} -gt 0 ]; then\n"
       << "  shown=\"${missing[*]:0:10}\"\n"
       << "  [ ${#missing[@]} -gt 10 ] && shown=\"$shown ... and $((${#missing[@]} - 10)) more\"\n"
+      << "  # The jobs not finished in the merged database, by shard.\n"
+      << "  " << make_shell_quoted(plan.armfarm) << " slurm " << make_shell_quoted(plan.spec) << " --db \"$db\" --tasks " << plan.tasks
+      << (plan.retry_failed ? " --retry-failed" : "") << " --missing\n"
       << "  echo \"armfarm slurm: merged ${#saved[@]} of " << plan.tasks << " shards; ${#missing[@]} did not save their results "
       << "(shard $shown; see $db.slurm-*.log): run the same armfarm slurm command again to submit only those, then a merge\" >&2\n"
       << "fi\n"

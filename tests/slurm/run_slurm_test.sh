@@ -7,7 +7,13 @@
 # before armfarm, in every task) and a hostile --sbatch-arg=--comment=... value (it must reach
 # Slurm as written and run nothing). First one task is cancelled right after submission: the
 # merge still runs (afterany), merges the two other shards and names shard 2; then the same
-# command again submits only shard 2 and a merge; once more it finds nothing to submit.
+# command again submits only shard 2 and a merge; once more it finds nothing to submit. Then,
+# with fake jobs that sleep (ARMFARM_FAKE_JOBS=1), in one task each: 4 jobs of 20 s under a
+# one-minute --time with the warning 30 s before (the task is warned, lets its running job end,
+# requeues itself, until the sweep completes), and 4 jobs of 6 s whose task is requeued with
+# `scontrol requeue` while a job runs; both end with every job done exactly once (the task logs'
+# progress lines, the merged database). Each wait prints the jobs' states as they change (the
+# timeline). About 3 minutes, mostly sleeping.
 # Stops the daemons it started, by pid, on every exit path. Skips (exit 0, one line) when not
 # root or when the packages cannot be installed.
 #
@@ -213,6 +219,9 @@ submit_and_wait cancel_task_2
 [ -e "$db" ] || { say "$db was not written by the partial merge"; exit 1; }
 grep -q "merged 2 of 3 shards; 1 did not save their results (shard 2;" "$db.slurm-$merge_id-merge.log" ||
   { say "the merge log does not name shard 2"; exit 1; }
+grep -q "^armfarm slurm: 4 of 6 jobs of sweep slurm_small finished in $db; 2 missing, in shard 2 of 3:" "$db.slurm-$merge_id-merge.log" ||
+  { say "the merge log does not count the missing jobs"; exit 1; }
+[ "$(grep -c "^  shard 2: " "$db.slurm-$merge_id-merge.log")" -eq 2 ] || { say "the merge log does not name the 2 missing jobs"; exit 1; }
 [ ! -e "$work/owned" ] || { say "the hostile --sbatch-arg value ran as code"; exit 1; }
 scontrol -o show job "$merge_id" | grep -qF "Comment=it's \$(touch $work/owned)" ||
   { say "the hostile --comment did not reach Slurm as written: $(scontrol -o show job "$merge_id" | grep -o 'Comment=.*')"; exit 1; }

@@ -576,12 +576,29 @@ TEST_F(SlurmCommand, APartialMergeNamesTheMissingShardAndTheResubmissionRunsOnly
                                  read_statuses(make_shard_db_path(db_, 3), "fake_small").size();
   EXPECT_EQ(read_statuses(db_, "fake_small").size(), in_1_and_3);
   EXPECT_LT(in_1_and_3, 12u);
+  // The merge names the missing jobs, each of shard 2, and only those.
+  const std::string missing_count = std::to_string(in_1_and_3) + " of 12 jobs of sweep fake_small finished in " + db_ + "; " +
+                                    std::to_string(12 - in_1_and_3) + " missing, in shard 2 of 3:\n";
+  EXPECT_NE(merged.output.find(missing_count), std::string::npos) << merged.output;
+  const std::map<std::string, std::string> merged_statuses = read_statuses(db_, "fake_small");
+  std::size_t named = 0;
+  for (std::size_t at = merged.output.find("\n  shard "); at != std::string::npos; at = merged.output.find("\n  shard ", at + 1)) {
+    EXPECT_EQ(merged.output.compare(at, 12, "\n  shard 2: "), 0) << merged.output;
+    const std::string label = merged.output.substr(at + 12, 8);  // the key's first 8 digits
+    for (const auto& [key, status] : merged_statuses) EXPECT_NE(key.substr(0, 8), label) << "a merged job named missing";
+    ++named;
+  }
+  EXPECT_EQ(named, 12 - in_1_and_3) << merged.output;
   const CommandResult again = run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 3");
   EXPECT_NE(again.output.find("resubmitting 1 of 3 shards (the others are complete): 2\n"), std::string::npos) << again.output;
   EXPECT_NE(read_text(array_script).find("#SBATCH --array=1\n"), std::string::npos) << read_text(array_script);
   ASSERT_EQ(run_array_task(array_script, 1).exit_code, 0);
   const CommandResult complete = run_shell("bash " + merge_script);
   EXPECT_EQ(complete.exit_code, 0) << complete.output;
+  const CommandResult none = run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 3 --missing");
+  EXPECT_EQ(none.exit_code, 0) << none.output;
+  EXPECT_NE(none.output.find("12 of 12 jobs of sweep fake_small finished in " + db_ + "; none missing\n"), std::string::npos)
+      << none.output;
   const auto statuses = read_statuses(db_, "fake_small");
   EXPECT_EQ(statuses.size(), 12u);
   for (const auto& [key, status] : statuses) EXPECT_EQ(status, "done") << key;
