@@ -149,6 +149,7 @@ RunFunction setup_slurm(CLI::App& parent) {
     bool retry_failed = false;
     int signal_before = 0;  // 0: from the job-cost model (choose_signal_before)
     bool requeue = SlurmPlan{}.requeue;
+    int max_requeues = SlurmPlan{}.max_requeues;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -185,6 +186,10 @@ RunFunction setup_slurm(CLI::App& parent) {
   app->add_flag("--requeue,!--no-requeue", options->requeue,
                 "A task stopped by the warning (time limit, preemption) requeues itself and resumes its shard")
       ->capture_default_str();
+  app->add_option("--max-requeues", options->max_requeues,
+                  "A warned task requeues itself only while it has restarted fewer times than this (SLURM_RESTART_COUNT)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100000));
   app->add_flag("--dry-run", options->dry_run, "Print the scripts and the submit commands; write and submit nothing");
   app->add_flag("--missing", options->missing,
                 "Name the jobs not finished in DB and their shards (the merge job runs it), exit 1 if any; write and submit nothing");
@@ -311,6 +316,7 @@ RunFunction setup_slurm(CLI::App& parent) {
       }
     }
     plan.requeue = options->requeue;
+    plan.max_requeues = options->max_requeues;
     const std::string array_script = make_array_script_path(plan.db);
     const std::string merge_script = make_merge_script_path(plan.db);
     if (options->dry_run) {

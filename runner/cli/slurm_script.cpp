@@ -202,7 +202,13 @@ std::string make_array_script(const SlurmPlan& plan) {
       << "  echo \"armfarm slurm: shard $shard/$count stopped by Slurm's warning signal (armfarm run exit $status) at $(date -u +%T); its finished jobs are saved\"\n";
   if (plan.requeue) {
     out << "  # Requeued, the task resumes its shard file: what finished is not run again.\n"
-        << "  scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\" && { echo \"armfarm slurm: shard $shard/$count requeued\"; exit 0; }\n";
+        << "  # At most " << plan.max_requeues << " restarts (--max-requeues): a job too long for the time limit does not loop.\n"
+        << "  if [ \"${SLURM_RESTART_COUNT:-0}\" -lt " << plan.max_requeues << " ]; then\n"
+        << "    scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\" && { echo \"armfarm slurm: shard $shard/$count requeued\"; exit 0; }\n"
+        << "  else\n"
+        << "    echo \"armfarm slurm: shard $shard/$count restarted ${SLURM_RESTART_COUNT} times (--max-requeues " << plan.max_requeues
+        << "): a job may not fit in the time limit\" >&2\n"
+        << "  fi\n";
   }
   out << "  echo \"armfarm slurm: shard $shard/$count not requeued: not marked saved, submit again to finish it\" >&2\n"
       << "  exit 75\n"

@@ -40,6 +40,9 @@ struct SlurmPlan {
   /// chooses it from the job-cost model (choose_signal_before) unless --signal-before is given.
   int signal_before = 300;
   bool requeue = true;        ///< a warned task that stopped early requeues itself (scontrol requeue)
+  /// A task requeues itself only while it has restarted fewer times than this (SLURM_RESTART_COUNT),
+  /// so that a job that never fits in --time less the warning does not requeue it forever.
+  int max_requeues = 20;
 };
 
 /// "<db>.shard-<shard>.db", shard 1-based.

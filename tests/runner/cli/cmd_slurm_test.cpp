@@ -447,6 +447,9 @@ TEST(SlurmScript, WarningSignalAndRequeue) {
   const std::string array = make_array_script(plan);
   EXPECT_NE(array.find("#SBATCH --signal=B:USR1@300\n#SBATCH --requeue\n#SBATCH --open-mode=append\n"), std::string::npos) << array;
   EXPECT_NE(array.find("scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\""), std::string::npos);
+  EXPECT_NE(array.find("if [ \"${SLURM_RESTART_COUNT:-0}\" -lt 20 ]; then\n"), std::string::npos) << array;
+  plan.max_requeues = 3;
+  EXPECT_NE(make_array_script(plan).find("if [ \"${SLURM_RESTART_COUNT:-0}\" -lt 3 ]; then\n"), std::string::npos);
   EXPECT_EQ(make_merge_script(plan).find("--signal"), std::string::npos);
   plan.signal_before = 45;
   plan.requeue = false;
@@ -528,12 +531,21 @@ TEST_F(SlurmCommand, AWarnedTaskSavesRequeuesAndTheRequeuedTaskCompletesTheShard
   ASSERT_EQ(run_armfarm("slurm " + spec + " --db " + db_ + " --tasks 1").exit_code, 0);
   const std::string script = make_array_script_path(db_);
   const std::string shard = make_shard_db_path(db_, 1);
-  // The warning once the shard has a finished job.
-  const CommandResult warned = run_shell(
-      "PATH=" + bin.string() + ":$PATH SLURM_ARRAY_JOB_ID=77 SLURM_ARRAY_TASK_ID=0 SLURM_CPUS_PER_TASK=2 bash " + script +
-      " & task=$!; n=0; while [ \"$n\" -lt 600 ] && ! { [ -s '" + shard + "' ] && sqlite3 -readonly '" + shard +
-      "' \"select 1 from jobs where status='done'\" 2>/dev/null | grep -q 1; }; do sleep 0.05; n=$((n+1)); done; "
-      "kill -USR1 $task; wait $task");
+  // The warning once the shard has a finished job (`restarts`: SLURM_RESTART_COUNT).
+  const auto run_warned = [&](int restarts) {
+    return run_shell("PATH=" + bin.string() + ":$PATH SLURM_RESTART_COUNT=" + std::to_string(restarts) +
+                     " SLURM_ARRAY_JOB_ID=77 SLURM_ARRAY_TASK_ID=0 SLURM_CPUS_PER_TASK=2 bash " + script +
+                     " 2>&1 & task=$!; n=0; while [ \"$n\" -lt 600 ] && ! { [ -s '" + shard + "' ] && sqlite3 -readonly '" + shard +
+                     "' \"select 1 from jobs where status='done'\" 2>/dev/null | grep -q 1; }; do sleep 0.05; n=$((n+1)); done; "
+                     "kill -USR1 $task; wait $task");
+  };
+  // Restarted --max-requeues times already: not requeued again, the task fails.
+  const CommandResult capped = run_warned(20);
+  EXPECT_EQ(capped.exit_code, 75) << capped.output;
+  EXPECT_NE(capped.output.find("restarted 20 times (--max-requeues 20)"), std::string::npos) << capped.output;
+  EXPECT_FALSE(fs::exists(log));
+  fs::remove(shard);
+  const CommandResult warned = run_warned(0);
   EXPECT_EQ(warned.exit_code, 0) << warned.output;
   EXPECT_NE(warned.output.find("stopped by Slurm's warning signal"), std::string::npos) << warned.output;
   EXPECT_NE(warned.output.find("shard 1/1 requeued"), std::string::npos) << warned.output;
