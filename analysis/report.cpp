@@ -35,11 +35,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // A cell's value for the sorting script: full precision, so that 1.5e-03 sorts below 0.01.
-std::string format_sort_key(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
-}
+std::string format_sort_key(double value) { return format_number(value, 17); }
 
 std::string format_html_table(const Table& table) {
   std::ostringstream out;
@@ -54,8 +50,8 @@ std::string format_html_table(const Table& table) {
       const SummaryStatistics& cell = row.cells[c];
       std::string text = "–";
       if (cell.count > 0) {
-        text = format_number(cell.mean);
-        if (cell.count > 1) text += " ± " + format_number(cell.std_dev, 2) + " (n=" + std::to_string(cell.count) + ")";
+        text = format_table_number(cell.mean);
+        if (cell.count > 1) text += " ± " + format_table_number(cell.std_dev, 2) + " (n=" + std::to_string(cell.count) + ")";
       }
       out << "<td class=\"num\"";
       if (cell.count > 0) out << " data-sort=\"" << format_sort_key(cell.mean) << "\"";

@@ -4,7 +4,7 @@
 // whose names sanitise alike get their own pages.
 #include "analysis/figure.hpp"
 #include "analysis/plots.hpp"
-#include "test_database.hpp"
+#include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
