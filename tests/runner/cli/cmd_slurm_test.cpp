@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "support/command_line.hpp"
+#include "support/text_file.hpp"
 
 using armfarm::test_support::CommandResult;
 using armfarm::test_support::run_command_line;
@@ -45,10 +46,6 @@ CommandResult run_array_task(const std::string& script, int index) {
   return run_shell("SLURM_ARRAY_TASK_ID=" + std::to_string(index) + " SLURM_CPUS_PER_TASK=2 bash " + script);
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 /// key -> status of every job of `sweep` in `db`.
 std::map<std::string, std::string> read_statuses(const std::string& db, const std::string& sweep) {
@@ -421,7 +418,7 @@ TEST_F(SlurmCommand, ShardsRunByTheScriptsMergeToOneRunsResultsAndResumeAfterALo
   ASSERT_TRUE(fs::exists(array_script));
   EXPECT_NE(partial.output.find("resubmitting 1 of 3 shards (the others are complete): 2\n"), std::string::npos)
       << partial.output;
-  EXPECT_NE(read_text(array_script).find("#SBATCH --array=1\n"), std::string::npos) << read_text(array_script);
+  EXPECT_NE(test_support::read_text_file(array_script).find("#SBATCH --array=1\n"), std::string::npos) << test_support::read_text_file(array_script);
   for (int task = 0; task < 3; ++task) {
     const CommandResult result = run_array_task(array_script, task);
     ASSERT_EQ(result.exit_code, 0) << result.output;
@@ -481,7 +478,7 @@ TEST_F(SlurmCommand, AWarnedTaskSavesRequeuesAndTheRequeuedTaskCompletesTheShard
   EXPECT_EQ(warned.exit_code, 0) << warned.output;
   EXPECT_NE(warned.output.find("stopped by Slurm's warning signal"), std::string::npos) << warned.output;
   EXPECT_NE(warned.output.find("shard 1/1 requeued"), std::string::npos) << warned.output;
-  EXPECT_EQ(read_text(log), "requeue 77_0\n");
+  EXPECT_EQ(test_support::read_text_file(log), "requeue 77_0\n");
   EXPECT_FALSE(fs::exists(make_shard_saved_path(db_, 1)));
   std::map<std::string, std::string> first = read_statuses(shard, "slow");
   int done_first = 0;
@@ -522,7 +519,7 @@ TEST_F(SlurmCommand, APartialMergeNamesTheMissingShardAndTheResubmissionRunsOnly
   EXPECT_LT(in_1_and_3, 12u);
   const CommandResult again = run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 3");
   EXPECT_NE(again.output.find("resubmitting 1 of 3 shards (the others are complete): 2\n"), std::string::npos) << again.output;
-  EXPECT_NE(read_text(array_script).find("#SBATCH --array=1\n"), std::string::npos) << read_text(array_script);
+  EXPECT_NE(test_support::read_text_file(array_script).find("#SBATCH --array=1\n"), std::string::npos) << test_support::read_text_file(array_script);
   ASSERT_EQ(run_array_task(array_script, 1).exit_code, 0);
   const CommandResult complete = run_shell("bash " + merge_script);
   EXPECT_EQ(complete.exit_code, 0) << complete.output;
@@ -614,7 +611,7 @@ TEST_F(SlurmCommand, TaskWithFailedJobsSucceedsSoTheMergeBringsThemIn) {
   EXPECT_NE(resubmitted.output.find("nothing to submit"), std::string::npos) << resubmitted.output;
   const CommandResult retry = run_armfarm("slurm " + spec + " --db " + db_ + " --tasks 1 --retry-failed");
   EXPECT_NE(retry.output.find("2 finished in"), std::string::npos) << retry.output;
-  EXPECT_EQ(read_text(make_array_script_path(db_)).find("--keep-failed"), std::string::npos);
+  EXPECT_EQ(test_support::read_text_file(make_array_script_path(db_)).find("--keep-failed"), std::string::npos);
   const CommandResult retried = run_array_task(make_array_script_path(db_), 0);
   EXPECT_NE(retried.output.find("0 done, 2 failed, 0 diverged, 0 timed out, 2 already done (skipped)"), std::string::npos)
       << retried.output;
@@ -637,7 +634,7 @@ TEST_F(SlurmCommand, SubmitPassesTheArrayIdToTheMergeDependency) {
   EXPECT_NE(result.output.find("submitted array job 4241 (2 tasks)"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("submitted merge job 4242 (after array job 4241 ends)"), std::string::npos)
       << result.output;
-  const std::string calls = read_text(log);
+  const std::string calls = test_support::read_text_file(log);
   EXPECT_EQ(calls, "--parsable " + make_array_script_path(db_) + "\n--parsable --dependency=afterany:4241 " +
                        make_merge_script_path(db_) + "\n");
 

@@ -19,14 +19,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class SweepRunnerTest : public ::testing::Test {
+class SweepRunnerTest : public test_support::ScratchFolderTest {
  protected:
-  void SetUp() override {
-    folder_ = test_support::make_scratch_folder("runner");
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
-
+  SweepRunnerTest() : ScratchFolderTest("runner") {}
   ExpandedSweep expand(const std::string& text) const {
     return expand_sweep(parse_sweep_spec(text, "test.json", ".", schema_), schema_);
   }
@@ -41,7 +36,6 @@ class SweepRunnerTest : public ::testing::Test {
     return run_sweep(sweep, make_fake_job_executor(), options, no_stop);
   }
 
-  fs::path folder_;
   JobConfigSchema schema_ = make_fake_job_config_schema();
 };
 
