@@ -1,5 +1,6 @@
 #include "engine/kinematics/serial_chain.hpp"
 #include "engine/physics/arm_simulation.hpp"
+#include "engine/random/random_stream.hpp"
 #include "engine/trajectory/savitzky_golay.hpp"
 #include "engine/trajectory/task_space_path.hpp"
 #include "engine/trajectory/trajectory.hpp"
@@ -142,8 +143,9 @@ SineTrajectoryConfig resolve_sine_defaults(const SineTrajectoryConfig& sine, int
   return resolved;
 }
 
-JointTrajectory build_trajectory(const TrajectoryConfig& config, ArmDynamics& dynamics, double dt, std::uint64_t seed) {
-  if (!(dt > 0.0)) throw std::invalid_argument("dt: must be positive");
+namespace {
+
+JointTrajectory build_exact_trajectory(const TrajectoryConfig& config, ArmDynamics& dynamics, double dt, std::uint64_t seed) {
   switch (config.kind) {
     case TrajectoryKind::sine: return build_sine(config, dynamics, dt);
     case TrajectoryKind::figure_eight: return build_figure_eight(config.figure_eight, config.differentiation, dynamics, dt);
@@ -151,6 +153,29 @@ JointTrajectory build_trajectory(const TrajectoryConfig& config, ArmDynamics& dy
     case TrajectoryKind::recorded: return build_recorded(config, dynamics, dt);
   }
   throw std::invalid_argument("trajectory.kind: unknown kind");
+}
+
+bool is_solved_by_ik(const TrajectoryConfig& config) {
+  return config.kind == TrajectoryKind::figure_eight || config.kind == TrajectoryKind::reaching ||
+         (config.kind == TrajectoryKind::recorded && config.recorded.task_space);
+}
+
+}  // namespace
+
+JointTrajectory build_trajectory(const TrajectoryConfig& config, ArmDynamics& dynamics, double dt, std::uint64_t seed) {
+  if (!(dt > 0.0)) throw std::invalid_argument("dt: must be positive");
+  JointTrajectory trajectory = build_exact_trajectory(config, dynamics, dt, seed);
+  if (config.ik_noise > 0.0 && is_solved_by_ik(config)) {
+    RandomStream noise(seed, "trajectory.ik_noise");
+    for (Eigen::Index k = 0; k < trajectory.q.rows(); ++k) {
+      for (Eigen::Index j = 0; j < trajectory.q.cols(); ++j) trajectory.q(k, j) += noise.normal(0.0, config.ik_noise);
+    }
+    // Savitzky–Golay (smoothed): a recording's own window, else the sine's 15 ticks, order 3.
+    const bool recorded = config.kind == TrajectoryKind::recorded;
+    fill_derivatives(trajectory, config.differentiation, false, recorded ? config.recorded.window : 15,
+                     recorded ? config.recorded.polynomial_order : 3);
+  }
+  return trajectory;
 }
 
 }  // namespace armfarm

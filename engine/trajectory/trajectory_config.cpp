@@ -147,6 +147,9 @@ const std::vector<ConfigKey<TrajectoryConfig>>& trajectory_config_keys() {
        "desired q̇, q̈: analytic (closed form for sine; central differences of the IK path otherwise), smoothed (Savitzky–Golay) "
        "or backward_difference (the thesis's)",
        [](C& c) { return make_choice_field(c.differentiation, differentiation_names()); }},
+      {"ik_noise", "rad", closed(0.0, 0.1), ListSize::any,
+       "task-space kinds: std of seeded white noise on every IK joint angle (the thesis's IK zig-zag); q̇, q̈ differentiated from the noisy angles",
+       [](C& c) { return make_field(c.ik_noise); }},
   };
   return keys;
 }

@@ -115,6 +115,11 @@ const std::vector<ConfigKey<RecordedTrajectoryConfig>>& recorded_trajectory_conf
 struct TrajectoryConfig {
   TrajectoryKind kind = TrajectoryKind::sine;
   Differentiation differentiation = Differentiation::analytic;
+  /// Task-space kinds (figure_eight, reaching, recorded with task_space): std (rad) of seeded
+  /// white noise (stream "trajectory.ik_noise") added to every desired joint angle the IK
+  /// solved, a model of the thesis's IK "zig-zag" (section 6.2.1); q̇ and q̈ then come from
+  /// differentiation (analytic: central differences) of the noisy angles. 0 = the exact IK path.
+  double ik_noise = 0.0;
   SineTrajectoryConfig sine;
   FigureEightConfig figure_eight;
   ReachingConfig reaching;
