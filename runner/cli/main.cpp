@@ -1,4 +1,5 @@
 // armfarm: a batch experiment farm for learning the motor control of simulated robot arms.
+#include "engine/io/message_text.hpp"
 #include "runner/build_info.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -34,7 +35,8 @@ int main(int argc, char** argv) {
       if (sub->parsed()) return run();
     }
   } catch (const std::exception& e) {
-    std::cerr << "armfarm: " << e.what() << "\n";
+    // Each line capped (engine/io/message_text.hpp): a message that quotes a huge input stays short.
+    std::cerr << "armfarm: " << armfarm::cap_message_line(e.what()) << "\n";
     return 2;
   }
   return 2;
