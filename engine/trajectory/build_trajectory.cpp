@@ -82,8 +82,7 @@ JointTrajectory build_recorded(const TrajectoryConfig& config, ArmDynamics& dyna
   if (!(recorded.sample_rate > 0.0)) throw std::invalid_argument("trajectory.recorded.sample_rate: must be positive");
   if (recorded.loops < 1) throw std::invalid_argument("trajectory.recorded.loops: must be at least 1");
   // Resample to the control rate by linear interpolation.
-  const double duration = (recorded.samples.rows() - 1) / recorded.sample_rate;
-  const int samples = static_cast<int>(std::floor(duration / dt + 1e-9)) + 1;
+  const int samples = calc_recorded_ticks(recorded, dt);
   Eigen::MatrixXd resampled(samples, columns);
   for (int k = 0; k < samples; ++k) {
     const double position = k * dt * recorded.sample_rate;
@@ -96,7 +95,7 @@ JointTrajectory build_recorded(const TrajectoryConfig& config, ArmDynamics& dyna
     if (recorded.polynomial_order < 2 || recorded.polynomial_order >= recorded.window) {
       throw std::invalid_argument("trajectory.recorded.polynomial_order: must be at least 2 and below the window");
     }
-    if (samples < recorded.window) throw std::invalid_argument(where + ": shorter than the smoothing window");
+    if (const std::string problem = check_recorded_length(recorded, dt); !problem.empty()) throw std::invalid_argument(problem);
     resampled = calc_savitzky_golay(resampled, recorded.window, recorded.polynomial_order, 0, dt);
   } else if (recorded.filter == RecordedFilter::low_pass) {
     if (!(recorded.cutoff > 0.0)) throw std::invalid_argument("trajectory.recorded.cutoff: must be positive");

@@ -112,6 +112,15 @@ struct RecordedTrajectoryConfig {
 };
 const std::vector<ConfigKey<RecordedTrajectoryConfig>>& recorded_trajectory_config_keys();
 
+/// Control ticks one replay of `recorded` lasts once resampled to the control period `dt` (s):
+/// floor((rows − 1) / sample_rate / dt) + 1; 0 with fewer than 2 rows or a non-positive rate or dt.
+int calc_recorded_ticks(const RecordedTrajectoryConfig& recorded, double dt);
+
+/// "" when the resampled recording is long enough for its filter (a Savitzky–Golay window needs
+/// at least `window` ticks), else the problem, naming the file, its rows and the window. One
+/// check for validation (before any job runs) and for building the trajectory.
+std::string check_recorded_length(const RecordedTrajectoryConfig& recorded, double dt);
+
 struct TrajectoryConfig {
   TrajectoryKind kind = TrajectoryKind::sine;
   Differentiation differentiation = Differentiation::analytic;
