@@ -1,4 +1,5 @@
 // armfarm: a batch experiment farm for learning the motor control of simulated robot arms.
+#include "analysis/printable_text.hpp"
 #include "runner/build_info.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -34,7 +35,8 @@ int main(int argc, char** argv) {
       if (sub->parsed()) return run();
     }
   } catch (const std::exception& e) {
-    std::cerr << "armfarm: " << e.what() << "\n";
+    // One line, printed as text: a message may quote a name from someone else's database.
+    std::cerr << "armfarm: " << armfarm::make_printable_text(e.what()) << "\n";
     return 2;
   }
   return 2;

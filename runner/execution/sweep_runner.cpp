@@ -91,6 +91,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   ProgressReporter progress(options.progress_out, options.progress, std::move(progress_jobs), threads);
   std::mutex summary_mutex;
   std::vector<HeadlineJob> headline_jobs;
+  std::vector<std::string> discarded_keys;  // guarded by summary_mutex
   {
     ResultWriter writer(store, sweep.spec.name, claims.owner().owner);
     std::vector<std::size_t> elsewhere;  // indices into to_run held by another live runner: looked at again
@@ -186,12 +187,13 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
         if (!metric.joint && !metric.checkpoint && metric.value) headline.metrics[metric.name] = *metric.value;
       }
       // Counted and reported on the writer thread, once the result is committed.
-      auto on_committed = [&, index, status, wall, message = outcome.message,
+      auto on_committed = [&, index, status, wall, key = job.key, message = outcome.message,
                            headline = std::move(headline)](bool written) mutable {
         if (!written) {  // fenced out: the claim was taken over while this attempt ran
           progress.job_dropped(index);
           std::lock_guard lock(summary_mutex);
           ++summary.discarded;
+          discarded_keys.push_back(key);
           return;
         }
         progress.job_committed(index, status, wall, message);
@@ -247,6 +249,13 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
     summary.write_error = writer.error_text();
     if (summary.write_error.empty() && !claim_error.empty()) summary.write_error = claim_error;
     if (summary.write_error.empty()) claims.rethrow_error();
+  }
+  // A discarded result is the job of the runner that took its claim over: done there, or not yet.
+  if (summary.write_error.empty()) {
+    for (const std::string& key : discarded_keys) {
+      const std::optional<JobRecord> job = store.find_job(key);
+      if (!job || job->status != "done") ++summary.discarded_not_done;
+    }
   }
   summary.taken_over += claims.taken_over();
   summary.interrupted = stop_requested.load();
