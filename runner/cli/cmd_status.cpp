@@ -15,6 +15,7 @@
 #include "runner/execution/claim_keeper.hpp"
 #include "runner/execution/job_kind.hpp"
 #include "runner/execution/sweep_runner.hpp"
+#include "runner/spec/canonical_json.hpp"
 #include "runner/spec/spec_error.hpp"
 #include "runner/spec/sweep_expansion.hpp"
 #include "runner/spec/sweep_stages.hpp"
@@ -73,12 +74,19 @@ struct SpecCoverage {
   std::string note;                     ///< why `expected` is unknown ("" for a search: it decides its jobs)
 };
 
-// Expands the stored spec with its relative paths resolved against the current folder, then the
-// database's; the expansion counts only when its job list hashes to the stored spec_hash (the
+// Unless the file holds the whole job list that was run: expands the stored spec with its
+// relative paths resolved against the current folder, then the database's; the expansion counts only when its job list hashes to the stored spec_hash (the
 // list that was run: no input file and no default changed since).
 SpecCoverage calc_spec_coverage(const SweepRecord& sweep, const std::vector<JobRecord>& jobs, const JobKind& kind,
                                 const std::string& db_path) {
   SpecCoverage coverage;
+  // The file holds the whole job list that was run (spec_hash is the hash of its sorted keys,
+  // runner/spec/sweep_expansion.cpp): complete, nothing to expand. Every run that is not a
+  // shard registers its whole list, so only shard files and their partial merges expand.
+  std::vector<std::string> keys;
+  for (const JobRecord& job : jobs) keys.push_back(job.key);
+  std::sort(keys.begin(), keys.end());
+  if (calc_text_hash(calc_canonical_json(nlohmann::json(keys))) == sweep.spec_hash) return coverage;
   const std::string file = db_path + ": the stored spec of sweep " + sweep.name;
   const std::filesystem::path db_folder = std::filesystem::absolute(db_path).parent_path();
   for (const std::string& folder : {std::filesystem::current_path().string(), db_folder.string()}) {
@@ -109,6 +117,7 @@ SpecCoverage calc_spec_coverage(const SweepRecord& sweep, const std::vector<JobR
       coverage.note = e.what();
     }
   }
+  coverage.note = "this file holds part of the jobs that were run (a shard?), and " + coverage.note;
   if (coverage.note.size() > kNoteLength) coverage.note = coverage.note.substr(0, kNoteLength) + "...";
   return coverage;
 }
