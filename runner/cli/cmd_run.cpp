@@ -94,10 +94,12 @@ RunFunction setup_run(CLI::App& parent) {
       return 2;
     }
     // An existing file is checked as every reader checks it before anything is added to it: a
-    // damaged one is refused in one line (exit 2), not run into.
+    // damaged one is refused in one line (exit 2), not run into. Opened writable, as the run
+    // opens it: a file another runner is creating at this moment (empty, or its schema not yet
+    // committed) is waited for and created once, never taken for a damaged one.
     if (std::filesystem::exists(options->db) &&
         !reports_input_errors(options->spec, [&] {
-          verify_readable(ResultsStore::open(options->db, ResultsStore::Mode::read_only));
+          verify_readable(ResultsStore::open(options->db, ResultsStore::Mode::read_write));
         })) {
       return 2;
     }
