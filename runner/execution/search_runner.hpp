@@ -13,10 +13,21 @@
 // committed results only: the same at -j1 and -j8, after kill -9 (the killed round's jobs are
 // pending and run again), and with several runners on one file (claims share the jobs).
 //
-// Promotions rerun. A step to rung r is a job whose learning.heldout_checkpoints stop at rung r's
-// checkpoint, started from scratch: this build's jobs cannot continue a learning pass from a
-// stored model and the trajectory state at a checkpoint, so a promotion costs the whole rung
-// (SearchSettings::resumable = false) and the budget counts it.
+// Rungs are short jobs; promotions rerun. A step to rung r below the last is a job that learns
+// exactly to rung r's checkpoint (SpecSearch::length_path: learning.epochs for batch jobs,
+// trajectory.reaching.reaches for online reaching jobs) with learning.heldout_checkpoints cut
+// after it; the last rung is the base's job. A promotion reruns its trial from scratch to the
+// longer rung, costing the whole rung (SearchSettings::resumable = false), and the budget counts
+// it. Why not continue from the stored model: a job's state at a checkpoint is more than its
+// learner (the plant's state, the trajectory position, the pass statistics and divergence
+// monitor, the batch shuffle stream), and jobs cannot start from such a state. The rerun is
+// exact for batch jobs: training draws its shuffles in epoch order, so a job cut after epoch e
+// is a prefix of the longer one and scores bit-identically at every checkpoint they share
+// (cmd_run_search_test, APromotedTrialScoresAsAStraightRunToTheLongerBudget). An online reaching
+// job cut after k reaches is not a prefix bit for bit: its inputs are normalised by the
+// statistics of its whole (shorter) trajectory, so its rung is a close, not an identical,
+// estimate of the longer job's checkpoint. Online jobs over other trajectories run the whole
+// pass at every rung (no key sets their length in checkpoints).
 //
 // Costs. A budget in jobs counts 1 per step. A budget in cpu_seconds counts the job-cost
 // model's uncalibrated estimate of each rung's job (job_cost.hpp, joint-seconds: the same on

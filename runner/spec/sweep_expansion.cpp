@@ -97,6 +97,10 @@ std::vector<Factor> make_factors(const SweepSpec& spec, const std::vector<PathSe
         entry.push_back({"learning.heldout_checkpoints", &spec.search->checkpoint_segments,
                          params.at("learning.heldout_checkpoints"), "sweep.search.objective.checkpoint" + where});
       }
+      if (!spec.search->length_path.empty() && params.contains(spec.search->length_path)) {
+        entry.push_back({spec.search->length_path, &spec.search->length_segments, params.at(spec.search->length_path),
+                         "sweep.search.objective.checkpoint" + where});
+      }
       factor.push_back(std::move(entry));
     }
     factors.push_back(std::move(factor));
