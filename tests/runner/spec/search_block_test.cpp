@@ -73,6 +73,24 @@ TEST(SearchBlock, AGoodBlockReadsItsMethodObjectiveRungsAndSpace) {
   EXPECT_FALSE(calc_search_step_params(search, {10.0, 20.0, 2.0, 1.0}, 2).contains("trajectory.reaching.reaches"));
 }
 
+TEST(SearchBlock, ShortAndLastRungStepsExpandTogetherWithTheKeysTheyHaveAlone) {
+  // A sweep's job keys assume every step sets the same elements: the last rung sets the base's
+  // own length. Expanded beside a short step, the last-rung job keeps the key it has alone.
+  const JobConfigSchema schema = make_experiment_config_schema();
+  const search::SearchPoint point = {10.0, 20.0, 2.0, 1.0};
+  SweepSpec both = parse_sweep_spec(make_spec(kGood), "spec.json", ".", schema);
+  const nlohmann::json base_reaches = both.base.at("trajectory").at("reaching").at("reaches");
+  both.search->decided = std::vector<std::pair<search::SearchPoint, std::size_t>>{{point, 0}, {point, 2}};
+  SweepSpec alone = both;
+  alone.search->decided = std::vector<std::pair<search::SearchPoint, std::size_t>>{{point, 2}};
+  const ExpandedSweep together = expand_sweep(std::move(both), schema);
+  const ExpandedSweep single = expand_sweep(std::move(alone), schema);
+  ASSERT_EQ(together.jobs.size(), 2u);
+  EXPECT_EQ(together.jobs[0].config().at("trajectory").at("reaching").at("reaches"), 10);
+  EXPECT_EQ(together.jobs[1].config().at("trajectory").at("reaching").at("reaches"), base_reaches);
+  EXPECT_EQ(together.jobs[1].key, single.jobs.at(0).key);
+}
+
 TEST(SearchBlock, ShortRungsOfABatchJobTrainFewerEpochsAndRandomSearchesKeepTheBaseLength) {
   const JobConfigSchema schema = make_experiment_config_schema();
   const std::string batch = R"({"name": "b", "base": {"learning": {"mode": "batch", "epochs": 9, "heldout": true,
