@@ -29,9 +29,10 @@
 // estimate of the longer job's checkpoint. Online jobs over other trajectories run the whole
 // pass at every rung (no key sets their length in checkpoints).
 //
-// Costs. A budget in jobs counts 1 per step. A budget in cpu_seconds counts the job-cost
-// model's uncalibrated estimate of each rung's job (job_cost.hpp, joint-seconds: the same on
-// every machine, so the decisions stay a function of the spec).
+// Costs. A budget in jobs counts 1 per step. A budget in cpu_seconds counts each rung's job as
+// the job-cost model's estimate (job_cost.hpp, joint-seconds) times a fixed, measured
+// CPU-seconds per joint-second (calc_search_cpu_seconds): a constant, not this machine's
+// timing, so the decisions stay a function of the spec.
 #include "runner/execution/job_kind.hpp"
 #include "runner/execution/sweep_runner.hpp"
 
@@ -50,6 +51,17 @@ struct SearchRunSummary {
   std::optional<double> best;  ///< the best objective at the last rung (as the metric, not the loss)
   std::size_t best_trial = 0;
 };
+
+/// CPU-seconds per joint-second of the experiment job's cost estimate, measured by
+/// tests/bench/bench_search.cpp (process CPU of -j1 grids over estimated joint-seconds, 2-core
+/// machine at load ≈ 12): fig6_1_kernel_width reduced (batch sine, 2 joints) 3.77 CPU-s for 1260,
+/// 0.0030; the reaching task reduced (online, 3 joints) ≈ 30.8 CPU-s for 7899, 0.0039. Pooled:
+/// 34.6 CPU-s for 9159 joint-seconds, 0.0038 (batch training epochs, which the estimate leaves out, are cheap here).
+inline constexpr double kSearchCpuSecondsPerJointSecond = 0.0038;
+
+/// The CPU-seconds a cpu_seconds budget counts for one job configuration: the experiment job's
+/// estimate times kSearchCpuSecondsPerJointSecond; another job kind's (the fake job) estimate as it is.
+double calc_search_cpu_seconds(const JobKind& kind, const nlohmann::json& config);
 
 /// Runs `spec` (which has a search) to its end, or until a round is interrupted or fails to
 /// write. Throws SpecError, ConfigError or StoreError as expand_sweep and run_sweep do.
