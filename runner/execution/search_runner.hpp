@@ -53,10 +53,10 @@ struct SearchRunSummary {
 };
 
 /// CPU-seconds per joint-second of the experiment job's cost estimate, measured by
-/// tests/bench/bench_search.cpp (process CPU of -j1 grids over estimated joint-seconds, 2-core
-/// machine at load ≈ 12): fig6_1_kernel_width reduced (batch sine, 2 joints) 3.77 CPU-s for 1260,
-/// 0.0030; the reaching task reduced (online, 3 joints) ≈ 30.8 CPU-s for 7899, 0.0039. Pooled:
-/// 34.6 CPU-s for 9159 joint-seconds, 0.0038 (batch training epochs, which the estimate leaves out, are cheap here).
+/// tests/bench/bench_search.cpp (process CPU of its -j1 grids over their estimated joint-seconds,
+/// 2-core machine shared at load ≈ 12-14): fig6_1_kernel_width reduced (batch sine, 2 joints)
+/// 3.77 and 5.05 CPU-s for 1260 in two runs (0.0030, 0.0040); the reaching task reduced (online,
+/// 3 joints) 28.34 CPU-s for 7899 (0.0036). 0.0038 lies inside that spread (±15 % run to run).
 inline constexpr double kSearchCpuSecondsPerJointSecond = 0.0038;
 
 /// The CPU-seconds a cpu_seconds budget counts for one job configuration: the experiment job's
