@@ -215,9 +215,7 @@ void check_pairing_params(const PairingRule& pairing, const std::vector<JobResul
       return std::any_of(jobs.begin(), jobs.end(), [&](const JobResult& job) { return !find_param_value(job, param).is_null(); });
     };
     if (!has(base) && !has(next)) {
-      const std::optional<std::string> nearest = find_nearest_name(param, known);
-      throw AnalysisError("--pair-by " + param + ": no job has this parameter" +
-                          (nearest ? " (did you mean '" + *nearest + "'?)" : std::string()));
+      throw AnalysisError("--pair-by " + param + ": no job has this parameter" + make_did_you_mean(param, known, make_param_name_match(param)));
     }
   }
 }
@@ -362,8 +360,8 @@ std::string format_comparison(const ComparisonReport& report, bool json, bool sh
     out << "| job | metric | base | new | change | better | verdict |\n|---|---|---|---|---|---|---|\n";
     for (const MetricComparison& m : report.metrics) {
       if (!show_all && m.verdict == Verdict::within) continue;
-      out << "| " << m.key.substr(0, 12) << " | " << make_metric_label(m.metric) << " | " << format_number(m.base, 6)
-          << " | " << format_number(m.next, 6) << " | " << format_percent(m.relative_change) << " | "
+      out << "| " << m.key.substr(0, 12) << " | " << make_metric_label(m.metric) << " | " << format_table_number(m.base, 6)
+          << " | " << format_table_number(m.next, 6) << " | " << format_percent(m.relative_change) << " | "
           << (m.is_result ? std::string(to_string(m.direction)) : std::string(to_string(m.direction)) + " (timing)")
           << " | " << verdict_word(m.verdict) << " |\n";
     }

@@ -1,6 +1,7 @@
 #include "analysis/search_summary.hpp"
 
 #include "analysis/analysis_error.hpp"
+#include "base/number_format.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -9,12 +10,6 @@
 
 namespace armfarm {
 namespace {
-
-std::string format_number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", value);
-  return text;
-}
 
 std::string describe_objective(const SearchRecord& search) {
   std::string text = search.objective_metric;

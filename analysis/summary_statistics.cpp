@@ -140,24 +140,11 @@ double calc_sign_test_p(int successes, int trials) {
 }
 
 std::string format_mean_ci(const SummaryStatistics& summary, int significant_digits) {
-  std::string text = format_number(summary.mean, significant_digits);
+  std::string text = format_table_number(summary.mean, significant_digits);
   if (summary.has_ci()) {
-    text += " [" + format_number(summary.ci_low, significant_digits) + ", " + format_number(summary.ci_high, significant_digits) + "]";
+    text += " [" + format_table_number(summary.ci_low, significant_digits) + ", " + format_table_number(summary.ci_high, significant_digits) + "]";
   }
   return text;
-}
-
-std::string format_number(double value, int significant_digits) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char buffer[64];
-  const double magnitude = std::fabs(value);
-  if (value != 0.0 && (magnitude < 1e-2 || magnitude >= 1e5)) {
-    std::snprintf(buffer, sizeof buffer, "%.*e", significant_digits - 1, value);
-  } else {
-    std::snprintf(buffer, sizeof buffer, "%.*g", significant_digits, value);
-  }
-  return buffer;
 }
 
 }  // namespace armfarm

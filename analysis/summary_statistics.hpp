@@ -1,8 +1,9 @@
 #pragma once
 // Aggregates of a metric over the repeats (seeds) of one table cell: mean, standard deviation,
-// the 95 % confidence interval of the mean (Student t with n − 1 degrees of freedom), and number
-// formatting for reading (significant digits; scientific notation for very small or large
-// values, as the thesis prints nMSE).
+// the 95 % confidence interval of the mean (Student t with n − 1 degrees of freedom), and the
+// mean with its interval as text (cells: format_table_number, base/number_format.hpp).
+#include "base/number_format.hpp"
+
 #include <string>
 #include <vector>
 
@@ -48,8 +49,5 @@ SummaryStatistics calc_summary_statistics(std::vector<double> values);
 
 /// "mean [low, high]" with `significant_digits` each; the mean alone when there is no interval.
 std::string format_mean_ci(const SummaryStatistics& summary, int significant_digits = 4);
-
-/// `significant_digits` significant digits; scientific ("1.950e-03") when |x| < 1e-2 or ≥ 1e5.
-std::string format_number(double value, int significant_digits = 4);
 
 }  // namespace armfarm

@@ -25,7 +25,7 @@ std::string format_param_value(const nlohmann::json& value) {
   if (value.is_string()) return value.get<std::string>();
   if (value.is_boolean()) return value.get<bool>() ? "true" : "false";
   if (value.is_number_integer() || value.is_number_unsigned()) return value.dump();
-  if (value.is_number()) return format_number(value.get<double>());
+  if (value.is_number()) return format_table_number(value.get<double>());
   return value.dump();
 }
 
@@ -51,30 +51,7 @@ bool is_finished_badly(const std::string& status) {
 
 }  // namespace
 
-std::optional<std::string> find_nearest_name(const std::string& word, const std::vector<std::string>& candidates) {
-  auto distance = [](const std::string& x, const std::string& y) {
-    std::vector<std::size_t> previous(y.size() + 1), current(y.size() + 1);
-    for (std::size_t j = 0; j <= y.size(); ++j) previous[j] = j;
-    for (std::size_t i = 1; i <= x.size(); ++i) {
-      current[0] = i;
-      for (std::size_t j = 1; j <= y.size(); ++j) {
-        current[j] = std::min({previous[j] + 1, current[j - 1] + 1, previous[j - 1] + (x[i - 1] == y[j - 1] ? 0 : 1)});
-      }
-      std::swap(previous, current);
-    }
-    return previous[y.size()];
-  };
-  std::optional<std::string> best;
-  std::size_t best_distance = 0;
-  for (const std::string& candidate : candidates) {
-    // The last dotted component alone also counts ("gain_scale" for "control.gain_scale").
-    const std::string tail = candidate.substr(candidate.rfind('.') == std::string::npos ? 0 : candidate.rfind('.') + 1);
-    const std::size_t d = std::min(distance(word, candidate), distance(word, tail));
-    if (!best || d < best_distance) best = candidate, best_distance = d;
-  }
-  if (!best || best_distance > std::max<std::size_t>(2, word.size() / 3)) return std::nullopt;
-  return best;
-}
+NameMatch make_param_name_match(const std::string& word) { return NameMatch{calc_typo_limit(word), false, true}; }
 
 namespace {
 
@@ -88,7 +65,7 @@ void collect_config_paths(const nlohmann::json& node, const std::string& prefix,
 }
 
 std::string make_suggestion(const std::string& word, const std::vector<std::string>& candidates) {
-  const auto nearest = find_nearest_name(word, candidates);
+  const auto nearest = find_closest_name(word, candidates, make_param_name_match(word));
   return nearest ? "; did you mean '" + *nearest + "'?" : "";
 }
 
@@ -414,7 +391,7 @@ std::string format_cell(const SummaryStatistics& cell, Aggregate aggregate, bool
   const std::string mark = footnote ? (latex ? "$^{" + std::to_string(footnote) + "}$" : " [" + std::to_string(footnote) + "]") : "";
   if (cell.count == 0) return (latex ? std::string("--") : std::string("–")) + mark;
   // The mean carries its 95 % Student-t interval over the repeats; other aggregates stand alone.
-  std::string text = aggregate == Aggregate::mean ? format_mean_ci(cell) : format_number(cell.value(aggregate));
+  std::string text = aggregate == Aggregate::mean ? format_mean_ci(cell) : format_table_number(cell.value(aggregate));
   if (cell.count > 1) text += " (n=" + std::to_string(cell.count) + ")";
   return text + mark;
 }

@@ -6,6 +6,7 @@
 // never averaged in. Undefined values (NULL in the store) are left out of a cell and footnoted
 // with their reason; a cell with no defined value prints "–".
 #include "analysis/summary_statistics.hpp"
+#include "base/did_you_mean.hpp"
 #include "analysis/sweep_data.hpp"
 
 #include <cstdint>
@@ -86,10 +87,11 @@ enum class CsvNotes { omitted, comment_lines };
 std::string format_table(const Table& table, TableFormat format, Aggregate aggregate,
                          CsvNotes csv_notes = CsvNotes::omitted);
 
-/// The candidate nearest to `word` by edit distance, if it is close enough to be a likely typo.
-std::optional<std::string> find_nearest_name(const std::string& word, const std::vector<std::string>& candidates);
+/// How a misspelt parameter or metric name is matched for "did you mean" (base/did_you_mean.hpp):
+/// within the default typo limit of `word`, a dotted name also by its last segment.
+NameMatch make_param_name_match(const std::string& word);
 
-/// Formats a parameter value for a table cell: numbers with format_number, strings unquoted.
+/// Formats a parameter value for a table cell: numbers with format_table_number, strings unquoted.
 std::string format_param_value(const nlohmann::json& value);
 
 }  // namespace armfarm

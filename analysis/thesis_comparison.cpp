@@ -182,7 +182,7 @@ ThesisTable parse_table(const Reader& reader, const json& node, const std::strin
     char* end = nullptr;
     const double printed_value = std::strtod(cell.printed.c_str(), &end);
     if (cell.printed.empty() || *end != '\0' || printed_value != cell.value) {
-      reader.fail(cell_where + ".printed", "'" + cell.printed + "' is not the value " + format_number(cell.value, 6));
+      reader.fail(cell_where + ".printed", "'" + cell.printed + "' is not the value " + format_table_number(cell.value, 6));
     }
     merge_into(cell.mapping, table_mapping);
     merge_into(cell.mapping, column->second);
@@ -302,7 +302,7 @@ ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, Sw
   } else if (values.empty() && undefined > 0) {
     result.reason = "undefined in " + std::to_string(undefined) + " job(s)" + (undefined_reason.empty() ? "" : ": " + undefined_reason);
   } else if (values.empty() && mapping.checkpoint) {
-    result.reason = "no checkpoint " + format_number(*mapping.checkpoint) + " of " + *mapping.metric + " in the database";
+    result.reason = "no checkpoint " + format_table_number(*mapping.checkpoint) + " of " + *mapping.metric + " in the database";
   } else if (values.empty()) {
     result.reason = "metric " + make_metric_label(MetricId{*mapping.metric, mapping.active_joint}) + " absent";
   }
@@ -335,7 +335,7 @@ std::string table_title(const ThesisTable& table) {
 
 std::string format_armfarm(const ComparedCell& cell, Aggregate aggregate) {
   if (cell.state == CellState::compared) {
-    const std::string text = aggregate == Aggregate::mean ? format_mean_ci(cell.armfarm) : format_number(cell.armfarm_value);
+    const std::string text = aggregate == Aggregate::mean ? format_mean_ci(cell.armfarm) : format_table_number(cell.armfarm_value);
     return text + " (" + std::to_string(cell.armfarm.count) + ")";
   }
   if (cell.state == CellState::not_run) return "not run (" + cell.reason + ")";
@@ -462,7 +462,7 @@ ThesisResults parse_thesis_results(const nlohmann::json& document, const std::st
     const auto [greater, greater_value] = read_ref("greater");
     const auto [less, less_value] = read_ref("less");
     if (!(greater_value > less_value)) {
-      reader.fail(where, "the thesis's own values (" + format_number(greater_value, 6) + " and " + format_number(less_value, 6) +
+      reader.fail(where, "the thesis's own values (" + format_table_number(greater_value, 6) + " and " + format_table_number(less_value, 6) +
                              ") do not have greater above less");
     }
     claim.greater = greater;
@@ -652,7 +652,7 @@ std::string format_thesis_comparison(const ThesisComparison& comparison, TableFo
           << "| row | column | thesis | armfarm | armfarm/thesis | verdict |\n|---|---|---|---|---|---|\n";
     }
     for (const ComparedCell& cell : table.cells) {
-      const std::string ratio = cell.ratio ? format_number(*cell.ratio) : "—";
+      const std::string ratio = cell.ratio ? format_table_number(*cell.ratio) : "—";
       if (format == TableFormat::markdown) {
         out << "| " << cell.thesis->row << " | " << cell.thesis->column << " | " << cell.thesis->printed << " | "
             << format_armfarm(cell, aggregate) << " | " << ratio << " | " << format_verdict(cell) << " |\n";
@@ -660,9 +660,9 @@ std::string format_thesis_comparison(const ThesisComparison& comparison, TableFo
         const bool ci = cell.state == CellState::compared && cell.armfarm.has_ci();
         out << csv_field(table.thesis->id) << "," << csv_field(cell.thesis->row) << "," << csv_field(cell.thesis->column) << ","
             << cell.thesis->printed << ","
-            << (cell.state == CellState::compared ? format_number(cell.armfarm_value, 6) : "") << ","
-            << (ci ? format_number(cell.armfarm.ci_low, 6) : "") << "," << (ci ? format_number(cell.armfarm.ci_high, 6) : "") << ","
-            << (cell.ratio ? format_number(*cell.ratio, 6) : "") << "," << cell.armfarm.count << ","
+            << (cell.state == CellState::compared ? format_table_number(cell.armfarm_value, 6) : "") << ","
+            << (ci ? format_table_number(cell.armfarm.ci_low, 6) : "") << "," << (ci ? format_table_number(cell.armfarm.ci_high, 6) : "") << ","
+            << (cell.ratio ? format_table_number(*cell.ratio, 6) : "") << "," << cell.armfarm.count << ","
             << (cell.verdict == Verdict::none ? "" : to_string(cell.verdict)) << "," << to_string(cell.state) << ","
             << csv_field(cell.reason) << "\n";
       }

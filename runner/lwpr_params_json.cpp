@@ -1,6 +1,7 @@
 // LWPR params JSON → LwprParams, through LWPR's key table (engine/learning/learning_config.hpp).
 #include "runner/lwpr_params_json.hpp"
 
+#include "base/did_you_mean.hpp"
 #include "engine/io/input_file.hpp"
 #include "engine/learning/learning_config.hpp"
 #include "runner/config/config_value_json.hpp"
@@ -12,24 +13,6 @@
 #include <vector>
 
 namespace armfarm {
-namespace {
-
-std::size_t calc_edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (std::tolower(a[i - 1]) == std::tolower(b[j - 1]) ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
-
-}  // namespace
 
 lwpr::LwprParams parse_lwpr_params(const nlohmann::json& json, const std::string& source, int n_in,
                                    const LwprDataScales& scales) {
@@ -45,16 +28,9 @@ lwpr::LwprParams parse_lwpr_params(const nlohmann::json& json, const std::string
   for (const auto& [key, v] : json.items()) {
     const auto found = std::find_if(keys.begin(), keys.end(), [&key = key](const auto& k) { return key == k.name; });
     if (found == keys.end()) {
-      std::string best;
-      std::size_t best_distance = 4;
-      for (const auto& k : keys) {
-        const std::size_t d = calc_edit_distance(key, k.name);
-        if (d < best_distance) {
-          best_distance = d;
-          best = k.name;
-        }
-      }
-      fail(key, "unknown parameter" + (best.empty() ? std::string() : " (did you mean '" + best + "'?)"));
+      std::vector<std::string> names;
+      for (const auto& k : keys) names.push_back(k.name);
+      fail(key, "unknown parameter" + make_did_you_mean(key, names, NameMatch{3, true}));
     }
     if ((key == "norm_in" || key == "norm_out") && v.is_string()) {
       const bool in = key == "norm_in";

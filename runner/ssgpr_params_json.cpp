@@ -1,6 +1,7 @@
 // SSGPR params JSON → SsgprLearningConfig, through the learning.ssgpr key table.
 #include "runner/ssgpr_params_json.hpp"
 
+#include "base/number_format.hpp"
 #include "engine/io/input_file.hpp"
 #include "runner/config/config_value_json.hpp"
 
@@ -10,12 +11,6 @@
 
 namespace armfarm {
 namespace {
-
-std::string format_number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", value);
-  return text;
-}
 
 }  // namespace
 

@@ -1,18 +1,10 @@
 #include "engine/config/config_key.hpp"
 
+#include "base/number_format.hpp"
+
 #include <cmath>
-#include <sstream>
 
 namespace armfarm {
-namespace {
-
-std::string format_number(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
-
-}  // namespace
 
 std::string make_enum_choice_text(const EnumNames& names) {
   std::string text;

@@ -1,5 +1,6 @@
 #include "engine/experiment/job_config_validation.hpp"
 
+#include "base/number_format.hpp"
 #include "engine/experiment/job_steps.hpp"
 #include "engine/learning/learner_model_file.hpp"
 #include "engine/physics/arm_simulation.hpp"
@@ -15,12 +16,6 @@
 
 namespace armfarm {
 namespace {
-
-std::string format_number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", value);
-  return text;
-}
 
 std::string with_unit(const std::string& text, const char* unit) { return *unit ? text + " " + unit : text; }
 

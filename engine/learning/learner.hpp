@@ -6,9 +6,24 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <utility>
+#include <variant>
 #include <vector>
 
 namespace armfarm {
+
+namespace lwpr {
+class LwprModel;
+}
+namespace ssgpr {
+class SsgprModel;
+class SsgprFittingLearner;
+}  // namespace ssgpr
+
+/// The closed set of concrete learners (the one list of them): what Learner::concrete() returns
+/// and visit_learner() dispatches on. A new learner is a new alternative here, and every dispatch
+/// that lacks its case stops compiling.
+using ConcreteLearner = std::variant<const lwpr::LwprModel*, const ssgpr::SsgprModel*, const ssgpr::SsgprFittingLearner*>;
 
 /// One prediction, y (n_out × 1), with a per-output confidence half-width (same units as y),
 /// the largest kernel activation that contributed, and per output whether a local model was
@@ -60,6 +75,21 @@ class Learner {
   /// (SSGPR's hyperparameter fit on its first batch); 0 for a learner without any. The job's
   /// µs-per-update metric excludes it and reports it apart (learner_fit_seconds).
   virtual double fit_seconds() const { return 0.0; }
+
+  /// This learner as its concrete type (never null); use visit_learner() rather than casts.
+  virtual ConcreteLearner concrete() const = 0;
 };
+
+/// The one learner-kind dispatch: calls the case of `cases` that takes the learner's concrete
+/// type (const lwpr::LwprModel&, const ssgpr::SsgprModel& or const ssgpr::SsgprFittingLearner&)
+/// and returns its result. A missing case is a compile error.
+template <typename... Cases>
+decltype(auto) visit_learner(const Learner& learner, Cases&&... cases) {
+  struct Overloaded : std::decay_t<Cases>... {
+    using std::decay_t<Cases>::operator()...;
+  };
+  Overloaded visitor{std::forward<Cases>(cases)...};
+  return std::visit([&](const auto* concrete) -> decltype(auto) { return visitor(*concrete); }, learner.concrete());
+}
 
 }  // namespace armfarm

@@ -1,9 +1,11 @@
 #include "engine/learning/learner_model_file.hpp"
 
 #include "engine/lwpr/lwpr_model_file.hpp"
+#include "engine/ssgpr/ssgpr_fitting_learner.hpp"
 #include "engine/ssgpr/ssgpr_model_file.hpp"
 
 #include <sstream>
+#include <string>
 #include <stdexcept>
 
 namespace armfarm {
@@ -21,14 +23,32 @@ std::string find_learner_model_kind(const std::string& bytes) {
 
 std::string encode_learner_model(const Learner& learner) {
   std::ostringstream out(std::ios::binary);
-  if (const auto* lwpr = dynamic_cast<const lwpr::LwprModel*>(&learner)) {
-    lwpr::write_lwpr_model(*lwpr, out);
-  } else if (const auto* ssgpr = dynamic_cast<const ssgpr::SsgprModel*>(&learner)) {
-    ssgpr::write_ssgpr_model(*ssgpr, out);
-  } else {
-    throw std::invalid_argument("learner model file: this kind of learner has no model file format");
-  }
+  visit_learner(
+      learner, [&](const lwpr::LwprModel& lwpr) { lwpr::write_lwpr_model(lwpr, out); },
+      [&](const ssgpr::SsgprModel& ssgpr) { ssgpr::write_ssgpr_model(ssgpr, out); },
+      [&](const ssgpr::SsgprFittingLearner& fitting) {
+        if (!fitting.fitted()) {
+          throw std::invalid_argument("learner model file: the SSGPR hyperparameter fit has not happened (" +
+                                      std::to_string(fitting.n_updates()) + " of its " + std::to_string(fitting.fit_samples()) +
+                                      " samples given): there is no model yet");
+        }
+        ssgpr::write_ssgpr_model(fitting.model(), out);
+      });
   return out.str();
+}
+
+const lwpr::LwprModel* find_lwpr_model(const Learner& learner) {
+  return visit_learner(
+      learner, [](const lwpr::LwprModel& model) { return &model; },
+      [](const ssgpr::SsgprModel&) -> const lwpr::LwprModel* { return nullptr; },
+      [](const ssgpr::SsgprFittingLearner&) -> const lwpr::LwprModel* { return nullptr; });
+}
+
+const ssgpr::SsgprModel* find_ssgpr_model(const Learner& learner) {
+  return visit_learner(
+      learner, [](const lwpr::LwprModel&) -> const ssgpr::SsgprModel* { return nullptr; },
+      [](const ssgpr::SsgprModel& model) { return &model; },
+      [](const ssgpr::SsgprFittingLearner& fitting) { return fitting.fitted() ? &fitting.model() : nullptr; });
 }
 
 std::unique_ptr<Learner> decode_learner_model(const std::string& bytes) {

@@ -77,6 +77,7 @@ class LwprModel final : public Learner {
   /// Bytes of the fields' numbers (every statistic and cached derivative) and the activation
   /// scan's data (Learner::calc_memory_bytes).
   std::size_t calc_memory_bytes() const override;
+  ConcreteLearner concrete() const override { return this; }
   /// Mean number of PLS projections per receptive field (0 without fields).
   double calc_mean_projections() const;
 

@@ -4,6 +4,7 @@
 // <axsi> is an error instead of a silently default axis) and reads what urdfdom skips:
 // transmissions and armfarm extensions. Extension elements (namespaced ones such as drake:*,
 // <gazebo>, <ros2_control>, <frame>, …) are skipped.
+#include "base/did_you_mean.hpp"
 #include "engine/model/model_file.hpp"
 #include "engine/model/model_loaders.hpp"
 #include "engine/model/model_loading.hpp"
@@ -49,36 +50,6 @@ const std::map<std::string, std::set<std::string>>& core_children() {
       {"material", {"color", "texture"}},
   };
   return children;
-}
-
-// Levenshtein distance, for "did you mean".
-std::size_t calc_edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
-}
-
-// The closest of `names` to `name` within two edits, or "".
-std::string find_close_name(const std::string& name, const std::set<std::string>& names) {
-  std::string best;
-  std::size_t best_distance = 3;
-  for (const std::string& candidate : names) {
-    const std::size_t distance = calc_edit_distance(name, candidate);
-    if (distance < best_distance) {
-      best = candidate;
-      best_distance = distance;
-    }
-  }
-  return best;
 }
 
 // What the tinyxml2 pass learns besides the checks.
@@ -180,7 +151,7 @@ class UrdfScanner {
     for (const auto* e = robot->FirstChildElement(); e != nullptr; e = e->NextSiblingElement()) {
       const std::string tag = e->Name();
       if (top.count(tag) != 0 || tag.find(':') != std::string::npos) continue;
-      const std::string close = find_close_name(tag, {"link", "joint", "material"});
+      const std::string close = find_closest_name(tag, {"link", "joint", "material"}, NameMatch{2}).value_or("");
       if (!close.empty()) fail(e, "unknown element <" + tag + "> in <robot> (did you mean <" + close + ">?)");
     }
     std::function<void(const tinyxml2::XMLElement*, const std::string&)> visit = [&](const tinyxml2::XMLElement* e,
@@ -191,7 +162,7 @@ class UrdfScanner {
         const std::string tag = child->Name();
         if (tag.find(':') != std::string::npos) continue;  // namespaced extension (drake:*, ...)
         if (allowed->second.count(tag) == 0) {
-          const std::string close = find_close_name(tag, allowed->second);
+          const std::string close = find_closest_name(tag, allowed->second, NameMatch{2}).value_or("");
           const std::string where = "<" + tag + "> in <" + e->Name() + "> of " + owner;
           if (!close.empty()) fail(child, "unknown element " + where + " (did you mean <" + close + ">?)");
           extras_.warnings.push_back(path_ + ":" + std::to_string(child->GetLineNum()) + ": " + where + " is not a URDF element");

@@ -46,8 +46,11 @@ class SsgprFittingLearner final : public Learner {
   /// The kept samples' bytes, or the model's.
   std::size_t calc_memory_bytes() const override;
   double fit_seconds() const override { return fit_seconds_; }
+  ConcreteLearner concrete() const override { return this; }
 
   bool fitted() const { return model_.has_value(); }
+  /// Samples the fit waits for.
+  std::size_t fit_samples() const { return fit_samples_; }
   /// The fitted model; precondition: fitted().
   const SsgprModel& model() const { return *model_; }
   const SsgprFitReport& fit_report() const { return report_; }

@@ -83,6 +83,7 @@ class SsgprModel final : public Learner {
   std::uint64_t n_updates() const override { return state_.n_updates; }
   /// Bytes of the model's numbers: L, B, W, Ω and the update scratch (Learner::calc_memory_bytes).
   std::size_t calc_memory_bytes() const override;
+  ConcreteLearner concrete() const override { return this; }
 
  private:
   void resolve_weights();

@@ -4,11 +4,10 @@
 #include "runner/cli/cmd_fit.hpp"
 
 #include "engine/learning/learner_factory.hpp"
+#include "engine/learning/learner_model_file.hpp"
 #include "engine/lwpr/lwpr_model.hpp"
-#include "engine/lwpr/lwpr_model_file.hpp"
 #include "engine/random/random_stream.hpp"
 #include "engine/ssgpr/ssgpr_fitting_learner.hpp"
-#include "engine/ssgpr/ssgpr_model_file.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/io/csv_reader.hpp"
 #include "runner/lwpr_params_json.hpp"
@@ -43,25 +42,14 @@ LearnerKind parse_learner(const std::string& name) {
   return static_cast<LearnerKind>(value);
 }
 
-/// The learner's model, for saving: the SSGPR model inside a fitting learner once fitted.
-const ssgpr::SsgprModel* find_ssgpr_model(const Learner& learner) {
-  if (const auto* model = dynamic_cast<const ssgpr::SsgprModel*>(&learner)) return model;
-  if (const auto* fitting = dynamic_cast<const ssgpr::SsgprFittingLearner*>(&learner)) {
-    return fitting->fitted() ? &fitting->model() : nullptr;
-  }
-  return nullptr;
-}
-
-void save_model(const Learner& learner, LearnerKind kind, const std::string& path) {
+void save_model(const Learner& learner, const std::string& path) {
+  const std::string bytes = encode_learner_model(learner);
   const std::string temporary = path + ".tmp";
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) throw std::runtime_error(path + ": cannot write");
-    if (kind == LearnerKind::lwpr) {
-      lwpr::write_lwpr_model(dynamic_cast<const lwpr::LwprModel&>(learner), out);
-    } else {
-      ssgpr::write_ssgpr_model(*find_ssgpr_model(learner), out);
-    }
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out.flush()) throw std::runtime_error(path + ": write failed");
   }
   std::filesystem::rename(temporary, path);  // nothing half-written under the final name
 }
@@ -183,9 +171,9 @@ int run_fit(const FitOptions& opt) {
   const double us_update = 1e6 * update_seconds / (static_cast<double>(x_train.rows()) * opt.epochs);
   const double us_predict = 1e6 * predict_seconds / static_cast<double>(x_test.rows());
 
-  if (!opt.save.empty()) save_model(*learner, kind, opt.save);
+  if (!opt.save.empty()) save_model(*learner, opt.save);
 
-  const auto* lwpr_model = dynamic_cast<const lwpr::LwprModel*>(learner.get());
+  const lwpr::LwprModel* lwpr_model = find_lwpr_model(*learner);
   const ssgpr::SsgprModel* ssgpr_model = find_ssgpr_model(*learner);
   if (opt.json) {
     nlohmann::json out;

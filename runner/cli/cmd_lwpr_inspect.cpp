@@ -63,7 +63,7 @@ int run_inspect(const ModelInput& input, bool json) {
                         {"outputs", learner.output_dim()},
                         {"size", learner.size()},
                         {"n_updates", learner.n_updates()}};
-  const auto* lwpr = dynamic_cast<const lwpr::LwprModel*>(&learner);
+  const lwpr::LwprModel* lwpr = find_lwpr_model(learner);
   if (lwpr != nullptr) {
     out["per_output"] = describe_lwpr(*lwpr);
     out["update_D"] = lwpr->params().update_D;

@@ -3,6 +3,7 @@
 // that order → torques, N·m). Prints CSV: the inputs, then y<o> and confidence<o> per output (one
 // standard deviation, same units); an output the model cannot predict at x (no trustworthy field)
 // has an empty y and confidence inf.
+#include "base/number_format.hpp"
 #include "runner/cli/lwpr_model_input.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/io/csv_reader.hpp"
@@ -48,12 +49,6 @@ Eigen::VectorXd parse_point(const std::string& text, int n_in) {
   return Eigen::Map<Eigen::VectorXd>(values.data(), n_in);
 }
 
-std::string format_number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
-}
-
 int run_predict(const PredictOptions& opt) {
   if (opt.points.empty() == opt.csv.empty()) throw std::runtime_error("give the inputs with --x or with --csv (one of them)");
   const LoadedModel loaded = load_model_input(opt.input);
@@ -83,11 +78,11 @@ int run_predict(const PredictOptions& opt) {
     const Eigen::VectorXd x = inputs.row(r).transpose();
     const Prediction p = learner.predict(x, *workspace);
     line.clear();
-    for (int i = 0; i < n_in; ++i) line += (i ? "," : "") + format_number(x(i));
+    for (int i = 0; i < n_in; ++i) line += (i ? "," : "") + format_number(x(i), 17);
     for (int o = 0; o < n_out; ++o) {
       const bool trusted = p.output_trusted.empty() || p.output_trusted[static_cast<std::size_t>(o)];
-      line += "," + (trusted ? format_number(p.value(o)) : std::string()) + "," +
-              (trusted ? format_number(p.confidence(o)) : std::string("inf"));
+      line += "," + (trusted ? format_number(p.value(o), 17) : std::string()) + "," +
+              (trusted ? format_number(p.confidence(o), 17) : std::string("inf"));
     }
     std::cout << line << "\n";
   }

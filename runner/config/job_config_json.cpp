@@ -2,8 +2,8 @@
 
 #include "engine/experiment/job_config_validation.hpp"
 #include "engine/io/input_file.hpp"
+#include "runner/config/config_error.hpp"
 #include "runner/config/config_value_json.hpp"
-#include "runner/execution/job_executor.hpp"
 #include "runner/io/csv_reader.hpp"
 #include "runner/spec/canonical_json.hpp"
 #include "runner/spec/input_files.hpp"

@@ -33,7 +33,7 @@ nlohmann::json make_job_config_defaults();
 nlohmann::json make_job_config_types();
 
 /// Parses a resolved configuration (defaults merged) for an arm with `movable_joints` movable
-/// joints and validates it. Throws ConfigError (runner/execution/job_executor.hpp) naming the
+/// joints and validates it. Throws ConfigError (runner/config/config_error.hpp) naming the
 /// JSON path of the first problem; its message lists every problem ("path: what; path: what").
 /// `null` at a key means its default (configurations stored before the defaults were written out).
 ///

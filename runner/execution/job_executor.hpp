@@ -3,7 +3,7 @@
 // storage) only sees job configurations as JSON and JobOutcome values; the experiment side
 // provides the schema of a configuration and the function that runs one.
 #include "engine/experiment/job_outcome.hpp"
-#include "runner/config/config_error.hpp"   // ConfigError (kept here for existing includers)
+#include "runner/config/config_error.hpp"   // ConfigError, which an executor may throw
 #include "runner/config/config_schema.hpp"  // JobConfigSchema
 
 #include <nlohmann/json.hpp>

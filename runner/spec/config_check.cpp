@@ -1,6 +1,6 @@
 #include "runner/spec/config_check.hpp"
 
-#include "runner/spec/did_you_mean.hpp"
+#include "base/did_you_mean.hpp"
 #include "runner/spec/json_document.hpp"
 
 #include <cmath>

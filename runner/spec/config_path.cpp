@@ -1,6 +1,6 @@
 #include "runner/spec/config_path.hpp"
 
-#include "runner/spec/did_you_mean.hpp"
+#include "base/did_you_mean.hpp"
 
 #include <cctype>
 #include <stdexcept>

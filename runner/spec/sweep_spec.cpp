@@ -1,11 +1,11 @@
 #include "runner/spec/sweep_spec.hpp"
 
+#include "base/did_you_mean.hpp"
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/io/input_file.hpp"
 
 #include "runner/spec/canonical_json.hpp"
 #include "runner/spec/config_check.hpp"
-#include "runner/spec/did_you_mean.hpp"
 #include "runner/spec/input_files.hpp"
 #include "runner/spec/json_document.hpp"
 #include "runner/spec/spec_error.hpp"

@@ -3,7 +3,7 @@
 // refuses recording keys and unknown parameters.
 #include "analysis/analysis_error.hpp"
 #include "analysis/comparison.hpp"
-#include "test_database.hpp"
+#include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
 

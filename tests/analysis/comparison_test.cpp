@@ -1,7 +1,7 @@
 // Regression checks: verdicts by direction and tolerance; exit codes 0, 1 and 2 of `compare`.
 #include "analysis/analysis_error.hpp"
 #include "analysis/comparison.hpp"
-#include "test_database.hpp"
+#include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
 

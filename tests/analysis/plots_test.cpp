@@ -4,7 +4,9 @@
 #include "analysis/plots.hpp"
 #include "analysis/report.hpp"
 #include "svg_text_boxes.hpp"
-#include "test_database.hpp"
+#include "support/test_database.hpp"
+
+#include "support/text_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,12 +17,6 @@
 namespace armfarm {
 namespace {
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 SeriesRecord make_series(const std::string& name, std::vector<std::string> columns, int rows,
                          const std::function<double(int, int)>& value) {
@@ -135,7 +131,7 @@ class PlotTest : public ::testing::Test {
     const auto result = testing::run_armfarm("plot " + db_ + " " + arguments + " --out " + out);
     EXPECT_EQ(result.exit_code, 0) << arguments << ": " << result.output;
     keep_for_inspection(out);
-    const std::string svg = read_file(out);
+    const std::string svg = test_support::read_text_file(out);
     EXPECT_NE(svg.find("<svg"), std::string::npos) << arguments;
     EXPECT_NE(svg.find("</svg>"), std::string::npos) << arguments;
     return svg;
@@ -188,7 +184,7 @@ TEST_F(PlotTest, PngOutputIsAPng) {
   const auto result = testing::run_armfarm("plot " + db_ + " signals --sweep tracking --out " + out);
   ASSERT_EQ(result.exit_code, 0) << result.output;
   keep_for_inspection(out);
-  const std::string png = read_file(out);
+  const std::string png = test_support::read_text_file(out);
   ASSERT_GT(png.size(), 1000u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
 }
@@ -207,7 +203,7 @@ TEST_F(PlotTest, PdfIsOnePageAtPaperWidth) {
   const auto result = testing::run_armfarm("plot " + db_ + " nmse-vs-kernel --sweep kernel --out " + out);
   ASSERT_EQ(result.exit_code, 0) << result.output;
   keep_for_inspection(out);
-  const std::string pdf = read_file(out);
+  const std::string pdf = test_support::read_text_file(out);
   ASSERT_EQ(pdf.substr(0, 4), "%PDF");
   std::size_t pages = 0;
   for (auto at = pdf.find("/Type /Page"); at != std::string::npos; at = pdf.find("/Type /Page", at + 1)) {
@@ -234,14 +230,14 @@ TEST_F(PlotTest, StyleSizeFontAndLabelOverrides) {
 TEST_F(PlotTest, LegendListsExactlyTheVaryingParametersAndDivergedJobsAreCounted) {
   const std::string svg = render("nmse-vs-kernel --sweep fixed", directory_.file("fixed.svg"));
   EXPECT_EQ(svg.find("update_D"), std::string::npos);  // in every config, never swept: not a legend entry
-  EXPECT_NE(svg.find("jobs not shown: 1 diverged"), std::string::npos);
+  EXPECT_NE(svg.find("marked on the top edge: 1 diverged"), std::string::npos);
   const std::string kernel = render("nmse-vs-kernel --sweep kernel", directory_.file("kernel.svg"));
   EXPECT_NE(kernel.find("update_D=true"), std::string::npos);
   EXPECT_EQ(kernel.find("seed="), std::string::npos);  // repeats are error bars, not curves
   EXPECT_EQ(kernel.find("jobs not shown"), std::string::npos);
   const std::string metric = render("metric-vs-param --sweep fixed --metric same_run_test_nmse --joint 1 --param learning.lwpr.init_D",
                                     directory_.file("fixed_metric.svg"));
-  EXPECT_NE(metric.find("jobs not shown: 1 diverged"), std::string::npos);
+  EXPECT_NE(metric.find("marked on the top edge: 1 diverged"), std::string::npos);
 }
 
 TEST_F(PlotTest, HeldOutMetricNeedsAndTakesACheckpoint) {
@@ -249,6 +245,9 @@ TEST_F(PlotTest, HeldOutMetricNeedsAndTakesACheckpoint) {
   const auto refused = testing::run_armfarm(base + " --out " + directory_.file("h.svg"));
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.output.find("--checkpoint"), std::string::npos) << refused.output;
+  const auto absent = testing::run_armfarm(base + " --checkpoint 7 --out " + directory_.file("h7.svg"));
+  EXPECT_EQ(absent.exit_code, 2);
+  EXPECT_NE(absent.output.find("recorded at checkpoints 1, not 7; choose one with --checkpoint N"), std::string::npos) << absent.output;
   const std::string svg = render("metric-vs-param --sweep fixed --metric heldout_test_nmse --joint 1 --param learning.lwpr.init_D --checkpoint 1",
                                  directory_.file("heldout.svg"));
   EXPECT_NE(svg.find("heldout_test_nmse_j1_c1"), std::string::npos);
@@ -300,14 +299,14 @@ TEST_F(PlotTest, ReportIsSelfContainedHtmlPerSweep) {
   const std::string out = directory_.file("report");
   const auto result = testing::run_armfarm("report " + db_ + " --out " + out);
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  const std::string kernel = read_file(out + "/sweep_kernel.html");
+  const std::string kernel = test_support::read_text_file(out + "/sweep_kernel.html");
   EXPECT_NE(kernel.find("<table>"), std::string::npos);
   EXPECT_NE(kernel.find("deadbeef"), std::string::npos);  // provenance
   EXPECT_NE(kernel.find("<svg"), std::string::npos);      // plot inline
   EXPECT_NE(kernel.find("same_run_test_nmse_j1"), std::string::npos);
-  const std::string tracking = read_file(out + "/sweep_tracking.html");
+  const std::string tracking = test_support::read_text_file(out + "/sweep_tracking.html");
   EXPECT_NE(tracking.find("tracking"), std::string::npos);
-  EXPECT_NE(read_file(out + "/index.html").find("sweep_kernel.html"), std::string::npos);
+  EXPECT_NE(test_support::read_text_file(out + "/index.html").find("sweep_kernel.html"), std::string::npos);
   EXPECT_EQ(escape_html("<a href=\"x\">&'"), "&lt;a href=&quot;x&quot;&gt;&amp;&#39;");
 }
 
@@ -315,7 +314,7 @@ TEST_F(PlotTest, ReportPagesListTheirContentsFiguresFirstAndSortableTables) {
   const std::string out = directory_.file("report");
   const auto result = testing::run_armfarm("report " + db_ + " --out " + out);
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  const std::string kernel = read_file(out + "/sweep_kernel.html");
+  const std::string kernel = test_support::read_text_file(out + "/sweep_kernel.html");
   // Figures come before the tables.
   const auto first_figure = kernel.find("<svg");
   const auto first_table = kernel.find("<table class=\"sortable\">");
@@ -334,7 +333,7 @@ TEST_F(PlotTest, ReportPagesListTheirContentsFiguresFirstAndSortableTables) {
   // Tables scroll in their own box, sort by an inline script, and nothing is fetched.
   EXPECT_NE(kernel.find("<div class=\"scroll\"><table class=\"sortable\">"), std::string::npos);
   EXPECT_NE(kernel.find("<script>document.querySelectorAll('table.sortable')"), std::string::npos);
-  for (const std::string& page : {kernel, read_file(out + "/index.html")}) {
+  for (const std::string& page : {kernel, test_support::read_text_file(out + "/index.html")}) {
     EXPECT_EQ(page.find("<script src"), std::string::npos);
     EXPECT_EQ(page.find("<link"), std::string::npos);
     EXPECT_EQ(page.find(" src="), std::string::npos);  // (the inline SVG's xmlns names, not fetches)
@@ -342,7 +341,7 @@ TEST_F(PlotTest, ReportPagesListTheirContentsFiguresFirstAndSortableTables) {
     EXPECT_EQ(page.find("url(http"), std::string::npos);
   }
   // The index has a row per sweep with its counts, date, spec hash and best result.
-  const std::string index = read_file(out + "/index.html");
+  const std::string index = test_support::read_text_file(out + "/index.html");
   EXPECT_NE(index.find("<th>jobs</th><th>done</th><th>failed</th><th>diverged</th><th>started</th><th>spec hash</th>"),
             std::string::npos)
       << index;
@@ -362,7 +361,7 @@ TEST_F(PlotTest, ReportPagesListTheirContentsFiguresFirstAndSortableTables) {
   jobs[2].metrics = {{0, "tracking_nmse", std::nullopt, 0.01, ""}};  // not done: not a candidate
   testing::write_test_sweep(db, "best", jobs);
   ASSERT_EQ(testing::run_armfarm("report " + db + " --out " + directory_.file("best")).exit_code, 0);
-  const std::string best = read_file(directory_.file("best") + "/index.html");
+  const std::string best = test_support::read_text_file(directory_.file("best") + "/index.html");
   EXPECT_NE(best.find("<td>tracking_nmse = 0.25 (lower is better, of 2 done): gain_scale=2<"), std::string::npos)
       << best;
   EXPECT_NE(best.find("data-sort=\"1\">1</td><td>"), std::string::npos) << best;  // one diverged

@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "test_database.hpp"
+#include "support/test_database.hpp"
 
 #include <string>
 #include <vector>

@@ -1,7 +1,7 @@
 // Tables: cells equal hand-computed aggregates; failed jobs are counted, never averaged in.
 #include "analysis/analysis_error.hpp"
 #include "analysis/table.hpp"
-#include "test_database.hpp"
+#include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
 
@@ -163,10 +163,10 @@ TEST(SummaryStatistics, SignTestIsTheBinomialTail) {
 }
 
 TEST(Table, NumbersUseScientificNotationWhereTheThesisDoes) {
-  EXPECT_EQ(format_number(1.95e-3), "1.950e-03");
-  EXPECT_EQ(format_number(9.38e-4, 3), "9.38e-04");
-  EXPECT_EQ(format_number(0.890025), "0.89");
-  EXPECT_EQ(format_number(137.0), "137");
+  EXPECT_EQ(format_table_number(1.95e-3), "1.950e-03");
+  EXPECT_EQ(format_table_number(9.38e-4, 3), "9.38e-04");
+  EXPECT_EQ(format_table_number(0.890025), "0.89");
+  EXPECT_EQ(format_table_number(137.0), "137");
 }
 
 TEST(Table, DefaultTablesFollowTheThesis) {

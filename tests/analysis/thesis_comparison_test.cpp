@@ -3,7 +3,7 @@
 // matching done jobs, absent sweeps and metrics say "not run", bad files name the JSON path.
 #include "analysis/analysis_error.hpp"
 #include "analysis/thesis_comparison.hpp"
-#include "test_database.hpp"
+#include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
 

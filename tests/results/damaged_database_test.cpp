@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "support/scratch_file.hpp"
+#include "support/test_database.hpp"
 #include <sqlite3.h>
 
 #include <sys/mount.h>
@@ -23,23 +24,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class DamagedDatabaseTest : public ::testing::Test {
+class DamagedDatabaseTest : public test_support::ScratchFolderTest {
  protected:
-  void SetUp() override {
-    folder_ = test_support::make_scratch_folder("damaged");
-    write_sound_database(path("sound.db"));
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
+  DamagedDatabaseTest() : ScratchFolderTest("damaged") {}
+  void SetUp() override { write_sound_database(path("sound.db")); }
 
   // Two jobs of one sweep, one done with metrics and a series.
   static void write_sound_database(const std::string& file) {
     ResultsStore store = ResultsStore::open(file, ResultsStore::Mode::read_write);
-    SweepRegistration sweep;
-    sweep.name = "s";
-    sweep.spec_text = "{}";
-    sweep.spec_hash = "h";
-    sweep.started_at = make_utc_timestamp();
+    const SweepRegistration sweep = testing::make_sweep_registration("s");
     std::vector<JobRegistration> jobs = {{"0123456789abcdef0123456789abcdef", {{"a", 1}}, {{"a", 1}}, 1},
                                          {"fedcba9876543210fedcba9876543210", {{"a", 2}}, {{"a", 2}}, 2}};
     const RegisteredRun run = store.insert_sweep_run(sweep, jobs);
@@ -94,8 +87,6 @@ class DamagedDatabaseTest : public ::testing::Test {
     EXPECT_TRUE(store.find_sweeps().empty());
     EXPECT_TRUE(store.find_job_keys("").empty());
   }
-
-  fs::path folder_;
 };
 
 TEST_F(DamagedDatabaseTest, ASoundFileHasNoFindingsAndVerifies) {

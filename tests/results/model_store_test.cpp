@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "support/scratch_file.hpp"
+#include "support/test_database.hpp"
 #include <sqlite3.h>
 
 #include <cstdio>
@@ -17,24 +18,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class ModelStoreTest : public ::testing::Test {
+class ModelStoreTest : public test_support::ScratchFolderTest {
  protected:
-  void SetUp() override {
-    folder_ = test_support::make_scratch_folder("models_store");
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
-  fs::path folder_;
+  ModelStoreTest() : ScratchFolderTest("models_store") {}
 };
-
-SweepRegistration make_sweep(const std::string& name) {
-  SweepRegistration sweep;
-  sweep.name = name;
-  sweep.spec_text = "{}";
-  sweep.spec_hash = "h";
-  sweep.started_at = make_utc_timestamp();
-  return sweep;
-}
 
 JobResultRecord make_result(const std::string& key, const std::string& bytes) {
   JobResultRecord result;
@@ -59,7 +46,7 @@ TEST_F(ModelStoreTest, StoredModelsRoundTripAreReplacedAndReadableWithPlainSql) 
   const std::string bytes = make_bytes(5000, 0);
   {
     ResultsStore store = ResultsStore::open(path("m.db"), ResultsStore::Mode::read_write);
-    store.insert_sweep_run(make_sweep("s"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}, {"k2", {{"a", 2}}, {{"a", 2}}, 0}});
+    store.insert_sweep_run(testing::make_sweep_registration("s"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}, {"k2", {{"a", 2}}, {{"a", 2}}, 0}});
     JobResultRecord without = make_result("k2", "x");
     without.model.reset();
     store.insert_job_batch({{}, {make_result("k1", make_bytes(10, 1)), without}, {}}, "s");
@@ -101,7 +88,7 @@ TEST_F(ModelStoreTest, StoredModelsRoundTripAreReplacedAndReadableWithPlainSql) 
 TEST_F(ModelStoreTest, MergeCopiesAJobsModelAndADifferentModelIsAConflict) {
   for (const char* name : {"a.db", "b.db"}) {
     ResultsStore store = ResultsStore::open(path(name), ResultsStore::Mode::read_write);
-    store.insert_sweep_run(make_sweep("s"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}});
+    store.insert_sweep_run(testing::make_sweep_registration("s"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}});
     store.insert_job_batch({{}, {make_result("k1", make_bytes(100, name[0] == 'a' ? 0 : 1))}, {}}, "s");
   }
   ResultsStore out = ResultsStore::open(path("out.db"), ResultsStore::Mode::read_write);

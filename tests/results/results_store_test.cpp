@@ -19,14 +19,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class ResultsStoreTest : public ::testing::Test {
+class ResultsStoreTest : public test_support::ScratchFolderTest {
  protected:
-  void SetUp() override {
-    folder_ = test_support::make_scratch_folder("store");
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
-  fs::path folder_;
+  ResultsStoreTest() : ScratchFolderTest("store") {}
 };
 
 // Runs SQL through the plain sqlite3 API, as a user's script would; returns the first column of

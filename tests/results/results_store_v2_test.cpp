@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "support/scratch_file.hpp"
+#include "support/test_database.hpp"
 #include <sqlite3.h>
 
 #include <filesystem>
@@ -14,14 +15,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class ResultsStoreV2Test : public ::testing::Test {
+class ResultsStoreV2Test : public test_support::ScratchFolderTest {
  protected:
-  void SetUp() override {
-    folder_ = test_support::make_scratch_folder("store_v2");
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
-  fs::path folder_;
+  ResultsStoreV2Test() : ScratchFolderTest("store_v2") {}
 };
 
 void execute_as_user(const std::string& db_path, const std::string& sql) {
@@ -54,11 +50,7 @@ std::vector<std::string> query_as_user(const std::string& db_path, const std::st
 }
 
 SweepRegistration make_sweep(const std::string& name) {
-  SweepRegistration sweep;
-  sweep.name = name;
-  sweep.spec_text = "{}";
-  sweep.spec_hash = "h";
-  sweep.started_at = make_utc_timestamp();
+  SweepRegistration sweep = testing::make_sweep_registration(name);
   sweep.metric_info = {{"tracking_nmse", "1", "joint error", "lower", "joint", "result"},
                        {"learner_us_per_update", "µs", "update time", "lower", "job", "timing"},
                        {"sim_seconds_per_wall_second", "s/s", "speed", "higher", "job", "timing"}};

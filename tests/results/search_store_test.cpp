@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "support/scratch_file.hpp"
+#include "support/sqlite_rows.hpp"
+#include "support/test_database.hpp"
 #include <sqlite3.h>
 
 #include <filesystem>
@@ -18,30 +20,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class SearchStoreTest : public ::testing::Test {
+class SearchStoreTest : public test_support::ScratchFolderTest {
  protected:
-  void SetUp() override { folder_ = test_support::make_scratch_folder("search_store"); }
-  void TearDown() override { fs::remove_all(folder_); }
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
-  fs::path folder_;
+  SearchStoreTest() : ScratchFolderTest("search_store") {}
 };
 
-std::vector<std::string> query(const std::string& file, const std::string& sql) {
-  sqlite3* db = nullptr;
-  std::vector<std::string> rows;
-  if (sqlite3_open(file.c_str(), &db) != SQLITE_OK) return rows;
-  sqlite3_exec(
-      db, sql.c_str(),
-      [](void* out, int n, char** values, char**) {
-        std::string row;
-        for (int i = 0; i < n; ++i) row += (i ? "|" : "") + std::string(values[i] ? values[i] : "NULL");
-        static_cast<std::vector<std::string>*>(out)->push_back(row);
-        return 0;
-      },
-      &rows, nullptr);
-  sqlite3_close(db);
-  return rows;
-}
+using test_support::query_rows;
 
 // A step as the search runner inserts it: not committed, no objective yet (fields named, so that
 // the record's later members need no initializers here).
@@ -56,15 +40,6 @@ SearchStepRecord new_step(std::int64_t step, std::int64_t trial, std::int64_t ru
   r.cost = cost;
   r.job_key = job_key;
   return r;
-}
-
-SweepRegistration make_sweep(const std::string& name) {
-  SweepRegistration sweep;
-  sweep.name = name;
-  sweep.spec_text = "{}";
-  sweep.spec_hash = "h";
-  sweep.started_at = make_utc_timestamp();
-  return sweep;
 }
 
 SearchRecord make_search(const std::string& sweep) {
@@ -88,32 +63,32 @@ TEST_F(SearchStoreTest, AVersionFiveDatabaseMigratesKeepingItsJobs) {
   // A file of schema version 5: today's file without the search tables (migration 6 only adds them).
   {
     ResultsStore store = ResultsStore::open(path("v5.db"), ResultsStore::Mode::read_write);
-    store.insert_sweep_run(make_sweep("old"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}});
+    store.insert_sweep_run(testing::make_sweep_registration("old"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}});
   }
-  query(path("v5.db"), "DROP VIEW search_promotions; DROP TABLE search_steps; DROP TABLE search_trials; "
+  query_rows(path("v5.db"), "DROP VIEW search_promotions; DROP TABLE search_steps; DROP TABLE search_trials; "
                        "DROP TABLE search_rungs; DROP TABLE searches; PRAGMA user_version = 5;");
-  ASSERT_EQ(query(path("v5.db"), "PRAGMA user_version"), std::vector<std::string>{"5"});
+  ASSERT_EQ(query_rows(path("v5.db"), "PRAGMA user_version"), std::vector<std::string>{"5"});
   {
     const ResultsStore reader = ResultsStore::open(path("v5.db"), ResultsStore::Mode::read_only);
     EXPECT_EQ(reader.schema_version(), kResultsSchemaVersion);  // a migrated in-memory copy
     EXPECT_FALSE(reader.find_search("old").has_value());
   }
-  EXPECT_EQ(query(path("v5.db"), "PRAGMA user_version"), std::vector<std::string>{"5"});  // untouched by a reader
+  EXPECT_EQ(query_rows(path("v5.db"), "PRAGMA user_version"), std::vector<std::string>{"5"});  // untouched by a reader
   {
     ResultsStore writer = ResultsStore::open(path("v5.db"), ResultsStore::Mode::read_write);
     EXPECT_EQ(writer.schema_version(), kResultsSchemaVersion);
     EXPECT_TRUE(writer.find_job("k1").has_value());
     writer.insert_search(make_search("old"));
   }
-  EXPECT_EQ(query(path("v5.db"), "PRAGMA user_version"), std::vector<std::string>{std::to_string(kResultsSchemaVersion)});
-  EXPECT_EQ(query(path("v5.db"), "SELECT method, objective_metric FROM searches"), std::vector<std::string>{"asha|heldout_test_nmse"});
+  EXPECT_EQ(query_rows(path("v5.db"), "PRAGMA user_version"), std::vector<std::string>{std::to_string(kResultsSchemaVersion)});
+  EXPECT_EQ(query_rows(path("v5.db"), "SELECT method, objective_metric FROM searches"), std::vector<std::string>{"asha|heldout_test_nmse"});
   EXPECT_TRUE(ResultsStore::open(path("v5.db"), ResultsStore::Mode::read_only).check_contents(true).empty());
 }
 
 TEST_F(SearchStoreTest, ASearchRoundTripsAndPlainSqlSeesItsPromotions) {
   {
     ResultsStore store = ResultsStore::open(path("s.db"), ResultsStore::Mode::read_write);
-    store.insert_sweep_run(make_sweep("s"), {{"ka", {{"x", 1}}, {{"x", 1}}, 0}, {"kb", {{"x", 2}}, {{"x", 2}}, 0},
+    store.insert_sweep_run(testing::make_sweep_registration("s"), {{"ka", {{"x", 1}}, {{"x", 1}}, 0}, {"kb", {{"x", 2}}, {{"x", 2}}, 0},
                                              {"ka1", {{"x", 1}}, {{"x", 1}}, 0}});
     store.insert_search(make_search("s"));
     store.insert_search(make_search("s"));  // a resumed run: written once
@@ -145,7 +120,7 @@ TEST_F(SearchStoreTest, ASearchRoundTripsAndPlainSqlSeesItsPromotions) {
   EXPECT_FALSE(steps[2].committed);
   EXPECT_EQ(steps[2].job_key, "ka1");
   EXPECT_EQ(steps[2].visible, 2);
-  EXPECT_EQ(query(path("s.db"), "SELECT trial, from_rung, to_rung, key FROM search_promotions"),
+  EXPECT_EQ(query_rows(path("s.db"), "SELECT trial, from_rung, to_rung, key FROM search_promotions"),
             std::vector<std::string>{"0|0|1|ka1"});
   EXPECT_THROW(store.find_search_steps("nosuch"), StoreError);
 }

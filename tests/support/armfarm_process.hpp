@@ -1,6 +1,9 @@
 // Runs the built armfarm binary as a child process with fake jobs, for tests that stop, resume
-// or kill runners (tests/faults/).
+// or kill runners (tests/faults/, tests/runner/cli/).
 #pragma once
+
+#include "support/command_line.hpp"
+#include "support/text_file.hpp"
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -8,8 +11,6 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -20,11 +21,13 @@ struct ArmfarmProcess {
   std::string output_path;  ///< stdout and stderr
 };
 
-/// Starts `armfarm ARGS` with ARMFARM_FAKE_JOBS=1, stdout and stderr into `output_path`.
-inline ArmfarmProcess start_armfarm(const std::vector<std::string>& arguments, const std::string& output_path) {
+/// Starts `armfarm ARGS` (with ARMFARM_FAKE_JOBS=1 when `fake_jobs`), stdout and stderr into
+/// `output_path`.
+inline ArmfarmProcess start_armfarm(const std::vector<std::string>& arguments, const std::string& output_path,
+                                    bool fake_jobs = true) {
   const pid_t pid = fork();
   if (pid == 0) {
-    setenv("ARMFARM_FAKE_JOBS", "1", 1);
+    if (fake_jobs) setenv("ARMFARM_FAKE_JOBS", "1", 1);
     if (!freopen(output_path.c_str(), "w", stdout)) _exit(126);
     dup2(fileno(stdout), fileno(stderr));
     std::vector<char*> argv = {const_cast<char*>(ARMFARM_BINARY)};
@@ -40,12 +43,9 @@ inline ArmfarmProcess start_armfarm(const std::vector<std::string>& arguments, c
 inline int wait_armfarm(const ArmfarmProcess& process) {
   int status = 0;
   waitpid(process.pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return calc_exit_code(status);
 }
 
-inline std::string read_output(const ArmfarmProcess& process) {
-  std::ifstream in(process.output_path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+inline std::string read_output(const ArmfarmProcess& process) { return read_text_file(process.output_path); }
 
 }  // namespace armfarm::test_support

@@ -4,7 +4,6 @@
 
 #include <sys/wait.h>
 
-#include <array>
 #include <cstdio>
 #include <string>
 
@@ -15,22 +14,34 @@ struct CommandResult {
   std::string output;  ///< stdout and stderr, interleaved as written
 };
 
-/// Runs `command_line` with /bin/sh, its stderr merged into the captured stdout.
+/// The exit code of a child's wait status: its exit status, 128 + the signal that killed it, or
+/// 128 when it neither exited nor was killed (never 0 for a crash).
+inline int calc_exit_code(int wait_status) {
+  if (WIFEXITED(wait_status)) return WEXITSTATUS(wait_status);
+  if (WIFSIGNALED(wait_status)) return 128 + WTERMSIG(wait_status);
+  return 128;
+}
+
+/// Runs `command_line` with /bin/sh, its stderr merged into the captured stdout (every byte,
+/// NULs included).
 inline CommandResult run_command_line(const std::string& command_line) {
   FILE* pipe = popen((command_line + " 2>&1").c_str(), "r");
   if (pipe == nullptr) return {127, "popen failed: " + command_line};
   std::string output;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  const int status = pclose(pipe);
-  if (WIFSIGNALED(status)) return {128 + WTERMSIG(status), output};
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128, output};
+  char buffer[4096];
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) output.append(buffer, n);
+  return {calc_exit_code(pclose(pipe)), output};
 }
 
 #ifdef ARMFARM_BINARY
 /// Runs the armfarm binary under test with `arguments` (a shell-quoted argument string).
 inline CommandResult run_armfarm(const std::string& arguments) {
   return run_command_line(std::string(ARMFARM_BINARY) + " " + arguments);
+}
+
+/// run_armfarm with the runner's fake jobs switched on (ARMFARM_FAKE_JOBS=1).
+inline CommandResult run_armfarm_with_fake_jobs(const std::string& arguments) {
+  return run_command_line("ARMFARM_FAKE_JOBS=1 " + std::string(ARMFARM_BINARY) + " " + arguments);
 }
 #endif
 

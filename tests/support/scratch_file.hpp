@@ -27,4 +27,19 @@ inline std::filesystem::path make_scratch_folder(const std::string& prefix) {
   return folder;
 }
 
+/// A fixture whose every test case has a fresh scratch folder, `folder_`
+/// (make_scratch_folder(prefix), made before SetUp and removed after TearDown); path(name) is a
+/// file in it. A derived fixture passes its prefix: `MyTest() : ScratchFolderTest("mine") {}`.
+class ScratchFolderTest : public ::testing::Test {
+ protected:
+  explicit ScratchFolderTest(const std::string& prefix) : folder_(make_scratch_folder(prefix)) {}
+  ~ScratchFolderTest() override {
+    std::error_code ignored;
+    std::filesystem::remove_all(folder_, ignored);
+  }
+  std::string path(const std::string& name) const { return (folder_ / name).string(); }
+
+  const std::filesystem::path folder_;
+};
+
 }  // namespace armfarm::test_support

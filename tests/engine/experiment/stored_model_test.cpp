@@ -93,6 +93,28 @@ TEST(StoredModel, AnOnlineJobContinuesLearningFromTheStoredModel) {
   EXPECT_EQ(b->n_updates(), 2 * a->n_updates());
 }
 
+// An SSGPR job that fits its hyperparameters on its first samples stores the fitted model (on main
+// it failed after its whole simulation: the model-file dispatch had no case for that learner).
+TEST(StoredModel, AnSsgprJobThatFitsItsHyperparametersStoresTheFittedModel) {
+  const ArmModel arm = testing::load_lwr3();
+  JobConfig config = make_online_config();
+  config.learning.heldout = false;
+  config.trajectory.sine.duration = 2.0;
+  config.control.gain_scale = 1.0;  // full-gain feedback while the learner waits for its fit batch
+  config.learning.learner = LearnerKind::ssgpr;
+  config.learning.ssgpr.params.features = 20;
+  config.learning.ssgpr.fit_samples = 40;
+  config.learning.ssgpr.fit.iterations = 5;
+  ASSERT_TRUE(validate(config, ModelFacts{7}).empty());
+  const JobOutcome outcome = run_experiment(arm, config);
+  ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
+  ASSERT_EQ(find_learner_model_kind(outcome.model_file), "ssgpr");
+  const auto learnt = decode_learner_model(outcome.model_file);
+  EXPECT_EQ(learnt->size(), 20u);
+  EXPECT_GT(learnt->n_updates(), 40u);  // the fit batch and every sample after it
+  EXPECT_EQ(learnt->input_dim(), 6);
+}
+
 TEST(StoredModel, ValidationRefusesAModelOfTheWrongSizeAndAFrozenJobWithoutOne) {
   const ArmModel arm = testing::load_lwr3();
   JobConfig config = make_online_config();

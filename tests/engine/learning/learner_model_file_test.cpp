@@ -1,6 +1,7 @@
 // One model-file layer for every learner: bytes → learner → the same bytes, recognised by magic.
 #include "engine/learning/learner_model_file.hpp"
 #include "engine/lwpr/lwpr_model.hpp"
+#include "engine/ssgpr/ssgpr_fitting_learner.hpp"
 #include "engine/ssgpr/ssgpr_model.hpp"
 
 #include <gtest/gtest.h>
@@ -58,6 +59,37 @@ TEST(LearnerModelFile, LwprAndSsgprRoundTripBitExactlyAndAreRecognisedByMagic) {
   } catch (const std::runtime_error& error) {
     EXPECT_NE(std::string(error.what()).find("byte 0"), std::string::npos) << error.what();
   }
+}
+
+// An SSGPR learner that fits its hyperparameters stores the model it fitted (failed on main before
+// the dispatch became one visit: "this kind of learner has no model file format").
+TEST(LearnerModelFile, AFittingSsgprLearnerStoresItsFittedModelAndRefusesBeforeItsFit) {
+  ssgpr::SsgprParams start;
+  start.features = 30;
+  ssgpr::SsgprFitConfig fit;
+  fit.iterations = 10;
+  ssgpr::SsgprFittingLearner unfitted(2, 1, start, 400, fit);
+  train_on_sine(unfitted);  // 300 of 400 samples: no fit yet
+  ASSERT_FALSE(unfitted.fitted());
+  try {
+    encode_learner_model(unfitted);
+    FAIL() << "encoded an unfitted learner";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("300 of its 400 samples"), std::string::npos) << error.what();
+  }
+
+  ssgpr::SsgprFittingLearner fitting(2, 1, start, 100, fit);
+  train_on_sine(fitting);
+  ASSERT_TRUE(fitting.fitted());
+  const std::string bytes = encode_learner_model(fitting);
+  EXPECT_EQ(find_learner_model_kind(bytes), "ssgpr");
+  EXPECT_EQ(bytes, encode_learner_model(fitting.model()));
+  const auto loaded = decode_learner_model(bytes);
+  EXPECT_EQ(loaded->n_updates(), 300u);
+  expect_same_predictions(fitting, *loaded);
+  EXPECT_EQ(find_ssgpr_model(fitting), &fitting.model());
+  EXPECT_EQ(find_ssgpr_model(unfitted), nullptr);
+  EXPECT_EQ(find_lwpr_model(fitting), nullptr);
 }
 
 }  // namespace

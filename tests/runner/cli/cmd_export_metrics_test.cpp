@@ -2,9 +2,9 @@
 // module reads back equal to the database (values bit for bit, empty where NULL with the stored
 // reason beside, joints 1-based, checkpoints, units from metric_info), hostile parameter strings
 // intact, a diverged job's metrics marked by its status.
-#include "analysis/test_database.hpp"
 #include "results/results_store.hpp"
-#include "support/command_line.hpp"
+#include "support/csv_export_check.hpp"
+#include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
 
@@ -18,26 +18,8 @@ namespace {
 using testing::TemporaryDirectory;
 using testing::TestJob;
 
-std::string make_hex(double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%a", value);
-  return text;
-}
-
-// argv: the CSV, the expected rows (JSON lines), the expected header (JSON).
-const char* kChecker = R"py(
-import csv, json, sys
-def digits(text):
-    # Significant digits of a decimal number's text.
-    mantissa = text.lower().lstrip("+-").split("e")[0].replace(".", "")
-    return mantissa.strip("0") or "0"
-expected = [json.loads(line) for line in open(sys.argv[2])]
-header = json.loads(open(sys.argv[3]).read())
-with open(sys.argv[1], newline="") as f:
-    rows = list(csv.reader(f))
-assert rows[0] == header, (rows[0], header)
-rows = rows[1:]
-assert len(rows) == len(expected), (len(rows), len(expected))
+// The rows' checks (after test_support::kCsvCheckerStart): each row against its expected JSON line.
+const char* kRowChecks = R"py(
 n_params = len(header) - 8
 for number, (row, want) in enumerate(zip(rows, expected), start=2):
     assert len(row) == len(header), (number, row)
@@ -53,10 +35,9 @@ for number, (row, want) in enumerate(zip(rows, expected), start=2):
         assert value == "" and reason != "", (number, value, reason)
     else:
         assert float(value) == float.fromhex(want["value"]), (number, value, want["value"])
-        assert digits(repr(float(value))) == digits(value), (number, value)  # shortest round trip
+        assert shortest(value), (number, value)
     assert unit == want["unit"], (number, unit, want["unit"])
     assert want["reason"] == "" or reason == want["reason"], (number, reason, want["reason"])
-print("checked", len(rows), "rows")
 )py";
 
 TEST(ExportMetrics, ALongFormCsvReadsBackInPythonEqualToTheDatabase) {
@@ -102,7 +83,7 @@ TEST(ExportMetrics, ALongFormCsvReadsBackInPythonEqualToTheDatabase) {
                           {"name", metric.name},
                           {"joint", metric.joint ? nlohmann::json(*metric.joint) : nlohmann::json()},
                           {"checkpoint", metric.checkpoint ? nlohmann::json(*metric.checkpoint) : nlohmann::json()},
-                          {"value", metric.value ? nlohmann::json(make_hex(*metric.value)) : nlohmann::json()},
+                          {"value", metric.value ? nlohmann::json(test_support::make_hex(*metric.value)) : nlohmann::json()},
                           {"unit", units.count(metric.name) ? units.at(metric.name) : ""},
                           {"reason", metric.reason}};
     expected << row.dump() << "\n";
@@ -113,10 +94,8 @@ TEST(ExportMetrics, ALongFormCsvReadsBackInPythonEqualToTheDatabase) {
   const nlohmann::json header = {"job", "status", "learning.lwpr.init_D", "model", "name", "joint", "checkpoint",
                                  "value", "unit", "reason"};
   std::ofstream(folder.file("header.json")) << header.dump();
-  std::ofstream(folder.file("check.py")) << kChecker;
-  const test_support::CommandResult checked = test_support::run_command_line(
-      "python3 " + folder.file("check.py") + " " + folder.file("m.csv") + " " + folder.file("expected.jsonl") + " " +
-      folder.file("header.json"));
+  const test_support::CommandResult checked = test_support::run_csv_checker(
+      folder.file("check.py"), kRowChecks, folder.file("m.csv"), folder.file("expected.jsonl"), folder.file("header.json"));
   EXPECT_EQ(checked.exit_code, 0) << checked.output;
   EXPECT_EQ(checked.output, "checked 8 rows\n");
 

@@ -16,48 +16,18 @@
 #include <fstream>
 #include <random>
 
-#include "support/command_line.hpp"
+#include "support/csv_export_check.hpp"
 
 using armfarm::test_support::CommandResult;
-using armfarm::test_support::run_command_line;
 
 namespace armfarm {
 namespace {
 
 namespace fs = std::filesystem;
 
-CommandResult run_shell(const std::string& command) {
-  return run_command_line(command);
-}
-
-CommandResult run_armfarm(const std::string& arguments) {
-  return run_shell("ARMFARM_FAKE_JOBS=1 " + std::string(ARMFARM_BINARY) + " " + arguments);
-}
-
-std::string make_hex(double value) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%a", value);
-  return text;
-}
-
-// Reads the CSV with Python's csv module and checks each row against the expected rows
-// (JSON lines: job, params as CSV would hold them, time/value as C99 hex floats, joint, signal).
-const char* kChecker = R"py(
-import csv, json, math, sys
-def digits(text):
-    # Significant digits of a decimal number's text.
-    mantissa = text.lower().lstrip("+-").split("e")[0].replace(".", "")
-    return mantissa.strip("0") or "0"
-def shortest(text):
-    # Python's repr is the shortest text that reads back to the same double.
-    return math.isnan(float(text)) or math.isinf(float(text)) or digits(text) == digits(repr(float(text)))
-expected = [json.loads(line) for line in open(sys.argv[2])]
-header = json.loads(open(sys.argv[3]).read())
-with open(sys.argv[1], newline="") as f:
-    rows = list(csv.reader(f))
-assert rows[0] == header, (rows[0], header)
-rows = rows[1:]
-assert len(rows) == len(expected), (len(rows), len(expected))
+// The rows' checks (after test_support::kCsvCheckerStart): each row against its expected JSON line
+// (job, params as CSV would hold them, time/value as C99 hex floats, joint, signal).
+const char* kRowChecks = R"py(
 n_params = len(header) - 5
 for number, (row, want) in enumerate(zip(rows, expected), start=2):
     assert len(row) == len(header), (number, row)
@@ -78,7 +48,6 @@ for number, (row, want) in enumerate(zip(rows, expected), start=2):
     w = float.fromhex(want["value"])
     assert v == w or (math.isnan(v) and math.isnan(w)), (number, value, want["value"])
     assert shortest(value) and (t == "" or shortest(t)), (number, t, value)
-print("checked", len(rows), "rows")
 )py";
 
 TEST(ExportSweep, ALongFormCsvReadsBackInPythonWithEveryValueEqualToTheDatabase) {
@@ -92,10 +61,10 @@ TEST(ExportSweep, ALongFormCsvReadsBackInPythonWithEveryValueEqualToTheDatabase)
       "sweep": {"grid": {"model": ["arm, \"v2\".urdf", "plain.urdf"], "learning.lwpr.init_D": [0.1, 0.3]},
                 "zip": {"fake.fail": [false, true]}}})";
   const std::string db = path("e.db");
-  const CommandResult run = run_armfarm("run " + path("e.json") + " --db " + db + " --quiet");
+  const CommandResult run = test_support::run_armfarm_with_fake_jobs("run " + path("e.json") + " --db " + db + " --quiet");
   ASSERT_EQ(run.exit_code, 1) << run.output;  // half the jobs asked to fail
 
-  const CommandResult exported = run_armfarm("export " + db + " --sweep e -o " + path("e.csv"));
+  const CommandResult exported = test_support::run_armfarm_with_fake_jobs("export " + db + " --sweep e -o " + path("e.csv"));
   ASSERT_EQ(exported.exit_code, 0) << exported.output;
   EXPECT_NE(exported.output.find("from 4 done jobs (4 jobs not done, left out)"), std::string::npos) << exported.output;
 
@@ -119,10 +88,10 @@ TEST(ExportSweep, ALongFormCsvReadsBackInPythonWithEveryValueEqualToTheDatabase)
           const std::string& column = series.columns[c];  // fake job: q1.., tau1..: not per-joint names
           const nlohmann::json row = {{"job", job.key},
                                       {"params", param_values},
-                                      {"time", make_hex(series.rows(r, 0))},
+                                      {"time", test_support::make_hex(series.rows(r, 0))},
                                       {"joint", nullptr},
                                       {"signal", name + "." + column},
-                                      {"value", make_hex(series.rows(r, static_cast<Eigen::Index>(c)))}};
+                                      {"value", test_support::make_hex(series.rows(r, static_cast<Eigen::Index>(c)))}};
           expected << row.dump() << "\n";
           ++rows;
         }
@@ -135,9 +104,8 @@ TEST(ExportSweep, ALongFormCsvReadsBackInPythonWithEveryValueEqualToTheDatabase)
   for (const std::string& p : params) header.push_back(p);
   for (const char* column : {"time", "joint", "signal", "value"}) header.push_back(column);
   std::ofstream(path("header.json")) << header.dump();
-  std::ofstream(path("check.py")) << kChecker;
   const CommandResult checked =
-      run_shell("python3 " + path("check.py") + " " + path("e.csv") + " " + path("expected.jsonl") + " " + path("header.json"));
+      test_support::run_csv_checker(path("check.py"), kRowChecks, path("e.csv"), path("expected.jsonl"), path("header.json"));
   EXPECT_EQ(checked.exit_code, 0) << checked.output;
   EXPECT_EQ(checked.output, "checked " + std::to_string(rows) + " rows\n");
 
@@ -149,7 +117,7 @@ TEST(ExportSweep, ALongFormCsvReadsBackInPythonWithEveryValueEqualToTheDatabase)
   EXPECT_EQ(text.find("0.10000000000000001"), std::string::npos) << "%.17g of 0.1";
 
   // One series only; an unknown series is refused naming what there is, and no file appears.
-  ASSERT_EQ(run_armfarm("export " + db + " --sweep e --series TOR -o " + path("tor.csv")).exit_code, 0);
+  ASSERT_EQ(test_support::run_armfarm_with_fake_jobs("export " + db + " --sweep e --series TOR -o " + path("tor.csv")).exit_code, 0);
   std::ifstream tor(path("tor.csv"));
   std::string line;
   std::getline(tor, line);
@@ -159,13 +127,13 @@ TEST(ExportSweep, ALongFormCsvReadsBackInPythonWithEveryValueEqualToTheDatabase)
     ++tor_rows;
   }
   EXPECT_EQ(tor_rows, 4 * 9 * 2);  // 4 done jobs × 9 samples × 2 joints
-  const CommandResult unknown = run_armfarm("export " + db + " --sweep e --series PHI -o " + path("phi.csv"));
+  const CommandResult unknown = test_support::run_armfarm_with_fake_jobs("export " + db + " --sweep e --series PHI -o " + path("phi.csv"));
   EXPECT_EQ(unknown.exit_code, 2);
   EXPECT_NE(unknown.output.find("sweep e has no recorded series PHI (it has: POS, TOR)"), std::string::npos) << unknown.output;
   EXPECT_FALSE(fs::exists(path("phi.csv")));
   EXPECT_FALSE(fs::exists(path("phi.csv.partial")));
-  EXPECT_EQ(run_armfarm("export " + db + " --sweep nope").exit_code, 2);
-  EXPECT_EQ(run_armfarm("export " + db).exit_code, 2);
+  EXPECT_EQ(test_support::run_armfarm_with_fake_jobs("export " + db + " --sweep nope").exit_code, 2);
+  EXPECT_EQ(test_support::run_armfarm_with_fake_jobs("export " + db).exit_code, 2);
   fs::remove_all(folder);
 }
 

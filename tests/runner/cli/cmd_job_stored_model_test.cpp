@@ -5,6 +5,7 @@
 // and the JSON path, exit 2.
 #include "results/results_store.hpp"
 #include "support/command_line.hpp"
+#include "support/text_file.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -28,18 +29,12 @@ struct CommandResult {
   std::string error;   ///< stderr
 };
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // Runs armfarm with `arguments`, stdout and stderr apart (stderr through `error_file`).
 CommandResult run_command(const std::string& arguments, const std::string& error_file) {
   const test_support::CommandResult result =
       test_support::run_command_line("{ " + std::string(ARMFARM_BINARY) + " " + arguments + " 2>" + error_file + "; }");
-  return {result.exit_code, result.output, read_text(error_file)};
+  return {result.exit_code, result.output, test_support::read_text_file(error_file)};
 }
 
 // Two online jobs (gain scales 0.2 and 0.3, so two different models) on joints 2 and 4 that
@@ -99,16 +94,16 @@ void expect_same_results(const nlohmann::json& a, const nlohmann::json& b) {
 
 TEST_F(CmdJobStoredModel, SweepReferenceResolvesFromTheDatabaseWithTheKeyExpansionGives) {
   const std::string config = write("by_sweep.json", make_frozen_config(R"({"sweep": "jobdb_train", "params": {"control.gain_scale": 0.2}})"));
-  const std::string before = read_text(path("models.db"));
+  const std::string before = test_support::read_text_file(path("models.db"));
   const CommandResult job = run_command("job " + config + " --db " + path("models.db") + " --json", path("job.err"));
   ASSERT_EQ(job.exit_code, 0) << job.output << job.error;
   const nlohmann::json out = nlohmann::json::parse(job.output);
   EXPECT_EQ(out["status"], "done");
   // Read only: the database is byte for byte what it was.
-  EXPECT_EQ(read_text(path("models.db")), before);
+  EXPECT_EQ(test_support::read_text_file(path("models.db")), before);
 
   // The same reference in a one-job spec: `armfarm expand --db` resolves it to the same key.
-  nlohmann::json spec = {{"name", "jobdb_frozen"}, {"description", "x"}, {"base", nlohmann::json::parse(read_text(config))}};
+  nlohmann::json spec = {{"name", "jobdb_frozen"}, {"description", "x"}, {"base", nlohmann::json::parse(test_support::read_text_file(config))}};
   write("frozen_spec.json", spec.dump());
   const CommandResult expanded =
       run_command("expand " + path("frozen_spec.json") + " --db " + path("models.db") + " --json", path("expand.err"));

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include "support/armfarm_process.hpp"
 #include "support/scratch_file.hpp"
+#include "support/text_file.hpp"
 #include <sqlite3.h>
 
 #include <signal.h>
@@ -27,38 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Process {
-  pid_t pid = 0;
-  std::string output_path;
-};
-
-// Starts `armfarm ARGS` with fake jobs, stdout and stderr into `output_path`.
-Process start(const std::vector<std::string>& arguments, const std::string& output_path) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    setenv("ARMFARM_FAKE_JOBS", "1", 1);
-    freopen(output_path.c_str(), "w", stdout);
-    dup2(fileno(stdout), fileno(stderr));
-    std::vector<char*> argv = {const_cast<char*>(ARMFARM_BINARY)};
-    for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(ARMFARM_BINARY, argv.data());
-    _exit(127);
-  }
-  return {pid, output_path};
-}
-
-int wait_exit_code(const Process& process) {
-  int status = 0;
-  waitpid(process.pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 // "sweep s24: 13 done, ..." -> 13.
 int parse_done(const std::string& output) {
   std::smatch match;
@@ -76,27 +46,24 @@ int count_status(const std::string& db, const std::string& status) {
   }
 }
 
-class CmdRunClaimsTest : public ::testing::Test {
+class CmdRunClaimsTest : public test_support::ScratchFolderTest {
  protected:
+  CmdRunClaimsTest() : ScratchFolderTest("claims") {}
   void SetUp() override {
-    folder_ = test_support::make_scratch_folder("claims");
     std::ofstream(path("s24.json")) << R"({"name": "s24", "base": {"fake": {"sleep_ms": 40}},
         "sweep": {"grid": {"learning.lwpr.init_D": [10, 20, 30, 40, 50, 60]}, "repeat": 4}})";
   }
-  void TearDown() override { fs::remove_all(folder_); }
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
   std::pair<pid_t, std::vector<std::string>> kill_a_runner_mid_sweep(const std::string& db);
-  fs::path folder_;
 };
 
 TEST_F(CmdRunClaimsTest, TwoRunnersOnOneFreshDatabaseRunEveryJobOnce) {
   const std::string db = path("shared.db");
   // Started together: both also create the schema of the fresh file at the same moment.
-  const Process a = start({"run", path("s24.json"), "--db", db, "-j", "2"}, path("a.txt"));
-  const Process b = start({"run", path("s24.json"), "--db", db, "-j", "2"}, path("b.txt"));
-  EXPECT_EQ(wait_exit_code(a), 0) << read_text(a.output_path);
-  EXPECT_EQ(wait_exit_code(b), 0) << read_text(b.output_path);
-  const std::string out_a = read_text(a.output_path), out_b = read_text(b.output_path);
+  const test_support::ArmfarmProcess a = test_support::start_armfarm({"run", path("s24.json"), "--db", db, "-j", "2"}, path("a.txt"));
+  const test_support::ArmfarmProcess b = test_support::start_armfarm({"run", path("s24.json"), "--db", db, "-j", "2"}, path("b.txt"));
+  EXPECT_EQ(test_support::wait_armfarm(a), 0) << test_support::read_text_file(a.output_path);
+  EXPECT_EQ(test_support::wait_armfarm(b), 0) << test_support::read_text_file(b.output_path);
+  const std::string out_a = test_support::read_text_file(a.output_path), out_b = test_support::read_text_file(b.output_path);
   // Each job was run by one of them: the two summaries add up to the sweep.
   EXPECT_EQ(parse_done(out_a) + parse_done(out_b), 24) << out_a << out_b;
 
@@ -115,15 +82,15 @@ TEST_F(CmdRunClaimsTest, TwoRunnersOnOneFreshDatabaseRunEveryJobOnce) {
 // the jobs it held (claimed and running) when it died.
 std::pair<pid_t, std::vector<std::string>> CmdRunClaimsTest::kill_a_runner_mid_sweep(const std::string& db) {
   // The file's lease, 1 s for this test, for both runners.
-  EXPECT_EQ(wait_exit_code(start({"lease", db, "1"}, path("lease.txt"))), 0) << read_text(path("lease.txt"));
-  const Process victim = start({"run", path("s24.json"), "--db", db, "-j", "2"}, path("v.txt"));
+  EXPECT_EQ(test_support::wait_armfarm(test_support::start_armfarm({"lease", db, "1"}, path("lease.txt"))), 0) << test_support::read_text_file(path("lease.txt"));
+  const test_support::ArmfarmProcess victim = test_support::start_armfarm({"run", path("s24.json"), "--db", db, "-j", "2"}, path("v.txt"));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   // Killed while it holds a job: after 4 are done, at a moment a job is running.
   while ((count_status(db, "done") < 4 || count_status(db, "running") == 0) && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   kill(victim.pid, SIGKILL);
-  EXPECT_EQ(wait_exit_code(victim), 128 + SIGKILL) << "the sweep ended before it could be killed";
+  EXPECT_EQ(test_support::wait_armfarm(victim), 128 + SIGKILL) << "the sweep ended before it could be killed";
   std::vector<std::string> held;
   const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
   for (const JobClaimRecord& claim : store.find_job_claims(make_utc_timestamp())) {
@@ -140,9 +107,9 @@ TEST_F(CmdRunClaimsTest, AKilledRunnersClaimsOnThisHostAreTakenOverWithoutWaitin
   ASSERT_FALSE(held.empty()) << "killed between jobs: nothing to take over";
   // The default timeout is 60 s: the dead pid on this host, not the heartbeat's age, frees the claims.
   const auto start_time = std::chrono::steady_clock::now();
-  const Process survivor = start({"run", path("s24.json"), "--db", db, "-j", "2"}, path("s.txt"));
-  const int survivor_exit = wait_exit_code(survivor);
-  const std::string out = read_text(survivor.output_path);
+  const test_support::ArmfarmProcess survivor = test_support::start_armfarm({"run", path("s24.json"), "--db", db, "-j", "2"}, path("s.txt"));
+  const int survivor_exit = test_support::wait_armfarm(survivor);
+  const std::string out = test_support::read_text_file(survivor.output_path);
   EXPECT_EQ(survivor_exit, 0) << out;
   EXPECT_NE(out.find(std::to_string(held.size()) + " stale claims of stopped runners taken over"), std::string::npos) << out;
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count(), 45.0);
@@ -162,9 +129,9 @@ TEST_F(CmdRunClaimsTest, AKilledRunnersClaimsAreTakenOverAfterTheTimeout) {
 
   // Started at once, the survivor sees the claims live, waits out the 1 s timeout, takes them over.
   const auto start_time = std::chrono::steady_clock::now();
-  const Process survivor = start({"run", path("s24.json"), "--db", db, "-j", "2"}, path("s.txt"));
-  const int survivor_exit = wait_exit_code(survivor);
-  const std::string out = read_text(survivor.output_path);
+  const test_support::ArmfarmProcess survivor = test_support::start_armfarm({"run", path("s24.json"), "--db", db, "-j", "2"}, path("s.txt"));
+  const int survivor_exit = test_support::wait_armfarm(survivor);
+  const std::string out = test_support::read_text_file(survivor.output_path);
   EXPECT_EQ(survivor_exit, 0) << out;
   EXPECT_NE(out.find(std::to_string(held.size()) + " stale claims of stopped runners taken over"), std::string::npos) << out;
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start_time).count(), 15.0);
@@ -183,9 +150,9 @@ TEST_F(CmdRunClaimsTest, AKilledRunnersClaimsAreTakenOverAfterTheTimeout) {
     EXPECT_EQ(claim.state, "interrupted");
     EXPECT_EQ(claim.pid, victim_pid_copy);
   }
-  const Process query = start({"status", db}, path("status.txt"));
-  EXPECT_EQ(wait_exit_code(query), 0);
-  const std::string status = read_text(query.output_path);
+  const test_support::ArmfarmProcess query = test_support::start_armfarm({"status", db}, path("status.txt"));
+  EXPECT_EQ(test_support::wait_armfarm(query), 0);
+  const std::string status = test_support::read_text_file(query.output_path);
   EXPECT_NE(status.find("interrupted claims: " + std::to_string(held.size())), std::string::npos) << status;
   EXPECT_EQ(status.find("live claims"), std::string::npos) << status;
 }
@@ -194,18 +161,18 @@ TEST_F(CmdRunClaimsTest, StatusShowsTheLiveClaimsOfARunningSweep) {
   std::ofstream(path("slow.json")) << R"({"name": "slow", "base": {"fake": {"sleep_ms": 5000}},
       "sweep": {"grid": {"learning.lwpr.init_D": [10, 20]}}})";
   const std::string db = path("slow.db");
-  const Process runner = start({"run", path("slow.json"), "--db", db, "-j", "2"}, path("r.txt"));
+  const test_support::ArmfarmProcess runner = test_support::start_armfarm({"run", path("slow.json"), "--db", db, "-j", "2"}, path("r.txt"));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   std::string status;
   while (std::chrono::steady_clock::now() < deadline) {
-    const Process query = start({"status", db}, path("status.txt"));
-    wait_exit_code(query);
-    status = read_text(query.output_path);
+    const test_support::ArmfarmProcess query = test_support::start_armfarm({"status", db}, path("status.txt"));
+    test_support::wait_armfarm(query);
+    status = test_support::read_text_file(query.output_path);
     if (status.find("live claims: 2") != std::string::npos) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   kill(runner.pid, SIGINT);
-  EXPECT_EQ(wait_exit_code(runner), 1);
+  EXPECT_EQ(test_support::wait_armfarm(runner), 1);
   EXPECT_NE(status.find("live claims: 2"), std::string::npos) << status;
   EXPECT_NE(status.find(" pid " + std::to_string(runner.pid) + ": running "), std::string::npos) << status;
   EXPECT_NE(status.find(" owner "), std::string::npos) << status;

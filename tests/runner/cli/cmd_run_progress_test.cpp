@@ -52,14 +52,9 @@ std::set<std::string> find_stored(const std::string& db, const std::string& swee
   return keys;
 }
 
-class CmdRunProgressTest : public ::testing::Test {
+class CmdRunProgressTest : public test_support::ScratchFolderTest {
  protected:
-  void SetUp() override {
-    folder_ = test_support::make_scratch_folder("progress_cli");
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
-  fs::path folder_;
+  CmdRunProgressTest() : ScratchFolderTest("progress_cli") {}
 };
 
 TEST_F(CmdRunProgressTest, ALogGetsHeartbeatLinesWithAnEtaAndTheSummaryNamesTheMainMetric) {

@@ -7,7 +7,10 @@
 // job that trains to its checkpoint's epoch) scores bit-identically to one straight run.
 #include <gtest/gtest.h>
 
+#include "support/armfarm_process.hpp"
 #include "support/scratch_file.hpp"
+#include "support/sqlite_rows.hpp"
+
 #include <signal.h>
 #include <sqlite3.h>
 #include <sys/wait.h>
@@ -26,94 +29,51 @@ namespace {
 
 namespace fs = std::filesystem;
 
-pid_t start(const std::vector<std::string>& arguments, const std::string& output_path, bool fake = true) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    if (fake) setenv("ARMFARM_FAKE_JOBS", "1", 1);
-    if (freopen(output_path.c_str(), "w", stdout) == nullptr) _exit(126);
-    dup2(fileno(stdout), fileno(stderr));
-    std::vector<char*> argv = {const_cast<char*>(ARMFARM_BINARY)};
-    for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(ARMFARM_BINARY, argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-int wait_exit_code(pid_t pid) {
-  int status = 0;
-  waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
-std::vector<std::string> query(const std::string& db, const std::string& sql) {
-  std::vector<std::string> rows;
-  sqlite3* handle = nullptr;
-  if (sqlite3_open_v2(db.c_str(), &handle, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
-    sqlite3_close(handle);
-    return rows;
-  }
-  sqlite3_busy_timeout(handle, 2000);
-  sqlite3_exec(
-      handle, sql.c_str(),
-      [](void* out, int n, char** values, char**) {
-        std::string row;
-        for (int i = 0; i < n; ++i) row += (i ? "|" : "") + std::string(values[i] ? values[i] : "NULL");
-        static_cast<std::vector<std::string>*>(out)->push_back(row);
-        return 0;
-      },
-      &rows, nullptr);
-  sqlite3_close(handle);
-  return rows;
-}
+using test_support::query_rows;
 
 const char* const kSteps =
     "SELECT st.step, st.trial, st.rung, st.visible, st.kind, j.key, st.objective, t.params FROM search_steps st "
     "JOIN jobs j ON j.id = st.job_id JOIN search_trials t ON t.search_id = st.search_id AND t.trial = st.trial "
     "ORDER BY st.step";
 
-class CmdRunSearchTest : public ::testing::Test {
+class CmdRunSearchTest : public test_support::ScratchFolderTest {
  protected:
+  CmdRunSearchTest() : ScratchFolderTest("run_search") {}
   void SetUp() override {
-    folder_ = test_support::make_scratch_folder("run_search");
     std::ofstream(path("search.json")) << R"({"name": "fake search", "base": {"fake": {"sleep_ms": 80}},
       "sweep": {"search": {"method": "tpe", "seed": 3, "slots": 2,
         "objective": {"metric": "tracking_nmse", "joint": 1},
         "space": {"control.gain_scale": {"uniform": [0.5, 50]}, "learning.lwpr.init_D": {"log_uniform": [0.01, 100]}},
         "budget": {"jobs": 14}}}})";
   }
-  void TearDown() override { fs::remove_all(folder_); }
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
   int run(const std::string& db, const std::string& threads) {
-    return wait_exit_code(start({"run", path("search.json"), "--db", db, "-j", threads, "-q"},
+    return test_support::wait_armfarm(test_support::start_armfarm({"run", path("search.json"), "--db", db, "-j", threads, "-q"},
                                 path(db.substr(db.rfind('/') + 1) + ".txt")));
   }
-  fs::path folder_;
 };
 
 TEST_F(CmdRunSearchTest, TheTrialSequenceIsTheSameAtJ1J2AndAfterAKillAndResume) {
   ASSERT_EQ(run(path("j1.db"), "1"), 0);
-  const std::vector<std::string> reference = query(path("j1.db"), kSteps);
+  const std::vector<std::string> reference = query_rows(path("j1.db"), kSteps);
   ASSERT_EQ(reference.size(), 14u);  // the budget: 14 jobs
-  EXPECT_EQ(query(path("j1.db"), "SELECT count(*) FROM search_steps WHERE committed = 1"), std::vector<std::string>{"14"});
+  EXPECT_EQ(query_rows(path("j1.db"), "SELECT count(*) FROM search_steps WHERE committed = 1"), std::vector<std::string>{"14"});
   ASSERT_EQ(run(path("j2.db"), "2"), 0);
-  EXPECT_EQ(query(path("j2.db"), kSteps), reference);
+  EXPECT_EQ(query_rows(path("j2.db"), kSteps), reference);
 
   // Killed once 5 jobs are done, while jobs run; resumed at -j1.
   const std::string killed = path("killed.db");
-  const pid_t victim = start({"run", path("search.json"), "--db", killed, "-j", "2", "-q"}, path("victim.txt"));
+  const test_support::ArmfarmProcess victim = test_support::start_armfarm({"run", path("search.json"), "--db", killed, "-j", "2", "-q"}, path("victim.txt"));
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
   while (std::chrono::steady_clock::now() < deadline) {
-    const std::vector<std::string> done = query(killed, "SELECT count(*) FROM jobs WHERE status = 'done'");
+    const std::vector<std::string> done = query_rows(killed, "SELECT count(*) FROM jobs WHERE status = 'done'");
     if (!done.empty() && std::stoi(done[0]) >= 5) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
-  kill(victim, SIGKILL);
-  ASSERT_EQ(wait_exit_code(victim), 128 + SIGKILL) << "the search ended before it could be killed";
-  ASSERT_LT(std::stoi(query(killed, "SELECT count(*) FROM search_steps WHERE committed = 1").at(0)), 14);
+  kill(victim.pid, SIGKILL);
+  ASSERT_EQ(test_support::wait_armfarm(victim), 128 + SIGKILL) << "the search ended before it could be killed";
+  ASSERT_LT(std::stoi(query_rows(killed, "SELECT count(*) FROM search_steps WHERE committed = 1").at(0)), 14);
   ASSERT_EQ(run(killed, "1"), 0);
-  EXPECT_EQ(query(killed, kSteps), reference);
+  EXPECT_EQ(query_rows(killed, kSteps), reference);
 }
 
 TEST_F(CmdRunSearchTest, ARandomSearchOfJobsAnotherSweepRanIsStillRecorded) {
@@ -126,10 +86,10 @@ TEST_F(CmdRunSearchTest, ARandomSearchOfJobsAnotherSweepRanIsStillRecorded) {
       "sweep": {"search": {"method": "random", "seed": 5, "objective": {"metric": "tracking_nmse", "joint": 1},
         "space": {"control.gain_scale": {"uniform": [0.5, 50]}}, "budget": {"jobs": 6}}}})";
   const std::string db = path("shared.db");
-  ASSERT_EQ(wait_exit_code(start({"run", path("tpe.json"), "--db", db, "-j", "1", "-q"}, path("tpe.txt"))), 0);
-  ASSERT_EQ(wait_exit_code(start({"run", path("random.json"), "--db", db, "-j", "1", "-q"}, path("random.txt"))), 0);
-  EXPECT_EQ(query(db, "SELECT count(*) FROM jobs"), std::vector<std::string>{"6"});  // the same six jobs
-  EXPECT_EQ(query(db, "SELECT s.name, count(st.step), sum(st.committed), count(st.objective) FROM searches se "
+  ASSERT_EQ(test_support::wait_armfarm(test_support::start_armfarm({"run", path("tpe.json"), "--db", db, "-j", "1", "-q"}, path("tpe.txt"))), 0);
+  ASSERT_EQ(test_support::wait_armfarm(test_support::start_armfarm({"run", path("random.json"), "--db", db, "-j", "1", "-q"}, path("random.txt"))), 0);
+  EXPECT_EQ(query_rows(db, "SELECT count(*) FROM jobs"), std::vector<std::string>{"6"});  // the same six jobs
+  EXPECT_EQ(query_rows(db, "SELECT s.name, count(st.step), sum(st.committed), count(st.objective) FROM searches se "
                       "JOIN sweeps s ON s.id = se.sweep_id JOIN search_steps st ON st.search_id = se.id "
                       "GROUP BY s.name ORDER BY s.name"),
             (std::vector<std::string>{"random six|6|6|6", "tpe six|6|6|6"}));
@@ -145,10 +105,10 @@ TEST_F(CmdRunSearchTest, AHeldOutObjectiveWithoutCheckpointsIsReadAtTheDefaultOn
       "sweep": {"search": {"method": "random", "seed": 1, "objective": {"metric": "heldout_test_nmse", "joint": 2},
         "space": {"learning.lwpr.init_D": {"log_uniform": [0.05, 3.0]}}, "budget": {"jobs": 2}}}})";
   const std::string db = path("real.db");
-  ASSERT_EQ(wait_exit_code(start({"run", path("real.json"), "--db", db, "-j", "1", "-q"}, path("real.txt"), false)), 0)
+  ASSERT_EQ(test_support::wait_armfarm(test_support::start_armfarm({"run", path("real.json"), "--db", db, "-j", "1", "-q"}, path("real.txt"), false)), 0)
       << std::ifstream(path("real.txt")).rdbuf();
   // The objective each step saw is the stored metric's value at its (one, default) checkpoint.
-  const std::vector<std::string> seen = query(db, "SELECT st.objective IS NOT NULL, st.objective = m.value FROM search_steps st "
+  const std::vector<std::string> seen = query_rows(db, "SELECT st.objective IS NOT NULL, st.objective = m.value FROM search_steps st "
                                                   "JOIN job_metrics m ON m.job_id = st.job_id AND m.name = 'heldout_test_nmse' "
                                                   "AND m.joint = 2 ORDER BY st.step");
   EXPECT_EQ(seen, (std::vector<std::string>{"1|1", "1|1"}));

@@ -75,17 +75,14 @@ std::map<std::string, std::pair<std::string, std::vector<double>>> read_results(
   return results;
 }
 
-class CmdRunTest : public ::testing::Test {
+class CmdRunTest : public test_support::ScratchFolderTest {
  protected:
+  CmdRunTest() : ScratchFolderTest("cli") {}
   void SetUp() override {
-    folder_ = test_support::make_scratch_folder("cli");
     // 24 jobs of about 40 ms: long enough to be killed in the middle.
     std::ofstream(path("killme.json")) << R"({"name": "killme", "base": {"fake": {"sleep_ms": 40}},
         "sweep": {"grid": {"learning.lwpr.init_D": [10, 20, 30, 40, 50, 60]}, "repeat": 4}})";
   }
-  void TearDown() override { fs::remove_all(folder_); }
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
-  fs::path folder_;
 };
 
 TEST_F(CmdRunTest, SigkillMidSweepLosesNoFinishedJobAndResumesToTheSameMetrics) {

@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "support/command_line.hpp"
+#include "support/text_file.hpp"
 
 using armfarm::test_support::CommandResult;
 using armfarm::test_support::run_command_line;
@@ -36,12 +37,6 @@ CommandResult run_armfarm(const fs::path& directory, const std::string& argument
   return run_command_line(command);
 }
 
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 void write_file(const fs::path& path, const std::string& text) {
   fs::create_directories(path.parent_path());
@@ -59,7 +54,7 @@ class InputFilesTest : public ::testing::Test {
   // tree/models/planar2.urdf and tree/specs/tiny.json, whose model path is relative to the spec.
   fs::path make_tree(const std::string& name) {
     const fs::path tree = root_ / name;
-    write_file(tree / "models/planar2.urdf", read_file(fs::path(ARMFARM_SOURCE_DIR) / "models/planar2.urdf"));
+    write_file(tree / "models/planar2.urdf", test_support::read_text_file(fs::path(ARMFARM_SOURCE_DIR) / "models/planar2.urdf"));
     write_file(tree / "specs/tiny.json", R"({"name": "tiny",
  "base": {"model": "../models/planar2.urdf", "dt": 0.01,
           "control": {"mode": "feedback", "feed_forward": "none"}, "learning": {"mode": "none"},
@@ -70,7 +65,7 @@ class InputFilesTest : public ::testing::Test {
   }
 
   static void change_first_mass(const fs::path& model) {
-    std::string text = read_file(model);
+    std::string text = test_support::read_text_file(model);
     const std::size_t at = text.find("<mass value=\"2.0\"/>");
     ASSERT_NE(at, std::string::npos);
     text.replace(at, 19, "<mass value=\"2.5\"/>");
@@ -124,9 +119,9 @@ TEST_F(InputFilesTest, EditingAMassInACopiedModelChangesTheKeysAndMovingTheTreeD
 TEST_F(InputFilesTest, MeshesOfADcgModelAreInputsToo) {
   const fs::path tree = root_ / "dcg";
   const fs::path data = fs::path(ARMFARM_TEST_DATA_DIR) / "models";
-  write_file(tree / "arm/small.dcg", read_file(data / "small.dcg"));
+  write_file(tree / "arm/small.dcg", test_support::read_text_file(data / "small.dcg"));
   for (const char* mesh : {"obj/thesis_unit_box.obj", "obj/unit_cube_mixed.obj"}) {
-    write_file(tree / "arm" / mesh, read_file(data / mesh));
+    write_file(tree / "arm" / mesh, test_support::read_text_file(data / mesh));
   }
   write_file(tree / "spec.json", R"({"name": "dcg", "base": {"model": "arm/small.dcg"}})");
   const nlohmann::json first = expand(root_, "dcg/spec.json");
@@ -136,7 +131,7 @@ TEST_F(InputFilesTest, MeshesOfADcgModelAreInputsToo) {
   EXPECT_EQ(files[1]["file"], "obj/thesis_unit_box.obj");
   EXPECT_EQ(files[2]["file"], "obj/unit_cube_mixed.obj");
   // A comment line added to one mesh changes the bytes, and so the key.
-  write_file(tree / "arm/obj/unit_cube_mixed.obj", "# edited\n" + read_file(tree / "arm/obj/unit_cube_mixed.obj"));
+  write_file(tree / "arm/obj/unit_cube_mixed.obj", "# edited\n" + test_support::read_text_file(tree / "arm/obj/unit_cube_mixed.obj"));
   const nlohmann::json second = expand(root_, "dcg/spec.json");
   EXPECT_NE(keys_of(first), keys_of(second));
   EXPECT_EQ(second["jobs"][0]["config"]["inputs"]["model"]["files"][1], files[1]);
@@ -196,7 +191,7 @@ TEST_F(InputFilesTest, RecordedTrajectoryCsvIsAnInputRelativeToTheSpec) {
 }
 
 TEST_F(InputFilesTest, IncludesResolveTheirPathsAgainstTheirOwnFolderAndAreInputs) {
-  write_file(root_ / "common/planar2.urdf", read_file(fs::path(ARMFARM_SOURCE_DIR) / "models/planar2.urdf"));
+  write_file(root_ / "common/planar2.urdf", test_support::read_text_file(fs::path(ARMFARM_SOURCE_DIR) / "models/planar2.urdf"));
   write_file(root_ / "common/arm.json", R"({"model": "planar2.urdf"})");
   write_file(root_ / "common/bad.json", R"({"model": "missing.urdf"})");
   write_file(root_ / "good.json", R"({"name": "i", "include": "common/arm.json"})");

@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "support/command_line.hpp"
+#include "support/text_file.hpp"
 
 using armfarm::test_support::CommandResult;
 using armfarm::test_support::run_command_line;
@@ -28,12 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // The commands of the ```sh blocks, in order: blank lines left out, a line ending in a
 // backslash joined with the next. A block whose fence says more than `sh` ("```sh (needs a
@@ -113,12 +108,12 @@ CommandResult run_in(const fs::path& folder, const fs::path& bin, const std::str
 TEST(Readme, EveryCommandRunsAsWritten) {
   const fs::path source = ARMFARM_SOURCE_DIR;
   std::vector<std::string> blocks_not_run;
-  const std::vector<std::string> lines = extract_shell_lines(read_text(source / "README.md"), &blocks_not_run);
+  const std::vector<std::string> lines = extract_shell_lines(test_support::read_text_file(source / "README.md"), &blocks_not_run);
   ASSERT_GE(lines.size(), 10u) << "README.md has lost its command blocks";
   for (const std::string& note : blocks_not_run) {
     EXPECT_NE(note.find("runs it"), std::string::npos) << "a block not run here says what runs it: " << note;
   }
-  const std::string makefile = read_text(source / "Makefile");
+  const std::string makefile = test_support::read_text_file(source / "Makefile");
 
   const fs::path folder = fs::temp_directory_path() / ("armfarm_readme_" + std::to_string(::getpid()));
   fs::remove_all(folder);

@@ -45,19 +45,14 @@ constexpr const char* kStagedSpec = R"({
   ]
 })";
 
-class StoredModelsCli : public ::testing::Test {
+class StoredModelsCli : public test_support::ScratchFolderTest {
  protected:
-  void SetUp() override {
-    folder_ = test_support::make_scratch_folder("models");
-  }
-  void TearDown() override { fs::remove_all(folder_); }
-  std::string path(const std::string& name) const { return (folder_ / name).string(); }
+  StoredModelsCli() : ScratchFolderTest("models") {}
   void write_spec(const std::string& name, const std::string& duration) {
     std::string text = kStagedSpec;
     text.replace(text.find("TRAIN_DURATION"), std::string("TRAIN_DURATION").size(), duration);
     std::ofstream(path(name)) << text;
   }
-  fs::path folder_;
 };
 
 TEST_F(StoredModelsCli, TwoStagesRunInOrderFromTheStoredModelAndResume) {

@@ -3,6 +3,8 @@
 // noise level, every point inside the thesis's reaching box; and the generator reproduces them.
 #include "runner/io/csv_reader.hpp"
 
+#include "support/text_file.hpp"
+
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -29,12 +31,6 @@ const Recording kRecordings[] = {{"picking_synthetic.csv", 1133}, {"sphere_synth
 
 constexpr double kNoiseSigma = 0.0005;  // m per axis, as the README and the generator state
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 TEST(SyntheticRecordings, LoadAsTaskSpaceSamplesInsideTheReachingBox) {
   for (const Recording& recording : kRecordings) {
@@ -87,9 +83,9 @@ TEST(SyntheticRecordings, GeneratorReproducesTheCommittedFiles) {
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   for (const Recording& recording : kRecordings) {
     SCOPED_TRACE(recording.file);
-    const std::string fresh = read_file((dir / recording.file).string());
+    const std::string fresh = test_support::read_text_file((dir / recording.file).string());
     ASSERT_FALSE(fresh.empty());
-    EXPECT_TRUE(fresh == read_file(kDataDir + recording.file)) << "the committed file differs from the generator's output";
+    EXPECT_TRUE(fresh == test_support::read_text_file(kDataDir + recording.file)) << "the committed file differs from the generator's output";
   }
   std::filesystem::remove_all(dir);
 }

@@ -7,9 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/command_line.hpp"
 #include "support/scratch_file.hpp"
-
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <limits>
@@ -110,19 +109,12 @@ TEST(BoundedExpansion, ExpandRefusesFromTheCommandLineWithExitTwo) {
     std::fputs(make_grid_spec({"control.gain_scale", "trajectory.period"}, 1000).c_str(), file);
     std::fclose(file);
   }
-  auto run = [&](const std::string& arguments, std::string& output) {
-    const std::string command = "ARMFARM_FAKE_JOBS=1 " + std::string(ARMFARM_BINARY) + " expand " + arguments + " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    char buffer[4096];
-    output.clear();
-    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) output.append(buffer, n);
-    return WEXITSTATUS(pclose(pipe));
-  };
-  std::string output;
-  EXPECT_EQ(run(spec, output), 2) << output;
-  EXPECT_EQ(output, "armfarm: " + spec + ": sweep: expands to 1000000 jobs, over the limit of 100000 (--max-jobs N raises it)\n");
-  EXPECT_EQ(run(spec + " --max-jobs 999999", output), 2) << output;
-  EXPECT_NE(output.find("over the limit of 999999"), std::string::npos) << output;
+  const auto refused = test_support::run_armfarm_with_fake_jobs("expand " + spec);
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_EQ(refused.output, "armfarm: " + spec + ": sweep: expands to 1000000 jobs, over the limit of 100000 (--max-jobs N raises it)\n");
+  const auto raised = test_support::run_armfarm_with_fake_jobs("expand " + spec + " --max-jobs 999999");
+  EXPECT_EQ(raised.exit_code, 2) << raised.output;
+  EXPECT_NE(raised.output.find("over the limit of 999999"), std::string::npos) << raised.output;
   std::remove(spec.c_str());
 }
 

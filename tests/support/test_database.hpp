@@ -2,6 +2,7 @@
 // Small results databases for the analysis tests, written through the store's public API with
 // hand-chosen metrics and series so that every expected figure is known in advance.
 #include "results/results_store.hpp"
+#include "support/command_line.hpp"
 
 #include <cstdlib>
 #include <filesystem>
@@ -53,6 +54,16 @@ inline std::vector<MetricInfoRecord> make_test_metric_info() {
   };
 }
 
+/// A minimal sweep registration for the store's tests: `name`, spec "{}" with hash "h", started now.
+inline SweepRegistration make_sweep_registration(const std::string& name) {
+  SweepRegistration sweep;
+  sweep.name = name;
+  sweep.spec_text = "{}";
+  sweep.spec_hash = "h";
+  sweep.started_at = make_utc_timestamp();
+  return sweep;
+}
+
 /// Writes a sweep named `sweep` with `jobs` into the database at `path` (created if absent).
 inline void write_test_sweep(const std::string& path, const std::string& sweep, const std::vector<TestJob>& jobs) {
   ResultsStore store = ResultsStore::open(path, ResultsStore::Mode::read_write);
@@ -102,21 +113,7 @@ inline void write_test_sweep(const std::string& path, const std::string& sweep, 
   store.update_run_finished(run.run_id, "complete", static_cast<int>(jobs.size()), 0, make_utc_timestamp());
 }
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string output;
-};
-
-/// Runs the armfarm binary with `arguments`, capturing stdout and stderr.
-inline CommandResult run_armfarm(const std::string& arguments) {
-  const std::string command = std::string(ARMFARM_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  CommandResult result;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) result.output += buffer;
-  const int status = pclose(pipe);
-  result.exit_code = WEXITSTATUS(status);
-  return result;
-}
+using test_support::CommandResult;
+using test_support::run_armfarm;
 
 }  // namespace armfarm::testing

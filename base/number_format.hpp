@@ -1,0 +1,35 @@
+#pragma once
+// Numbers as text, the project's one home for it: the general form that messages, docs and
+// outputs print (printf's %g: 6 significant digits for a reader, 17 to read back the same
+// double) and the form of a table cell. Standard library only, so that every layer may use it
+// (base/README.md). printf's conversions use the C locale's decimal point.
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace armfarm {
+
+/// `value` with `significant_digits` significant digits (1 to 17), printf's "%.*g": "0.05",
+/// "1e+06", "-1.5", "inf", "nan". 6 is what a reader needs; 17 reads back as the same double.
+inline std::string format_number(double value, int significant_digits = 6) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.*g", significant_digits, value);
+  return text;
+}
+
+/// A table cell: `significant_digits` significant digits, in scientific notation ("1.950e-03")
+/// when 0 < |value| < 1e-2 or |value| ≥ 1e5, else as "%.*g" ("0.89", "137"); "nan", "inf", "-inf".
+inline std::string format_table_number(double value, int significant_digits = 4) {
+  if (std::isnan(value)) return "nan";
+  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
+  char text[64];
+  const double magnitude = std::fabs(value);
+  if (value != 0.0 && (magnitude < 1e-2 || magnitude >= 1e5)) {
+    std::snprintf(text, sizeof text, "%.*e", significant_digits - 1, value);
+  } else {
+    std::snprintf(text, sizeof text, "%.*g", significant_digits, value);
+  }
+  return text;
+}
+
+}  // namespace armfarm
