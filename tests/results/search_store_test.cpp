@@ -133,7 +133,7 @@ void write_search_file(const std::string& file, const std::vector<std::string>& 
   ResultsStore store = ResultsStore::open(file, ResultsStore::Mode::read_write);
   std::vector<JobRegistration> jobs;
   for (const std::string& key : keys) jobs.push_back({key, {{"k", key}}, {{"k", key}}, 0});
-  store.insert_sweep_run(make_sweep("s"), jobs);
+  store.insert_sweep_run(testing::make_sweep_registration("s"), jobs);
   store.insert_search(make_search("s"));
   const std::vector<SearchStepRecord> sequence = {new_step(0, 0, 0, 0, "new", 12.5, "ka"),
                                                   new_step(1, 1, 0, 0, "new", 12.5, step1_key),
@@ -159,8 +159,8 @@ TEST_F(SearchStoreTest, MergeCopiesASearchWholeAndExtendsTheSameSearchStepByStep
     const MergeReport report = store.merge_from(path("long.db"));
     EXPECT_TRUE(report.conflicts.empty()) << report.conflicts.front();
   }
-  EXPECT_EQ(query(path("short.db"), kMergedSteps), expected);
-  EXPECT_EQ(query(path("short.db"), "SELECT trial, params FROM search_trials ORDER BY trial"),
+  EXPECT_EQ(query_rows(path("short.db"), kMergedSteps), expected);
+  EXPECT_EQ(query_rows(path("short.db"), "SELECT trial, params FROM search_trials ORDER BY trial"),
             (std::vector<std::string>{R"(0|{"x":1})", R"(1|{"x":2})"}));
   {
     // A file without the search takes it whole: settings, rungs, trials, steps.
@@ -168,12 +168,12 @@ TEST_F(SearchStoreTest, MergeCopiesASearchWholeAndExtendsTheSameSearchStepByStep
     const MergeReport report = store.merge_from(path("short.db"));
     EXPECT_TRUE(report.conflicts.empty());
   }
-  EXPECT_EQ(query(path("empty.db"), kMergedSteps), expected);
+  EXPECT_EQ(query_rows(path("empty.db"), kMergedSteps), expected);
   const ResultsStore merged = ResultsStore::open(path("empty.db"), ResultsStore::Mode::read_only);
   ASSERT_TRUE(merged.find_search("s").has_value());
   EXPECT_EQ(merged.find_search("s")->rungs.size(), 3u);
   EXPECT_EQ(merged.find_search("s")->seed, 7);
-  EXPECT_EQ(query(path("empty.db"), "SELECT trial, from_rung, to_rung, key FROM search_promotions"),
+  EXPECT_EQ(query_rows(path("empty.db"), "SELECT trial, from_rung, to_rung, key FROM search_promotions"),
             std::vector<std::string>{"0|0|1|ka1"});
 }
 
@@ -188,7 +188,7 @@ TEST_F(SearchStoreTest, MergeRefusesASearchWhoseStepsDisagreeAndKeepsThisFilesSe
       << report.conflicts[0];
   // Nothing of the other file's search: step 0's objective, taken before step 1 disagreed, was
   // taken back with it, and step 2 was not added.
-  EXPECT_EQ(query(path("mine.db"), kMergedSteps),
+  EXPECT_EQ(query_rows(path("mine.db"), kMergedSteps),
             (std::vector<std::string>{"0|0|0|new|ka|NULL|0", "1|1|0|new|kb|NULL|0"}));
 }
 

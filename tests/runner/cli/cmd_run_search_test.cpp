@@ -128,34 +128,34 @@ TEST_F(CmdRunSearchTest, APromotedTrialScoresAsAStraightRunToTheLongerBudget) {
         "objective": {"metric": "heldout_test_nmse", "joint": 2},
         "space": {"learning.lwpr.init_D": {"log_uniform": [0.05, 3.0]}}, "budget": {"jobs": 20}}}})";
   const std::string db = path("asha.db");
-  ASSERT_EQ(wait_exit_code(start({"run", path("asha.json"), "--db", db, "-j", "1", "-q"}, path("asha.txt"), false)), 0)
+  ASSERT_EQ(test_support::wait_armfarm(test_support::start_armfarm({"run", path("asha.json"), "--db", db, "-j", "1", "-q"}, path("asha.txt"), false)), 0)
       << std::ifstream(path("asha.txt")).rdbuf();
   // 9 new trials, and (asynchronous promotions, as in asha_test's hand-worked example) some of
   // them promoted to rung 1 and at least one to rung 2.
-  const std::vector<std::string> rungs = query(db, "SELECT rung, count(*) FROM search_steps GROUP BY rung ORDER BY rung");
+  const std::vector<std::string> rungs = query_rows(db, "SELECT rung, count(*) FROM search_steps GROUP BY rung ORDER BY rung");
   ASSERT_EQ(rungs.size(), 3u);
   EXPECT_EQ(rungs[0], "0|9");
-  const std::vector<std::string> top = query(db, "SELECT trial FROM search_steps WHERE rung = 2 ORDER BY step LIMIT 1");
+  const std::vector<std::string> top = query_rows(db, "SELECT trial FROM search_steps WHERE rung = 2 ORDER BY step LIMIT 1");
   ASSERT_EQ(top.size(), 1u);
   // Each of that trial's jobs: its epochs and its objective at its own rung's checkpoint.
   const std::string per_rung =
       "SELECT st.rung, json_extract(j.config, '$.learning.epochs'), printf('%!.17g', st.objective) FROM search_steps st "
       "JOIN jobs j ON j.id = st.job_id WHERE st.trial = " + top[0] + " ORDER BY st.rung";
-  const std::vector<std::string> steps = query(db, per_rung);
+  const std::vector<std::string> steps = query_rows(db, per_rung);
   ASSERT_EQ(steps.size(), 3u);
   EXPECT_EQ(steps[0].substr(0, 4), "0|1|");
   EXPECT_EQ(steps[1].substr(0, 4), "1|3|");
   EXPECT_EQ(steps[2].substr(0, 4), "2|9|");
-  const std::string init_d = query(db, "SELECT printf('%!.17g', json_extract(params, '$.\"learning.lwpr.init_D\"')) FROM search_trials "
+  const std::string init_d = query_rows(db, "SELECT printf('%!.17g', json_extract(params, '$.\"learning.lwpr.init_D\"')) FROM search_trials "
                                        "WHERE trial = " + top[0]).at(0);
 
   // The straight run: the trial's point in a plain sweep, in a file of its own.
   std::ofstream(path("straight.json")) << R"({"name": "straight", "base": {)" + base + R"(, "lwpr": {"init_D": )" + init_d + R"(}}}})";
   const std::string straight = path("straight.db");
-  ASSERT_EQ(wait_exit_code(start({"run", path("straight.json"), "--db", straight, "-j", "1", "-q"}, path("straight.txt"), false)), 0)
+  ASSERT_EQ(test_support::wait_armfarm(test_support::start_armfarm({"run", path("straight.json"), "--db", straight, "-j", "1", "-q"}, path("straight.txt"), false)), 0)
       << std::ifstream(path("straight.txt")).rdbuf();
   const std::vector<std::string> checkpoints =
-      query(straight, "SELECT m.checkpoint, printf('%!.17g', m.value) FROM job_metrics m WHERE m.name = 'heldout_test_nmse' "
+      query_rows(straight, "SELECT m.checkpoint, printf('%!.17g', m.value) FROM job_metrics m WHERE m.name = 'heldout_test_nmse' "
                       "AND m.joint = 2 ORDER BY m.checkpoint");
   ASSERT_EQ(checkpoints.size(), 3u);
   for (std::size_t r = 0; r < 3; ++r) {
@@ -163,8 +163,8 @@ TEST_F(CmdRunSearchTest, APromotedTrialScoresAsAStraightRunToTheLongerBudget) {
         << "rung " << r << " against the straight run's checkpoint " << checkpoints[r];
   }
   // The last rung is the straight job itself: the same key.
-  EXPECT_EQ(query(straight, "SELECT key FROM jobs"),
-            query(db, "SELECT j.key FROM search_steps st JOIN jobs j ON j.id = st.job_id WHERE st.rung = 2 AND st.trial = " + top[0]));
+  EXPECT_EQ(query_rows(straight, "SELECT key FROM jobs"),
+            query_rows(db, "SELECT j.key FROM search_steps st JOIN jobs j ON j.id = st.job_id WHERE st.rung = 2 AND st.trial = " + top[0]));
 }
 
 }  // namespace
