@@ -78,7 +78,8 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
   const int ticks = trajectory.size();
   const std::size_t segments = trajectory.segment_starts.size();
   std::size_t segment = 0;
-  double simulated = 0.0;
+  double simulated = 0.0;  // steps · dt, not a running sum of dt: 20 steps of 0.1 s are 2 s, not 2.0000000000000013
+  long steps = 0;
   Eigen::VectorXd last_acceleration = Eigen::VectorXd::Zero(n);
   Measurement measured = measure(plant, options);
   Eigen::VectorXd last_finite_q = plant.q();  // where a diverged pass's advice judges the steps
@@ -164,7 +165,7 @@ PassResult run_control_pass(JobSetup& setup, ArmSimulation& plant, const JointTr
                       simulated);
     }
     lap(&TickClock::physics);
-    simulated += dt;
+    simulated = static_cast<double>(++steps) * dt;
     const Measurement next = measure(plant, options);
     const Eigen::VectorXd qdd_measured = (next.qd - measured.qd) / dt;  // the thesis's backward difference
     if (!qdd_measured.allFinite()) {
