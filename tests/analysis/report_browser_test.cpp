@@ -3,7 +3,7 @@
 // the page, script errors (window errors and console.error) and images that did not load.
 // Skips, saying so, when Chromium is absent (.ci/install-deps installs the Debian package).
 #include "support/command_line.hpp"
-#include "test_database.hpp"
+#include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
 
