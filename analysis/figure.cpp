@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -91,9 +92,14 @@ LegendLayout make_legend_layout(const Figure& figure, double char_width_fraction
       entries.push_back(curve.title);
       longest = std::max(longest, curve.title.size());
     }
+    const std::string& marks = panel.edge_mark_title;
+    if (!panel.edge_marks_x.empty() && !marks.empty() && std::find(entries.begin(), entries.end(), marks) == entries.end()) {
+      entries.push_back(marks);
+      longest = std::max(longest, marks.size());
+    }
   }
   const std::size_t per_row =
-      std::max<std::size_t>(1, static_cast<std::size_t>(0.95 / (char_width_fraction * (static_cast<double>(longest) + 8))));
+      std::max<std::size_t>(1, static_cast<std::size_t>(0.95 / (char_width_fraction * (1.15 * static_cast<double>(longest) + 12))));
   return {(entries.size() + per_row - 1) / per_row};
 }
 
@@ -105,6 +111,40 @@ double choose_tick_step(double low, double high, int max_ticks) {
     if (range / (step * factor) <= max_ticks) return step * factor;
   }
   return step * 10;
+}
+
+// The finite data range of a panel's axis (0: x, 1: y, with the error bars' ends).
+std::pair<double, double> find_data_range(const Panel& panel, int axis) {
+  double low = INFINITY, high = -INFINITY;
+  for (const Curve& curve : panel.curves) {
+    for (const auto* values : axis == 0 ? std::vector<const std::vector<double>*>{&curve.x}
+                                        : std::vector<const std::vector<double>*>{&curve.y, &curve.y_low, &curve.y_high}) {
+      for (double v : *values) {
+        if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v);
+      }
+    }
+  }
+  return {low, high};
+}
+
+// With equal axes: both axes span the same length (the larger data range and 5 % more) about
+// their data's centres, so that the panel is square and its ticks have one spacing.
+std::pair<double, double> find_equal_axis_range(const Panel& panel, int axis) {
+  const auto [x_low, x_high] = find_data_range(panel, 0);
+  const auto [y_low, y_high] = find_data_range(panel, 1);
+  if (!(x_high >= x_low) || !(y_high >= y_low)) return find_data_range(panel, axis);
+  const double half = std::max({x_high - x_low, y_high - y_low, 1e-9}) * 0.525;
+  const double centre = axis == 0 ? (x_low + x_high) / 2 : (y_low + y_high) / 2;
+  return {centre - half, centre + half};
+}
+
+std::string make_equal_ranges(const Panel& panel) {
+  const auto [x_low, x_high] = find_equal_axis_range(panel, 0);
+  const auto [y_low, y_high] = find_equal_axis_range(panel, 1);
+  if (!(x_high > x_low) || !(y_high > y_low)) return "set autoscale x\nset autoscale y\n";
+  char lines[160];
+  std::snprintf(lines, sizeof lines, "set xrange [%.17g:%.17g]\nset yrange [%.17g:%.17g]\n", x_low, x_high, y_low, y_high);
+  return lines;
 }
 
 // "set xtics STEP" / "set ytics STEP" for a linear axis, so that the labels of a narrow (short)
@@ -129,6 +169,10 @@ std::string make_tics_lines(const Panel& panel, int max_x_ticks, int max_y_ticks
         }
       }
     }
+    for (double v : axis == 0 ? panel.edge_marks_x : std::vector<double>(panel.y_min ? 1 : 0, panel.y_min.value_or(0))) {
+      if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v);
+    }
+    if (panel.equal_axes) std::tie(low, high) = find_equal_axis_range(panel, axis);
     const char* name = axis == 0 ? "xtics" : "ytics";
     const int max_ticks = std::max(1, (axis == 0 ? max_x_ticks : max_y_ticks) - 1);
     if (axis == 0 ? panel.log_x : panel.log_y) {
@@ -233,9 +277,9 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
         title_lines_panel = std::max(title_lines_panel, 1.0 + static_cast<double>(std::count(t.begin(), t.end(), '\n')));
       }
       char margins[160];
-      std::snprintf(margins, sizeof margins, " margins %.4f,%.4f,%.4f,%.4f spacing %.4f,%.4f", std::min(0.3, 10 * char_w),
+      std::snprintf(margins, sizeof margins, " margins %.4f,%.4f,%.4f,%.4f spacing %.4f,%.4f", std::min(0.3, 12 * char_w),
                     1 - 2 * char_w, std::min(0.7, (3.0 + x_label_lines + 1.25 * static_cast<double>(key_rows)) * char_h),
-                    std::max(0.55, 1 - (2.6 + title_lines_panel + 1.1 * static_cast<double>(title_lines)) * char_h), std::min(0.3, 11 * char_w),
+                    std::max(0.55, 1 - (2.6 + title_lines_panel + 1.1 * static_cast<double>(title_lines)) * char_h), std::min(0.3, 12 * char_w),
                     std::min(0.3, (4.8 + x_label_lines + title_lines_panel) * char_h));
       layout += margins;
       if (key_rows > 0) script << "set key at screen 0.5, screen 0.005 center bottom vertical maxrows " << key_rows << "\n";
@@ -243,10 +287,11 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
     if (!figure.title.empty()) layout += " title " + quote_gnuplot(figure_title);
     script << layout << "\n";
   }
+  // A red that none of the curves' colours is close to, for the marks of jobs without a value.
+  static const char* const kEdgeMarkColour = "#CC3311";
   // Paul Tol's "muted" and "bright" schemes: distinguishable, also in greyscale print.
   static const char* const kColours[12] = {"#332288", "#88CCEE", "#44AA99", "#117733", "#999933", "#DDCC77",
                                            "#CC6677", "#882255", "#AA4499", "#4477AA", "#EE6677", "#000000"};
-  std::vector<std::string> titles_shown;
   // A colour per distinct title over the whole figure, in first-seen order, so that one group
   // has one colour in every panel; untitled curves take the next free colour each.
   std::vector<std::string> colour_titles;
@@ -263,6 +308,48 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
   if (spare_cells) {
     script << "set key at screen 0.97, screen 0.06 right bottom vertical Left reverse\n";
   }
+  // Emphasised curves last in each panel, so that they are drawn on top.
+  const auto drawing_order = [](const Panel& panel) {
+    std::vector<std::size_t> order;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (std::size_t c = 0; c < panel.curves.size(); ++c) {
+        if (panel.curves[c].emphasised == (pass == 1)) order.push_back(c);
+      }
+    }
+    return order;
+  };
+  // A curve's look: "with … lc … dt …" (colours assigned in drawing order over the figure).
+  const auto look_of = [&](const Curve& curve) {
+    std::string look;
+    switch (curve.style) {
+      case Curve::Style::lines: look = "with lines lw " + lw; break;
+      case Curve::Style::points: look = "with points pt 7 ps 0.6"; break;
+      case Curve::Style::lines_points: look = "with linespoints lw " + lw + " pt 7"; break;
+      case Curve::Style::error_bars: look = "with yerrorlines lw " + lw + " pt 7"; break;
+    }
+    if (curve.emphasised) return look + " lc rgb '#000000' dt 2";
+    const std::size_t colour = colour_of(curve.title);
+    return look + " lc rgb '" + kColours[colour % 12] + "' dt " + std::to_string(1 + colour / 12);
+  };
+  // The legend: one entry per distinct title over the figure, drawn once by the first panel
+  // (keyentry), so that entries first seen in later panels do not land on the first's.
+  std::vector<std::pair<std::string, std::string>> legend;  // title, look
+  std::vector<std::vector<std::string>> looks(n_panels);
+  for (std::size_t p = 0; p < n_panels; ++p) {
+    const Panel& panel = figure.panels[p];
+    looks[p].resize(panel.curves.size());
+    for (std::size_t c : drawing_order(panel)) {
+      const Curve& curve = panel.curves[c];
+      looks[p][c] = look_of(curve);
+      const bool listed = std::any_of(legend.begin(), legend.end(), [&](const auto& entry) { return entry.first == curve.title; });
+      if (!curve.title.empty() && !listed) legend.emplace_back(curve.title, looks[p][c]);
+    }
+    const std::string& marks = panel.edge_mark_title;
+    const bool listed = std::any_of(legend.begin(), legend.end(), [&](const auto& entry) { return entry.first == marks; });
+    if (!panel.edge_marks_x.empty() && !marks.empty() && !listed) {
+      legend.emplace_back(marks, std::string("with points pt 11 ps 1.4 lc rgb '") + kEdgeMarkColour + "'");
+    }
+  }
   for (std::size_t p = 0; p < n_panels; ++p) {
     const Panel& panel = figure.panels[p];
     script << make_tics_lines(panel, max_x_ticks, max_y_ticks);
@@ -271,40 +358,41 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
            << "set ylabel " << quote_gnuplot(wrap_text(panel.y_label, y_label_chars)) << "\n"
            << (panel.log_x ? "set logscale x\nset format x '%g'\n" : "unset logscale x\nset format x '%g'\n")
            << (panel.log_y ? "set logscale y\nset format y '%.0e'\n" : "unset logscale y\nset format y '%g'\n")
-           << (panel.equal_axes ? "set size ratio -1\n" : "set size noratio\n");
-    script << "plot ";
-    // Emphasised curves last, so that they are drawn on top.
-    std::vector<std::size_t> order;
-    for (int pass = 0; pass < 2; ++pass) {
-      for (std::size_t c = 0; c < panel.curves.size(); ++c) {
-        if (panel.curves[c].emphasised == (pass == 1)) order.push_back(c);
-      }
+           << (panel.equal_axes ? "set size ratio -1\n" : "set size noratio\n")
+           << (panel.tight_x ? "set autoscale xfix\n" : "set autoscale x\n");
+    if (panel.equal_axes) {
+      script << make_equal_ranges(panel);
+    } else if (panel.y_min) {
+      char range[64];
+      std::snprintf(range, sizeof range, "set yrange [%.17g:*]\n", *panel.y_min);
+      script << range;
+    } else {
+      script << "set autoscale y\n";
     }
+    // Edge marks: graph coordinates in y, so they sit on the top frame whatever the data's range.
+    script << "unset label\n";
+    for (std::size_t m = 0; m < panel.edge_marks_x.size(); ++m) {
+      char label[128];
+      std::snprintf(label, sizeof label, "set label %zu '' at first %.17g, graph 1 point pt 11 ps 1.4 lc rgb '%s' front\n", m + 1,
+                    panel.edge_marks_x[m], kEdgeMarkColour);
+      script << label;
+    }
+    script << "plot ";
+    const std::vector<std::size_t> order = drawing_order(panel);
     for (std::size_t i = 0; i < order.size(); ++i) {
       const std::size_t c = order[i];
       const Curve& curve = panel.curves[c];
       const std::string file = (std::filesystem::path(data_dir) / data_file_name(p, c)).string();
-      script << (i ? ", \\\n     " : "") << quote_gnuplot(file);
-      switch (curve.style) {
-        case Curve::Style::lines: script << " using 1:2 with lines lw " << lw; break;
-        case Curve::Style::points: script << " using 1:2 with points pt 7 ps 0.6"; break;
-        case Curve::Style::lines_points: script << " using 1:2 with linespoints lw " << lw << " pt 7"; break;
-        case Curve::Style::error_bars: script << " using 1:2:3:4 with yerrorlines lw " << lw << " pt 7"; break;
-      }
-      if (curve.emphasised) {
-        script << " lc rgb '#000000' dt 2";
-      } else {
-        const std::size_t colour = colour_of(curve.title);
-        script << " lc rgb '" << kColours[colour % 12] << "' dt " << 1 + colour / 12;
-      }
-      const bool repeated = std::find(titles_shown.begin(), titles_shown.end(), curve.title) != titles_shown.end();
-      if (repeated || curve.title.empty()) {
-        script << " notitle";
-      } else {
-        script << " title " << quote_gnuplot(curve.title);
-        titles_shown.push_back(curve.title);
+      script << (i ? ", \\\n     " : "") << quote_gnuplot(file)
+             << (curve.style == Curve::Style::error_bars ? " using 1:2:3:4 " : " using 1:2 ") << looks[p][c] << " notitle";
+    }
+    if (p == 0) {
+      for (std::size_t e = 0; e < legend.size(); ++e) {
+        script << (order.empty() && e == 0 ? "" : ", \\\n     ") << "keyentry " << legend[e].second << " title "
+               << quote_gnuplot(legend[e].first);
       }
     }
+    if (order.empty() && (p != 0 || legend.empty())) script << "keyentry notitle";  // a plot command needs an element
     script << "\n";
   }
   script << "unset multiplot\n";

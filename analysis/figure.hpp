@@ -24,8 +24,14 @@ struct Panel {
   std::string y_label;
   bool log_x = false;
   bool log_y = false;
-  bool equal_axes = false;  ///< same scale on x and y (paths in a plane)
+  bool equal_axes = false;  ///< same scale on x and y (paths in a plane), the panel square around the data
+  bool tight_x = false;     ///< x axis ends at the data (time series), not at the next tick
+  std::optional<double> y_min;  ///< the y axis starts here (a bar clipped at the axis ends on it); empty = automatic
   std::vector<Curve> curves;
+  /// x positions of marks drawn on the top edge of the panel (jobs without a value there, e.g.
+  /// diverged ones), with one legend entry `edge_mark_title`.
+  std::vector<double> edge_marks_x;
+  std::string edge_mark_title;
 };
 
 struct Figure {

@@ -62,6 +62,13 @@ std::optional<double> as_number(const nlohmann::json& value) {
   return std::nullopt;
 }
 
+// "path (unit)" with the unit from the key table (PlotRequest::param_unit); the path alone
+// when it has none (dimensionless, a flag or a name).
+std::string make_param_axis_label(const PlotRequest& request, const std::string& path) {
+  const std::string unit = request.param_unit ? request.param_unit(path) : std::string();
+  return unit.empty() ? path : path + " (" + unit + ")";
+}
+
 // Whether positive values spread over enough decades to want a log axis.
 bool spans_decades(const std::vector<double>& values) {
   double low = INFINITY, high = 0.0;
@@ -72,6 +79,29 @@ bool spans_decades(const std::vector<double>& values) {
     high = std::max(high, v);
   }
   return high > 0.0 && high / low >= 20.0;
+}
+
+// Whether swept values want a log axis: positive, and either spanning decades or spaced by
+// steadier ratios than differences (0.02, 0.05, 0.2 is log-spaced; 1, 2, 3 is not).
+bool is_log_spaced(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  values.erase(std::unique(values.begin(), values.end()), values.end());
+  if (values.empty() || !(values.front() > 0.0)) return false;
+  if (spans_decades(values)) return true;
+  if (values.size() < 3 || values.back() / values.front() < 4.0) return false;
+  const auto spread = [](const std::vector<double>& steps) {  // coefficient of variation
+    double mean = 0, square = 0;
+    for (double step : steps) mean += step;
+    mean /= static_cast<double>(steps.size());
+    for (double step : steps) square += (step - mean) * (step - mean);
+    return std::sqrt(square / static_cast<double>(steps.size())) / mean;
+  };
+  std::vector<double> differences, ratios;
+  for (std::size_t i = 1; i < values.size(); ++i) {
+    differences.push_back(values[i] - values[i - 1]);
+    ratios.push_back(std::log(values[i] / values[i - 1]));
+  }
+  return spread(ratios) < spread(differences);
 }
 
 // The done jobs' values of `metric` by curve and x. A curve is one value of every varying
@@ -108,36 +138,53 @@ std::vector<CurvePoints> collect_points(const SweepData& data, const std::string
   return curves;
 }
 
-// Curves with error bars over the seeds: mean ± std (linear) or geometric mean ×/÷ geometric std (log).
-std::vector<Curve> make_error_bar_curves(const std::vector<CurvePoints>& points, bool log_y, const std::string& fallback_title) {
+// Curves with error bars over the seeds: the mean and its 95 % Student-t interval (the tables'
+// cells, analysis/table.hpp). A bar never reaches below zero when no value is negative, and on a
+// log axis a bar whose low end is not positive ends on the axis: `panel.y_min`, set below the
+// smallest positive end. Points whose mean is not positive cannot sit on a log axis and are left out.
+std::vector<Curve> make_error_bar_curves(const std::vector<CurvePoints>& points, bool log_y, const std::string& fallback_title,
+                                         Panel& panel) {
   std::vector<Curve> curves;
+  bool clipped_at_axis = false;
+  double smallest = INFINITY;
   for (const CurvePoints& source : points) {
     Curve curve;
     curve.style = Curve::Style::error_bars;
     curve.title = source.title.empty() ? fallback_title : source.title;
     for (const auto& [x, values] : source.by_x) {
+      const SummaryStatistics summary = calc_summary_statistics(values);
+      if (log_y && !(summary.mean > 0.0)) continue;
+      const bool non_negative = std::all_of(values.begin(), values.end(), [](double v) { return v >= 0.0; });
+      double low = summary.ci_low;
+      if (non_negative) low = std::max(low, 0.0);
+      if (log_y && !(low > 0.0)) {
+        low = NAN;  // set to the axis below
+        clipped_at_axis = true;
+      }
       curve.x.push_back(x);
-      if (log_y) {
-        std::vector<double> logs;
-        for (double v : values) {
-          if (v > 0.0) logs.push_back(std::log(v));
-        }
-        if (logs.empty()) {
-          curve.x.pop_back();
-          continue;
-        }
-        const SummaryStatistics summary = calc_summary_statistics(logs);
-        curve.y.push_back(std::exp(summary.mean));
-        curve.y_low.push_back(std::exp(summary.mean - summary.std_dev));
-        curve.y_high.push_back(std::exp(summary.mean + summary.std_dev));
-      } else {
-        const SummaryStatistics summary = calc_summary_statistics(values);
-        curve.y.push_back(summary.mean);
-        curve.y_low.push_back(summary.mean - summary.std_dev);
-        curve.y_high.push_back(summary.mean + summary.std_dev);
+      curve.y.push_back(summary.mean);
+      curve.y_low.push_back(low);
+      curve.y_high.push_back(summary.ci_high);
+      smallest = std::min(smallest, summary.mean);
+      if (low > 0.0) smallest = std::min(smallest, low);
+    }
+    if (!curve.x.empty()) curves.push_back(std::move(curve));
+  }
+  if (clipped_at_axis && std::isfinite(smallest)) {
+    // Half a decade below the smallest positive end: the clipped bars visibly run into the axis.
+    const double axis = smallest / std::sqrt(10.0);
+    panel.y_min = panel.y_min ? std::min(*panel.y_min, axis) : axis;
+    for (Curve& curve : curves) {
+      for (double& low : curve.y_low) {
+        if (std::isnan(low)) low = axis;
       }
     }
-    curves.push_back(std::move(curve));
+  }
+  // A curve without repeats has no bars to draw: points joined by lines, no caps of zero length.
+  for (Curve& curve : curves) {
+    bool bars = false;
+    for (std::size_t i = 0; i < curve.y.size(); ++i) bars = bars || curve.y_low[i] != curve.y[i] || curve.y_high[i] != curve.y[i];
+    if (!bars) curve.style = Curve::Style::lines_points;
   }
   return curves;
 }
@@ -153,27 +200,57 @@ std::vector<double> all_values(const std::vector<CurvePoints>& points, bool x) {
   return values;
 }
 
-// "not shown: 2 diverged, 1 failed, 3 with metric undefined" for the jobs a metric figure
-// cannot draw; "" when every job is drawn.
-std::string describe_jobs_not_shown(const SweepData& data, const MetricId& metric) {
+// "jobs not shown: 1 pending, 3 done with tracking_nmse undefined" for the jobs a metric figure
+// neither draws nor marks (add_unfinished_marks marks those with an x value); "" when none.
+std::string describe_jobs_not_shown(const SweepData& data, const MetricId& metric, const std::string& x_param) {
   std::map<std::string, int> by_status;
-  int undefined = 0;
+  int undefined = 0, absent = 0;
   for (const JobResult& job : data.jobs) {
     if (job.status != "done") {
-      ++by_status[job.status];
+      const bool marked = job.status != "pending" && job.status != "running" && as_number(find_param_value(job, x_param));
+      if (!marked) ++by_status[job.status];
       continue;
     }
     const auto value = job.metrics.find(metric);
-    if (value == job.metrics.end() || !std::isfinite(value->second)) ++undefined;
+    if (value == job.metrics.end()) ++absent;
+    else if (!std::isfinite(value->second)) ++undefined;
   }
   std::string text;
   for (const auto& [status, count] : by_status) text += (text.empty() ? "" : ", ") + std::to_string(count) + " " + status;
   if (undefined > 0) text += (text.empty() ? "" : ", ") + std::to_string(undefined) + " done with " + make_metric_label(metric) + " undefined";
+  if (absent > 0) text += (text.empty() ? "" : ", ") + std::to_string(absent) + " done without " + make_metric_label(metric);
   return text.empty() ? "" : "jobs not shown: " + text;
 }
 
 std::string describe_error_bars(bool log_y) {
-  return log_y ? "geometric mean ×/÷ geometric std over seeds" : "mean ± std over seeds";
+  return std::string("mean, 95 % CI over seeds") + (log_y ? " (clipped at the axis)" : "");
+}
+
+// Whether any point of the curves has a bar (more than one seed).
+bool has_bars(const std::vector<Curve>& curves) {
+  for (const Curve& curve : curves) {
+    for (std::size_t i = 0; i < curve.y.size(); ++i) {
+      if (curve.y_low[i] != curve.y[i] || curve.y_high[i] != curve.y[i]) return true;
+    }
+  }
+  return false;
+}
+
+// The jobs that have an x value but no y value because they did not finish (diverged, failed,
+// timeout), as marks on the panel's top edge; "" or the caption's count of them.
+std::string add_unfinished_marks(const SweepData& data, const std::string& x_param, Panel& panel) {
+  std::map<std::string, int> by_status;
+  for (const JobResult& job : data.jobs) {
+    if (job.status == "done" || job.status == "pending" || job.status == "running") continue;
+    const auto x = as_number(find_param_value(job, x_param));
+    if (!x || !std::isfinite(*x) || (panel.log_x && *x <= 0.0)) continue;
+    ++by_status[job.status];
+    panel.edge_marks_x.push_back(*x);
+  }
+  std::string text;
+  for (const auto& [status, count] : by_status) text += (text.empty() ? "" : ", ") + std::to_string(count) + " " + status;
+  if (!text.empty()) panel.edge_mark_title = "not finished (" + text + "), at its " + last_segment_of(x_param);
+  return text.empty() ? "" : "marked on the top edge: " + text;
 }
 
 std::vector<const JobResult*> choose_jobs(const ResultsStore& store, const SweepData& data,
@@ -248,17 +325,20 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   figure.title = "Test nMSE and receptive fields against kernel width (sweep " + data.name + ")";
   const bool log_x = request.log_x.value_or(true);
   const bool log_y = request.log_y.value_or(true);  // nMSE spans decades across kernel widths
-  std::string undefined;
+  std::string undefined, marked;
+  std::string kernel_label = make_param_axis_label(request, request.kernel_param);
+  if (kernel_label == request.kernel_param) kernel_label += " (kernel width, 1/input²)";
   for (int joint : joints) {
     Panel panel;
     panel.title = "joint " + std::to_string(joint);
-    panel.x_label = request.kernel_param + " (kernel width, 1/input²)";
-    panel.y_label = make_metric_axis_label(data.metric_info, "same_run_test_nmse");
+    panel.x_label = kernel_label;
+    panel.y_label = make_metric_axis_label(data.metric_info, MetricId{"same_run_test_nmse", std::nullopt, std::nullopt});
     panel.log_x = log_x;
     panel.log_y = log_y;
     panel.curves = make_error_bar_curves(collect_points(data, request.kernel_param, request.adaptation_param,
                                                         MetricId{"same_run_test_nmse", joint, std::nullopt}),
-                                         log_y, "same_run_test_nmse");
+                                         log_y, "same_run_test_nmse", panel);
+    marked = add_unfinished_marks(data, request.kernel_param, panel);
     if (panel.curves.empty()) {
       undefined += (undefined.empty() ? "" : ", ") + std::to_string(joint);  // nMSE undefined (NULL) in every job
       continue;
@@ -268,20 +348,29 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   if (figure.panels.empty()) {
     throw AnalysisError("sweep '" + data.name + "': no done job has a defined same_run_test_nmse and a numeric " + request.kernel_param);
   }
-  const std::string dropped = describe_jobs_not_shown(data, MetricId{"same_run_test_nmse", *joints.begin(), std::nullopt});
+  const std::string dropped =
+      describe_jobs_not_shown(data, MetricId{"same_run_test_nmse", *joints.begin(), std::nullopt}, request.kernel_param);
+  if (!marked.empty()) figure.title += "\n" + marked;
   if (!dropped.empty()) figure.title += "\n" + dropped;
   if (!undefined.empty()) figure.title += "\njoint " + undefined + " not shown: test nMSE undefined in every job (the torque hardly varies)";
   Panel fields;
   fields.title = "receptive fields";
-  fields.x_label = request.kernel_param + " (kernel width, 1/input²)";
+  fields.x_label = kernel_label;
   const auto field_points = collect_points(data, request.kernel_param, request.adaptation_param,
                                            MetricId{"n_receptive_fields", std::nullopt, std::nullopt});
   const bool fields_log = request.log_y.value_or(spans_decades(all_values(field_points, false)));
-  fields.y_label = make_metric_axis_label(data.metric_info, "n_receptive_fields");
-  figure.title += "\nerror bars: nMSE " + describe_error_bars(log_y) + ", receptive fields " + describe_error_bars(fields_log);
+  fields.y_label = make_metric_axis_label(data.metric_info, MetricId{"n_receptive_fields", std::nullopt, std::nullopt});
   fields.log_x = log_x;
   fields.log_y = fields_log;
-  fields.curves = make_error_bar_curves(field_points, fields_log, "n_receptive_fields");
+  fields.curves = make_error_bar_curves(field_points, fields_log, "n_receptive_fields", fields);
+  add_unfinished_marks(data, request.kernel_param, fields);
+  bool bars = has_bars(fields.curves);
+  for (const Panel& panel : figure.panels) bars = bars || has_bars(panel.curves);
+  if (bars) {
+    figure.title += "\nerror bars: " + (log_y == fields_log ? describe_error_bars(log_y)
+                                                            : "nMSE " + describe_error_bars(log_y) + ", receptive fields " +
+                                                                  describe_error_bars(fields_log));
+  }
   if (!fields.curves.empty()) figure.panels.push_back(std::move(fields));
   return figure;
 }
@@ -291,40 +380,63 @@ Figure make_metric_vs_param(const SweepData& data, const PlotRequest& request) {
     throw AnalysisError("metric-vs-param needs --metric NAME and --param PATH");
   }
   const MetricId metric{request.metric, request.joint, request.checkpoint};
-  if (!request.checkpoint) {
-    // A held-out metric exists only at checkpoints: say which to choose.
-    std::set<std::int64_t> checkpoints;
-    for (const JobResult& job : data.jobs) {
-      for (const auto& [id, value] : job.metrics) {
-        if (id.name == metric.name && id.joint == metric.joint && id.checkpoint) checkpoints.insert(*id.checkpoint);
-      }
+  // A held-out metric exists only at checkpoints: say which to choose.
+  std::set<std::int64_t> checkpoints;
+  for (const JobResult& job : data.jobs) {
+    for (const auto& [id, value] : job.metrics) {
+      if (id.name == metric.name && id.joint == metric.joint && id.checkpoint) checkpoints.insert(*id.checkpoint);
     }
-    if (!checkpoints.empty()) {
-      std::string list;
-      for (std::int64_t c : checkpoints) list += (list.empty() ? "" : ", ") + std::to_string(c);
-      throw AnalysisError("sweep '" + data.name + "': metric " + metric.name + " is recorded at checkpoints " + list +
-                          "; choose one with --checkpoint N");
-    }
+  }
+  if (!checkpoints.empty() && (!request.checkpoint || !checkpoints.count(*request.checkpoint))) {
+    std::string list;
+    for (std::int64_t c : checkpoints) list += (list.empty() ? "" : ", ") + std::to_string(c);
+    throw AnalysisError("sweep '" + data.name + "': metric " + metric.name + " is recorded at checkpoints " + list +
+                        (request.checkpoint ? ", not " + std::to_string(*request.checkpoint) : std::string()) +
+                        "; choose one with --checkpoint N");
   }
   Panel panel;
   panel.title = make_metric_label(metric);
-  panel.x_label = request.param;
+  panel.x_label = make_param_axis_label(request, request.param);
   const auto points = collect_points(data, request.param, request.group, metric);
   if (points.empty()) {
     throw AnalysisError("sweep '" + data.name + "': no done job has metric " + make_metric_label(metric) +
                         " and a numeric " + request.param);
   }
-  panel.log_x = request.log_x.value_or(spans_decades(all_values(points, true)));
+  panel.log_x = request.log_x.value_or(is_log_spaced(all_values(points, true)));
   panel.log_y = request.log_y.value_or(spans_decades(all_values(points, false)));
-  panel.y_label = make_metric_axis_label(data.metric_info, metric.name) + (metric.joint ? ", joint " + std::to_string(*metric.joint) : "");
-  panel.title += " (error bars: " + describe_error_bars(panel.log_y) + ")";
-  panel.curves = make_error_bar_curves(points, panel.log_y, make_metric_label(metric));
+  panel.y_label = make_metric_axis_label(data.metric_info, metric);
+  panel.curves = make_error_bar_curves(points, panel.log_y, make_metric_label(metric), panel);
+  const std::string marked = add_unfinished_marks(data, request.param, panel);
   Figure figure;
   figure.title = make_metric_label(metric) + " against " + request.param + " (sweep " + data.name + ")";
-  const std::string dropped = describe_jobs_not_shown(data, metric);
+  const std::string dropped = describe_jobs_not_shown(data, metric, request.param);
+  if (has_bars(panel.curves)) figure.title += "\nerror bars: " + describe_error_bars(panel.log_y);
+  if (!marked.empty()) figure.title += "\n" + marked;
   if (!dropped.empty()) figure.title += "\n" + dropped;
+  panel.title.clear();  // one panel: the figure's title says it
   figure.panels.push_back(std::move(panel));
   return figure;
+}
+
+// A job's label among `jobs`: the parameters that tell them apart ("init_D=0.05"), its key's
+// start when none does; for a single job, all its varying parameters (make_job_label).
+std::string make_distinguishing_label(const JobResult& job, const std::vector<const JobResult*>& jobs) {
+  if (jobs.size() <= 1) return make_job_label(job);
+  std::string label;
+  for (const auto& item : job.params.items()) {
+    const bool differs = std::any_of(jobs.begin(), jobs.end(), [&](const JobResult* other) {
+      return find_param_value(*other, item.key()) != item.value();
+    });
+    if (differs) label += (label.empty() ? "" : ", ") + last_segment_of(item.key()) + "=" + format_param_value(item.value());
+  }
+  return label.empty() ? job.key.substr(0, 8) : label;
+}
+
+// "j3" (a series column) → "joint 3".
+std::string make_joint_title(const std::string& column) {
+  const bool numbered = column.size() > 1 && column[0] == 'j' &&
+                        std::all_of(column.begin() + 1, column.end(), [](char c) { return c >= '0' && c <= '9'; });
+  return numbered ? "joint " + column.substr(1) : column;
 }
 
 Figure make_rf_growth(const ResultsStore& store, const SweepData& data, const PlotRequest& request) {
@@ -348,9 +460,10 @@ Figure make_rf_growth(const ResultsStore& store, const SweepData& data, const Pl
     const int y_column = find_column(series, "n_receptive_fields", static_cast<int>(series.columns.size()) - 1);
     panel.x_label = series.columns.empty() ? "trial" : series.columns[0];
     if (panel.x_label == "t") panel.x_label = "time (s)";
-    panel.curves.push_back(make_series_curve(series, 0, y_column, make_job_label(*job)));
+    panel.curves.push_back(make_series_curve(series, 0, y_column, make_distinguishing_label(*job, jobs)));
   }
   panel.y_label = "receptive fields (count)";
+  panel.tight_x = true;
   Figure figure;
   figure.title = "Receptive-field growth (sweep " + data.name + ")";
   figure.panels.push_back(std::move(panel));
@@ -381,23 +494,14 @@ Figure make_signals(const ResultsStore& store, const SweepData& data, const Plot
     const SeriesRecord feedback = require_series(store, *job, "F");
     const SeriesRecord feedforward = require_series(store, *job, "FF");
     const auto composite = store.find_series(job->id, "TOR");
-    std::string prefix;
-    if (jobs.size() > 1) {
-      // Name each job by the parameters that tell the chosen jobs apart.
-      for (const auto& item : job->params.items()) {
-        const bool differs = std::any_of(jobs.begin(), jobs.end(), [&](const JobResult* other) {
-          return find_param_value(*other, item.key()) != item.value();
-        });
-        if (differs) prefix += (prefix.empty() ? "" : ", ") + last_segment_of(item.key()) + "=" + format_param_value(item.value());
-      }
-      prefix = (prefix.empty() ? job->key.substr(0, 8) : prefix) + ": ";
-    }
+    const std::string prefix = jobs.size() > 1 ? make_distinguishing_label(*job, jobs) + ": " : "";
     for (Eigen::Index c = 1; c < feedback.rows.cols(); ++c) {
       const std::size_t p = static_cast<std::size_t>(c - 1);
       if (figure.panels.size() <= p) {
         Panel panel;
-        panel.title = feedback.columns[static_cast<std::size_t>(c)];
+        panel.title = make_joint_title(feedback.columns[static_cast<std::size_t>(c)]);
         panel.x_label = "time (s)";
+        panel.tight_x = true;
         panel.y_label = "torque (N·m)";
         figure.panels.push_back(std::move(panel));
       }
@@ -425,7 +529,7 @@ Figure make_tracking(const ResultsStore& store, const SweepData& data, const Plo
   for (const JobResult* job : jobs) {
     const SeriesRecord actual = require_series(store, *job, "POS");
     const nlohmann::json mode = find_param_value(*job, "control.mode");
-    std::string title = make_job_label(*job);
+    std::string title = make_distinguishing_label(*job, jobs);
     if (mode.is_string() && title.find(mode.get<std::string>()) == std::string::npos) title = mode.get<std::string>() + ", " + title;
     panel.curves.push_back(make_series_curve(actual, find_column(actual, "y", 2), find_column(actual, "z", 3), title));
   }

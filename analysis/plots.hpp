@@ -8,6 +8,7 @@
 #include "results/results_store.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -34,6 +35,9 @@ struct PlotRequest {
   std::string kernel_param = "learning.lwpr.init_D";
   std::string adaptation_param = "learning.lwpr.update_D";
   std::optional<bool> log_x, log_y;   ///< force (true) or forbid (false) log axes; empty = automatic
+  /// The SI unit of a configuration key by dotted path ("" for none), for parameter axes. The
+  /// runner supplies it from the key table; unset: parameter axes carry no unit.
+  std::function<std::string(const std::string& path)> param_unit;
 };
 
 /// Builds the figure a request asks for. Axes are logarithmic where the values span decades

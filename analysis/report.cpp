@@ -5,7 +5,10 @@
 #include "analysis/search_summary.hpp"
 #include "analysis/sweep_data.hpp"
 #include "analysis/table.hpp"
+#include "analysis/thesis_comparison.hpp"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -30,19 +33,68 @@ std::string escape_html(const std::string& text) {
   return out;
 }
 
+std::string make_report_file_name(const std::string& prefix, const std::string& name) {
+  constexpr std::size_t kMaxNameChars = 64;  // with the prefix and hash, far below NAME_MAX (255)
+  std::string stem;
+  bool changed = name.size() > kMaxNameChars || name.empty();
+  for (std::size_t i = 0; i < name.size() && i < kMaxNameChars; ++i) {
+    const char c = name[i];
+    const bool keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+    stem += keep ? c : '_';
+    changed = changed || !keep;
+  }
+  if (changed) {
+    std::uint64_t hash = 14695981039346656037ull;  // FNV-1a, 64 bit, of the whole name
+    for (unsigned char c : name) hash = (hash ^ c) * 1099511628211ull;
+    char suffix[24];
+    std::snprintf(suffix, sizeof suffix, "_%016llx", static_cast<unsigned long long>(hash));
+    stem += suffix;
+  }
+  return prefix + stem;
+}
+
 namespace {
 
 namespace fs = std::filesystem;
 
+std::string make_job_file(const JobResult& job) { return make_report_file_name("job_", job.key) + ".html"; }
+
+// The jobs a table row pools: those whose value of every parameter row matches the row's label
+// (rows "joint" and "checkpoint" split a job, they do not select one).
+std::vector<const JobResult*> find_row_jobs(const SweepData& data, const TableSpec& spec, const TableRow& row) {
+  std::vector<const JobResult*> jobs;
+  for (const JobResult& job : data.jobs) {
+    bool matches = true;
+    for (std::size_t i = 0; i < spec.rows.size() && i < row.labels.size() && matches; ++i) {
+      if (spec.rows[i] == "joint" || spec.rows[i] == "checkpoint") continue;
+      matches = format_param_value(find_param_value(job, spec.rows[i])) == row.labels[i];
+    }
+    for (const auto& [path, wanted] : spec.where) matches = matches && format_param_value(find_param_value(job, path)) == wanted;
+    if (matches) jobs.push_back(&job);
+  }
+  return jobs;
+}
+
+// Links to job pages: "3f2a1b7c" each, a failed job's link marked.
+std::string make_job_links(const std::vector<const JobResult*>& jobs) {
+  std::string links;
+  for (const JobResult* job : jobs) {
+    links += (links.empty() ? "" : " ") + std::string("<a href=\"") + escape_html(make_job_file(*job)) + "\"" +
+             (job->status == "done" ? "" : " class=\"bad\" title=\"" + escape_html(job->status) + "\"") + "><code>" +
+             escape_html(job->key.substr(0, 8)) + "</code></a>";
+  }
+  return links;
+}
+
 // A cell's value for the sorting script: full precision, so that 1.5e-03 sorts below 0.01.
 std::string format_sort_key(double value) { return format_number(value, 17); }
 
-std::string format_html_table(const Table& table) {
+std::string format_html_table(const Table& table, const SweepData& data, const TableSpec& spec) {
   std::ostringstream out;
   out << "<h3>" << escape_html(table.title) << "</h3>\n<div class=\"scroll\"><table class=\"sortable\">\n<tr>";
   for (const std::string& header : table.row_headers) out << "<th>" << escape_html(header) << "</th>";
   for (const TableColumn& column : table.columns) out << "<th>" << escape_html(column.header) << "</th>";
-  out << "<th>jobs done</th></tr>\n";
+  out << "<th>jobs done</th><th>jobs</th></tr>\n";
   for (const TableRow& row : table.rows) {
     out << "<tr>";
     for (const std::string& label : row.labels) out << "<td>" << escape_html(label) << "</td>";
@@ -61,7 +113,7 @@ std::string format_html_table(const Table& table) {
     }
     out << "<td>" << row.jobs_done;
     if (row.jobs_failed) out << " (" << row.jobs_failed << " failed)";
-    out << "</td></tr>\n";
+    out << "</td><td>" << make_job_links(find_row_jobs(data, spec, row)) << "</td></tr>\n";
   }
   out << "</table></div>\n";
   if (!table.footnotes.empty()) {
@@ -105,7 +157,7 @@ const char* kStyle =
     "svg{max-width:100%;height:auto}"
     ".scroll{overflow-x:auto;max-width:100%;max-height:40em;overflow-y:auto}"
     "table.sortable th{cursor:pointer}table.sortable th:after{content:' \\2195';color:#999}"
-    "nav ul{columns:2}</style>";
+    "nav ul{columns:2}h1,title,td.name,nav li{overflow-wrap:anywhere}</style>";
 
 // Sorting a table by a click on a header: numbers by their data-sort key, text otherwise; a
 // second click reverses. Inline, nothing fetched.
@@ -119,8 +171,108 @@ const char* kSortScript =
     "String(x).localeCompare(String(y),undefined,{numeric:true});return up?d:-d;});"
     "rows.forEach(function(r){t.tBodies[0].appendChild(r);});});});});</script>";
 
+// A figure as an inline SVG under its heading, or the reason it could not be drawn. `counter`
+// numbers the SVG files of `work_dir`.
+std::string render_figure_html(const ResultsStore& store, const PlotRequest& request, const std::string& heading,
+                               const std::string& anchor, const fs::path& work_dir, int& counter) {
+  std::ostringstream html;
+  html << "<h3 id=\"" << anchor << "\">" << escape_html(heading) << "</h3>\n";
+  const fs::path svg_path = work_dir / ("figure_" + std::to_string(++counter) + ".svg");
+  try {
+    write_figure(make_plot_figure(store, request), svg_path.string());
+    html << make_inline_svg(read_whole_file(svg_path)) << "\n";
+  } catch (const AnalysisError& e) {
+    html << "<p class=\"bad\">" << escape_html(heading + ": " + e.what()) << "</p>\n";
+  }
+  return html.str();
+}
+
+// Whether every job that has `path` has a number there (a parameter a metric can be drawn against).
+bool is_numeric_param(const SweepData& data, const std::string& path) {
+  bool any = false;
+  for (const JobResult& job : data.jobs) {
+    const nlohmann::json value = find_param_value(job, path);
+    if (value.is_null()) continue;
+    if (!value.is_number()) return false;
+    any = true;
+  }
+  return any;
+}
+
+// The thesis's tables that map cells to this sweep: per cell the thesis value as printed beside
+// armfarm's (analysis/thesis_comparison.hpp does the comparing).
+std::string make_thesis_section(const ResultsStore& store, const SweepRecord& sweep, const ReportOptions& options,
+                                std::vector<std::pair<std::string, std::string>>& contents) {
+  if (!options.against) return "";
+  std::ostringstream html;
+  html << "<h2 id=\"thesis\">Thesis</h2>\n<p>" << escape_html(options.against->path) << ": the thesis's value as printed, armfarm's "
+       << to_string(options.aggregate) << (options.aggregate == Aggregate::mean ? " [95 % Student-t interval]" : "")
+       << " over the matching done jobs, their ratio and the verdict (sweeps/thesis/README.md, \"Verdicts\").</p>\n";
+  contents.emplace_back("thesis", "Thesis");
+  ThesisComparison comparison;
+  try {
+    comparison = make_thesis_comparison(*options.against, store, options.aggregate, sweep.name);
+  } catch (const AnalysisError& e) {
+    html << "<p>" << escape_html(e.what()) << "</p>\n";
+    return html.str();
+  }
+  if (!comparison.note.empty()) html << "<p>" << escape_html(comparison.note) << "</p>\n";
+  for (const ComparedTable& table : comparison.tables) {
+    const ThesisTable& thesis = *table.thesis;
+    std::string title = thesis.number ? "Table " + *thesis.number : thesis.id;
+    if (!thesis.caption.empty()) title += ": " + thesis.caption;
+    if (thesis.page) title += " (p. " + std::to_string(*thesis.page) + ")";
+    html << "<h3>" << escape_html(title) << "</h3>\n<div class=\"scroll\"><table class=\"sortable\">\n"
+         << "<tr><th>row</th><th>column</th><th>thesis</th><th>armfarm</th><th>armfarm/thesis</th><th>n</th><th>verdict</th></tr>\n";
+    for (const ComparedCell& cell : table.cells) {
+      const bool compared = cell.state == CellState::compared;
+      std::string armfarm = cell.reason.empty() ? "–" : cell.reason;
+      if (compared) {
+        armfarm = options.aggregate == Aggregate::mean ? format_mean_ci(cell.armfarm) : format_number(cell.armfarm_value);
+      }
+      std::string verdict = cell.verdict == Verdict::none ? "" : to_string(cell.verdict);
+      if (!cell.verdict_note.empty()) verdict += " (" + cell.verdict_note + ")";
+      html << "<tr><td>" << escape_html(cell.thesis->row) << "</td><td>" << escape_html(cell.thesis->column)
+           << "</td><td class=\"num\" data-sort=\"" << format_sort_key(cell.thesis->value) << "\">" << escape_html(cell.thesis->printed)
+           << "</td><td" << (compared ? " class=\"num\" data-sort=\"" + format_sort_key(cell.armfarm_value) + "\"" : std::string())
+           << ">" << escape_html(armfarm) << "</td><td class=\"num\"" << (cell.ratio ? " data-sort=\"" + format_sort_key(*cell.ratio) + "\"" : std::string())
+           << ">" << (cell.ratio ? escape_html(format_number(*cell.ratio)) : "–") << "</td><td class=\"num\">" << cell.armfarm.count
+           << "</td><td>" << escape_html(verdict) << "</td></tr>\n";
+    }
+    html << "</table></div>\n";
+  }
+  return html.str();
+}
+
+// A row per job: its page, status, varying parameters and main metric.
+std::string make_jobs_table(const SweepData& data, const std::optional<std::string>& main_metric) {
+  std::ostringstream html;
+  html << "<div class=\"scroll\"><table class=\"sortable\">\n<tr><th>job</th><th>status</th>";
+  for (const std::string& path : data.varying_params) html << "<th>" << escape_html(path) << "</th>";
+  if (main_metric) html << "<th>" << escape_html(make_metric_axis_label(data.metric_info, MetricId{*main_metric})) << "</th>";
+  html << "</tr>\n";
+  for (const JobResult& job : data.jobs) {
+    html << "<tr><td>" << make_job_links({&job}) << "</td><td" << (job.status == "done" ? "" : " class=\"bad\"") << ">"
+         << escape_html(job.status) << "</td>";
+    for (const std::string& path : data.varying_params) {
+      const nlohmann::json value = find_param_value(job, path);
+      html << "<td" << (value.is_number() ? " class=\"num\" data-sort=\"" + format_sort_key(value.get<double>()) + "\"" : std::string())
+           << ">" << escape_html(format_param_value(value)) << "</td>";
+    }
+    if (main_metric) {
+      const auto value = job.metrics.find(MetricId{*main_metric});
+      const bool defined = value != job.metrics.end() && std::isfinite(value->second);
+      html << "<td class=\"num\"" << (defined ? " data-sort=\"" + format_sort_key(value->second) + "\"" : std::string()) << ">"
+           << (defined ? escape_html(format_number(value->second)) : "–") << "</td>";
+    }
+    html << "</tr>\n";
+  }
+  html << "</table></div>\n";
+  return html.str();
+}
+
 std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep, const SweepData& data,
-                            const fs::path& work_dir) {
+                            const fs::path& work_dir, const ReportOptions& options) {
   std::ostringstream page;
   page << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>armfarm sweep " << escape_html(sweep.name)
        << "</title>" << kStyle << "</head><body>\n";
@@ -130,20 +282,31 @@ std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep,
   // The figures and tables first (rendered now, so that the contents can list them).
   std::ostringstream figures, tables;
   std::vector<std::pair<std::string, std::string>> contents;  // anchor, title
-  int n = 0;
+  int n = 0, svg_files = 0;
   for (PlotKind kind : find_available_plot_kinds(store, data)) {
     PlotRequest request;
     request.kind = kind;
     request.sweep = sweep.name;
+    request.param_unit = options.param_unit;
     const std::string anchor = "figure-" + std::to_string(++n);
-    const fs::path svg_path = work_dir / (std::string(to_string(kind)) + ".svg");
-    figures << "<h3 id=\"" << anchor << "\">" << escape_html(to_string(kind)) << "</h3>\n";
     contents.emplace_back(anchor, std::string("Figure: ") + to_string(kind));
-    try {
-      write_figure(make_plot_figure(store, request), svg_path.string());
-      figures << make_inline_svg(read_whole_file(svg_path)) << "\n";
-    } catch (const AnalysisError& e) {
-      figures << "<p class=\"bad\">" << escape_html(std::string(to_string(kind)) + ": " + e.what()) << "</p>\n";
+    figures << render_figure_html(store, request, to_string(kind), anchor, work_dir, svg_files);
+  }
+  // The main metric against each numeric swept parameter (the others split the curves).
+  const std::optional<std::string> main_metric = options.choose_main_metric ? options.choose_main_metric(data) : std::nullopt;
+  if (main_metric) {
+    for (const std::string& path : data.varying_params) {
+      if (path == "seed" || !is_numeric_param(data, path)) continue;
+      PlotRequest request;
+      request.kind = PlotKind::metric_vs_param;
+      request.sweep = sweep.name;
+      request.metric = *main_metric;
+      request.param = path;
+      request.param_unit = options.param_unit;
+      const std::string anchor = "figure-" + std::to_string(++n);
+      const std::string heading = *main_metric + " against " + path;
+      contents.emplace_back(anchor, "Figure: " + heading);
+      figures << render_figure_html(store, request, heading, anchor, work_dir, svg_files);
     }
   }
   n = 0;
@@ -152,13 +315,16 @@ std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep,
     contents.emplace_back(anchor, "Table: " + spec.title);
     tables << "<div id=\"" << anchor << "\">";
     try {
-      tables << format_html_table(make_table(data, spec));
+      tables << format_html_table(make_table(data, spec), data, spec);
     } catch (const AnalysisError& e) {
       tables << "<p class=\"bad\">" << escape_html(spec.title + ": " + e.what()) << "</p>\n";
     }
     tables << "</div>\n";
   }
 
+  contents.emplace_back("jobs", "Table: jobs");
+  tables << "<h3 id=\"jobs\">Jobs</h3>\n" << make_jobs_table(data, main_metric);
+  const std::string thesis = make_thesis_section(store, sweep, options, contents);
   const std::optional<SearchSummary> search = load_search_summary(store, sweep.name);
   page << "<nav><h2>Contents</h2>\n<ul>\n";
   for (const auto& [anchor, title] : contents) {
@@ -170,7 +336,8 @@ std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep,
   }
   page << "</ul></nav>\n";
   page << "<h2 id=\"figures\">Figures</h2>\n" << figures.str();
-  page << "<h2 id=\"tables\">Tables</h2>\n<p>Click a column header to sort by it.</p>\n" << tables.str();
+  page << "<h2 id=\"tables\">Tables</h2>\n<p>Click a column header to sort by it; a job's key opens its page.</p>\n"
+       << tables.str() << thesis;
   if (search) page << "<h2 id=\"Search\">Search</h2>\n<pre>" << escape_html(format_search_summary(*search)) << "</pre>\n";
 
   page << "<h2 id=\"Status\">Status</h2>\n<table><tr><th>status</th><th>jobs</th></tr>\n";
@@ -183,7 +350,8 @@ std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep,
     if (job.status == "done" || job.status == "pending" || job.status == "running") continue;
     if (!any_failure) page << "<ul class=\"bad\">\n";
     any_failure = true;
-    page << "<li>" << escape_html(job.key.substr(0, 12) + " " + job.status + ": " + job.message + " [" + make_job_label(job) + "]") << "</li>\n";
+    page << "<li>" << make_job_links({&job}) << " " << escape_html(job.status + ": " + job.message + " [" + make_job_label(job) + "]")
+         << "</li>\n";
   }
   if (any_failure) page << "</ul>\n";
 
@@ -207,6 +375,60 @@ std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep,
   return page.str();
 }
 
+// A job's page: status, parameters, metrics (unit, reason of a NULL), the figures of its
+// recorded series, and its full configuration.
+std::string make_job_page(const ResultsStore& store, const SweepData& data, const JobResult& job, const std::string& sweep_file,
+                          const fs::path& work_dir, const ReportOptions& options) {
+  std::ostringstream page;
+  page << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>armfarm job " << escape_html(job.key.substr(0, 8))
+       << "</title>" << kStyle << "</head><body>\n<p><a href=\"index.html\">all sweeps</a> · <a href=\"" << escape_html(sweep_file)
+       << "\">sweep " << escape_html(data.name) << "</a></p>\n<h1>Job <code>" << escape_html(job.key) << "</code></h1>\n";
+  page << "<div class=\"scroll\"><table><tr><th>status</th><td" << (job.status == "done" ? " class=\"name\"" : " class=\"bad\"") << ">" << escape_html(job.status)
+       << (job.message.empty() ? "" : ": " + escape_html(job.message)) << "</td></tr>\n<tr><th>seed</th><td class=\"num\">"
+       << job.seed << "</td></tr>\n";
+  for (const std::string& path : data.varying_params) {
+    page << "<tr><th>" << escape_html(path) << "</th><td class=\"name\">" << escape_html(format_param_value(find_param_value(job, path)))
+         << "</td></tr>\n";
+  }
+  page << "</table></div>\n<nav><ul><li><a href=\"#metrics\">Metrics</a></li><li><a href=\"#figures\">Figures</a></li>"
+       << "<li><a href=\"#config\">Configuration</a></li></ul></nav>\n";
+
+  page << "<h2 id=\"metrics\">Metrics</h2>\n<div class=\"scroll\"><table class=\"sortable\">\n"
+       << "<tr><th>metric</th><th>joint</th><th>checkpoint</th><th>value</th><th>unit</th><th>reason</th></tr>\n";
+  for (const auto& [id, value] : job.metrics) {
+    const auto info = data.metric_info.find(id.name);
+    const auto reason = job.reasons.find(id);
+    const bool defined = std::isfinite(value);
+    page << "<tr><td title=\"" << escape_html(info == data.metric_info.end() ? std::string() : info->second.meaning) << "\">"
+         << escape_html(id.name) << "</td><td class=\"num\">" << (id.joint ? std::to_string(*id.joint) : "")
+         << "</td><td class=\"num\">" << (id.checkpoint ? std::to_string(*id.checkpoint) : "") << "</td><td class=\"num\""
+         << (defined ? " data-sort=\"" + format_sort_key(value) + "\"" : std::string()) << ">"
+         << (defined ? escape_html(format_number(value, 6)) : "NULL") << "</td><td>"
+         << escape_html(info == data.metric_info.end() ? std::string() : info->second.unit) << "</td><td>"
+         << escape_html(reason == job.reasons.end() ? std::string() : reason->second) << "</td></tr>\n";
+  }
+  page << "</table></div>\n<h2 id=\"figures\">Figures</h2>\n";
+  const std::vector<std::string> names = job.status == "done" ? store.find_series_names(job.id) : std::vector<std::string>();
+  const auto has = [&](const char* name) { return std::find(names.begin(), names.end(), name) != names.end(); };
+  std::vector<PlotKind> kinds;
+  if (has("F") && has("FF")) kinds.push_back(PlotKind::signals);
+  if (has("POS") && has("POS_D")) kinds.push_back(PlotKind::tracking);
+  if (has("RF")) kinds.push_back(PlotKind::rf_growth);
+  if (kinds.empty()) page << "<p>No recorded series (recording.series in the spec records them).</p>\n";
+  int svg_files = 0, n = 0;
+  for (PlotKind kind : kinds) {
+    PlotRequest request;
+    request.kind = kind;
+    request.sweep = data.name;
+    request.job_keys = {job.key};
+    request.param_unit = options.param_unit;
+    page << render_figure_html(store, request, to_string(kind), "figure-" + std::to_string(++n), work_dir, svg_files);
+  }
+  page << "<h2 id=\"config\">Configuration</h2>\n<pre>" << escape_html(job.config.dump(2)) << "</pre>\n" << kSortScript
+       << "\n</body></html>\n";
+  return page.str();
+}
+
 // The index's row of a sweep.
 std::string make_index_row(const ResultsStore& store, const SweepRecord& sweep, const SweepData& data,
                            const std::string& file, const DescribeBest& describe_best) {
@@ -219,7 +441,7 @@ std::string make_index_row(const ResultsStore& store, const SweepRecord& sweep, 
   for (const auto& [status, number] : counts) jobs += number;
   const std::string best = describe_best ? describe_best(data) : std::string();
   std::ostringstream row;
-  row << "<tr><td><a href=\"" << escape_html(file) << "\">" << escape_html(sweep.name) << "</a><br><small>"
+  row << "<tr><td class=\"name\"><a href=\"" << escape_html(file) << "\">" << escape_html(sweep.name) << "</a><br><small>"
       << escape_html(sweep.description) << "</small></td>";
   for (int number : {jobs, count("done"), count("failed") + count("timeout"), count("diverged")}) {
     row << "<td class=\"num\" data-sort=\"" << number << "\">" << number << "</td>";
@@ -233,7 +455,7 @@ std::string make_index_row(const ResultsStore& store, const SweepRecord& sweep, 
 }  // namespace
 
 std::vector<std::string> write_report(const ResultsStore& store, const std::optional<std::string>& sweep,
-                                      const std::string& out_dir, const DescribeBest& describe_best) {
+                                      const std::string& out_dir, const ReportOptions& options) {
   std::vector<SweepRecord> sweeps;
   if (sweep) {
     auto record = store.find_sweep(choose_sweep(store, sweep));
@@ -256,24 +478,41 @@ std::vector<std::string> write_report(const ResultsStore& store, const std::opti
     }
   } cleanup{pattern};
 
-  std::vector<std::string> written;
+  std::vector<std::string> written, failures;
   std::ostringstream index;
   index << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>armfarm report</title>" << kStyle
         << "</head><body>\n<h1>armfarm report</h1>\n<p>" << escape_html(store.path()) << "</p>\n"
         << "<div class=\"scroll\"><table class=\"sortable\">\n<tr><th>sweep</th><th>jobs</th><th>done</th>"
         << "<th>failed</th><th>diverged</th><th>started</th><th>spec hash</th><th>best by the main metric</th></tr>\n";
+  // A page that cannot be written (a full disk, a failing plot) costs that page, not the index.
+  const auto write_page = [&](const fs::path& path, const std::function<std::string()>& make) {
+    try {
+      write_text_atomically(path, make());
+      written.push_back(path.string());
+      return true;
+    } catch (const AnalysisError& e) {
+      failures.push_back(e.what());
+      return false;
+    }
+  };
   for (const SweepRecord& record : sweeps) {
     const SweepData data = load_sweep_data(store, record.name);
-    const std::string file = make_sweep_view_name(record.name) + ".html";
-    const fs::path path = fs::path(out_dir) / file;
-    write_text_atomically(path, make_sweep_page(store, record, data, pattern));
-    written.push_back(path.string());
-    index << make_index_row(store, record, data, file, describe_best);
+    const std::string file = make_report_file_name("sweep_", record.name) + ".html";
+    const fs::path work = fs::path(pattern);
+    write_page(fs::path(out_dir) / file, [&] { return make_sweep_page(store, record, data, work, options); });
+    for (const JobResult& job : data.jobs) {
+      write_page(fs::path(out_dir) / make_job_file(job), [&] { return make_job_page(store, data, job, file, work, options); });
+    }
+    index << make_index_row(store, record, data, file, options.describe_best);
   }
   index << "</table></div>\n" << kSortScript << "\n</body></html>\n";
   const fs::path index_path = fs::path(out_dir) / "index.html";
   write_text_atomically(index_path, index.str());
   written.push_back(index_path.string());
+  if (!failures.empty()) {
+    throw AnalysisError(std::to_string(failures.size()) + " report pages not written (the index is): " + failures.front() +
+                        (failures.size() > 1 ? " … and " + std::to_string(failures.size() - 1) + " more" : ""));
+  }
   return written;
 }
 

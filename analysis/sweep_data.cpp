@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <tuple>
 
 namespace armfarm {
@@ -29,11 +30,39 @@ MetricInfoTable load_metric_info(const ResultsStore& store) {
   return table;
 }
 
-std::string make_metric_axis_label(const MetricInfoTable& info, const std::string& name) {
-  auto found = info.find(name);
-  if (found == info.end() || found->second.unit.empty()) return name;
-  if (found->second.unit == "1") return name + " (dimensionless)";
-  return name + " (" + found->second.unit + ")";
+std::string make_readable_metric_name(const std::string& name) {
+  static const std::map<std::string, std::string> kWords = {
+      {"nmse", "nMSE"}, {"rmse", "RMSE"}, {"ff", "feed-forward"}, {"fb", "feedback"}, {"id", "ID"}, {"rf", "RF"},
+      {"avg", "mean"},  {"abs", "absolute"},   {"us", "µs"},           {"heldout", "held-out"}, {"pd", "PD"}};
+  std::string readable, word;
+  std::size_t index = 0;
+  auto flush = [&] {
+    std::string shown = word;
+    if (index == 0 && word == "n") shown = "";  // "n_receptive_fields": the unit says "count"
+    else if (const auto found = kWords.find(word); found != kWords.end()) shown = found->second;
+    if (!shown.empty()) readable += (readable.empty() ? "" : " ") + shown;
+    word.clear();
+    ++index;
+  };
+  for (char c : name) {
+    if (c == '_') flush();
+    else word += c;
+  }
+  flush();
+  // "same run" reads as one modifier.
+  const auto same_run = readable.find("same run ");
+  if (same_run != std::string::npos) readable.replace(same_run, 9, "same-run ");
+  return readable;
+}
+
+std::string make_metric_axis_label(const MetricInfoTable& info, const MetricId& id) {
+  std::string label = make_readable_metric_name(id.name);
+  if (id.joint) label += ", joint " + std::to_string(*id.joint);
+  if (id.checkpoint) label += ", checkpoint " + std::to_string(*id.checkpoint);
+  const auto found = info.find(id.name);
+  if (found == info.end()) return label;
+  const std::string& unit = found->second.unit;
+  return unit.empty() || unit == "1" ? label : label + " (" + unit + ")";
 }
 
 namespace {

@@ -46,9 +46,14 @@ using MetricInfoTable = std::map<std::string, MetricInfoRecord>;
 /// Reads `metric_info` of a store.
 MetricInfoTable load_metric_info(const ResultsStore& store);
 
-/// "tracking_nmse (1)" → the axis/heading label of a metric with its unit from the catalog:
-/// "name (unit)", "name (dimensionless)" for unit "1", just "name" when the catalog lacks it.
-std::string make_metric_axis_label(const MetricInfoTable& info, const std::string& name);
+/// A metric's name as a reader says it: "same_run_test_nmse" → "same-run test nMSE",
+/// "n_receptive_fields" → "receptive fields" (acronyms capitalised, "_" as spaces, a count's "n" dropped).
+std::string make_readable_metric_name(const std::string& name);
+
+/// The axis label of a metric: its readable name, the joint and checkpoint, and the unit from
+/// the catalog ("feedback absolute mean, joint 2 (N·m)", "receptive fields (count)"); no unit for "1"
+/// (dimensionless) or when the catalog lacks the metric.
+std::string make_metric_axis_label(const MetricInfoTable& info, const MetricId& id);
 
 struct SweepData {
   std::string name;

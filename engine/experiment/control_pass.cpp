@@ -211,7 +211,7 @@ class ControlPassRun {
     } catch (const std::exception& failure) {
       return diverged(tick.t, std::string("integrator failed: ") + failure.what());
     }
-    simulated_ += config_.simulation.dt;
+    simulated_ = static_cast<double>(++steps_) * config_.simulation.dt;
     return std::nullopt;
   }
 
@@ -246,7 +246,8 @@ class ControlPassRun {
   double pass_start_ = 0.0;
   bool mismatch_present_ = false;
   std::size_t segment_ = 0;
-  double simulated_ = 0.0;
+  double simulated_ = 0.0;  // steps · dt, not a running sum of dt: 20 steps of 0.1 s are 2 s, not 2.0000000000000013
+  long steps_ = 0;
   Eigen::VectorXd last_acceleration_;
   Measurement measured_;
   Eigen::VectorXd last_finite_q_;   // where a diverged pass's advice judges the steps

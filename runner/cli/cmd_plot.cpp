@@ -4,6 +4,7 @@
 #include "analysis/plots.hpp"
 #include "results/readable_check.hpp"
 #include "results/results_store.hpp"
+#include "runner/cli/param_unit.hpp"
 #include "runner/cli/subcommand.hpp"
 
 #include <iostream>
@@ -78,6 +79,7 @@ RunFunction setup_plot(CLI::App& parent) {
     if (options->checkpoint > 0) request.checkpoint = options->checkpoint;
     request.kernel_param = options->kernel_param;
     request.adaptation_param = options->adaptation_param;
+    request.param_unit = find_param_unit;
     if (options->log_x || options->linear_x) request.log_x = options->log_x;
     if (options->log_y || options->linear_y) request.log_y = options->log_y;
     const std::string out = options->out.empty() ? options->kind + ".svg" : options->out;

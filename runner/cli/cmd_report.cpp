@@ -1,10 +1,15 @@
-// `armfarm report DB [--sweep NAME] --out DIR`: one self-contained HTML page per sweep (spec,
-// provenance, status, default tables, plots) and an index, to share a sweep as a folder.
+// `armfarm report DB [--sweep NAME] --out DIR [--against THESIS.json]`: one self-contained HTML page
+// per sweep (spec, provenance, status, default tables, plots, the thesis's values) and per job, and an
+// index, to share a sweep as a folder.
 #include "analysis/plots.hpp"
 #include "analysis/report.hpp"
+#include "analysis/analysis_error.hpp"
 #include "analysis/sweep_data.hpp"
+#include "analysis/thesis_comparison.hpp"
+#include "engine/io/input_file.hpp"
 #include "results/readable_check.hpp"
 #include "results/results_store.hpp"
+#include "runner/cli/param_unit.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/run_headline.hpp"
 
@@ -17,14 +22,16 @@
 namespace armfarm::cli {
 namespace {
 
-struct ReportOptions {
+struct ReportCommandOptions {
   std::string database;
   std::string sweep;
   std::string out;
+  std::string against;
+  std::string aggregate = "mean";
 };
 
-// The index's "best" cell: the run headline's main metric and best job over the done jobs.
-std::string describe_best_job(const SweepData& data) {
+// The run headline (main metric, best job) over a sweep's done jobs.
+std::optional<RunHeadline> find_headline(const SweepData& data) {
   std::vector<HeadlineJob> jobs;
   for (const JobResult& job : data.jobs) {
     if (job.status != "done") continue;
@@ -34,7 +41,12 @@ std::string describe_best_job(const SweepData& data) {
     }
     jobs.push_back(std::move(headline));
   }
-  const std::optional<RunHeadline> headline = choose_run_headline(jobs);
+  return choose_run_headline(jobs);
+}
+
+// The index's "best" cell: the run headline's main metric and best job over the done jobs.
+std::string describe_best_job(const SweepData& data) {
+  const std::optional<RunHeadline> headline = find_headline(data);
   if (!headline) return "";
   char best[32];
   std::snprintf(best, sizeof best, "%.4g", headline->best);
@@ -42,20 +54,39 @@ std::string describe_best_job(const SweepData& data) {
          " done): " + headline->best_label;
 }
 
+std::optional<std::string> choose_main_metric(const SweepData& data) {
+  const std::optional<RunHeadline> headline = find_headline(data);
+  return headline ? std::optional<std::string>(headline->metric) : std::nullopt;
+}
+
 }  // namespace
 
 RunFunction setup_report(CLI::App& parent) {
-  auto options = std::make_shared<ReportOptions>();
+  auto options = std::make_shared<ReportCommandOptions>();
   CLI::App* sub = parent.add_subcommand("report", "Write an HTML report of a results database into a folder");
   sub->add_option("database", options->database, "Results database (SQLite)")->required();
   sub->add_option("--sweep", options->sweep, "Only this sweep (default: every sweep)");
   sub->add_option("--out", options->out, "Output folder")->required();
+  sub->add_option("--against", options->against,
+                  "Thesis results JSON (sweeps/thesis/thesis_results.json): each sweep page gets the thesis's values beside armfarm's");
+  sub->add_option("--agg", options->aggregate, "With --against: aggregate over repeats, mean (with its 95 % interval), median, min, max")
+      ->check(CLI::IsMember({"mean", "median", "min", "max"}));
   return [options] {
     const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
     verify_readable(store);  // damaged rows and series are an error, not a quiet report
     std::optional<std::string> sweep;
     if (!options->sweep.empty()) sweep = options->sweep;
-    for (const std::string& page : write_report(store, sweep, options->out, describe_best_job)) std::cout << "wrote " << page << "\n";
+    armfarm::ReportOptions report;
+    report.describe_best = describe_best_job;
+    report.choose_main_metric = choose_main_metric;
+    report.param_unit = find_param_unit;
+    report.aggregate = parse_aggregate(options->aggregate);
+    std::optional<ThesisResults> thesis;
+    if (!options->against.empty()) {
+      thesis = parse_thesis_results_text(read_input_file_as<AnalysisError>(options->against, InputFileKind::json), options->against);
+      report.against = &*thesis;
+    }
+    for (const std::string& page : write_report(store, sweep, options->out, report)) std::cout << "wrote " << page << "\n";
     return 0;
   };
 }

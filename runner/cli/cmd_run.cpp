@@ -14,6 +14,7 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -48,6 +49,7 @@ RunFunction setup_run(CLI::App& parent) {
     std::string db = "results.db";
     int threads = 0;
     double timeout = 0.0;
+    double stop_grace = 0.0;
     bool force = false;
     bool keep_failed = false;
     std::string shard;
@@ -64,6 +66,10 @@ RunFunction setup_run(CLI::App& parent) {
   app->add_option("-j,--jobs", options->threads, "Jobs run in parallel (default: the number of cores)")
       ->check(CLI::NonNegativeNumber);
   app->add_option("--timeout", options->timeout, "Stop a job after this many seconds of wall clock (0: none)")
+      ->check(CLI::NonNegativeNumber);
+  app->add_option("--stop-grace", options->stop_grace,
+                  "On a stop signal (Slurm's warning, Ctrl-C), let running jobs the cost model expects to end within "
+                  "this many seconds finish, at most that long; the others stop at once and stay pending (0: all stop at once)")
       ->check(CLI::NonNegativeNumber);
   app->add_flag("--force", options->force, "Run every job again, even those already done");
   app->add_flag("--keep-failed", options->keep_failed,
@@ -118,6 +124,7 @@ RunFunction setup_run(CLI::App& parent) {
     run.threads = options->threads > 0 ? options->threads
                                        : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     if (options->timeout > 0.0) run.timeout_seconds = options->timeout;
+    if (options->stop_grace > 0.0) run.stop_grace_seconds = options->stop_grace;
     run.force = options->force;
     run.rerun_unsuccessful = !options->keep_failed;
     const bool terminal = isatty(STDERR_FILENO) != 0;
@@ -128,6 +135,7 @@ RunFunction setup_run(CLI::App& parent) {
     run.progress_out = &std::cerr;
     run.provenance = make_provenance();
     StopSignalScope signals;
+    run.stop_at_once = &signals.stop_at_once();
 
     // Stages run in order, each expanded only after the ones before it ran (its jobs may start
     // from the models they stored); a stage that is not all done stops the rest.
@@ -160,6 +168,16 @@ RunFunction setup_run(CLI::App& parent) {
             sweep = expand_sweep(std::move(stages[s]), kind.schema, options->limits);
             // The jobs' estimated costs deal the shards and weight the progress ETA.
             run.job_costs = calc_job_costs(sweep, kind.estimate_cost, cost_reference ? &*cost_reference : nullptr);
+            // The stop grace goes by expected wall times, calibrated by what finished in this
+            // file before (a resumed shard) unless a cost reference is given.
+            if (run.stop_grace_seconds) {
+              std::optional<ResultsStore> own;
+              if (!cost_reference && std::filesystem::exists(run.db_path)) {
+                own = ResultsStore::open(run.db_path, ResultsStore::Mode::read_only);
+              }
+              const ResultsStore* reference = cost_reference ? &*cost_reference : own ? &*own : nullptr;
+              run.job_seconds = calc_job_seconds(sweep, kind.estimate_cost, reference);
+            }
           })) {
         return 2;
       }
@@ -198,7 +216,12 @@ RunFunction setup_run(CLI::App& parent) {
         return kExitResultsNotSaved;
       }
       if (summary.interrupted) {
-        std::cout << "interrupted: " << summary.abandoned << " jobs not finished; run the same command again to resume\n";
+        std::cout << "interrupted: " << summary.abandoned << " jobs not finished";
+        if (run.stop_grace_seconds) {
+          std::cout << " (" << summary.finished_in_grace << " of the running ones finished within the stop grace of "
+                    << *run.stop_grace_seconds << " s)";
+        }
+        std::cout << "; run the same command again to resume\n";
       }
       if (!summary.all_done()) {
         if (s + 1 < stages.size()) {

@@ -3,16 +3,22 @@
 // SQLite file, never one file shared over a network filesystem), plus a merge job after the
 // array; prints the commands that submit them, or with --submit submits them. Run again after
 // a partial failure it submits only what is missing (done shards resume as no-ops).
+#include "analysis/printable_text.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/slurm_script.hpp"
 #include "runner/cli/subcommand.hpp"
+#include "runner/execution/job_cost.hpp"
 #include "runner/execution/job_kind.hpp"
+#include "runner/execution/progress_reporter.hpp"
+#include "runner/execution/shard.hpp"
+#include "runner/execution/sweep_runner.hpp"
 #include "runner/spec/spec_error.hpp"
 #include "runner/spec/sweep_expansion.hpp"
 #include "runner/spec/sweep_spec.hpp"
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -92,6 +98,36 @@ std::string run_sbatch(const std::string& command, const std::string& what) {
   return id;
 }
 
+/// The jobs of `sweep` not in `finished`, each with its shard of plan.tasks (dealt as the tasks'
+/// `armfarm run --shard` deals them), at most 10 lines and "... and N more".
+void print_missing_jobs(const ExpandedSweep& sweep, const SlurmPlan& plan, const std::set<std::string>& finished) {
+  std::vector<std::string> keys;
+  for (const ExpandedJob& job : sweep.jobs) keys.push_back(job.key);
+  const JobKind kind = make_job_kind_from_environment();
+  const std::vector<int> shard_of = calc_shard_assignment(keys, calc_job_costs(sweep, kind.estimate_cost), plan.tasks);
+  std::set<int> shards;
+  std::vector<std::size_t> missing;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if (finished.count(keys[i]) > 0) continue;
+    missing.push_back(i);
+    shards.insert(shard_of[i]);
+  }
+  std::cout << "armfarm slurm: " << keys.size() - missing.size() << " of " << keys.size() << " jobs of sweep "
+            << make_printable_text(plan.sweep) << " finished in " << plan.db;
+  if (missing.empty()) {
+    std::cout << "; none missing\n";
+    return;
+  }
+  std::cout << "; " << missing.size() << " missing, in shard" << (shards.size() == 1 ? "" : "s");
+  for (const int shard : shards) std::cout << " " << shard;
+  std::cout << " of " << plan.tasks << ":\n";
+  const std::size_t shown = std::min<std::size_t>(missing.size(), 10);
+  for (std::size_t i = 0; i < shown; ++i) {
+    std::cout << "  shard " << shard_of[missing[i]] << ": " << make_printable_text(make_job_label(sweep.jobs[missing[i]])) << "\n";
+  }
+  if (missing.size() > shown) std::cout << "  ... and " << missing.size() - shown << " more\n";
+}
+
 }  // namespace
 
 RunFunction setup_slurm(CLI::App& parent) {
@@ -109,9 +145,11 @@ RunFunction setup_slurm(CLI::App& parent) {
     std::vector<std::string> sbatch_args;
     std::string setup;
     bool dry_run = false;
+    bool missing = false;
     bool retry_failed = false;
-    int signal_before = SlurmPlan{}.signal_before;
+    int signal_before = 0;  // 0: from the job-cost model (choose_signal_before)
     bool requeue = SlurmPlan{}.requeue;
+    int max_requeues = SlurmPlan{}.max_requeues;
   };
   auto options = std::make_shared<Options>();
   CLI::App* app = parent.add_subcommand(
@@ -141,13 +179,20 @@ RunFunction setup_slurm(CLI::App& parent) {
   app->add_flag("--retry-failed", options->retry_failed,
                 "Run failed, diverged and timed-out jobs again (by default they are results and stay)");
   app->add_option("--signal-before", options->signal_before,
-                  "Seconds before the time limit at which Slurm warns a task (SIGUSR1): it stops and saves")
+                  "Seconds before the time limit at which Slurm warns a task (SIGUSR1): it lets the jobs that can "
+                  "end in time finish, stops the others and saves (0: chosen from the job-cost model)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 65535));
+      ->check(CLI::Range(0, 65535));
   app->add_flag("--requeue,!--no-requeue", options->requeue,
                 "A task stopped by the warning (time limit, preemption) requeues itself and resumes its shard")
       ->capture_default_str();
+  app->add_option("--max-requeues", options->max_requeues,
+                  "A warned task requeues itself only while it has restarted fewer times than this (SLURM_RESTART_COUNT)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100000));
   app->add_flag("--dry-run", options->dry_run, "Print the scripts and the submit commands; write and submit nothing");
+  app->add_flag("--missing", options->missing,
+                "Name the jobs not finished in DB and their shards (the merge job runs it), exit 1 if any; write and submit nothing");
 
   return [options] {
     SlurmPlan plan;
@@ -219,8 +264,6 @@ RunFunction setup_slurm(CLI::App& parent) {
     plan.job_timeout = options->job_timeout;
     plan.sbatch_args = options->sbatch_args;
     plan.retry_failed = options->retry_failed;
-    plan.signal_before = options->signal_before;
-    plan.requeue = options->requeue;
     if (!options->setup.empty()) plan.setup = fs::absolute(options->setup).lexically_normal().string();
 
     // What is done already: in DB (a finished earlier submission) and in the shard files.
@@ -233,6 +276,10 @@ RunFunction setup_slurm(CLI::App& parent) {
     }
     std::cout << "sweep " << plan.sweep << ": " << plan.jobs << " jobs, " << in_db << " finished in " << plan.db << ", "
               << done_in_shards.size() << " finished in its " << plan.tasks << " shard files" << std::endl;
+    if (options->missing) {
+      print_missing_jobs(sweep, plan, done_in_db);
+      return in_db == plan.jobs ? 0 : 1;
+    }
     if (in_db == plan.jobs) {
       std::cout << "nothing to submit: every job is finished in " << plan.db << "\n";
       return 0;
@@ -249,6 +296,27 @@ RunFunction setup_slurm(CLI::App& parent) {
       std::cout << "\n";
     }
 
+    // The warning time from the expected wall times, calibrated by the jobs DB finished before.
+    {
+      std::optional<ResultsStore> reference;
+      if (fs::exists(plan.db)) reference = ResultsStore::open(plan.db, ResultsStore::Mode::read_only);
+      const JobKind kind = make_job_kind_from_environment();
+      const std::vector<double> seconds = calc_job_seconds(sweep, kind.estimate_cost, reference ? &*reference : nullptr);
+      const double longest = seconds.empty() ? 0.0 : *std::max_element(seconds.begin(), seconds.end());
+      plan.signal_before = options->signal_before > 0 ? options->signal_before : choose_signal_before(seconds, plan.time_limit);
+      std::cout << "warning signal " << plan.signal_before << " s before a task's time limit ("
+                << (options->signal_before > 0 ? "--signal-before" : "from the job-cost model") << "; the longest job is expected to take "
+                << make_duration_text(longest) << (reference ? " as measured in " + plan.db : "") << "): running jobs expected to end within "
+                << calc_stop_grace(plan.signal_before) << " s finish, the others stop and stay pending\n";
+      const std::optional<long> limit = plan.time_limit.empty() ? std::nullopt : calc_slurm_time_seconds(plan.time_limit);
+      if (limit && longest > static_cast<double>(*limit - plan.signal_before)) {
+        std::cout << "armfarm slurm: warning: the longest job is expected to take " << make_duration_text(longest)
+                  << ", more than a task's --time " << plan.time_limit << " less the warning (" << *limit - plan.signal_before
+                  << " s): it may never finish and its task be requeued again and again\n";
+      }
+    }
+    plan.requeue = options->requeue;
+    plan.max_requeues = options->max_requeues;
     const std::string array_script = make_array_script_path(plan.db);
     const std::string merge_script = make_merge_script_path(plan.db);
     if (options->dry_run) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -179,14 +180,16 @@ std::string make_array_script(const SlurmPlan& plan) {
       << "db=" << make_shell_quoted(plan.db) << ".shard-\"$shard\".db\n"
       << "saved=" << make_shell_quoted(plan.db) << ".shard-\"$shard\".saved\n"
       << "rm -f -- \"$saved\"\n"
-      << "echo \"armfarm slurm: shard $shard/$count on $(hostname) into $db\"\n"
+      << "echo \"armfarm slurm: shard $shard/$count on $(hostname) into $db at $(date -u +%T)\"\n"
       << "# Slurm's warning (--signal=B:USR1@" << plan.signal_before << ": a time limit or preemption ahead) goes to this\n"
-      << "# shell; it is passed on to armfarm, which stops taking jobs, stops the running ones and saves.\n"
+      << "# shell; it is passed on to armfarm, which stops taking jobs, lets the running ones it expects to end\n"
+      << "# within " << calc_stop_grace(plan.signal_before) << " s finish (--stop-grace), stops the others (they stay pending) and saves.\n"
       << "signalled=0\n"
       << "pid=\n"
       << "trap 'signalled=1; [ -n \"$pid\" ] && kill -USR1 \"$pid\" 2>/dev/null' USR1\n"
       << make_shell_quoted(plan.armfarm) << " run " << make_shell_quoted(plan.spec)
-      << " --shard \"$shard/$count\" --db \"$db\" -j \"${SLURM_CPUS_PER_TASK:-" << plan.cpus_per_task << "}\"";
+      << " --shard \"$shard/$count\" --db \"$db\" -j \"${SLURM_CPUS_PER_TASK:-" << plan.cpus_per_task << "}\""
+      << " --stop-grace " << calc_stop_grace(plan.signal_before);
   if (plan.job_timeout > 0) out << " --timeout " << make_seconds_text(plan.job_timeout);
   if (!plan.retry_failed) out << " --keep-failed";
   out << " &\n"
@@ -196,10 +199,16 @@ std::string make_array_script(const SlurmPlan& plan) {
       << "# A trapped signal ends `wait` early: wait again until armfarm has exited.\n"
       << "while kill -0 \"$pid\" 2>/dev/null; do wait \"$pid\"; status=$?; done\n"
       << "if [ \"$signalled\" -eq 1 ] && [ \"$status\" -ne 0 ]; then\n"
-      << "  echo \"armfarm slurm: shard $shard/$count stopped by Slurm's warning signal (armfarm run exit $status); its finished jobs are saved\"\n";
+      << "  echo \"armfarm slurm: shard $shard/$count stopped by Slurm's warning signal (armfarm run exit $status) at $(date -u +%T); its finished jobs are saved\"\n";
   if (plan.requeue) {
     out << "  # Requeued, the task resumes its shard file: what finished is not run again.\n"
-        << "  scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\" && { echo \"armfarm slurm: shard $shard/$count requeued\"; exit 0; }\n";
+        << "  # At most " << plan.max_requeues << " restarts (--max-requeues): a job too long for the time limit does not loop.\n"
+        << "  if [ \"${SLURM_RESTART_COUNT:-0}\" -lt " << plan.max_requeues << " ]; then\n"
+        << "    scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\" && { echo \"armfarm slurm: shard $shard/$count requeued\"; exit 0; }\n"
+        << "  else\n"
+        << "    echo \"armfarm slurm: shard $shard/$count restarted ${SLURM_RESTART_COUNT} times (--max-requeues " << plan.max_requeues
+        << "): a job may not fit in the time limit\" >&2\n"
+        << "  fi\n";
   }
   out << "  echo \"armfarm slurm: shard $shard/$count not requeued: not marked saved, submit again to finish it\" >&2\n"
       << "  exit 75\n"
@@ -251,6 +260,9 @@ std::string make_merge_script(const SlurmPlan& plan) {
       << "if [ ${#missing[@]} -gt 0 ]; then\n"
       << "  shown=\"${missing[*]:0:10}\"\n"
       << "  [ ${#missing[@]} -gt 10 ] && shown=\"$shown ... and $((${#missing[@]} - 10)) more\"\n"
+      << "  # The jobs not finished in the merged database, by shard.\n"
+      << "  " << make_shell_quoted(plan.armfarm) << " slurm " << make_shell_quoted(plan.spec) << " --db \"$db\" --tasks " << plan.tasks
+      << (plan.retry_failed ? " --retry-failed" : "") << " --missing\n"
       << "  echo \"armfarm slurm: merged ${#saved[@]} of " << plan.tasks << " shards; ${#missing[@]} did not save their results "
       << "(shard $shown; see $db.slurm-*.log): run the same armfarm slurm command again to submit only those, then a merge\" >&2\n"
       << "fi\n"
@@ -301,6 +313,49 @@ void check_slurm_time_limit(const std::string& text) {
   } else if (values.size() == 3) {
     if (values[1] >= 60 || values[2] >= 60) fail("minutes and seconds must be below 60");
   }
+}
+
+std::optional<long> calc_slurm_time_seconds(const std::string& text) {
+  std::string lower;
+  for (const char c : text) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (lower == "infinite" || lower == "unlimited") return std::nullopt;
+  long days = 0;
+  std::string clock = text;
+  const std::size_t dash = text.find('-');
+  if (dash != std::string::npos) {
+    days = std::stol(text.substr(0, dash));
+    clock = text.substr(dash + 1);
+  }
+  std::vector<long> fields;
+  for (const std::string& field : split(clock, ':')) fields.push_back(std::stol(field));
+  long seconds = 0;
+  if (dash != std::string::npos) {  // D-H, D-H:M, D-H:M:S
+    const long scale[] = {3600, 60, 1};
+    for (std::size_t i = 0; i < fields.size(); ++i) seconds += fields[i] * scale[i];
+  } else if (fields.size() == 1) {  // M
+    seconds = fields[0] * 60;
+  } else if (fields.size() == 2) {  // M:S
+    seconds = fields[0] * 60 + fields[1];
+  } else {  // H:M:S
+    seconds = fields[0] * 3600 + fields[1] * 60 + fields[2];
+  }
+  return days * 86400 + seconds;
+}
+
+int calc_stop_grace(int signal_before) { return std::max(0, signal_before - std::max(5, signal_before / 10)); }
+
+int choose_signal_before(const std::vector<double>& job_seconds, const std::string& time_limit) {
+  double longest = 0.0;
+  for (const double seconds : job_seconds) longest = std::max(longest, seconds);
+  // T - max(5, T / 10) >= 1.5 × longest: T = 1.5 × longest + 5 while that is below 50, else (1.5 × longest) / 0.9.
+  const double room = 1.5 * longest;
+  double chosen = room + 5.0 <= 50.0 ? room + 5.0 : room / 0.9;
+  chosen = std::min(65535.0, std::max(60.0, std::ceil(chosen)));
+  if (!time_limit.empty()) {
+    const std::optional<long> limit = calc_slurm_time_seconds(time_limit);
+    if (limit) chosen = std::min(chosen, static_cast<double>(*limit / 2));
+  }
+  return std::max(1, static_cast<int>(chosen));
 }
 
 void check_slurm_partition(const std::string& text) {

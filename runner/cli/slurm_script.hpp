@@ -4,6 +4,7 @@
 // `<DB>.shard-I.db`, and an sbatch script for the job that merges the N shard files into DB
 // once the array has ended, however its tasks did (`--dependency=afterany`). Pure functions of
 // the plan: no I/O.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,9 +35,14 @@ struct SlurmPlan {
   std::vector<std::string> sbatch_args;  ///< more sbatch options, one #SBATCH line each (both scripts)
   std::string setup;          ///< a file both scripts source before armfarm runs (module load, ...); empty: none
   std::vector<int> shards;    ///< the shards (1-based) the array runs; empty: all 1..tasks
-  bool retry_failed = false;
-  int signal_before = 300;    ///< seconds before the time limit at which Slurm warns the task (SIGUSR1)
-  bool requeue = true;        ///< a warned task that stopped early requeues itself (scontrol requeue)  ///< run failed, diverged and timed-out jobs again (else they are results: `run --keep-failed`)
+  bool retry_failed = false;  ///< run failed, diverged and timed-out jobs again (else they are results: `run --keep-failed`)
+  /// Seconds before the time limit at which Slurm warns the task (SIGUSR1); `armfarm slurm`
+  /// chooses it from the job-cost model (choose_signal_before) unless --signal-before is given.
+  int signal_before = 300;
+  bool requeue = true;        ///< a warned task that stopped early requeues itself (scontrol requeue)
+  /// A task requeues itself only while it has restarted fewer times than this (SLURM_RESTART_COUNT),
+  /// so that a job that never fits in --time less the warning does not requeue it forever.
+  int max_requeues = 20;
 };
 
 /// "<db>.shard-<shard>.db", shard 1-based.
@@ -68,6 +74,21 @@ std::vector<std::string> make_submit_commands(const SlurmPlan& plan);
 /// forms: M, M:S, H:M:S, D-H, D-H:M, D-H:M:S (S, and M after an hour, below 60; H after a day
 /// below 24) or "infinite"/"unlimited".
 void check_slurm_time_limit(const std::string& text);
+/// The seconds of a time limit in one of the forms check_slurm_time_limit takes; nullopt for
+/// "infinite"/"unlimited". Precondition: check_slurm_time_limit(text) passed.
+std::optional<long> calc_slurm_time_seconds(const std::string& text);
+
+/// The warning time T (seconds before a task's time limit, sbatch --signal=B:USR1@T) from the
+/// jobs' expected wall times (calc_job_seconds): room for the longest job to finish once more,
+/// 1.5 × its time plus the reserve of calc_stop_grace, at least 60 s (Slurm checks time limits
+/// about once a minute, so the warning may come up to that much early), at most 65535, and at
+/// most half of `time_limit` when one is set (else a task would be warned as it starts).
+int choose_signal_before(const std::vector<double>& job_seconds, const std::string& time_limit);
+
+/// `armfarm run --stop-grace` for a warning `signal_before` seconds ahead: that less a reserve
+/// for committing, exiting and `scontrol requeue` (a tenth of it, at least 5 s; 0 at the least).
+int calc_stop_grace(int signal_before);
+
 /// Throws std::invalid_argument unless `text` is a comma-separated list of partition names
 /// (letters, digits, '_', '-', '.').
 void check_slurm_partition(const std::string& text);

@@ -18,7 +18,7 @@ JobConfigSchema make_fake_job_config_schema();
 JobExecutor make_fake_job_executor();
 
 /// The fake job's cost estimate: simulation.duration × joints (control.kp entries) + sleep_ms / 1000;
-/// kind "fake N joints".
+/// kind "fake N joints"; seconds: sleep_ms / 1000 plus its CPU work.
 JobCostFunction make_fake_job_cost_function();
 
 }  // namespace armfarm

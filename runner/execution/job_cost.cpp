@@ -38,6 +38,7 @@ JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
                                                                   : model.batch_factor;
     JobCostEstimate estimate;
     estimate.cost = ticks * job.simulation.dt * std::max(1, n) * factor;
+    estimate.seconds = estimate.cost * model.seconds_per_unit;
     estimate.kind = std::string(find_enum_name(learning_mode_names(), static_cast<int>(learning.mode))) + " " +
                     find_enum_name(trajectory_kind_names(), static_cast<int>(job.trajectory.kind)) + " " +
                     std::to_string(n) + " joints";
@@ -45,13 +46,17 @@ JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
   };
 }
 
-std::vector<double> calc_job_costs(const ExpandedSweep& sweep, const JobCostFunction& estimate,
-                                   const ResultsStore* reference) {
+namespace {
+
+/// calc_job_costs and calc_job_seconds: the estimates' `unit` (cost or seconds), calibrated
+/// by the done jobs of `reference` when it has any.
+std::vector<double> calc_calibrated(const ExpandedSweep& sweep, const JobCostFunction& estimate,
+                                    const ResultsStore* reference, double JobCostEstimate::*unit) {
   std::vector<JobCostEstimate> estimates;
   estimates.reserve(sweep.jobs.size());
   for (const ExpandedJob& job : sweep.jobs) estimates.push_back(estimate(job.config()));
   std::vector<double> costs;
-  for (const JobCostEstimate& e : estimates) costs.push_back(e.cost);
+  for (const JobCostEstimate& e : estimates) costs.push_back(e.*unit);
   if (reference == nullptr) return costs;
 
   // Measured: wall seconds of the reference file's done jobs (each key once), and per kind the
@@ -76,9 +81,9 @@ std::vector<double> calc_job_costs(const ExpandedSweep& sweep, const JobCostFunc
         continue;  // e.g. its model file is not on this machine: its time still counts for its own key
       }
       by_kind[e.kind].wall += *job.wall_seconds;
-      by_kind[e.kind].estimated += e.cost;
+      by_kind[e.kind].estimated += e.*unit;
       all.wall += *job.wall_seconds;
-      all.estimated += e.cost;
+      all.estimated += e.*unit;
     }
   }
   if (measured_by_key.empty()) return costs;
@@ -91,10 +96,22 @@ std::vector<double> calc_job_costs(const ExpandedSweep& sweep, const JobCostFunc
     const auto kind = by_kind.find(estimates[i].kind);
     const Rate& rate = kind != by_kind.end() ? kind->second : all;
     // With no estimate to calibrate against (every finished job unreadable), the mean wall time.
-    costs[i] = rate.estimated > 0.0 ? estimates[i].cost * rate.wall / rate.estimated
+    costs[i] = rate.estimated > 0.0 ? estimates[i].*unit * rate.wall / rate.estimated
                                     : all.wall / static_cast<double>(measured_by_key.size());
   }
   return costs;
+}
+
+}  // namespace
+
+std::vector<double> calc_job_costs(const ExpandedSweep& sweep, const JobCostFunction& estimate,
+                                   const ResultsStore* reference) {
+  return calc_calibrated(sweep, estimate, reference, &JobCostEstimate::cost);
+}
+
+std::vector<double> calc_job_seconds(const ExpandedSweep& sweep, const JobCostFunction& estimate,
+                                     const ResultsStore* reference) {
+  return calc_calibrated(sweep, estimate, reference, &JobCostEstimate::seconds);
 }
 
 }  // namespace armfarm

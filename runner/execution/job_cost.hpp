@@ -18,8 +18,9 @@
 namespace armfarm {
 
 struct JobCostEstimate {
-  double cost = 1.0;  ///< estimated units (> 0)
-  std::string kind;   ///< jobs of one kind share a measured rate: "batch sine 7 joints"
+  double cost = 1.0;     ///< estimated units (> 0)
+  std::string kind;      ///< jobs of one kind share a measured rate: "batch sine 7 joints"
+  double seconds = 1.0;  ///< estimated wall time on one core, s (> 0): what the stop grace and Slurm's warning time go by
 };
 
 /// Estimates one resolved job configuration. Throws std::exception when it cannot.
@@ -35,6 +36,10 @@ struct JobCostModel {
   double none_factor = 1.0;
   double online_factor = 1.15;  ///< LWPR update + prediction every tick
   double batch_factor = 1.0;    ///< per pass: collection passes and the control pass (training not counted)
+  /// Wall seconds per unit on one core, for JobCostEstimate::seconds: the runs above give
+  /// 9.87 s / (40 s × 7 × 1.15) = 0.031 online and 3.16 s / (12 s × 7) = 0.038 without learner;
+  /// rounded up, so that a job is rather expected to take longer than it does.
+  double seconds_per_unit = 0.04;
 };
 
 /// The experiment job's estimate (loads each model file once, and makes the job's arm with
@@ -46,5 +51,11 @@ JobCostFunction make_experiment_cost_function(const JobCostModel& model = {});
 /// reference file's contents.
 std::vector<double> calc_job_costs(const ExpandedSweep& sweep, const JobCostFunction& estimate,
                                    const ResultsStore* reference = nullptr);
+
+/// The expected wall time of every job of `sweep` on one core, s (in expansion order): each
+/// estimate's `seconds`, or, when `reference` has done jobs, calibrated by them as the costs are
+/// (a job done there: its measured wall time). Deterministic like calc_job_costs.
+std::vector<double> calc_job_seconds(const ExpandedSweep& sweep, const JobCostFunction& estimate,
+                                     const ResultsStore* reference = nullptr);
 
 }  // namespace armfarm

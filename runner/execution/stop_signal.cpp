@@ -5,10 +5,11 @@
 namespace armfarm {
 namespace {
 
-// A signal handler can only reach file-scope state: these two are the one exception to
+// A signal handler can only reach file-scope state: these are the one exception to
 // "no static mutable state", and only the handler writes them.
 std::atomic<bool> g_stop_requested{false};
 std::atomic<int> g_signal_number{0};
+std::atomic<bool> g_stop_at_once{false};
 static_assert(std::atomic<bool>::is_always_lock_free, "the stop flag must be safe to set in a signal handler");
 
 struct sigaction g_previous_int {};
@@ -17,6 +18,7 @@ struct sigaction g_previous_usr1 {};
 
 extern "C" void handle_stop_signal(int signal_number) {
   g_signal_number.store(signal_number);
+  if (signal_number != SIGUSR1) g_stop_at_once.store(true);
   g_stop_requested.store(true);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
@@ -26,6 +28,7 @@ extern "C" void handle_stop_signal(int signal_number) {
 
 StopSignalScope::StopSignalScope() {
   g_stop_requested.store(false);
+  g_stop_at_once.store(false);
   g_signal_number.store(0);
   struct sigaction action {};
   action.sa_handler = handle_stop_signal;
@@ -44,6 +47,8 @@ StopSignalScope::~StopSignalScope() {
 }
 
 const std::atomic<bool>& StopSignalScope::stop_requested() const { return g_stop_requested; }
+
+const std::atomic<bool>& StopSignalScope::stop_at_once() const { return g_stop_at_once; }
 
 int StopSignalScope::signal_number() const { return g_signal_number.load(); }
 

@@ -17,6 +17,9 @@ class StopSignalScope {
 
   /// Set once SIGINT, SIGTERM or SIGUSR1 arrived.
   const std::atomic<bool>& stop_requested() const;
+  /// Set once SIGINT or SIGTERM arrived: a stop that no grace waits for (SIGUSR1 is Slurm's
+  /// warning, with time left; RunOptions::stop_grace_seconds).
+  const std::atomic<bool>& stop_at_once() const;
   /// The signal received (0 if none).
   int signal_number() const;
 };

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -91,6 +92,14 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   ProgressReporter progress(options.progress_out, options.progress, std::move(progress_jobs), threads);
   std::mutex summary_mutex;
   std::vector<HeadlineJob> headline_jobs;
+  // When the stop request was first seen (steady clock ticks; `none` before): the stop grace runs from it.
+  constexpr std::chrono::steady_clock::rep none = std::numeric_limits<std::chrono::steady_clock::rep>::min();
+  std::atomic<std::chrono::steady_clock::rep> stop_seen{none};
+  const auto find_stop_seen = [&](std::chrono::steady_clock::time_point now) {
+    std::chrono::steady_clock::rep expected = none;
+    stop_seen.compare_exchange_strong(expected, now.time_since_epoch().count());
+    return std::chrono::steady_clock::time_point(std::chrono::steady_clock::duration(stop_seen.load()));
+  };
   {
     ResultWriter writer(store, sweep.spec.name, claims.owner().owner);
     std::vector<std::size_t> elsewhere;  // indices into to_run held by another live runner: looked at again
@@ -128,13 +137,28 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
       bool stopped_by_request = false;
       bool stopped_by_timeout = false;
       bool claim_lost = false;
+      std::optional<bool> runs_on;  // decided at the first look after the stop request: expected to end within the grace
+      const auto sweep_index = static_cast<std::size_t>(&job - sweep.jobs.data());
+      // Whether the stop grace lets this job run on now (stop_grace_seconds).
+      const auto in_grace = [&] {
+        if (!options.stop_grace_seconds || (options.stop_at_once != nullptr && options.stop_at_once->load())) return false;
+        const auto now = std::chrono::steady_clock::now();
+        const auto seen = find_stop_seen(now);
+        const double grace = *options.stop_grace_seconds;
+        if (std::chrono::duration<double>(now - seen).count() >= grace) return false;
+        if (!runs_on) {
+          const double ran = std::max(0.0, std::chrono::duration<double>(seen - job_start).count());
+          runs_on = sweep_index < options.job_seconds.size() && options.job_seconds[sweep_index] - ran <= grace;
+        }
+        return *runs_on;
+      };
       JobControl control;
       control.should_stop = [&] {
         if (claims.lost(job.key)) {
           claim_lost = true;
           return true;
         }
-        if (stop_requested.load() || writer.failed() || claims.failed()) {
+        if (writer.failed() || claims.failed() || (stop_requested.load() && !in_grace())) {
           stopped_by_request = true;
           return true;
         }
@@ -186,7 +210,8 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
         if (!metric.joint && !metric.checkpoint && metric.value) headline.metrics[metric.name] = *metric.value;
       }
       // Counted and reported on the writer thread, once the result is committed.
-      auto on_committed = [&, index, status, wall, message = outcome.message,
+      const bool ran_on = runs_on.value_or(false);
+      auto on_committed = [&, index, status, wall, ran_on, message = outcome.message,
                            headline = std::move(headline)](bool written) mutable {
         if (!written) {  // fenced out: the claim was taken over while this attempt ran
           progress.job_dropped(index);
@@ -197,6 +222,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
         progress.job_committed(index, status, wall, message);
         std::lock_guard lock(summary_mutex);
         ++summary.run;
+        if (ran_on) ++summary.finished_in_grace;
         if (status == "done") {
           ++summary.done;
           headline_jobs.push_back(std::move(headline));
@@ -249,7 +275,8 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
     if (summary.write_error.empty()) claims.rethrow_error();
   }
   summary.taken_over += claims.taken_over();
-  summary.interrupted = stop_requested.load();
+  // A stop that came after (or let finish) every job of the shard interrupted nothing.
+  summary.interrupted = stop_requested.load() && summary.abandoned > 0;
   summary.headline = choose_run_headline(headline_jobs);
   if (summary.write_error.empty()) {
     store.update_run_finished(registered.run_id, summary.interrupted ? "interrupted" : "complete", summary.run,

@@ -30,6 +30,13 @@ struct RunOptions {
   bool rerun_unsuccessful = true;          ///< run failed, diverged and timed-out jobs again (searches: no, their outcome is the trial's)
   Shard shard;
   std::vector<double> job_costs;           ///< per job of the sweep (job_cost.hpp): deals the shards, weights the ETA; empty: 1 each
+  /// After a stop request (a signal; not a failed write), a running job whose expected wall time
+  /// (job_seconds) ends within this many seconds of the request runs on, for at most that long;
+  /// the others stop at once. Unset: every running job stops at once. Either way a stopped job is
+  /// not failed: it goes back to pending.
+  std::optional<double> stop_grace_seconds;
+  const std::atomic<bool>* stop_at_once = nullptr;  ///< set: the stop request waits for no grace (SIGINT, SIGTERM: StopSignalScope)
+  std::vector<double> job_seconds;         ///< per job of the sweep, expected wall s (calc_job_seconds); a job without one is not expected to end
   ClaimConfig claims;                      ///< runners sharing the database (claim_keeper.hpp)
   ProgressConfig progress;                 ///< style quiet by default
   std::ostream* progress_out = nullptr;    ///< required unless quiet
@@ -46,6 +53,7 @@ struct RunSummary {
   int done_elsewhere = 0;  ///< done by another runner on the same database while this one ran
   int taken_over = 0;      ///< stale claims of other runners this run took over (or found at its start)
   int not_saved = 0;  ///< finished, but lost because a commit failed (they run again on resume)
+  int finished_in_grace = 0;  ///< running at the stop request, let run on (stop_grace_seconds) and finished
   int discarded = 0;  ///< finished after another runner took the claim over: not written (the fence)
   std::string write_error;  ///< the failed commit's error ("" when every write succeeded)
   bool interrupted = false;
@@ -59,7 +67,8 @@ struct RunSummary {
 };
 
 /// Runs `sweep`'s jobs of `options.shard`. `stop_requested` (e.g. from StopSignalScope) stops
-/// taking jobs and asks running ones to stop; what finished stays recorded, interrupted jobs go
+/// taking jobs and asks running ones to stop (those expected to end within
+/// options.stop_grace_seconds first run on); what finished stays recorded, interrupted jobs go
 /// back to pending. A job counts as run (and is reported) only once its result is committed;
 /// when a commit fails the run stops taking jobs and returns with `write_error` and `not_saved`
 /// set (the lost jobs are not done in the database, so the next run reruns them). Throws

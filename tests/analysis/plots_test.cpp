@@ -230,14 +230,14 @@ TEST_F(PlotTest, StyleSizeFontAndLabelOverrides) {
 TEST_F(PlotTest, LegendListsExactlyTheVaryingParametersAndDivergedJobsAreCounted) {
   const std::string svg = render("nmse-vs-kernel --sweep fixed", directory_.file("fixed.svg"));
   EXPECT_EQ(svg.find("update_D"), std::string::npos);  // in every config, never swept: not a legend entry
-  EXPECT_NE(svg.find("jobs not shown: 1 diverged"), std::string::npos);
+  EXPECT_NE(svg.find("marked on the top edge: 1 diverged"), std::string::npos);
   const std::string kernel = render("nmse-vs-kernel --sweep kernel", directory_.file("kernel.svg"));
   EXPECT_NE(kernel.find("update_D=true"), std::string::npos);
   EXPECT_EQ(kernel.find("seed="), std::string::npos);  // repeats are error bars, not curves
   EXPECT_EQ(kernel.find("jobs not shown"), std::string::npos);
   const std::string metric = render("metric-vs-param --sweep fixed --metric same_run_test_nmse --joint 1 --param learning.lwpr.init_D",
                                     directory_.file("fixed_metric.svg"));
-  EXPECT_NE(metric.find("jobs not shown: 1 diverged"), std::string::npos);
+  EXPECT_NE(metric.find("marked on the top edge: 1 diverged"), std::string::npos);
 }
 
 TEST_F(PlotTest, HeldOutMetricNeedsAndTakesACheckpoint) {
@@ -245,6 +245,9 @@ TEST_F(PlotTest, HeldOutMetricNeedsAndTakesACheckpoint) {
   const auto refused = testing::run_armfarm(base + " --out " + directory_.file("h.svg"));
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.output.find("--checkpoint"), std::string::npos) << refused.output;
+  const auto absent = testing::run_armfarm(base + " --checkpoint 7 --out " + directory_.file("h7.svg"));
+  EXPECT_EQ(absent.exit_code, 2);
+  EXPECT_NE(absent.output.find("recorded at checkpoints 1, not 7; choose one with --checkpoint N"), std::string::npos) << absent.output;
   const std::string svg = render("metric-vs-param --sweep fixed --metric heldout_test_nmse --joint 1 --param learning.lwpr.init_D --checkpoint 1",
                                  directory_.file("heldout.svg"));
   EXPECT_NE(svg.find("heldout_test_nmse_j1_c1"), std::string::npos);

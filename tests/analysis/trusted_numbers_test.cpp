@@ -140,7 +140,7 @@ TEST(TrustedNumbers, SweepsNamedAlikeGetTwoPages) {
   int pages = 0;
   for (const auto& entry : std::filesystem::directory_iterator(directory.file("report"))) {
     const std::string name = entry.path().filename().string();
-    if (name.rfind("sweep_a_b", 0) == 0 && entry.path().extension() == ".html") ++pages;
+    if (name.rfind("sweep_a", 0) == 0 && entry.path().extension() == ".html") ++pages;  // sweep_a-b, sweep_a_b
   }
   EXPECT_EQ(pages, 2) << report.output;
 }
@@ -180,24 +180,28 @@ TEST(TrustedFigures, LogAxesPositiveErrorBarsAndNoSilentPooling) {
   const Panel& panel = figure.panels[0];
   EXPECT_TRUE(panel.log_x);
   EXPECT_TRUE(panel.log_y);
-  EXPECT_EQ(panel.y_label, "tracking_nmse (dimensionless)");  // unit from metric_info
-  ASSERT_EQ(panel.curves.size(), 2u);                          // online and batch, not pooled
+  EXPECT_EQ(panel.y_label, "tracking nMSE");  // readable; unit "1" of metric_info: dimensionless, no unit
+  ASSERT_EQ(panel.curves.size(), 2u);          // online and batch, not pooled
   EXPECT_EQ(panel.curves[0].title, "mode=online");
+  // The mean and its 95 % Student-t interval, as the tables print them: the two seeds' values
+  // a = 0.1 v and b = 1.9 v have mean v and half-width t(0.975, 1) · |b − a| / 2 = 12.7062 · 0.9 v.
+  ASSERT_TRUE(panel.y_min.has_value());  // the low ends are below zero: clipped at the axis
+  EXPECT_GT(*panel.y_min, 0.0);
   for (const Curve& curve : panel.curves) {
     ASSERT_EQ(curve.x.size(), 3u);
     for (std::size_t i = 0; i < curve.y.size(); ++i) {
-      EXPECT_GT(curve.y_low[i], 0.0);
-      EXPECT_LT(curve.y_low[i], curve.y[i]);
-      EXPECT_GT(curve.y_high[i], curve.y[i]);
-      // Geometric mean of the two seeds.
-      const double init_d = curve.x[i] * (curve.title == "mode=online" ? 1.0 : 100.0);
-      EXPECT_NEAR(curve.y[i], init_d * std::sqrt(0.1 * 1.9), 1e-12 * init_d);
+      const double v = curve.x[i] * (curve.title == "mode=online" ? 1.0 : 100.0);
+      EXPECT_NEAR(curve.y[i], v, 1e-12 * v);
+      EXPECT_NEAR(curve.y_high[i], v + 12.7062047 * 0.9 * v, 1e-6 * v);
+      EXPECT_DOUBLE_EQ(curve.y_low[i], *panel.y_min);  // on the axis, never at or below zero
+      EXPECT_LT(curve.y_low[i], 0.01);                 // below every mean drawn
     }
   }
-  request.log_y = false;  // forced linear: mean ± std, honestly below zero
+  request.log_y = false;  // forced linear: the interval reaches below zero, the bar stops at zero
   const Figure linear = make_plot_figure(store, request);
   EXPECT_FALSE(linear.panels[0].log_y);
-  EXPECT_LT(linear.panels[0].curves[0].y_low[0], 0.0);
+  EXPECT_FALSE(linear.panels[0].y_min.has_value());
+  EXPECT_EQ(linear.panels[0].curves[0].y_low[0], 0.0);
   // Twelve colours before line styles repeat; one legend entry per title.
   Figure many;
   many.panels.resize(2);
@@ -219,6 +223,47 @@ TEST(TrustedFigures, LogAxesPositiveErrorBarsAndNoSilentPooling) {
   const auto batch_colour = two.find("lc rgb '#88CCEE'");
   ASSERT_NE(batch_colour, std::string::npos);
   EXPECT_NE(two.find("lc rgb '#88CCEE'", batch_colour + 1), std::string::npos) << two;  // batch twice, one colour
+}
+
+// Log x for log-spaced swept values even within one decade (0.02, 0.05, 0.2, the quick start's
+// init_D), not for evenly spaced ones; a diverged job is a mark on the top edge at its x.
+TEST(TrustedFigures, LogSpacedValuesGetALogAxisAndUnfinishedJobsAMark) {
+  testing::TemporaryDirectory directory;
+  const std::string db = directory.file("r.db");
+  const auto write = [&](const std::string& sweep, const std::vector<double>& values) {
+    std::vector<testing::TestJob> jobs;
+    for (double value : values) {
+      testing::TestJob job;
+      job.params = {{"learning.lwpr.init_D", value}};
+      job.metrics = {{0, "tracking_nmse", std::nullopt, 0.01 + value / 100, ""}};
+      jobs.push_back(job);
+    }
+    jobs.back().status = "diverged";
+    jobs.back().metrics.clear();
+    testing::write_test_sweep(db, sweep, jobs);
+  };
+  write("log", {0.02, 0.05, 0.2, 0.5});
+  write("even", {1.0, 2.0, 3.0, 4.0});
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  PlotRequest request;
+  request.kind = PlotKind::metric_vs_param;
+  request.metric = "tracking_nmse";
+  request.param = "learning.lwpr.init_D";
+  request.sweep = "log";
+  const Figure log = make_plot_figure(store, request);
+  EXPECT_TRUE(log.panels[0].log_x);
+  EXPECT_EQ(log.panels[0].edge_marks_x, std::vector<double>{0.5});
+  EXPECT_NE(log.title.find("marked on the top edge: 1 diverged"), std::string::npos) << log.title;
+  request.sweep = "even";
+  const Figure even = make_plot_figure(store, request);
+  EXPECT_FALSE(even.panels[0].log_x);
+  EXPECT_EQ(even.panels[0].edge_marks_x, std::vector<double>{4.0});
+  // The mark is drawn on the frame in graph coordinates, with one legend entry.
+  const std::string script = make_gnuplot_script(even, TerminalSettings{"set terminal svg"}, "out.svg", "/tmp");
+  EXPECT_NE(script.find("set label 1 '' at first 4, graph 1 point pt 11"), std::string::npos) << script;
+  EXPECT_NE(script.find("keyentry with points pt 11 ps 1.4 lc rgb '#CC3311' title 'not finished (1 diverged), at its init_D'"),
+            std::string::npos)
+      << script;
 }
 
 }  // namespace

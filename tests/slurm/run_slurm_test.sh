@@ -7,7 +7,13 @@
 # before armfarm, in every task) and a hostile --sbatch-arg=--comment=... value (it must reach
 # Slurm as written and run nothing). First one task is cancelled right after submission: the
 # merge still runs (afterany), merges the two other shards and names shard 2; then the same
-# command again submits only shard 2 and a merge; once more it finds nothing to submit.
+# command again submits only shard 2 and a merge; once more it finds nothing to submit. Then,
+# with fake jobs that sleep (ARMFARM_FAKE_JOBS=1), in one task each: 4 jobs of 20 s under a
+# one-minute --time with the warning 30 s before (the task is warned, lets its running job end,
+# requeues itself, until the sweep completes), and 4 jobs of 6 s whose task is requeued with
+# `scontrol requeue` while a job runs; both end with every job done exactly once (the task logs'
+# progress lines, the merged database). Each wait prints the jobs' states as they change (the
+# timeline). About 3 minutes, mostly sleeping.
 # Stops the daemons it started, by pid, on every exit path. Skips (exit 0, one line) when not
 # root or when the packages cannot be installed.
 #
@@ -97,7 +103,8 @@ SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge
 CredType=cred/munge
-AuthInfo=socket=$work/munge/munge.socket
+# cred_expire: also how long a requeued job waits before it may start again (default 120 s).
+AuthInfo=socket=$work/munge/munge.socket,cred_expire=15
 StateSaveLocation=$work/state
 SlurmdSpoolDir=$work/spool
 SlurmctldPidFile=$work/slurmctld.pid
@@ -143,30 +150,37 @@ setup="$work/site setup's.sh"
 printf 'echo "site setup ran on $(hostname)"\nexport ARMFARM_SITE=1\n' > "$setup"
 hostile="it's \$(touch $work/owned) \"x\" \\ #"
 
-# Submits the sweep with `armfarm slurm --submit` and waits until its jobs leave the queue;
-# sets array_id, merge_id and merge_state, prints each task's state and log.
+# Submits the sweep $spec into $db with `armfarm slurm "${args[@]}" --submit` and waits until its
+# jobs leave the queue, printing each change of their states with the seconds since the
+# submission (the timeline); sets array_id, merge_id and merge_state, prints each task's state
+# and log. $1...: a command to run once the jobs are submitted (while they run).
 submit_and_wait() {
   local submitted
-  submitted=$("$armfarm" slurm "$spec" --db "$db" --tasks 3 --cpus-per-task 1 --time 30 \
-    --setup "$setup" --sbatch-arg="--comment=$hostile" --submit)
+  submitted=$("$armfarm" slurm "$spec" --db "$db" "${args[@]}" --submit)
   echo "$submitted"
   array_id=$(sed -n 's/^submitted array job \([0-9]*\).*/\1/p' <<<"$submitted")
   merge_id=$(sed -n 's/^submitted merge job \([0-9]*\).*/\1/p' <<<"$submitted")
   [ -n "$array_id" ] && [ -n "$merge_id" ] || { say "no job ids in the output of armfarm slurm --submit"; exit 1; }
   job_ids=("$array_id" "$merge_id")
+  submitted_at=$(date +%s)
   [ -z "${1:-}" ] || "$@"  # work to do while the jobs run
-  while [ -n "$(squeue -h -j "$array_id,$merge_id" -o %i 2>/dev/null)" ]; do
+  local states last=
+  while true; do
+    states=$(squeue -h -j "$array_id,$merge_id" -o '%i %T %r' 2>/dev/null | sort | paste -sd ';' || true)
+    [ "$states" = "$last" ] || echo "  timeline +$(($(date +%s) - submitted_at)) s: ${states:-(none in the queue)}"
+    last=$states
+    [ -n "$states" ] || break
     if [ "$(date +%s)" -gt "$deadline" ]; then
       say "timed out after ${timeout}s waiting for jobs $array_id and $merge_id:"
       squeue -j "$array_id,$merge_id" || true
       exit 1
     fi
-    sleep 2
+    sleep 1
   done
   job_ids=()
   scontrol -o show job "$array_id" | awk '{
       for (i = 1; i <= NF; i++) { split($i, kv, "="); field[kv[1]] = kv[2] }
-      printf "  array task %s (job %s): %s, exit %s\n", field["ArrayTaskId"], field["JobId"], field["JobState"], field["ExitCode"]
+      printf "  array task %s (job %s): %s, exit %s, restarts %s\n", field["ArrayTaskId"], field["JobId"], field["JobState"], field["ExitCode"], field["Restarts"]
     }' | sort
   merge_state=$(scontrol -o show job "$merge_id" | sed -n 's/.*JobState=\([A-Z_]*\) .*/\1/p')
   say "merge job $merge_id: $merge_state"
@@ -175,6 +189,17 @@ submit_and_wait() {
     [ -f "$log" ] && { echo "---- $(basename "$log")"; cat "$log"; }
   done
   return 0
+}
+# Fails unless every job of $spec is done in $db and was done exactly once in the task logs $@
+# (a job done twice would show two "done" progress lines; a lost one none).
+check_each_job_done_once() {
+  local key count
+  for key in $("$armfarm" expand "$spec" | awk 'NR > 1 {print $1}'); do
+    count=$(cat "$@" | grep -c "] done  *${key:0:8} " || true)
+    [ "$count" -eq 1 ] || { say "job ${key:0:8} was done $count times in the task logs"; exit 1; }
+    [ "$(sqlite3 "$db" "select status from jobs where key = '$key'")" = done ] ||
+      { say "job ${key:0:8} is not done in $db"; exit 1; }
+  done
 }
 local_run() {
   say "local run of the same spec"
@@ -186,12 +211,17 @@ cancel_task_2() {
   say "cancelled array task 1 (shard 2)"
   local_run
 }
+spec=$repo/tests/data/specs/slurm_small.json
+args=(--tasks 3 --cpus-per-task 1 --time 30 --setup "$setup" --sbatch-arg="--comment=$hostile")
 say "1. array task 1 (shard 2) cancelled right after submission: the merge merges shards 1 and 3 and names shard 2"
 submit_and_wait cancel_task_2
 [ "$merge_state" = FAILED ] || { say "the merge job ended $merge_state, expected FAILED (exit 1: a shard missing)"; exit 1; }
 [ -e "$db" ] || { say "$db was not written by the partial merge"; exit 1; }
 grep -q "merged 2 of 3 shards; 1 did not save their results (shard 2;" "$db.slurm-$merge_id-merge.log" ||
   { say "the merge log does not name shard 2"; exit 1; }
+grep -q "^armfarm slurm: 4 of 6 jobs of sweep slurm_small finished in $db; 2 missing, in shard 2 of 3:" "$db.slurm-$merge_id-merge.log" ||
+  { say "the merge log does not count the missing jobs"; exit 1; }
+[ "$(grep -c "^  shard 2: " "$db.slurm-$merge_id-merge.log")" -eq 2 ] || { say "the merge log does not name the 2 missing jobs"; exit 1; }
 [ ! -e "$work/owned" ] || { say "the hostile --sbatch-arg value ran as code"; exit 1; }
 scontrol -o show job "$merge_id" | grep -qF "Comment=it's \$(touch $work/owned)" ||
   { say "the hostile --comment did not reach Slurm as written: $(scontrol -o show job "$merge_id" | grep -o 'Comment=.*')"; exit 1; }
@@ -216,4 +246,37 @@ say "3. the same command once more: nothing to submit"
 again=$("$armfarm" slurm "$spec" --db "$db" --tasks 3 --submit)
 echo "$again"
 grep -q "nothing to submit" <<<"$again" || { say "submitting again found work to do"; exit 1; }
+
+# Fake jobs from here on (they sleep: cheap on CPU), in sweeps of one task.
+export ARMFARM_FAKE_JOBS=1
+say "4. a task past its time limit: 4 jobs of 20 s in one task with --time 1 (60 s), warned 30 s before"
+spec=$repo/tests/data/specs/slurm_timed.json
+db=$work/timed.db
+args=(--tasks 1 --time 1 --signal-before 30)
+submit_and_wait
+[ "$merge_state" = COMPLETED ] || { say "the merge job ended $merge_state, expected COMPLETED"; exit 1; }
+grep -q "^armfarm slurm: shard 1/1 requeued" "$db.slurm-${array_id}_0.log" || { say "the task was not requeued"; exit 1; }
+check_each_job_done_once "$db.slurm-${array_id}_0.log"
+
+say "5. scontrol requeue while a job runs: 4 jobs of 6 s in one task"
+spec=$repo/tests/data/specs/slurm_requeue.json
+db=$work/requeue.db
+args=(--tasks 1 --time 10)
+requeue_mid_job() {
+  local shard_db=$db.shard-1.db
+  # Read only once armfarm made the file (sqlite3 would create an empty one, which armfarm refuses).
+  until [ -s "$shard_db" ] &&
+        [ "$(sqlite3 -readonly "$shard_db" "select count(*) from jobs where status = 'done'" 2>/dev/null || echo 0)" -ge 1 ]; do
+    [ "$(date +%s)" -le "$deadline" ] || { say "timed out waiting for the first job of $shard_db"; exit 1; }
+    sleep 0.5
+  done
+  sleep 2  # the second job is running
+  scontrol requeue "${array_id}_0"
+  say "scontrol requeue ${array_id}_0 at +$(($(date +%s) - submitted_at)) s, the second job running"
+}
+submit_and_wait requeue_mid_job
+[ "$merge_state" = COMPLETED ] || { say "the merge job ended $merge_state, expected COMPLETED"; exit 1; }
+[ "$(scontrol -o show job "$array_id" | sed -n 's/.* Restarts=\([0-9]*\) .*/\1/p')" -ge 1 ] ||
+  { say "the task did not restart"; exit 1; }
+check_each_job_done_once "$db.slurm-${array_id}_0.log"
 say "PASSED in $(($(date +%s) - started)) s"

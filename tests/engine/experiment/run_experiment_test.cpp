@@ -199,6 +199,17 @@ TEST(RunExperiment, RecordedTimesReadAsTheirDecimals) {
   }
 }
 
+TEST(RunExperiment, SimulatedSecondsAreTicksTimesDtNotASumOfDt) {
+  // 200 ticks of 0.01 s: a running sum of dt gives 2.0000000000000013, steps · dt gives 2.
+  const ArmModel model = testing::load_lwr3();
+  const JobOutcome outcome = run_experiment(model, make_feedback_config(1.0, 2.0));
+  ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
+  auto metrics = job_metrics(outcome);
+  char text[40];
+  const std::string shortest(text, std::to_chars(text, text + sizeof text, metrics["simulated_seconds"]).ptr);
+  EXPECT_EQ(shortest, "2");
+}
+
 TEST(RunExperiment, RecordedTickTimesAreTickNumbersTimesDt) {
   EXPECT_EQ(calc_recorded_tick_time(0.09999999999999999, 0.01), 0.1);
   EXPECT_EQ(calc_recorded_tick_time(0.30000000000000004, 0.01), 0.3);

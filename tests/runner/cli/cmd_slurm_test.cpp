@@ -225,7 +225,7 @@ TEST(SlurmScript, EachSiteOptionReachesItsDirective) {
   const std::string merge = make_merge_script(plan);
   EXPECT_NE(array.find("#SBATCH --mem='4G'\n"), std::string::npos) << array;
   EXPECT_NE(array.find("#SBATCH --array=0-3%2\n"), std::string::npos) << array;
-  EXPECT_NE(array.find(" -j \"${SLURM_CPUS_PER_TASK:-3}\" --timeout 90.5 --keep-failed &\n"), std::string::npos) << array;
+  EXPECT_NE(array.find(" -j \"${SLURM_CPUS_PER_TASK:-3}\" --stop-grace 270 --timeout 90.5 --keep-failed &\n"), std::string::npos) << array;
   const std::vector<std::string> array_arguments = read_sbatch_arguments(array);
   const std::vector<std::string> merge_arguments = read_sbatch_arguments(merge);
   for (const char* both : {"--mem=4G", "--account=proj-123", "--qos=normal", "--mail-type=END,FAIL", "--exclusive"}) {
@@ -444,6 +444,9 @@ TEST(SlurmScript, WarningSignalAndRequeue) {
   const std::string array = make_array_script(plan);
   EXPECT_NE(array.find("#SBATCH --signal=B:USR1@300\n#SBATCH --requeue\n#SBATCH --open-mode=append\n"), std::string::npos) << array;
   EXPECT_NE(array.find("scontrol requeue \"${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}\""), std::string::npos);
+  EXPECT_NE(array.find("if [ \"${SLURM_RESTART_COUNT:-0}\" -lt 20 ]; then\n"), std::string::npos) << array;
+  plan.max_requeues = 3;
+  EXPECT_NE(make_array_script(plan).find("if [ \"${SLURM_RESTART_COUNT:-0}\" -lt 3 ]; then\n"), std::string::npos);
   EXPECT_EQ(make_merge_script(plan).find("--signal"), std::string::npos);
   plan.signal_before = 45;
   plan.requeue = false;
@@ -452,6 +455,62 @@ TEST(SlurmScript, WarningSignalAndRequeue) {
   EXPECT_EQ(no_requeue.find("requeue"), no_requeue.find("requeued")) << no_requeue;  // only in the message
   EXPECT_EQ(no_requeue.find("--requeue"), std::string::npos);
   EXPECT_EQ(no_requeue.find("scontrol"), std::string::npos);
+}
+
+TEST(SlurmScript, TimeLimitSecondsInEachSbatchForm) {
+  EXPECT_EQ(calc_slurm_time_seconds("90"), 90 * 60);
+  EXPECT_EQ(calc_slurm_time_seconds("3:30"), 3 * 60 + 30);
+  EXPECT_EQ(calc_slurm_time_seconds("2:00:05"), 2 * 3600 + 5);
+  EXPECT_EQ(calc_slurm_time_seconds("1-12"), 86400 + 12 * 3600);
+  EXPECT_EQ(calc_slurm_time_seconds("1-2:03"), 86400 + 2 * 3600 + 3 * 60);
+  EXPECT_EQ(calc_slurm_time_seconds("2-0:0:7"), 2 * 86400 + 7);
+  EXPECT_EQ(calc_slurm_time_seconds("UNLIMITED"), std::nullopt);
+}
+
+// The warning time leaves the longest job 1.5 times its expected wall time once the reserve
+// (calc_stop_grace) is taken off, at least 60 s, at most half the time limit.
+TEST(SlurmScript, TheWarningTimeComesFromTheLongestJob) {
+  EXPECT_EQ(choose_signal_before({1.0, 10.0, 3.0}, ""), 60);  // 1.5 × 10 + 5 = 20: the floor of 60 s
+  EXPECT_EQ(choose_signal_before({100.0}, ""), 167);          // 150 / 0.9 = 166.7
+  EXPECT_GE(calc_stop_grace(167), 150);
+  EXPECT_EQ(choose_signal_before({100.0}, "5"), 150);         // half of 300 s
+  EXPECT_EQ(choose_signal_before({10.0}, "1"), 30);
+  EXPECT_EQ(choose_signal_before({1e6}, ""), 65535);
+  EXPECT_EQ(choose_signal_before({}, "infinite"), 60);
+  for (const double longest : {0.5, 20.0, 30.0, 40.0, 1000.0}) {
+    const int chosen = choose_signal_before({longest}, "");
+    EXPECT_GE(calc_stop_grace(chosen), 1.5 * longest) << longest;
+  }
+  EXPECT_EQ(calc_stop_grace(60), 54);
+  EXPECT_EQ(calc_stop_grace(300), 270);
+  EXPECT_EQ(calc_stop_grace(30), 25);
+  EXPECT_EQ(calc_stop_grace(3), 0);
+  SlurmPlan plan = make_plan();
+  plan.signal_before = 60;
+  const std::string array = make_array_script(plan);
+  EXPECT_NE(array.find("#SBATCH --signal=B:USR1@60\n"), std::string::npos) << array;
+  EXPECT_NE(array.find(" --stop-grace 54 "), std::string::npos) << array;
+}
+
+// `armfarm slurm` chooses the warning from the fake jobs' expected wall times (their sleep),
+// calibrated by the measured ones of the database once it has finished jobs; --signal-before wins.
+TEST_F(SlurmCommand, TheWarningTimeIsChosenFromTheJobCostModelUnlessGiven) {
+  const std::string spec = (dir_ / "long.json").string();
+  std::ofstream(spec) << R"({"name": "long", "base": {"fake": {"sleep_ms": 100000}}, "sweep": {"repeat": 2}})";
+  const CommandResult chosen = run_armfarm("slurm " + spec + " --db " + db_ + " --tasks 2 --dry-run");
+  ASSERT_EQ(chosen.exit_code, 0) << chosen.output;
+  // 100.01 s expected: 1.5 × 100.01 / 0.9 = 166.7.
+  EXPECT_NE(chosen.output.find("warning signal 167 s before a task's time limit (from the job-cost model"), std::string::npos)
+      << chosen.output;
+  EXPECT_NE(chosen.output.find("#SBATCH --signal=B:USR1@167\n"), std::string::npos) << chosen.output;
+  EXPECT_NE(chosen.output.find(" --stop-grace 151 "), std::string::npos) << chosen.output;
+  const CommandResult limited = run_armfarm("slurm " + spec + " --db " + db_ + " --tasks 2 --time 3 --dry-run");
+  EXPECT_NE(limited.output.find("#SBATCH --signal=B:USR1@90\n"), std::string::npos) << limited.output;
+  EXPECT_NE(limited.output.find("it may never finish"), std::string::npos) << limited.output;
+  const CommandResult given = run_armfarm("slurm " + spec + " --db " + db_ + " --tasks 2 --signal-before 400 --dry-run");
+  EXPECT_NE(given.output.find("warning signal 400 s before a task's time limit (--signal-before"), std::string::npos)
+      << given.output;
+  EXPECT_NE(given.output.find(" --stop-grace 360 "), std::string::npos) << given.output;
 }
 
 // Slurm's warning before a time limit: the task script passes SIGUSR1 on, armfarm stops and
@@ -469,12 +528,21 @@ TEST_F(SlurmCommand, AWarnedTaskSavesRequeuesAndTheRequeuedTaskCompletesTheShard
   ASSERT_EQ(run_armfarm("slurm " + spec + " --db " + db_ + " --tasks 1").exit_code, 0);
   const std::string script = make_array_script_path(db_);
   const std::string shard = make_shard_db_path(db_, 1);
-  // The warning once the shard has a finished job.
-  const CommandResult warned = run_shell(
-      "PATH=" + bin.string() + ":$PATH SLURM_ARRAY_JOB_ID=77 SLURM_ARRAY_TASK_ID=0 SLURM_CPUS_PER_TASK=2 bash " + script +
-      " & task=$!; n=0; while [ \"$n\" -lt 600 ] && ! sqlite3 '" + shard +
-      "' \"select 1 from jobs where status='done'\" 2>/dev/null | grep -q 1; do sleep 0.05; n=$((n+1)); done; "
-      "kill -USR1 $task; wait $task");
+  // The warning once the shard has a finished job (`restarts`: SLURM_RESTART_COUNT).
+  const auto run_warned = [&](int restarts) {
+    return run_shell("PATH=" + bin.string() + ":$PATH SLURM_RESTART_COUNT=" + std::to_string(restarts) +
+                     " SLURM_ARRAY_JOB_ID=77 SLURM_ARRAY_TASK_ID=0 SLURM_CPUS_PER_TASK=2 bash " + script +
+                     " 2>&1 & task=$!; n=0; while [ \"$n\" -lt 600 ] && ! { [ -s '" + shard + "' ] && sqlite3 -readonly '" + shard +
+                     "' \"select 1 from jobs where status='done'\" 2>/dev/null | grep -q 1; }; do sleep 0.05; n=$((n+1)); done; "
+                     "kill -USR1 $task; wait $task");
+  };
+  // Restarted --max-requeues times already: not requeued again, the task fails.
+  const CommandResult capped = run_warned(20);
+  EXPECT_EQ(capped.exit_code, 75) << capped.output;
+  EXPECT_NE(capped.output.find("restarted 20 times (--max-requeues 20)"), std::string::npos) << capped.output;
+  EXPECT_FALSE(fs::exists(log));
+  fs::remove(shard);
+  const CommandResult warned = run_warned(0);
   EXPECT_EQ(warned.exit_code, 0) << warned.output;
   EXPECT_NE(warned.output.find("stopped by Slurm's warning signal"), std::string::npos) << warned.output;
   EXPECT_NE(warned.output.find("shard 1/1 requeued"), std::string::npos) << warned.output;
@@ -517,12 +585,29 @@ TEST_F(SlurmCommand, APartialMergeNamesTheMissingShardAndTheResubmissionRunsOnly
                                  read_statuses(make_shard_db_path(db_, 3), "fake_small").size();
   EXPECT_EQ(read_statuses(db_, "fake_small").size(), in_1_and_3);
   EXPECT_LT(in_1_and_3, 12u);
+  // The merge names the missing jobs, each of shard 2, and only those.
+  const std::string missing_count = std::to_string(in_1_and_3) + " of 12 jobs of sweep fake_small finished in " + db_ + "; " +
+                                    std::to_string(12 - in_1_and_3) + " missing, in shard 2 of 3:\n";
+  EXPECT_NE(merged.output.find(missing_count), std::string::npos) << merged.output;
+  const std::map<std::string, std::string> merged_statuses = read_statuses(db_, "fake_small");
+  std::size_t named = 0;
+  for (std::size_t at = merged.output.find("\n  shard "); at != std::string::npos; at = merged.output.find("\n  shard ", at + 1)) {
+    EXPECT_EQ(merged.output.compare(at, 12, "\n  shard 2: "), 0) << merged.output;
+    const std::string label = merged.output.substr(at + 12, 8);  // the key's first 8 digits
+    for (const auto& [key, status] : merged_statuses) EXPECT_NE(key.substr(0, 8), label) << "a merged job named missing";
+    ++named;
+  }
+  EXPECT_EQ(named, 12 - in_1_and_3) << merged.output;
   const CommandResult again = run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 3");
   EXPECT_NE(again.output.find("resubmitting 1 of 3 shards (the others are complete): 2\n"), std::string::npos) << again.output;
   EXPECT_NE(test_support::read_text_file(array_script).find("#SBATCH --array=1\n"), std::string::npos) << test_support::read_text_file(array_script);
   ASSERT_EQ(run_array_task(array_script, 1).exit_code, 0);
   const CommandResult complete = run_shell("bash " + merge_script);
   EXPECT_EQ(complete.exit_code, 0) << complete.output;
+  const CommandResult none = run_armfarm("slurm " + spec_ + " --db " + db_ + " --tasks 3 --missing");
+  EXPECT_EQ(none.exit_code, 0) << none.output;
+  EXPECT_NE(none.output.find("12 of 12 jobs of sweep fake_small finished in " + db_ + "; none missing\n"), std::string::npos)
+      << none.output;
   const auto statuses = read_statuses(db_, "fake_small");
   EXPECT_EQ(statuses.size(), 12u);
   for (const auto& [key, status] : statuses) EXPECT_EQ(status, "done") << key;

@@ -134,6 +134,59 @@ TEST_F(SweepRunnerTest, AStopRequestLeavesUnfinishedJobsPendingForResume) {
   EXPECT_EQ(store.check_integrity(), "ok");
 }
 
+// Slurm's warning (a stop with a grace): the job expected to end within the grace finishes, the
+// one that cannot is stopped at once and stays pending, not failed; a stop at once (SIGTERM)
+// waits for neither.
+TEST_F(SweepRunnerTest, AStopGraceLetsTheJobsThatCanEndInTimeFinish) {
+  const ExpandedSweep sweep = expand(R"({"name": "g", "sweep": {"zip": {"fake.sleep_ms": [1500, 60000]}}})");
+  for (const bool at_once : {false, true}) {
+    RunOptions options;
+    options.db_path = path(at_once ? "at_once.db" : "grace.db");
+    options.threads = 2;
+    options.stop_grace_seconds = 20.0;
+    options.job_seconds = calc_job_seconds(sweep, make_fake_job_cost_function());
+    ASSERT_EQ(options.job_seconds.size(), 2u);
+    EXPECT_NEAR(options.job_seconds[0], 1.51, 1e-9);  // the sleep and 0.01 s
+    EXPECT_NEAR(options.job_seconds[1], 60.01, 1e-9);
+    const std::atomic<bool> stop_at_once{at_once};
+    options.stop_at_once = &stop_at_once;
+    std::atomic<bool> stop{false};
+    std::thread stopper([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      stop = true;
+    });
+    const auto start = std::chrono::steady_clock::now();
+    const RunSummary summary = run_sweep(sweep, make_fake_job_executor(), options, stop);
+    stopper.join();
+    EXPECT_TRUE(summary.interrupted);
+    EXPECT_EQ(summary.failed + summary.timeout, 0);
+    EXPECT_EQ(summary.done, at_once ? 0 : 1);
+    EXPECT_EQ(summary.finished_in_grace, at_once ? 0 : 1);
+    EXPECT_EQ(summary.abandoned, at_once ? 2 : 1);
+    // The long job did not hold the run up to the end of the grace.
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 15.0);
+    const ResultsStore store = ResultsStore::open(options.db_path, ResultsStore::Mode::read_only);
+    const std::vector<JobRecord> jobs = store.find_jobs("g");
+    ASSERT_EQ(jobs.size(), 2u);
+    EXPECT_EQ(jobs[0].status, at_once ? "pending" : "done");
+    EXPECT_EQ(jobs[1].status, "pending");
+  }
+}
+
+// A stop after the last job finished interrupted nothing: the run is complete.
+TEST_F(SweepRunnerTest, AStopAfterEveryJobIsNotAnInterruption) {
+  const ExpandedSweep sweep = expand(R"({"name": "a", "base": {"fake": {"sleep_ms": 0}}, "sweep": {"repeat": 2}})");
+  RunOptions options;
+  options.db_path = path("a.db");
+  options.threads = 1;
+  const RunSummary first = run_sweep(sweep, make_fake_job_executor(), options, std::atomic<bool>{false});
+  ASSERT_TRUE(first.all_done());
+  const RunSummary stopped = run_sweep(sweep, make_fake_job_executor(), options, std::atomic<bool>{true});
+  EXPECT_EQ(stopped.skipped, 2);
+  EXPECT_FALSE(stopped.interrupted);
+  EXPECT_TRUE(stopped.all_done());
+}
+
 TEST_F(SweepRunnerTest, MetricsAreIdenticalWhateverTheThreadCount) {
   const ExpandedSweep sweep = expand(kSpec);
   run(sweep, "j1.db", 1);

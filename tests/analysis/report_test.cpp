@@ -1,0 +1,220 @@
+// The report's pages per job, its file names for any sweep name, its figures of the main metric
+// against the swept parameters and the thesis's values beside a sweep.
+#include "analysis/report.hpp"
+#include "test_database.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace armfarm {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Every href="…" of a page that is not an anchor on the page itself.
+std::vector<std::string> find_page_links(const std::string& page) {
+  std::vector<std::string> links;
+  for (std::size_t at = page.find("href=\""); at != std::string::npos; at = page.find("href=\"", at + 1)) {
+    const std::size_t start = at + 6;
+    const std::string target = page.substr(start, page.find('"', start) - start);
+    if (!target.empty() && target[0] != '#') links.push_back(target);
+  }
+  return links;
+}
+
+TEST(ReportFileNames, KeepSimpleNamesAndCutAndHashTheRest) {
+  EXPECT_EQ(make_report_file_name("sweep_", "kernel"), "sweep_kernel");
+  EXPECT_EQ(make_report_file_name("job_", "0123abcd"), "job_0123abcd");
+  const std::string long_a(5000, 'a');
+  std::string long_b = long_a;
+  long_b.back() = 'b';  // differs only past the cut
+  const std::string a = make_report_file_name("sweep_", long_a), b = make_report_file_name("sweep_", long_b);
+  EXPECT_NE(a, b);
+  EXPECT_LE(a.size(), 6u + 64u + 17u);
+  for (const std::string& hostile : {std::string("../../etc/passwd"), std::string("a/b"), std::string("x\ny"), std::string(""),
+                                     std::string("`touch x`"), std::string("ünïcode"), std::string(".")}) {
+    const std::string name = make_report_file_name("sweep_", hostile);
+    EXPECT_EQ(name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-"), std::string::npos) << name;
+    EXPECT_NE(name, "sweep_") << hostile;
+  }
+  EXPECT_NE(make_report_file_name("sweep_", "a/b"), make_report_file_name("sweep_", "a_b"));  // replaced: hashed
+}
+
+class ReportTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    db_ = directory_.file("results.db");
+    // Three gains × two seeds, one diverged; a recorded path for the composite jobs' pages.
+    std::vector<testing::TestJob> jobs;
+    for (double gain : {0.2, 1.0, 5.0}) {
+      for (int seed = 1; seed <= 2; ++seed) {
+        testing::TestJob job;
+        job.params = {{"control.gain_scale", gain}, {"trajectory.sine.duration", 2.0 * gain}, {"seed", seed}};
+        job.metrics = {{0, "tracking_nmse", std::nullopt, 0.01 / gain + 0.001 * seed, ""},
+                       {0, "tracking_nmse", 1, 0.02 / gain, ""},
+                       {0, "ff_fb_ratio_avg", 1, std::nullopt, "no feed-forward"}};
+        if (gain == 5.0 && seed == 2) {
+          job.status = "diverged";
+          job.message = "joint 1 speed above its limit";
+          job.metrics.clear();
+        }
+        if (gain == 1.0) {
+          for (const char* name : {"POS", "POS_D"}) {
+            SeriesRecord series;
+            series.name = name;
+            series.columns = {"t", "x", "y", "z"};
+            series.rows.resize(50, 4);
+            for (int r = 0; r < 50; ++r) {
+              series.rows.row(r) << 0.1 * r, 0.5, 0.2 * std::sin(0.1 * r), 0.4 + (name[3] ? 0.0 : 0.01) + 0.1 * std::cos(0.1 * r);
+            }
+            job.series.push_back(series);
+          }
+        }
+        jobs.push_back(job);
+      }
+    }
+    testing::write_test_sweep(db_, "gains", jobs);
+  }
+
+  testing::TemporaryDirectory directory_;
+  std::string db_;
+};
+
+TEST_F(ReportTest, EveryJobHasAPageWithItsConfigMetricsAndFiguresLinkedFromTheSweepTables) {
+  const std::string out = directory_.file("report");
+  const auto result = testing::run_armfarm("report " + db_ + " --out " + out);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string sweep = read_file(fs::path(out) / "sweep_gains.html");
+  std::set<std::string> job_pages;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("job_", 0) == 0) job_pages.insert(name);
+  }
+  EXPECT_EQ(job_pages.size(), 6u);
+  // The default table's rows link each of their jobs; every link of every page resolves.
+  const std::size_t table = sweep.find("<table class=\"sortable\">");
+  ASSERT_NE(table, std::string::npos);
+  std::set<std::string> linked;
+  for (const std::string& link : find_page_links(sweep)) {
+    if (link.rfind("job_", 0) == 0) linked.insert(link);
+  }
+  EXPECT_EQ(linked, job_pages);
+  for (const std::string& page : job_pages) {
+    for (const std::string& link : find_page_links(read_file(fs::path(out) / page))) {
+      EXPECT_TRUE(fs::exists(fs::path(out) / link)) << page << " links " << link;
+    }
+  }
+  // A row of the gain table holds links to exactly its two seeds' jobs.
+  const std::size_t row = sweep.find("<tr><td>1</td><td>2</td>", table);
+  ASSERT_NE(row, std::string::npos) << sweep.substr(table, 3000);
+  const std::string row_text = sweep.substr(row, sweep.find("</tr>", row) - row);
+  std::size_t links_in_row = 0;
+  for (auto at = row_text.find("href=\"job_"); at != std::string::npos; at = row_text.find("href=\"job_", at + 1)) ++links_in_row;
+  EXPECT_EQ(links_in_row, 2u) << row_text;
+
+  // A job page: its configuration, its metrics with unit and the reason of a NULL, its path figure.
+  const ResultsStore store = ResultsStore::open(db_, ResultsStore::Mode::read_only);
+  std::string composite_key, diverged_key;
+  for (const JobRecord& job : store.find_jobs("gains")) {
+    if (job.params.at("control.gain_scale") == 1.0) composite_key = job.key;
+    if (job.status == "diverged") diverged_key = job.key;
+  }
+  const std::string page = read_file(fs::path(out) / (make_report_file_name("job_", composite_key) + ".html"));
+  EXPECT_NE(page.find("<h2 id=\"config\">Configuration</h2>"), std::string::npos);
+  EXPECT_NE(page.find("&quot;gain_scale&quot;: 1.0"), std::string::npos) << page;
+  EXPECT_NE(page.find("<td>no feed-forward</td>"), std::string::npos);  // the NULL's reason
+  EXPECT_NE(page.find(">NULL<"), std::string::npos);
+  EXPECT_NE(page.find("<h3 id=\"figure-1\">tracking</h3>\n<svg"), std::string::npos) << page;
+  EXPECT_NE(page.find("href=\"sweep_gains.html\""), std::string::npos);
+  const std::string diverged = read_file(fs::path(out) / (make_report_file_name("job_", diverged_key) + ".html"));
+  EXPECT_NE(diverged.find("diverged: joint 1 speed above its limit"), std::string::npos);
+}
+
+TEST_F(ReportTest, SweepPageDrawsTheMainMetricAgainstEachNumericSweptParameter) {
+  const std::string out = directory_.file("report");
+  ASSERT_EQ(testing::run_armfarm("report " + db_ + " --out " + out).exit_code, 0);
+  const std::string sweep = read_file(fs::path(out) / "sweep_gains.html");
+  for (const char* heading : {">tracking_nmse against control.gain_scale</h3>\n<svg", ">tracking_nmse against trajectory.sine.duration</h3>\n<svg"}) {
+    EXPECT_NE(sweep.find(heading), std::string::npos) << heading;
+  }
+  EXPECT_EQ(sweep.find("against seed"), std::string::npos);  // repeats are error bars, not an axis
+  // Axis labels: the readable metric name; a parameter with a unit in the key table carries it.
+  EXPECT_NE(sweep.find(">tracking nMSE<"), std::string::npos);
+  EXPECT_NE(sweep.find(">trajectory.sine.duration (s)<"), std::string::npos);
+  EXPECT_NE(sweep.find("marked on the top edge: 1 diverged"), std::string::npos);  // the diverged job is counted
+}
+
+TEST_F(ReportTest, AFiveThousandCharacterSweepNameGetsPagesAndTheIndex) {
+  // Issue 30: a 5 000-character name made `report` write 10 pages and no index.
+  const std::string long_name(5000, 'n');
+  std::vector<testing::TestJob> jobs(2);
+  jobs[0].params = {{"control.gain_scale", 0.5}};
+  jobs[0].metrics = {{0, "tracking_nmse", std::nullopt, 0.5, ""}};
+  jobs[1].params = {{"control.gain_scale", 2.0}};
+  jobs[1].metrics = {{0, "tracking_nmse", std::nullopt, 0.25, ""}};
+  testing::write_test_sweep(db_, long_name, jobs);
+  const std::string out = directory_.file("long");
+  const auto result = testing::run_armfarm("report " + db_ + " --out " + out);
+  ASSERT_EQ(result.exit_code, 0) << result.output.substr(0, 500);
+  const std::string index = read_file(fs::path(out) / "index.html");
+  const std::string file = make_report_file_name("sweep_", long_name) + ".html";
+  EXPECT_NE(index.find("href=\"" + file + "\""), std::string::npos);
+  EXPECT_TRUE(fs::exists(fs::path(out) / file));
+  EXPECT_NE(read_file(fs::path(out) / file).find(long_name), std::string::npos);  // the name itself is shown whole
+  std::size_t pages = 0;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    EXPECT_LE(entry.path().filename().string().size(), 100u) << entry.path();
+    ++pages;
+  }
+  EXPECT_EQ(pages, 1u + 2u + 6u + 2u);  // index, two sweep pages, a page per job (keys of 5 000 characters too)
+}
+
+TEST(ReportAgainst, SweepPageShowsTheThesisValueBesideArmfarms) {
+  testing::TemporaryDirectory dir;
+  const std::string db = dir.file("results.db");
+  std::vector<testing::TestJob> jobs(1);
+  jobs[0].params = {{"control.mode", "composite"}, {"control.feed_forward", "learner"}, {"active_joints", {1, 2, 3, 4, 5, 6}}};
+  jobs[0].metrics = {{0, "ff_fb_ratio_avg", 1, 0.456195, ""}, {0, "fb_abs_avg", 6, 0.001557, ""}};
+  testing::write_test_sweep(db, "table6_4_sine", jobs);
+  const std::string thesis = std::string(ARMFARM_SOURCE_DIR) + "/sweeps/thesis/thesis_results.json";
+  const std::string out = dir.file("report");
+  const auto result = testing::run_armfarm("report " + db + " --out " + out + " --against " + thesis);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string page = read_file(fs::path(out) / "sweep_table6_4_sine.html");
+  EXPECT_NE(page.find("<h2 id=\"thesis\">Thesis</h2>"), std::string::npos);
+  EXPECT_NE(page.find("<a href=\"#thesis\">Thesis</a>"), std::string::npos);
+  EXPECT_NE(page.find("<th>thesis</th><th>armfarm</th><th>armfarm/thesis</th>"), std::string::npos);
+  // The same cell `table --against` prints: thesis 0.912390, armfarm 0.4562, ratio 0.5, one seed.
+  const std::size_t row = page.find("<td>Joint 1</td><td>avg(ff/fb)</td>");
+  ASSERT_NE(row, std::string::npos) << page;
+  const std::string cells = page.substr(row, page.find("</tr>", row) - row);
+  std::size_t at = 0;
+  for (const char* cell : {">0.912390</td>", ">0.4562</td>", ">0.5</td>", ">1</td>", "<td>one seed</td>"}) {
+    at = cells.find(cell, at);
+    EXPECT_NE(at, std::string::npos) << cell << " in " << cells;
+  }
+  EXPECT_NE(page.find("<td>one seed</td>"), std::string::npos);
+  // Without --against the section is absent.
+  ASSERT_EQ(testing::run_armfarm("report " + db + " --out " + dir.file("plain")).exit_code, 0);
+  EXPECT_EQ(read_file(fs::path(dir.file("plain")) / "sweep_table6_4_sine.html").find("id=\"thesis\""), std::string::npos);
+  // A file that does not parse: one line, exit 2, no page.
+  const std::string bad = dir.file("bad.json");
+  std::ofstream(bad) << "{";
+  const auto failure = testing::run_armfarm("report " + db + " --out " + dir.file("bad") + " --against " + bad);
+  EXPECT_EQ(failure.exit_code, 2);
+  EXPECT_FALSE(fs::exists(fs::path(dir.file("bad")) / "index.html"));
+}
+
+}  // namespace
+}  // namespace armfarm
