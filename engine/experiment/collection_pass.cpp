@@ -2,6 +2,7 @@
 
 #include "engine/experiment/job_steps.hpp"
 
+#include <cmath>
 #include <string>
 
 namespace armfarm {
@@ -19,11 +20,13 @@ PassResult collect_samples(JobSetup& setup, ArmSimulation& plant, const Collecti
   options.controller = &collector;
   options.samples = &samples;
   options.noise = &noise;
-  options.noise_q = learning.collect_noise_q;
   options.noise_qd = learning.collect_noise_qd;
   options.should_stop = should_stop;
+  // Two independent normal noises on the angles add as one of the root-sum-square std.
+  const double repeat_noise_q = std::hypot(learning.collect_noise_q, learning.collect_repeat_noise_q);
   PassResult total;
   for (int repeat = 0; repeat < plan.repeats; ++repeat) {
+    options.noise_q = repeat > 0 ? repeat_noise_q : learning.collect_noise_q;
     options.start_offset = Eigen::VectorXd::Zero(setup.dof());
     if (repeat > 0 && learning.collect_start_spread > 0.0) {
       for (int j = 0; j < setup.dof(); ++j) options.start_offset[j] = start_draws.normal(0.0, learning.collect_start_spread);

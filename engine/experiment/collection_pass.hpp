@@ -1,9 +1,10 @@
 #pragma once
 // Collection: passes of the plant over a trajectory under PD feedback alone, recording every
 // tick's (x, y) sample for batch training or held-out testing. Repeats of a collection are
-// different realisations of the run — each repeat after the first starts off the trajectory by
-// a seeded perturbation (learning.collect_start_spread) and the sensors carry noise when
-// configured (learning.collect_noise_q/_qd) — never identical copies.
+// different realisations of the run, never identical copies: each repeat after the first
+// measures its angles with sensor noise (learning.collect_repeat_noise_q), starts off the
+// trajectory when configured (learning.collect_start_spread, default 0), and every pass's
+// sensors carry noise when configured (learning.collect_noise_q/_qd).
 #include "engine/experiment/control_pass.hpp"
 
 #include <cstdint>

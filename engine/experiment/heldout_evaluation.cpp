@@ -1,6 +1,7 @@
 #include "engine/experiment/heldout_evaluation.hpp"
 
 #include "engine/experiment/collection_pass.hpp"
+#include "engine/experiment/job_report.hpp"
 #include "engine/experiment/signal_statistics.hpp"
 
 #include <cmath>
@@ -122,6 +123,7 @@ PassResult HeldoutEvaluation::evaluate(const Learner& learner, int checkpoint, s
   MetricWriter prefixed(metrics, setup_.joint_numbers(), names::heldout_prefix, checkpoint);
   plain.add(names::heldout_learner_updates, static_cast<double>(learner.n_updates()));
   plain.add(names::heldout_n_receptive_fields, static_cast<double>(learner.size()));
+  plain.add(names::heldout_n_receptive_fields_per_output, calc_fields_per_output(learner));
 
   // (1) Prediction on the held-out samples.
   if (!samples_.empty()) {

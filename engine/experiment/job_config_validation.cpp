@@ -396,6 +396,8 @@ void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
         checker.add(where, (recorded.file.empty() ? std::string("the samples") : recorded.file) + " needs at least 2 rows");
       } else if (!recorded.samples.allFinite()) {
         checker.add(where, recorded.file + " holds a NaN or Inf value");
+      } else if (const std::string problem = check_recorded_length(recorded, config.simulation.dt); !problem.empty()) {
+        checker.add(where, problem);
       }
     }
   }
@@ -510,11 +512,7 @@ double calc_ticks_per_pass(const JobConfig& config) {
     case TrajectoryKind::sine: return std::max(2.0, std::round(t.sine.duration / dt));
     case TrajectoryKind::figure_eight: return static_cast<double>(t.figure_eight.points_per_loop) * t.figure_eight.loops;
     case TrajectoryKind::reaching: return static_cast<double>(t.reaching.points_per_reach) * t.reaching.reaches;
-    case TrajectoryKind::recorded: {
-      if (t.recorded.samples.rows() < 2) return 0.0;
-      const double duration = static_cast<double>(t.recorded.samples.rows() - 1) / t.recorded.sample_rate;
-      return (std::floor(duration / dt + 1e-9) + 1.0) * t.recorded.loops;
-    }
+    case TrajectoryKind::recorded: return static_cast<double>(calc_recorded_ticks(t.recorded, dt)) * t.recorded.loops;
   }
   return 0.0;
 }

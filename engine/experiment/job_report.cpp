@@ -30,8 +30,13 @@ void write_batch_training_report(MetricWriter& writer, const BatchTrainingResult
   if (training.training_samples > 0) writer.add(names::n_training_samples, static_cast<double>(training.training_samples));
 }
 
+double calc_fields_per_output(const Learner& learner) {
+  return static_cast<double>(learner.size()) / std::max(1, learner.output_dim());
+}
+
 void write_learner_report(MetricWriter& writer, const Learner& learner, const LearnerClock& clock) {
   writer.add(names::n_receptive_fields, static_cast<double>(learner.size()));
+  writer.add(names::n_receptive_fields_per_output, calc_fields_per_output(learner));
   // The one-off fit runs inside one update(): reported apart, not spread over the updates.
   const double fit_seconds = learner.fit_seconds();
   writer.add(names::learner_us_per_update,

@@ -23,6 +23,10 @@ void write_batch_training_report(MetricWriter& writer, const BatchTrainingResult
 /// learner_memory_bytes, learner_fit_seconds.
 void write_learner_report(MetricWriter& writer, const Learner& learner, const LearnerClock& clock);
 
+/// The learner's size over its outputs (n_receptive_fields_per_output): for LWPR the receptive
+/// fields of one output's model, the count the thesis prints (sweeps/thesis/README.md, "Fields").
+double calc_fields_per_output(const Learner& learner);
+
 /// tick_us_total and the tick_us_* stage times per tick (nothing when no tick was timed).
 void write_tick_report(MetricWriter& writer, const TickClock& clock);
 

@@ -87,7 +87,7 @@ std::vector<MetricInfo> make_job_entries() {
       {n::same_run_test_nmse, "1",
        "batch learner on the collected samples withheld from training (a random shuffle of 10 ms samples of the same "
        "runs, not held-out data): torque MSE over var(torque); NULL where the torque's std < 0.1 % of 2 x effort limit. "
-       "Includes the start transients of the perturbed repeats (learning.collect_start_spread), where no field is "
+       "With learning.collect_start_spread > 0 it includes the perturbed repeats' start transients, where no field is "
        "trusted and the prediction is 0: they can dominate it and make it worse than heldout_test_nmse",
        D::lower, S::joint, K::result},
       {n::same_run_test_rmse, "N·m", "batch learner on the withheld samples of the same runs: root mean squared torque error",
@@ -105,6 +105,10 @@ std::vector<MetricInfo> make_job_entries() {
        D::lower, S::joint, K::result},
       {n::n_receptive_fields, "count", "learner size at the end: LWPR receptive fields summed over outputs, SSGPR frequencies D", D::none,
        S::job, K::result},
+      {n::n_receptive_fields_per_output, "count",
+       "n_receptive_fields over the learner's outputs (LWPR: the fields of one output, every output's count when update_D "
+       "is off, since the outputs then allocate at the same inputs; the count the thesis prints)",
+       D::none, S::job, K::result},
       {n::learner_us_per_update, "µs", "wall-clock time per learner update (without a one-off hyperparameter fit)", D::lower, S::job, K::timing},
       {n::learner_us_per_predict, "µs", "wall-clock time per learner prediction", D::lower, S::job, K::timing},
       {n::learner_memory_bytes, "B", "numbers the learnt model stores at the end, 8 bytes per double (no allocator overhead)",
@@ -163,6 +167,8 @@ std::vector<MetricInfo> make_heldout_entries(const std::vector<MetricInfo>& job_
        K::result},
       {n::heldout_n_receptive_fields, "count", "learner size at the checkpoint (LWPR receptive fields, SSGPR frequencies D)", D::none,
        S::checkpoint, K::result},
+      {n::heldout_n_receptive_fields_per_output, "count", "heldout_n_receptive_fields over the learner's outputs (as n_receptive_fields_per_output)",
+       D::none, S::checkpoint, K::result},
       {n::heldout_diverged, "1", "1 when the held-out control pass diverged (its figures cover the ticks run)", D::lower,
        S::checkpoint, K::result},
   };

@@ -79,6 +79,7 @@ inline const std::string id_nmse = "id_nmse";
 inline const std::string id_rmse = "id_rmse";
 inline const std::string ff_untrusted_fraction = "ff_untrusted_fraction";
 inline const std::string n_receptive_fields = "n_receptive_fields";
+inline const std::string n_receptive_fields_per_output = "n_receptive_fields_per_output";
 inline const std::string learner_us_per_update = "learner_us_per_update";
 inline const std::string learner_us_per_predict = "learner_us_per_predict";
 inline const std::string learner_memory_bytes = "learner_memory_bytes";
@@ -109,6 +110,7 @@ inline const std::string heldout_test_rmse = "heldout_test_rmse";
 inline const std::string heldout_n_test_samples = "heldout_n_test_samples";
 inline const std::string heldout_learner_updates = "heldout_learner_updates";
 inline const std::string heldout_n_receptive_fields = "heldout_n_receptive_fields";
+inline const std::string heldout_n_receptive_fields_per_output = "heldout_n_receptive_fields_per_output";
 inline const std::string heldout_diverged = "heldout_diverged";
 }  // namespace metric_names
 

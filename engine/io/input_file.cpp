@@ -128,4 +128,20 @@ std::string resolve_confined_path(const std::string& folder, const std::string& 
   return (std::filesystem::path(folder.empty() ? "." : folder) / normal).lexically_normal().string();
 }
 
+void check_real_path_inside(const std::string& folder, const std::string& path, const std::string& written) {
+  std::error_code error;
+  const std::filesystem::path real = std::filesystem::canonical(path, error);
+  if (error) return;  // missing or unreadable: read_input_file says which
+  const std::filesystem::path real_folder = std::filesystem::canonical(folder.empty() ? "." : folder, error);
+  if (error) return;
+  // Inside: real_folder is a prefix of real, element by element (so /m2/x is not inside /m).
+  auto file_part = real.begin();
+  for (auto folder_part = real_folder.begin(); folder_part != real_folder.end(); ++folder_part, ++file_part) {
+    if (file_part == real.end() || *file_part != *folder_part) {
+      throw InputFileError("'" + written + "' is a symbolic link (or passes through one) to a file outside the model file's "
+                           "folder; files a model names must lie inside it");
+    }
+  }
+}
+
 }  // namespace armfarm

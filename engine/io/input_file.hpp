@@ -66,4 +66,10 @@ std::string read_input_file_as(const std::string& path, InputFileKind kind, cons
 /// "'WRITTEN' is an absolute path ..." without the folder (the caller names the file and line).
 std::string resolve_confined_path(const std::string& folder, const std::string& written);
 
+/// Throws InputFileError when `path` (as resolve_confined_path gave it, and existing) is, after
+/// following every symbolic link, not inside the real folder of `folder`: a link in a model's
+/// folder that points elsewhere (at /etc/shadow) is refused before the file is opened. `written`
+/// is the name as the model wrote it, for the message. A missing file is left to the reader.
+void check_real_path_inside(const std::string& folder, const std::string& path, const std::string& written);
+
 }  // namespace armfarm

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <system_error>
 
 namespace armfarm {
@@ -63,6 +64,19 @@ std::string describe_token(std::string_view token) {
   if (quotable) return ": '" + std::string(token) + "'";
   if (token.empty()) return " (empty)";
   return " (a " + std::to_string(token.size()) + "-byte token, not shown)";
+}
+
+std::string describe_bad_number(std::string_view token) {
+  if (is_decimal_number(token)) {
+    // The grammar holds, so the value is out of range: strtod tells which way (0 or a tiny
+    // value on underflow, HUGE_VAL on overflow).
+    const std::string text(token);
+    const double value = std::strtod(text.c_str(), nullptr);
+    const std::string quoted = token.size() <= 24 ? "'" + text + "'" : "a " + std::to_string(token.size()) + "-digit number";
+    if (std::abs(value) < 1.0) return quoted + " underflows to zero (below 4.9e-324, the smallest double, in magnitude)";
+    return quoted + " overflows a double (above 1.8e308 in magnitude)";
+  }
+  return "not a finite number" + describe_token(token);
 }
 
 std::size_t find_control_character(std::string_view text) {

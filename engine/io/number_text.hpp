@@ -23,6 +23,11 @@ std::optional<int> parse_integer(std::string_view token);
 /// not what it should be, such as a password file named as a CSV.
 std::string describe_token(std::string_view token);
 
+/// Why `token` is not a number parse_finite_number accepts, for "file:line: column 'q1': WHY":
+/// "'1e-400' underflows to zero (below 4.9e-324, the smallest double, in magnitude)", "'1e999'
+/// overflows a double", else "not a finite number" + describe_token(token).
+std::string describe_bad_number(std::string_view token);
+
 /// The first control character of `text` (bytes 0x00–0x1f and 0x7f, tab excepted) as its
 /// position, or npos.
 std::size_t find_control_character(std::string_view text);

@@ -61,12 +61,18 @@ struct LearningConfig {
   /// SSGPR's block (used when learner is ssgpr; engine/learning/ssgpr_learning_config.hpp).
   SsgprLearningConfig ssgpr;
 
+  /// Batch: every collection repeat after the first measures its joint angles with sensor noise
+  /// of this standard deviation (rad, on top of collect_noise_q; stream "collection.sensor_noise"),
+  /// so a repeat is a different realisation of the run all along, never a copy, and starts on the
+  /// trajectory (no start transient for a same-run split to score; sweeps/thesis/README.md,
+  /// "Collection"). The collecting controller and the collected samples see the measured angles.
+  double collect_repeat_noise_q = 1e-3;
   /// Batch: every collection repeat after the first starts off the trajectory by a seeded
-  /// normal draw of this standard deviation per joint angle (rad; stream "collection.start_state"),
-  /// so a repeat is a different realisation of the run, never a copy. 0 = exact copies.
-  double collect_start_spread = 0.05;
+  /// normal draw of this standard deviation per joint angle (rad; stream "collection.start_state").
+  /// 0 (default): on the trajectory. A spread puts start transients into both sets.
+  double collect_start_spread = 0.0;
   /// Standard deviation of the sensor noise on the measured q (rad) and q̇ (rad/s) that the
-  /// collecting controller and the collected samples see (batch and held-out collections).
+  /// collecting controller and the collected samples see (every pass of the batch and held-out collections).
   double collect_noise_q = 0.0;
   double collect_noise_qd = 0.0;
 

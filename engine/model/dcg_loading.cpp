@@ -284,7 +284,15 @@ class DcgBuilder {
     world.fixed_to_world = true;
     model_.links.push_back(world);
     lines_.links["world"] = 1;
+    link_index_["world"] = 0;
 
+    for (const char kind : {'B', 'J'}) {
+      const auto count = std::count_if(entries.begin(), entries.end(), [&](const Entry& e) { return e.kind == kind; });
+      if (count > kMaxModelLinks) {
+        throw ModelError(path_ + ": " + std::to_string(count) + (kind == 'B' ? " bodies" : " joints") + ", over the cap of " +
+                         std::to_string(kMaxModelLinks) + " per arm model");
+      }
+    }
     for (const Entry& e : entries) {
       if (e.kind == 'B') add_body(e);
     }
@@ -326,7 +334,9 @@ class DcgBuilder {
     check_tags(e, body_tags());
     const std::string what = "body '" + e.name + "'";
     if (e.name == "world") fail(e.line, "the body name 'world' is reserved for the synthetic root");
-    if (model_.find_link(e.name) >= 0) fail(e.line, "duplicate body name '" + e.name + "'");
+    if (!link_index_.emplace(e.name, static_cast<int>(model_.links.size())).second) {
+      fail(e.line, "duplicate body name '" + e.name + "'");
+    }
     Link link;
     link.name = e.name;
     link.fixed_to_world = find(e, "fix") != nullptr;
@@ -375,12 +385,11 @@ class DcgBuilder {
       shape.kind = LinkShape::Kind::mesh;
       try {
         shape.mesh_file = resolve_confined_path(directory_, file->text);
+        check_real_path_inside(directory_, shape.mesh_file, file->text);
       } catch (const InputFileError& error) {
         fail(file->line, what + ": f[...]: " + error.what());
       }
-      if (std::find(model_.input_files.begin(), model_.input_files.end(), shape.mesh_file) == model_.input_files.end()) {
-        model_.input_files.push_back(shape.mesh_file);
-      }
+      if (mesh_files_.insert(shape.mesh_file).second) model_.input_files.push_back(shape.mesh_file);
       try {
         const MeshMassProperties mesh = calc_mesh_mass_properties(load_obj_mesh(shape.mesh_file));
         unit = calc_mesh_inertial_for_mass(mesh, mesh.volume);
@@ -439,8 +448,8 @@ class DcgBuilder {
     }
     Joint joint;
     joint.name = e.name;
-    joint.parent_link = model_.find_link(splits[0].first);
-    joint.child_link = model_.find_link(splits[0].second);
+    joint.parent_link = link_index_.at(splits[0].first);
+    joint.child_link = link_index_.at(splits[0].second);
     joint.origin = e.before;
     joint.child_offset = e.after;
     joint.axis = Eigen::Vector3d::UnitX();
@@ -549,6 +558,8 @@ class DcgBuilder {
   ArmModel model_;
   ModelSourceLines lines_;
   std::map<std::string, Entry> body_entries_;
+  std::map<std::string, int> link_index_;     // body name -> index into model_.links (world is 0)
+  std::set<std::string> mesh_files_;          // the meshes already in model_.input_files
   std::vector<Joint> joints_;                 // file order
   std::map<int, int> parent_joint_;           // child link -> index into joints_
   int ee_line_ = 0;

@@ -1,5 +1,6 @@
 #include "engine/model/end_effector.hpp"
 
+#include "engine/io/message_text.hpp"
 #include "engine/model/model_loading.hpp"
 
 #include <algorithm>
@@ -12,13 +13,11 @@
 namespace armfarm {
 namespace {
 
-// "'a', 'b', 'c'"; past kListedLeaves names, "… and N more" (a message stays one short line).
+// "'a', 'b', 'c'"; past kListedItems names, "… and N more" (a message stays one short line).
 std::string quoted_names(const ArmModel& model, const std::vector<int>& links) {
-  std::string text;
-  const std::size_t shown = std::min(links.size(), kListedLeaves);
-  for (std::size_t i = 0; i < shown; ++i) text += (text.empty() ? "'" : ", '") + model.links[links[i]].name + "'";
-  if (links.size() > shown) text += " … and " + std::to_string(links.size() - shown) + " more";
-  return text;
+  std::vector<std::string> names;
+  for (const int link : links) names.push_back("'" + model.links[link].name + "'");
+  return join_shortened(names);
 }
 
 }  // namespace

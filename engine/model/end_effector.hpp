@@ -29,9 +29,6 @@ std::string check_end_effector_config(const EndEffectorConfig& choice);
 /// text when it is malformed.
 EndEffectorConfig parse_end_effector_text(const std::string& text);
 
-/// Messages list at most this many leaf links, then "… and N more".
-inline constexpr std::size_t kListedLeaves = 10;
-
 /// Indices of the links no joint hangs from, other than the root, links fixed to the world and
 /// frames welded to the base (no movable joint between them and the root: a vendor's 'base'
 /// frame never moves): the tips of the tree, in link order.

@@ -17,6 +17,11 @@ class ModelError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The most links (URDF <link>s, DCG bodies B) and the most joints an arm model file may hold. A
+/// file over it is refused before its tree is built ("FILE: 10001 links, over the cap of 1000"):
+/// the arms armfarm studies have tens of links, and the physics of a job grows with their square.
+inline constexpr int kMaxModelLinks = 1000;
+
 /// Loads and validates an arm model and chooses its end effector (choose_end_effector:
 /// `end_effector` when it names a link, else the file's, else the single leaf). Throws ModelError.
 ArmModel load_arm_model(const std::string& path, const EndEffectorConfig& end_effector = {});

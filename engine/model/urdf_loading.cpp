@@ -5,12 +5,14 @@
 // transmissions and armfarm extensions. Extension elements (namespaced ones such as drake:*,
 // <gazebo>, <ros2_control>, <frame>, …) are skipped.
 #include "base/did_you_mean.hpp"
+#include "engine/io/message_text.hpp"
 #include "engine/model/model_file.hpp"
 #include "engine/model/model_loaders.hpp"
 #include "engine/model/model_loading.hpp"
 #include "engine/model/model_validation.hpp"
 #include "engine/model/start_posture.hpp"
 
+#include <console_bridge/console.h>
 #include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 
@@ -23,6 +25,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <unordered_map>
 
 namespace armfarm {
 namespace {
@@ -71,6 +74,7 @@ class UrdfScanner {
   UrdfExtras scan(const tinyxml2::XMLDocument& document) {
     const tinyxml2::XMLElement* robot = document.FirstChildElement("robot");
     if (robot == nullptr) fail(1, "the root element must be <robot>");
+    check_size(robot);
     check_element_names(robot);
     for (const auto* e = robot->FirstChildElement("link"); e != nullptr; e = e->NextSiblingElement("link")) {
       const std::string name = required_attribute(e, "name");
@@ -144,6 +148,18 @@ class UrdfScanner {
     throw ModelError(path_ + ":" + std::to_string(line) + ": " + what);
   }
   [[noreturn]] void fail(const tinyxml2::XMLElement* e, const std::string& what) const { fail(e->GetLineNum(), what); }
+
+  // At most kMaxModelLinks links and as many joints, counted before anything is built from them.
+  void check_size(const tinyxml2::XMLElement* robot) const {
+    for (const char* kind : {"link", "joint"}) {
+      int count = 0;
+      for (const auto* e = robot->FirstChildElement(kind); e != nullptr; e = e->NextSiblingElement(kind)) ++count;
+      if (count > kMaxModelLinks) {
+        throw ModelError(path_ + ": " + std::to_string(count) + " " + kind + "s, over the cap of " +
+                         std::to_string(kMaxModelLinks) + " per arm model");
+      }
+    }
+  }
 
   // Core elements may hold only core elements (or extensions); see core_children().
   void check_element_names(const tinyxml2::XMLElement* robot) {
@@ -282,13 +298,26 @@ class UrdfScanner {
     for (const std::string& link : extras_.link_order) {
       if (parent_of_.count(link) == 0) roots.push_back(link);
     }
-    for (const std::string& link : extras_.link_order) {
-      std::set<std::string> seen{link};
-      for (auto it = parent_of_.find(link); it != parent_of_.end(); it = parent_of_.find(it->second.link)) {
-        if (!seen.insert(it->second.link).second) {
+    // Cycles, in time linear in the links: walk up from each link until a link already known to
+    // reach a root (or to be a root); meeting a link of the current walk again closes a loop.
+    enum class State { unknown, on_walk, reaches_root };
+    std::map<std::string, State> state;
+    for (const std::string& link : extras_.link_order) state[link] = State::unknown;
+    std::vector<const std::string*> walk;
+    for (const std::string& start : extras_.link_order) {
+      walk.clear();
+      const std::string* link = &start;
+      while (state[*link] == State::unknown) {
+        state[*link] = State::on_walk;
+        walk.push_back(link);
+        const auto it = parent_of_.find(*link);
+        if (it == parent_of_.end()) break;  // a root
+        if (state[it->second.link] == State::on_walk) {
           fail(it->second.line, "cycle: joint '" + it->second.joint + "' closes a loop through link '" + it->second.link + "'");
         }
+        link = &it->second.link;
       }
+      for (const std::string* done : walk) state[*done] = State::reaches_root;
     }
     if (roots.empty()) fail(robot, "no links");
     if (roots.size() > 1) {
@@ -306,6 +335,39 @@ class UrdfScanner {
   UrdfExtras extras_;
   std::map<std::string, ParentRef> parent_of_;  // child link -> its parent joint
 };
+
+// urdfdom reports through console_bridge, whose output handler is one per process and prints
+// to the terminal by default. A job's model is loaded on worker threads, several at once, so the
+// handler installed here keeps nothing itself: it hands each message to the sink of the thread
+// that is parsing (parse_urdf_quietly), and drops messages of threads that have none.
+thread_local std::vector<std::string>* urdfdom_sink = nullptr;
+
+class UrdfdomMessageRouter : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (urdfdom_sink == nullptr || level < console_bridge::CONSOLE_BRIDGE_LOG_ERROR) return;
+    std::string line = text;  // one line, printable: urdfdom's texts quote the file's names
+    for (char& c : line) {
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+    }
+    urdfdom_sink->push_back(line);
+  }
+};
+
+// urdf::parseURDF with urdfdom's error messages collected in `errors` instead of printed.
+urdf::ModelInterfaceSharedPtr parse_urdf_quietly(const std::string& xml, std::vector<std::string>& errors) {
+  static UrdfdomMessageRouter router;  // stateless; installed once, for the whole process
+  static const bool installed = [] {
+    console_bridge::useOutputHandler(&router);
+    return true;
+  }();
+  (void)installed;
+  urdfdom_sink = &errors;
+  struct Reset {
+    ~Reset() { urdfdom_sink = nullptr; }
+  } reset;
+  return urdf::parseURDF(xml);
+}
 
 Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   double x = 0.0, y = 0.0, z = 0.0, w = 1.0;
@@ -327,10 +389,11 @@ ArmModel load_urdf_model(const std::string& path) {
   }
   const UrdfExtras extras = UrdfScanner(path).scan(document);
 
-  const urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDF(xml);
+  std::vector<std::string> urdfdom_errors;
+  const urdf::ModelInterfaceSharedPtr urdf = parse_urdf_quietly(xml, urdfdom_errors);
   if (!urdf) {
-    throw ModelError(path + ": not a valid URDF: urdfdom rejected it (a cycle, a link with several parents, several "
-                            "root links, or a missing required element; urdfdom printed its reason above)");
+    throw ModelError(path + ": not a valid URDF: urdfdom rejected it" +
+                     (urdfdom_errors.empty() ? std::string(" (it gave no reason)") : ": " + join_shortened(urdfdom_errors, "; ", 3)));
   }
 
   ArmModel model;
@@ -338,7 +401,9 @@ ArmModel load_urdf_model(const std::string& path) {
   model.source_file = path;
   model.input_files = {path};  // URDF geometry (meshes) is not read
   model.warnings = extras.warnings;
+  std::unordered_map<std::string, int> link_index;  // name -> index: find_link per joint would make loading quadratic
   for (const std::string& name : extras.link_order) {
+    link_index.emplace(name, static_cast<int>(model.links.size()));
     const urdf::LinkConstSharedPtr source = urdf->getLink(name);
     Link link;
     link.name = name;
@@ -353,7 +418,7 @@ ArmModel load_urdf_model(const std::string& path) {
     }
     model.links.push_back(link);
   }
-  model.root_link = model.find_link(urdf->getRoot()->name);
+  model.root_link = link_index.at(urdf->getRoot()->name);
   // Only the root is fixed to the world: a mounted base welded to it by a fixed joint still
   // counts in total_mass(), as in a data sheet's robot mass.
   model.links[model.root_link].fixed_to_world = true;
@@ -365,7 +430,7 @@ ArmModel load_urdf_model(const std::string& path) {
        e = e->NextSiblingElement("joint")) {
     const urdf::JointConstSharedPtr source = urdf->getJoint(e->Attribute("name"));
     joint_names.push_back(source->name);
-    edges.push_back({model.find_link(source->parent_link_name), model.find_link(source->child_link_name)});
+    edges.push_back({link_index.at(source->parent_link_name), link_index.at(source->child_link_name)});
   }
   for (const int index : calc_tree_order(edges, {model.root_link})) {
     const std::string& name = joint_names[index];
@@ -413,7 +478,7 @@ ArmModel load_urdf_model(const std::string& path) {
 
   // The file's end effector, if it names one; otherwise choose_end_effector decides.
   if (!extras.end_effector_link.empty()) {
-    model.end_effector.link = model.find_link(extras.end_effector_link);
+    model.end_effector.link = link_index.at(extras.end_effector_link);
     model.end_effector.offset = extras.end_effector_offset;
   }
 

@@ -1,5 +1,6 @@
 #include "engine/kinematics/serial_chain.hpp"
 #include "engine/physics/arm_simulation.hpp"
+#include "engine/random/random_stream.hpp"
 #include "engine/trajectory/savitzky_golay.hpp"
 #include "engine/trajectory/task_space_path.hpp"
 #include "engine/trajectory/trajectory.hpp"
@@ -81,8 +82,7 @@ JointTrajectory build_recorded(const TrajectoryConfig& config, ArmDynamics& dyna
   if (!(recorded.sample_rate > 0.0)) throw std::invalid_argument("trajectory.recorded.sample_rate: must be positive");
   if (recorded.loops < 1) throw std::invalid_argument("trajectory.recorded.loops: must be at least 1");
   // Resample to the control rate by linear interpolation.
-  const double duration = (recorded.samples.rows() - 1) / recorded.sample_rate;
-  const int samples = static_cast<int>(std::floor(duration / dt + 1e-9)) + 1;
+  const int samples = calc_recorded_ticks(recorded, dt);
   Eigen::MatrixXd resampled(samples, columns);
   for (int k = 0; k < samples; ++k) {
     const double position = k * dt * recorded.sample_rate;
@@ -95,7 +95,7 @@ JointTrajectory build_recorded(const TrajectoryConfig& config, ArmDynamics& dyna
     if (recorded.polynomial_order < 2 || recorded.polynomial_order >= recorded.window) {
       throw std::invalid_argument("trajectory.recorded.polynomial_order: must be at least 2 and below the window");
     }
-    if (samples < recorded.window) throw std::invalid_argument(where + ": shorter than the smoothing window");
+    if (const std::string problem = check_recorded_length(recorded, dt); !problem.empty()) throw std::invalid_argument(problem);
     resampled = calc_savitzky_golay(resampled, recorded.window, recorded.polynomial_order, 0, dt);
   } else if (recorded.filter == RecordedFilter::low_pass) {
     if (!(recorded.cutoff > 0.0)) throw std::invalid_argument("trajectory.recorded.cutoff: must be positive");
@@ -142,8 +142,9 @@ SineTrajectoryConfig resolve_sine_defaults(const SineTrajectoryConfig& sine, int
   return resolved;
 }
 
-JointTrajectory build_trajectory(const TrajectoryConfig& config, ArmDynamics& dynamics, double dt, std::uint64_t seed) {
-  if (!(dt > 0.0)) throw std::invalid_argument("dt: must be positive");
+namespace {
+
+JointTrajectory build_exact_trajectory(const TrajectoryConfig& config, ArmDynamics& dynamics, double dt, std::uint64_t seed) {
   switch (config.kind) {
     case TrajectoryKind::sine: return build_sine(config, dynamics, dt);
     case TrajectoryKind::figure_eight: return build_figure_eight(config.figure_eight, config.differentiation, dynamics, dt);
@@ -151,6 +152,29 @@ JointTrajectory build_trajectory(const TrajectoryConfig& config, ArmDynamics& dy
     case TrajectoryKind::recorded: return build_recorded(config, dynamics, dt);
   }
   throw std::invalid_argument("trajectory.kind: unknown kind");
+}
+
+bool is_solved_by_ik(const TrajectoryConfig& config) {
+  return config.kind == TrajectoryKind::figure_eight || config.kind == TrajectoryKind::reaching ||
+         (config.kind == TrajectoryKind::recorded && config.recorded.task_space);
+}
+
+}  // namespace
+
+JointTrajectory build_trajectory(const TrajectoryConfig& config, ArmDynamics& dynamics, double dt, std::uint64_t seed) {
+  if (!(dt > 0.0)) throw std::invalid_argument("dt: must be positive");
+  JointTrajectory trajectory = build_exact_trajectory(config, dynamics, dt, seed);
+  if (config.ik_noise > 0.0 && is_solved_by_ik(config)) {
+    RandomStream noise(seed, "trajectory.ik_noise");
+    for (Eigen::Index k = 0; k < trajectory.q.rows(); ++k) {
+      for (Eigen::Index j = 0; j < trajectory.q.cols(); ++j) trajectory.q(k, j) += noise.normal(0.0, config.ik_noise);
+    }
+    // Savitzky–Golay (smoothed): a recording's own window, else the sine's 15 ticks, order 3.
+    const bool recorded = config.kind == TrajectoryKind::recorded;
+    fill_derivatives(trajectory, config.differentiation, false, recorded ? config.recorded.window : 15,
+                     recorded ? config.recorded.polynomial_order : 3);
+  }
+  return trajectory;
 }
 
 }  // namespace armfarm

@@ -1,6 +1,7 @@
 #include "engine/trajectory/trajectory_config.hpp"
 
 #include <cmath>
+#include <sstream>
 
 namespace armfarm {
 namespace {
@@ -147,8 +148,29 @@ const std::vector<ConfigKey<TrajectoryConfig>>& trajectory_config_keys() {
        "desired q̇, q̈: analytic (closed form for sine; central differences of the IK path otherwise), smoothed (Savitzky–Golay) "
        "or backward_difference (the thesis's)",
        [](C& c) { return make_choice_field(c.differentiation, differentiation_names()); }},
+      {"ik_noise", "rad", closed(0.0, 0.1), ListSize::any,
+       "task-space kinds: std of seeded white noise on every IK joint angle (the thesis's IK zig-zag); q̇, q̈ differentiated from the noisy angles",
+       [](C& c) { return make_field(c.ik_noise); }},
   };
   return keys;
+}
+
+int calc_recorded_ticks(const RecordedTrajectoryConfig& recorded, double dt) {
+  if (recorded.samples.rows() < 2 || !(recorded.sample_rate > 0.0) || !(dt > 0.0)) return 0;
+  const double duration = static_cast<double>(recorded.samples.rows() - 1) / recorded.sample_rate;
+  return static_cast<int>(std::floor(duration / dt + 1e-9)) + 1;
+}
+
+std::string check_recorded_length(const RecordedTrajectoryConfig& recorded, double dt) {
+  if (recorded.filter != RecordedFilter::savitzky_golay) return "";
+  const int ticks = calc_recorded_ticks(recorded, dt);
+  if (ticks == 0 || ticks >= recorded.window) return "";  // too few rows or bad rates: reported on their own
+  std::ostringstream text;
+  text << (recorded.file.empty() ? std::string("the samples") : recorded.file) << " is too short for its filter: "
+       << recorded.samples.rows() << " rows at " << recorded.sample_rate << " Hz are " << ticks << " control ticks of " << dt
+       << " s, fewer than the Savitzky–Golay window of " << recorded.window
+       << " (trajectory.recorded.window; record more rows, narrow the window, or set trajectory.recorded.filter to none)";
+  return text.str();
 }
 
 }  // namespace armfarm

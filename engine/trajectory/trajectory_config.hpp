@@ -112,9 +112,23 @@ struct RecordedTrajectoryConfig {
 };
 const std::vector<ConfigKey<RecordedTrajectoryConfig>>& recorded_trajectory_config_keys();
 
+/// Control ticks one replay of `recorded` lasts once resampled to the control period `dt` (s):
+/// floor((rows − 1) / sample_rate / dt) + 1; 0 with fewer than 2 rows or a non-positive rate or dt.
+int calc_recorded_ticks(const RecordedTrajectoryConfig& recorded, double dt);
+
+/// "" when the resampled recording is long enough for its filter (a Savitzky–Golay window needs
+/// at least `window` ticks), else the problem, naming the file, its rows and the window. One
+/// check for validation (before any job runs) and for building the trajectory.
+std::string check_recorded_length(const RecordedTrajectoryConfig& recorded, double dt);
+
 struct TrajectoryConfig {
   TrajectoryKind kind = TrajectoryKind::sine;
   Differentiation differentiation = Differentiation::analytic;
+  /// Task-space kinds (figure_eight, reaching, recorded with task_space): std (rad) of seeded
+  /// white noise (stream "trajectory.ik_noise") added to every desired joint angle the IK
+  /// solved, a model of the thesis's IK "zig-zag" (section 6.2.1); q̇ and q̈ then come from
+  /// differentiation (analytic: central differences) of the noisy angles. 0 = the exact IK path.
+  double ik_noise = 0.0;
   SineTrajectoryConfig sine;
   FigureEightConfig figure_eight;
   ReachingConfig reaching;

@@ -1,4 +1,5 @@
 // armfarm: a batch experiment farm for learning the motor control of simulated robot arms.
+#include "engine/io/message_text.hpp"
 #include "runner/build_info.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -8,6 +9,11 @@
 int main(int argc, char** argv) {
   CLI::App app{"armfarm: parameter sweeps of learned motor control on simulated robot arms"};
   app.require_subcommand(1);
+  // A command-line error is one line, like every other error (CLI11's default adds a second,
+  // "Run with --help for more information."). Set before the subcommands are made: they copy it.
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return "armfarm: " + armfarm::cap_message_line(e.what()) + " (--help lists the options)\n";
+  });
   app.fallthrough(false);
   app.set_version_flag("--version", std::string("armfarm ") + armfarm::build_info::version + " (" +
                                         armfarm::build_info::git_commit + (armfarm::build_info::git_dirty ? ", dirty" : "") + ")",
@@ -34,7 +40,8 @@ int main(int argc, char** argv) {
       if (sub->parsed()) return run();
     }
   } catch (const std::exception& e) {
-    std::cerr << "armfarm: " << e.what() << "\n";
+    // Each line capped (engine/io/message_text.hpp): a message that quotes a huge input stays short.
+    std::cerr << "armfarm: " << armfarm::cap_message_line(e.what()) << "\n";
     return 2;
   }
   return 2;

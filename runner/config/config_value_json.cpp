@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <climits>
 #include <cmath>
 
 namespace armfarm {
@@ -99,6 +100,11 @@ std::string read_field_json(const json& value, const FieldRef& field, std::strin
       return "";
     case ValueKind::integer:
       if (!is_integral(value)) return "expected an integer, got " + show(value);
+      // Above 2^63 − 1 the value would wrap to a negative one (a seed of 2^63 was echoed as
+      // −9223372036854775808): no key's range reaches that far.
+      if (value.is_number_unsigned() && value.get<unsigned long long>() > static_cast<unsigned long long>(LLONG_MAX)) {
+        return show(value) + " does not fit a 64-bit signed integer (every integer key's range ends below 2^63)";
+      }
       // Negative values stored into unsigned fields wrap back to negative in get_integer, where
       // validate()'s range check refuses them.
       field.set_integer(field.field, get_integral(value));

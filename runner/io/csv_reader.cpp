@@ -70,6 +70,10 @@ CsvTable parse_csv(const std::string& bytes, const std::string& path) {
       for (const auto& f : fields) {
         if (f.empty()) fail("empty column name in the header");
       }
+      // A first row of numbers is data, not names: reading it as the header would drop a sample.
+      if (std::all_of(fields.begin(), fields.end(), [](const std::string& f) { return parse_finite_number(f).has_value(); })) {
+        fail("no header row: the first row holds numbers (the first row must name the columns, e.g. q1,q2,q3)");
+      }
       table.header = fields;
       continue;
     }
@@ -79,7 +83,7 @@ CsvTable parse_csv(const std::string& bytes, const std::string& path) {
     std::vector<double> row;
     for (std::size_t i = 0; i < fields.size(); ++i) {
       const std::optional<double> value = parse_finite_number(fields[i]);
-      if (!value) fail(describe_column(table.header, i) + ": not a finite number" + describe_token(fields[i]));
+      if (!value) fail(describe_column(table.header, i) + ": " + describe_bad_number(fields[i]));
       row.push_back(*value);
     }
     rows.push_back(std::move(row));

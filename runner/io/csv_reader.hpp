@@ -17,8 +17,10 @@ struct CsvTable {
 
 /// Loads `path` (a regular file under the CSV cap, engine/io/input_file.hpp). Throws
 /// std::runtime_error "path:line: what" for a missing file, an empty file, a row with the wrong
-/// number of fields, a field that is not entirely a finite decimal number (NaN, Inf, hex, text),
-/// or a control character anywhere (NUL, a CR that does not end the line, ...).
+/// number of fields, a field that is not entirely a finite decimal number (NaN, Inf, hex, text;
+/// 1e-400, which underflows to zero, and 1e999 say so), a first row of numbers only (no header
+/// row: it would silently lose the first sample), or a control character anywhere (NUL, a CR
+/// that does not end the line, ...).
 CsvTable load_csv(const std::string& path);
 
 /// The table in `bytes`, read as load_csv reads a file; `path` names it in errors.

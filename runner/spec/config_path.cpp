@@ -3,6 +3,7 @@
 #include "base/did_you_mean.hpp"
 
 #include <cctype>
+#include <charconv>
 #include <stdexcept>
 
 namespace armfarm {
@@ -20,7 +21,13 @@ std::vector<PathSegment> parse_config_path(const std::string& path) {
         if (!std::isdigit(static_cast<unsigned char>(c))) throw std::invalid_argument("index '" + digits + "' is not a number");
       }
       if (segments.empty()) throw std::invalid_argument("a path starts with a key");
-      segments.push_back({"", static_cast<std::size_t>(std::stoull(digits))});
+      std::size_t index = 0;
+      const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), index);
+      if (error != std::errc() || end != digits.data() + digits.size()) {  // only digits: it overflows
+        throw std::invalid_argument("index " + (digits.size() <= 24 ? digits : digits.substr(0, 24) + "…") +
+                                    " is too large for an array index");
+      }
+      segments.push_back({"", index});
       i = close + 1;
       if (i < path.size() && path[i] == '.') {
         ++i;

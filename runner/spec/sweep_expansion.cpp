@@ -190,10 +190,15 @@ std::uint64_t calc_expansion_count(const SweepSpec& spec) {
 ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const ExpansionLimits& limits) {
   // Count first: a sweep over the limit is refused before any job (or random sample) is made.
   const std::uint64_t count = calc_expansion_count(spec);
+  const std::string shown = count == std::numeric_limits<std::uint64_t>::max() ? "more than 1.8e19" : std::to_string(count);
   if (count > limits.max_jobs) {
-    const std::string shown = count == std::numeric_limits<std::uint64_t>::max() ? "more than 1.8e19" : std::to_string(count);
     throw SpecError({spec.file + ": sweep: expands to " + shown + " jobs, over the limit of " +
                      std::to_string(limits.max_jobs) + " (--max-jobs N raises it)"});
+  }
+  if (count > kMaxSweepJobs) {
+    throw SpecError({spec.file + ": sweep: expands to " + shown + " jobs, over armfarm's ceiling of " +
+                     std::to_string(kMaxSweepJobs) + " jobs per sweep (--max-jobs " + std::to_string(limits.max_jobs) +
+                     " cannot raise it past that; split the sweep)"});
   }
   ExpandedSweep sweep;
   sweep.jobs.reserve(static_cast<std::size_t>(count));  // never reallocated below: seen_keys views its keys

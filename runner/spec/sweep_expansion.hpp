@@ -39,9 +39,15 @@ struct ExpandedJob {
 /// seconds each: 10^5 of them are 8 core-days), so a larger count is almost surely a typo
 /// (two 1000-value axes); expanding 10^5 jobs takes seconds and well under 1 GB. Raise it for
 /// a sharded cluster run.
+/// `max_jobs` above kMaxSweepJobs is accepted but does not raise the limit past it: ten million
+/// jobs take some 10 GB to expand (about 1 KB each), so a larger sweep is refused with a message
+/// naming --max-jobs rather than failing inside the allocator.
 struct ExpansionLimits {
   std::uint64_t max_jobs = 100000;
 };
+
+/// The most jobs one sweep expands into whatever --max-jobs says (ExpansionLimits).
+inline constexpr std::uint64_t kMaxSweepJobs = 10000000;
 
 /// How many configurations `spec` expands into before duplicates merge: the product of the grid
 /// axes' sizes, the zip groups' lengths, the random samples and the repeat seeds (1 with no

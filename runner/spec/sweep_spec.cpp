@@ -1,6 +1,7 @@
 #include "runner/spec/sweep_spec.hpp"
 
 #include "base/did_you_mean.hpp"
+#include "engine/experiment/job_config.hpp"
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/io/input_file.hpp"
 
@@ -12,6 +13,8 @@
 #include "runner/search/search_sequence.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -660,6 +663,25 @@ class SpecParser {
     }
   }
 
+  // "" when `value` (a JSON integer) is a seed the 'seed' key's range allows (its one home: the
+  // key table, engine/experiment/job_config.cpp), else why not. Read exactly: a uint64 above
+  // 2^63 - 1 is never cast to a negative int64.
+  static std::string check_seed(const nlohmann::json& value, std::int64_t& seed) {
+    static const Range range = [] {
+      for (const JobConfigKey& key : job_config_keys()) {
+        if (key.path == "seed") return key.range;
+      }
+      return Range{};
+    }();
+    const std::string problem = "seed " + value.dump() + " is outside the seed range " + range.describe();
+    if (value.is_number_unsigned()) {
+      const auto number = value.get<std::uint64_t>();
+      if (number > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) return problem;
+    }
+    seed = value.get<std::int64_t>();
+    return range.contains(static_cast<double>(seed)) ? "" : problem;
+  }
+
   void read_repeat(const nlohmann::json& repeat, SweepSpec& spec) {
     std::vector<PathSegment> segments;
     const nlohmann::json* reference = nullptr;
@@ -674,7 +696,16 @@ class SpecParser {
         error("sweep.repeat", "expected a number of repeats in [1, 100000] or a list of seeds");
         return;
       }
-      const std::int64_t first = resolved_["seed"].get<std::int64_t>();
+      std::int64_t first = 0;
+      if (const std::string problem = check_seed(resolved_["seed"], first); !problem.empty()) {
+        error("sweep.repeat", "the job configuration's " + problem);
+        return;
+      }
+      std::int64_t last = 0;
+      if (const std::string problem = check_seed(nlohmann::json(first + (count - 1)), last); !problem.empty()) {
+        error("sweep.repeat", std::to_string(count) + " repeats from seed " + std::to_string(first) + " reach past the seed range");
+        return;
+      }
       for (long long i = 0; i < count; ++i) spec.repeat_seeds.push_back(first + i);
       return;
     }
@@ -688,7 +719,11 @@ class SpecParser {
         error("sweep.repeat[" + std::to_string(i) + "]", "expected an integer seed");
         continue;
       }
-      const std::int64_t seed = repeat[i].get<std::int64_t>();
+      std::int64_t seed = 0;
+      if (const std::string problem = check_seed(repeat[i], seed); !problem.empty()) {
+        error("sweep.repeat[" + std::to_string(i) + "]", problem);
+        continue;
+      }
       if (!seen.insert(seed).second) {
         error("sweep.repeat[" + std::to_string(i) + "]", "seed " + std::to_string(seed) + " is repeated");
         continue;

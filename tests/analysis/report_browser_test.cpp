@@ -3,7 +3,7 @@
 // the page, script errors (window errors and console.error) and images that did not load.
 // Skips, saying so, when Chromium is absent (.ci/install-deps installs the Debian package).
 #include "support/command_line.hpp"
-#include "test_database.hpp"
+#include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
 
@@ -115,7 +115,9 @@ TEST(ReportInBrowser, EveryPageRendersWithoutOverflowErrorsOrBrokenImages) {
     EXPECT_LE(findings.overflow, 0) << entry.path().filename() << " overflows horizontally by " << findings.overflow << " px";
     EXPECT_EQ(findings.errors, 0) << entry.path().filename() << ": " << findings.first;
     EXPECT_EQ(findings.broken, 0) << entry.path().filename() << ": " << findings.first;
-    if (entry.path().filename() == "sweep_browser.html") EXPECT_GE(findings.svgs, 3);  // signals, tracking, tracking_nmse vs gain
+    if (entry.path().filename() == "sweep_browser.html") {
+      EXPECT_GE(findings.svgs, 3);  // signals, tracking, tracking_nmse vs gain
+    }
     ++pages;
   }
   EXPECT_EQ(pages, 1 + 1 + 4);  // index, the sweep, a page per job

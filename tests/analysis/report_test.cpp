@@ -1,7 +1,7 @@
 // The report's pages per job, its file names for any sweep name, its figures of the main metric
 // against the swept parameters and the thesis's values beside a sweep.
 #include "analysis/report.hpp"
-#include "test_database.hpp"
+#include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
 

@@ -131,14 +131,17 @@ TEST(CollectionPass, ARepeatDiffersFromTheFirstPass) {
   // collect_repeats used to add).
   JobConfig copies = config;
   copies.learning.collect_start_spread = 0.0;
+  copies.learning.collect_repeat_noise_q = 0.0;
   const std::vector<Sample> copied = collect(copies);
   ASSERT_EQ(copied.size(), 400u);
   // (The plant's clock runs on between passes, so the adaptive integrator's steps differ in the
   // last bits.)
   EXPECT_LT(first_against_repeat(copied, 0), 1e-9);
   EXPECT_LT(first_against_repeat(copied, 150), 1e-9);
-  // The default: the repeat starts off the trajectory by a seeded draw (std 0.05 rad).
-  const std::vector<Sample> perturbed = collect(config);
+  // A start spread: the repeat starts off the trajectory by a seeded draw (std 0.05 rad).
+  JobConfig spread = copies;
+  spread.learning.collect_start_spread = 0.05;
+  const std::vector<Sample> perturbed = collect(spread);
   EXPECT_GT(first_against_repeat(perturbed, 0), 1e-3);
   EXPECT_GT(first_against_repeat(perturbed, 10), 1e-4);
   // With sensor noise every sample of the repeat differs, long after the start transient.
@@ -147,9 +150,18 @@ TEST(CollectionPass, ARepeatDiffersFromTheFirstPass) {
   noisy.learning.collect_noise_qd = 1e-3;
   const std::vector<Sample> noised = collect(noisy);
   for (std::size_t tick : {0u, 100u, 199u}) EXPECT_GT(first_against_repeat(noised, tick), 0.0) << tick;
-  std::printf("repeat vs first pass, max |dx|: copies %.3g; start spread %.3g at tick 0, %.3g at tick 10; noise %.3g at tick 199\n",
+  // The default: the repeat starts on the trajectory and its measured angles carry
+  // collect_repeat_noise_q (1 mrad), so it differs by about that much all along, while the
+  // first pass is the noise-free one (its angles are the plant's exactly).
+  const std::vector<Sample> realised = collect(config);
+  for (std::size_t tick : {0u, 100u, 199u}) {
+    EXPECT_GT(first_against_repeat(realised, tick), 1e-4) << tick;
+    EXPECT_LT((realised[tick].x - copied[tick].x).cwiseAbs().maxCoeff(), 1e-9) << tick;
+  }
+  std::printf("repeat vs first pass, max |dx|: copies %.3g; start spread %.3g at tick 0, %.3g at tick 10; noise %.3g at tick 199; "
+              "default %.3g at tick 0, %.3g at tick 199\n",
               first_against_repeat(copied, 0), first_against_repeat(perturbed, 0), first_against_repeat(perturbed, 10),
-              first_against_repeat(noised, 199));
+              first_against_repeat(noised, 199), first_against_repeat(realised, 0), first_against_repeat(realised, 199));
 }
 
 TEST(HeldoutEvaluation, LeavesTheLearnerFrozen) {

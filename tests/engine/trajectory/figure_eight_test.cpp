@@ -51,5 +51,46 @@ TEST(FigureEight, FollowsThePathWithinOneMillimetreAndClosesEveryLoop) {
               worst_closure, last_step);
 }
 
+// trajectory.ik_noise (issue 23, conclusion (d)): white noise of the stated std on every IK joint
+// angle, the same for the same seed; q̇ and q̈ differentiated from the noisy angles; joint-space
+// kinds unchanged.
+TEST(FigureEight, IkNoiseAddsSeededWhiteNoiseOfItsStdToTheSolvedAngles) {
+  const ArmModel model = testing::load_lwr3();
+  ArmDynamics dynamics(model);
+  TrajectoryConfig config;
+  config.kind = TrajectoryKind::figure_eight;
+  config.figure_eight.points_per_loop = 750;
+  const double dt = 0.01, sigma = 1e-3;
+  const JointTrajectory exact = build_trajectory(config, dynamics, dt, 3);
+  config.ik_noise = sigma;
+  const JointTrajectory noisy = build_trajectory(config, dynamics, dt, 3);
+  const Eigen::ArrayXXd noise = (noisy.q - exact.q).array();
+  const double count = static_cast<double>(noise.size());
+  const double mean = noise.mean();
+  const double std = std::sqrt((noise - mean).square().sum() / (count - 1.0));
+  // 5250 draws: the sample std lies within 5 % of sigma (its relative error is about 1 %), the
+  // mean within 4 standard errors of 0.
+  EXPECT_NEAR(std, sigma, 0.05 * sigma);
+  EXPECT_LT(std::abs(mean), 4.0 * sigma / std::sqrt(count));
+  // Derivatives of the noisy angles (central differences), so q̈ carries noise of order sigma/dt²
+  // (a second difference of white noise: between sqrt(6/16) and sqrt(6) times that).
+  const Eigen::VectorXd finite = (noisy.q.row(101) - noisy.q.row(99)).transpose() / (2.0 * dt);
+  EXPECT_LT((finite - noisy.qd.row(100).transpose()).norm(), 1e-9);
+  const Eigen::ArrayXXd qdd_noise = (noisy.qdd - exact.qdd).array().middleRows(2, 746);
+  const double qdd_std = std::sqrt(qdd_noise.square().mean());
+  EXPECT_GT(qdd_std, 0.5 * sigma / (dt * dt));
+  EXPECT_LT(qdd_std, 3.0 * sigma / (dt * dt));
+  // The same seed draws the same noise; another seed other noise.
+  EXPECT_EQ(build_trajectory(config, dynamics, dt, 3).q, noisy.q);
+  EXPECT_GT((build_trajectory(config, dynamics, dt, 4).q - noisy.q).cwiseAbs().maxCoeff(), sigma);
+  // A joint-space sine has no IK: unchanged.
+  TrajectoryConfig sine;
+  const JointTrajectory plain = build_trajectory(sine, dynamics, dt, 3);
+  sine.ik_noise = sigma;
+  EXPECT_EQ(build_trajectory(sine, dynamics, dt, 3).q, plain.q);
+  std::printf("ik_noise %.0e rad: angle noise std %.4g rad, mean %.2g; qdd noise rms %.3g rad/s^2 (sigma/dt^2 = %.3g)\n", sigma, std,
+              mean, qdd_std, sigma / (dt * dt));
+}
+
 }  // namespace
 }  // namespace armfarm

@@ -47,7 +47,7 @@ TEST(StrictCsv, OtherControlCharactersAreRefusedAnywhere) {
 TEST(StrictCsv, NanInfHexAndTrailingGarbageAreRefused) {
   EXPECT_EQ(csv_problem("t,q1\n0,nan\n"), ":2: column 'q1': not a finite number: 'nan'");
   EXPECT_EQ(csv_problem("t,q1\n0,-inf\n"), ":2: column 'q1': not a finite number: '-inf'");
-  EXPECT_EQ(csv_problem("t,q1\n0,1e999\n"), ":2: column 'q1': not a finite number: '1e999'");
+  EXPECT_EQ(csv_problem("t,q1\n0,1e999\n"), ":2: column 'q1': '1e999' overflows a double (above 1.8e308 in magnitude)");
   EXPECT_EQ(csv_problem("t,q1\n0,0x1p3\n"), ":2: column 'q1': not a finite number (a 5-byte token, not shown)");
   EXPECT_EQ(csv_problem("t,q1\n0,1.5rad\n"), ":2: column 'q1': not a finite number (a 6-byte token, not shown)");
   EXPECT_EQ(csv_problem("t,q1\n0,\n"), ":2: column 'q1': not a finite number (empty)");
