@@ -281,4 +281,25 @@ void ResultsStore::update_lease_seconds(double seconds, const std::string& now) 
   transaction.commit();
 }
 
+std::vector<RunningRunRecord> ResultsStore::find_running_runs(const std::string& now) const {
+  SqliteStatement statement = db_->prepare(
+      "SELECT r.id, s.name, r.shard, coalesce(r.host, ''), coalesce(r.pid, 0), r.started_at, "
+      "(julianday(?1) - julianday(coalesce(r.heartbeat_at, r.started_at))) * 86400.0 "
+      "FROM runs r JOIN sweeps s ON s.id = r.sweep_id WHERE r.status = 'running' ORDER BY r.id");
+  statement.bind(1, now);
+  std::vector<RunningRunRecord> runs;
+  while (statement.step()) {
+    RunningRunRecord run;
+    run.id = statement.column_int(0);
+    run.sweep = statement.column_text(1);
+    run.shard = statement.column_optional_text(2);
+    run.host = statement.column_text(3);
+    run.pid = statement.column_int(4);
+    run.started_at = statement.column_text(5);
+    run.heartbeat_age_seconds = statement.column_double(6);
+    runs.push_back(std::move(run));
+  }
+  return runs;
+}
+
 }  // namespace armfarm

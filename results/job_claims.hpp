@@ -54,6 +54,18 @@ struct JobClaimRecord {
   std::string state;                   ///< live, interrupted
 };
 
+/// One `runs` row still marked `running`, as `status` shows it: its process may be alive, or
+/// may have died without closing it (a SIGKILL) until a later run marks it interrupted.
+struct RunningRunRecord {
+  std::int64_t id = 0;
+  std::string sweep;
+  std::optional<std::string> shard;   ///< "2/4"
+  std::string host;                   ///< runs.host ("" when not recorded)
+  std::int64_t pid = 0;               ///< 0 when not recorded (a build before claims)
+  std::string started_at;
+  double heartbeat_age_seconds = 0.0; ///< since heartbeat_at (or started_at without one), at `now`
+};
+
 /// What a scan for stale claims changed.
 struct StaleClaimReport {
   int claims_interrupted = 0;  ///< stale live claims marked interrupted (their jobs went back to pending)

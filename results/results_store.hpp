@@ -251,7 +251,8 @@ class ResultsStore {
   /// claim: the keys of results discarded because another runner took the claim over are
   /// returned (the rest of the batch commits).
   std::vector<std::string> insert_job_batch(const JobBatch& batch, const std::string& sweep_name);
-  /// Closes a run: `complete` or `interrupted`; a complete run stamps sweeps.finished_at.
+  /// Closes a run: `complete` or `interrupted`; a complete run stamps sweeps.finished_at. A row
+  /// already `interrupted` (by another runner that found this one stale) keeps that status.
   /// Regenerates the sweep's `sweep_<name>` view.
   void update_run_finished(std::int64_t run_id, const std::string& status, int jobs_run, int jobs_skipped,
                            const std::string& finished_at);
@@ -294,6 +295,8 @@ class ResultsStore {
   void update_lease_seconds(double seconds, const std::string& now);
   /// Claims (live only, or interrupted ones as well) with their heartbeat ages at `now`.
   std::vector<JobClaimRecord> find_job_claims(const std::string& now, bool live_only = true) const;
+  /// The `runs` rows still marked `running`, oldest first, with their heartbeat ages at `now`.
+  std::vector<RunningRunRecord> find_running_runs(const std::string& now) const;
 
  private:
   ResultsStore(std::string path, std::unique_ptr<SqliteConnection> connection);

@@ -1,6 +1,7 @@
 // The search tables (results/search_store.hpp): their migration and ResultsStore's reads and writes.
 #include "results/search_store.hpp"
 
+#include "results/results_store.hpp"
 #include "results/store_error.hpp"
 #include "results/store_internal.hpp"
 
@@ -224,6 +225,134 @@ std::vector<SearchStepRecord> ResultsStore::find_search_steps(const std::string&
     steps.push_back(s);
   }
   return steps;
+}
+
+namespace {
+
+// The columns of `searches` a merge compares and copies (all but id and sweep_id).
+constexpr const char* kSearchSettingColumns =
+    "method, sampler, seed, eta, slots, budget_unit, budget, resumable, objective_metric, objective_direction, "
+    "objective_joint, objective_checkpoint";
+
+// The part of one search that both files hold, merged; returns the conflict, empty when none.
+std::string merge_one_search(SqliteConnection& db, std::int64_t src_id, std::int64_t main_id,
+                             const std::map<std::int64_t, std::int64_t>& job_ids) {
+  // Trials: by number; a trial both files have must have the same point and bracket.
+  SqliteStatement trials = db.prepare("SELECT trial, bracket, params FROM src.search_trials WHERE search_id = ? ORDER BY trial");
+  trials.bind(1, src_id);
+  SqliteStatement mine_trial = db.prepare("SELECT bracket, params FROM main.search_trials WHERE search_id = ? AND trial = ?");
+  SqliteStatement insert_trial = db.prepare("INSERT INTO main.search_trials (search_id, trial, bracket, params) VALUES (?, ?, ?, ?)");
+  while (trials.step()) {
+    const std::int64_t trial = trials.column_int(0);
+    mine_trial.bind(1, main_id).bind(2, trial);
+    if (mine_trial.step()) {
+      const bool same = mine_trial.column_int(0) == trials.column_int(1) && mine_trial.column_text(1) == trials.column_text(2);
+      mine_trial.reset();
+      if (!same) return "trial " + std::to_string(trial) + " has a different point";
+      continue;
+    }
+    mine_trial.reset();
+    insert_trial.bind(1, main_id).bind(2, trial).bind(3, trials.column_int(1)).bind(4, trials.column_text(2)).execute();
+  }
+  // Steps: the same trial, rung and job where both have them; the missing ones appended.
+  SqliteStatement steps = db.prepare(
+      "SELECT step, trial, rung, visible, kind, cost, job_id, objective, reason, committed FROM src.search_steps "
+      "WHERE search_id = ? ORDER BY step");
+  steps.bind(1, src_id);
+  SqliteStatement mine_step =
+      db.prepare("SELECT trial, rung, job_id, committed FROM main.search_steps WHERE search_id = ? AND step = ?");
+  while (steps.step()) {
+    const std::int64_t step = steps.column_int(0);
+    const std::int64_t job_id = job_ids.at(steps.column_int(6));
+    const bool src_committed = steps.column_int(9) != 0;
+    mine_step.bind(1, main_id).bind(2, step);
+    if (mine_step.step()) {
+      const bool same = mine_step.column_int(0) == steps.column_int(1) && mine_step.column_int(1) == steps.column_int(2) &&
+                        mine_step.column_int(2) == job_id;
+      const bool main_committed = mine_step.column_int(3) != 0;
+      mine_step.reset();
+      if (!same) return "step " + std::to_string(step) + " runs a different trial, rung or job";
+      if (src_committed && !main_committed) {
+        db.prepare("UPDATE main.search_steps SET objective = ?, reason = ?, committed = 1 WHERE search_id = ? AND step = ?")
+            .bind(1, steps.column_optional_double(7))
+            .bind(2, steps.column_optional_text(8))
+            .bind(3, main_id)
+            .bind(4, step)
+            .execute();
+      }
+      continue;
+    }
+    mine_step.reset();
+    db.prepare(
+          "INSERT INTO main.search_steps (search_id, step, trial, rung, visible, kind, cost, job_id, objective, reason, "
+          "committed) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)")
+        .bind(1, main_id)
+        .bind(2, step)
+        .bind(3, steps.column_int(1))
+        .bind(4, steps.column_int(2))
+        .bind(5, steps.column_int(3))
+        .bind(6, steps.column_text(4))
+        .bind(7, steps.column_double(5))
+        .bind(8, job_id)
+        .bind(9, steps.column_optional_double(7))
+        .bind(10, steps.column_optional_text(8))
+        .bind(11, static_cast<std::int64_t>(src_committed))
+        .execute();
+  }
+  return "";
+}
+
+}  // namespace
+
+void merge_search_tables(SqliteConnection& db, const std::map<std::int64_t, std::int64_t>& sweep_ids,
+                         const std::map<std::int64_t, std::int64_t>& job_ids, const std::string& other_path,
+                         MergeReport& report) {
+  SqliteStatement searches = db.prepare(
+      "SELECT se.id, se.sweep_id, s.name FROM src.searches se JOIN src.sweeps s ON s.id = se.sweep_id ORDER BY se.id");
+  while (searches.step()) {
+    const std::int64_t src_id = searches.column_int(0);
+    const std::int64_t sweep_id = sweep_ids.at(searches.column_int(1));
+    const std::string sweep = searches.column_text(2);
+    SqliteStatement mine = db.prepare("SELECT id FROM main.searches WHERE sweep_id = ?");
+    mine.bind(1, sweep_id);
+    std::int64_t main_id = 0;
+    if (mine.step()) {
+      main_id = mine.column_int(0);
+      // The same settings, compared column by column with IS (NULL objective joint or checkpoint).
+      SqliteStatement same = db.prepare(
+          "SELECT count(*) FROM main.searches m, src.searches o WHERE m.id = ?1 AND o.id = ?2 AND "
+          "m.method IS o.method AND m.sampler IS o.sampler AND m.seed IS o.seed AND m.eta IS o.eta AND "
+          "m.slots IS o.slots AND m.budget_unit IS o.budget_unit AND m.budget IS o.budget AND "
+          "m.resumable IS o.resumable AND m.objective_metric IS o.objective_metric AND "
+          "m.objective_direction IS o.objective_direction AND m.objective_joint IS o.objective_joint AND "
+          "m.objective_checkpoint IS o.objective_checkpoint");
+      same.bind(1, main_id).bind(2, src_id);
+      if (!same.step() || same.column_int(0) != 1) {
+        report.conflicts.push_back("search " + sweep + ": different settings in " + other_path + "; kept this file's");
+        continue;
+      }
+    } else {
+      db.prepare(std::string("INSERT INTO main.searches (sweep_id, ") + kSearchSettingColumns + ") SELECT ?, " +
+                 kSearchSettingColumns + " FROM src.searches WHERE id = ?")
+          .bind(1, sweep_id)
+          .bind(2, src_id)
+          .execute();
+      main_id = db.last_insert_rowid();
+      db.prepare("INSERT INTO main.search_rungs (search_id, rung, checkpoint, cost) SELECT ?, rung, checkpoint, cost "
+                 "FROM src.search_rungs WHERE search_id = ?")
+          .bind(1, main_id)
+          .bind(2, src_id)
+          .execute();
+    }
+    // A savepoint: a conflict found part way takes back the trials and objectives added before it.
+    db.execute("SAVEPOINT merge_search");
+    const std::string conflict = merge_one_search(db, src_id, main_id, job_ids);
+    if (!conflict.empty()) {
+      db.execute("ROLLBACK TO merge_search");
+      report.conflicts.push_back("search " + sweep + ": " + conflict + " in " + other_path + "; kept this file's");
+    }
+    db.execute("RELEASE merge_search");
+  }
 }
 
 }  // namespace armfarm

@@ -7,6 +7,7 @@
 // with it so the replay needs no metric lookups, and `table`, `plot search` and `status` read
 // the same rows. Costs are estimated CPU-seconds (or 1 per job for a budget in jobs).
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,6 +55,20 @@ struct SearchStepRecord {
   std::string reason;               ///< why `objective` is empty once the job ended (failed, diverged, NULL metric)
   bool committed = false;           ///< the job ended and its objective (or reason) is stored
 };
+
+class SqliteConnection;
+struct MergeReport;
+
+/// ResultsStore::merge_from's part for the search tables, inside its transaction, with the other
+/// file attached as `src`: a search this file lacks is copied whole (its rungs, trials and steps,
+/// their jobs mapped by `job_ids`, src id → main id; its sweep by `sweep_ids`); a search both
+/// files have must agree on its settings and on every step both hold (the steps are a function
+/// of the spec and the committed results, so one file's steps are a prefix of the other's): the
+/// missing trials and steps are added and a step committed only in the other file takes its
+/// objective. A disagreement adds one line to `report.conflicts` and leaves this file's search as it was.
+void merge_search_tables(SqliteConnection& db, const std::map<std::int64_t, std::int64_t>& sweep_ids,
+                         const std::map<std::int64_t, std::int64_t>& job_ids, const std::string& other_path,
+                         MergeReport& report);
 
 namespace search_store_sql {
 /// The migration step that adds the search tables (appended to the store's migration list).

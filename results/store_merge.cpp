@@ -1,4 +1,5 @@
 // Merging another results file into this one, job by job, without losing a finished result.
+#include "results/search_store.hpp"
 #include "results/series_codec.hpp"
 #include "results/store_internal.hpp"
 
@@ -226,6 +227,8 @@ MergeReport ResultsStore::merge_from(const std::string& other_path) {
           .bind(4, members.column_text(3))
           .execute();
     }
+    // Searches (results/search_store.hpp): their rungs, trials and steps, jobs mapped.
+    merge_search_tables(*db_, sweep_id_map, job_id_map, other_path, report);
     transaction.commit();
   }
   for (const std::string& sweep : touched_sweeps) update_sweep_view(sweep);

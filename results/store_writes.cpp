@@ -191,14 +191,21 @@ void ResultsStore::update_run_finished(std::int64_t run_id, const std::string& s
   std::string sweep_name;
   {
     SqliteTransaction transaction(*db_);
+    // A row another runner marked `interrupted` (this process went without a heartbeat past the
+    // lease: paused or cut off, its claims taken over) stays so: the run did not hold its jobs
+    // to the end, whatever it finished afterwards.
+    SqliteStatement current = db_->prepare("SELECT status FROM runs WHERE id = ?");
+    current.bind(1, run_id);
+    if (!current.step()) throw StoreError(path_ + ": no run " + std::to_string(run_id));
+    const std::string final_status = current.column_text(0) == "interrupted" ? "interrupted" : status;
     db_->prepare("UPDATE runs SET status = ?, jobs_run = ?, jobs_skipped = ?, finished_at = ? WHERE id = ?")
-        .bind(1, status)
+        .bind(1, final_status)
         .bind(2, jobs_run)
         .bind(3, jobs_skipped)
         .bind(4, finished_at)
         .bind(5, run_id)
         .execute();
-    if (status == "complete") {
+    if (final_status == "complete") {
       db_->prepare("UPDATE sweeps SET finished_at = ? WHERE id = (SELECT sweep_id FROM runs WHERE id = ?)")
           .bind(1, finished_at)
           .bind(2, run_id)

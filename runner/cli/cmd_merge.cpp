@@ -4,6 +4,7 @@
 // (a copy of OUT when it exists) and renamed into place once complete, so a merge cut short
 // leaves OUT as it was, never a part of the result that looks whole. The file is fsynced before
 // the rename and the folder after it, so a power loss leaves one or the other.
+#include "analysis/printable_text.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
 
@@ -81,7 +82,10 @@ RunFunction setup_merge(CLI::App& parent) {
         std::cout << input << ": " << report.jobs_added << " jobs added, " << report.jobs_replaced
                   << " unfinished jobs completed, " << report.jobs_identical << " identical, " << report.conflicts.size()
                   << " conflicts\n";
-        for (const std::string& conflict : report.conflicts) std::cout << "  conflict: " << conflict << "\n";
+        // A conflict quotes names and values of the files: printed as text, not as escapes.
+        for (const std::string& conflict : report.conflicts) {
+          std::cout << "  conflict: " << make_printable_text(conflict) << "\n";
+        }
         conflicts += static_cast<int>(report.conflicts.size());
       }
     }  // closed: the last connection checkpoints its WAL into the file

@@ -1,6 +1,7 @@
 // `armfarm run SPEC.json`: expands a sweep and runs the jobs not yet done, in parallel, into a
 // results database (resume is the default; --force runs everything again). A spec with stages
 // runs them in order (runner/spec/sweep_stages.hpp).
+#include "results/readable_check.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/input_changes.hpp"
 #include "runner/execution/job_kind.hpp"
@@ -95,6 +96,16 @@ RunFunction setup_run(CLI::App& parent) {
       std::cerr << "armfarm: --claim-timeout is gone: the lease is the database's, one for every runner "
                    "(armfarm lease "
                 << options->db << " SECONDS)\n";
+      return 2;
+    }
+    // An existing file is checked as every reader checks it before anything is added to it: a
+    // damaged one is refused in one line (exit 2), not run into. Opened writable, as the run
+    // opens it: a file another runner is creating at this moment (empty, or its schema not yet
+    // committed) is waited for and created once, never taken for a damaged one.
+    if (std::filesystem::exists(options->db) &&
+        !reports_input_errors(options->spec, [&] {
+          verify_readable(ResultsStore::open(options->db, ResultsStore::Mode::read_write));
+        })) {
       return 2;
     }
     const JobKind kind = make_job_kind_from_environment(options->db);
@@ -200,7 +211,12 @@ RunFunction setup_run(CLI::App& parent) {
       if (summary.discarded > 0) {
         std::cout << "sweep " << sweep.spec.name << ": " << summary.discarded
                   << " finished results discarded: another runner took their claims over while this one went "
-                     "without a heartbeat past the lease (paused or cut off); those jobs are that runner's\n";
+                     "without a heartbeat past the lease (paused or cut off); those jobs are that runner's";
+        if (summary.discarded_not_done > 0) {
+          std::cout << ", and " << summary.discarded_not_done << " of them are not done in the file yet (armfarm status "
+                    << run.db_path << ")";
+        }
+        std::cout << "\n";
       }
       if (summary.headline) std::cout << "sweep " << sweep.spec.name << ": " << make_headline_text(*summary.headline) << "\n";
       const std::size_t shown = std::min<std::size_t>(summary.failures.size(), 20);

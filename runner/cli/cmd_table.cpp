@@ -3,6 +3,7 @@
 // by default the thesis's (analysis/table.hpp); for a search sweep (md) also its best trials,
 // rung survivors and budget spent (analysis/search_summary.hpp).
 #include "analysis/analysis_error.hpp"
+#include "analysis/printable_text.hpp"
 #include "analysis/search_summary.hpp"
 #include "analysis/table.hpp"
 #include "analysis/thesis_comparison.hpp"
@@ -99,7 +100,11 @@ RunFunction setup_table(CLI::App& parent) {
         spec.joints = options->joints;
         spec.where = where;
         const Table table = make_table(data, spec);
-        std::cout << format_table(table, format, aggregate, options->notes ? CsvNotes::comment_lines : CsvNotes::omitted);
+        const std::string text = format_table(table, format, aggregate, options->notes ? CsvNotes::comment_lines : CsvNotes::omitted);
+        // md and latex are text for a terminal or a document: names print without escapes
+        // (csv keeps the values exactly, json escapes control characters).
+        const bool for_reading = format == TableFormat::markdown || format == TableFormat::latex;
+        std::cout << (for_reading ? make_printable_text(text, /*keep_newlines=*/true) : text);
         if (format == TableFormat::csv) std::cout << "\n";
         if (format == TableFormat::csv && !options->notes) notes_left_out += table.footnotes.size();
       }

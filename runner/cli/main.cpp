@@ -1,4 +1,5 @@
 // armfarm: a batch experiment farm for learning the motor control of simulated robot arms.
+#include "analysis/printable_text.hpp"
 #include "engine/io/message_text.hpp"
 #include "runner/build_info.hpp"
 #include "runner/cli/subcommand.hpp"
@@ -40,8 +41,9 @@ int main(int argc, char** argv) {
       if (sub->parsed()) return run();
     }
   } catch (const std::exception& e) {
-    // Each line capped (engine/io/message_text.hpp): a message that quotes a huge input stays short.
-    std::cerr << "armfarm: " << armfarm::cap_message_line(e.what()) << "\n";
+    // One line, capped and printed as text: a message may quote a huge input or a name from
+    // someone else's database.
+    std::cerr << "armfarm: " << armfarm::cap_message_line(armfarm::make_printable_text(e.what())) << "\n";
     return 2;
   }
   return 2;

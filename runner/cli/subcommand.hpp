@@ -6,7 +6,9 @@
 // Exit codes, for every subcommand: 0 success; 1 the command ran but found failures
 // (failed jobs, a regressed metric); 2 bad usage or bad input (an exception escaping
 // the run function is reported on one line and exits 2); 3 finished results were lost (not
-// saved: a full disk), which a batch system must never count as success.
+// saved: a full disk), which a batch system must never count as success. A result discarded
+// by the claims' fence is not lost (its job is the runner's that took the claim over): `run`
+// exits 0 when such jobs are done in the file at its end, 1 when not (README.md, exit status).
 #include <CLI/CLI.hpp>
 
 #include <functional>

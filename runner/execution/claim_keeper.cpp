@@ -9,13 +9,19 @@
 
 namespace armfarm {
 
+std::string find_this_host() {
+  char name[256] = {};
+  return gethostname(name, sizeof name - 1) == 0 ? std::string(name) : std::string();
+}
+
+bool is_runner_gone(const std::string& host, std::int64_t pid) {
+  if (pid <= 0 || host.empty() || host != find_this_host()) return false;
+  return kill(static_cast<pid_t>(pid), 0) == -1 && errno == ESRCH;
+}
+
 ClaimOwner make_claim_owner(const std::string& host, std::int64_t run_id, const std::string& sweep) {
   ClaimOwner owner;
-  owner.host = host;
-  if (owner.host.empty()) {
-    char name[256] = {};
-    if (gethostname(name, sizeof name - 1) == 0) owner.host = name;
-  }
+  owner.host = host.empty() ? find_this_host() : host;
   owner.pid = static_cast<std::int64_t>(getpid());
   owner.owner = make_claim_owner_id(owner.host, owner.pid);
   owner.run_id = run_id;
@@ -31,8 +37,9 @@ namespace {
 std::vector<std::string> find_dead_local_owners(const ResultsStore& store, const ClaimOwner& self, const std::string& now) {
   std::set<std::string> dead;
   for (const JobClaimRecord& claim : store.find_job_claims(now, true)) {
-    if (claim.host != self.host || claim.owner == self.owner || claim.pid <= 0) continue;
-    if (kill(static_cast<pid_t>(claim.pid), 0) == -1 && errno == ESRCH) dead.insert(claim.owner);
+    if (claim.host == self.host && claim.owner != self.owner && is_runner_gone(claim.host, claim.pid)) {
+      dead.insert(claim.owner);
+    }
   }
   return {dead.begin(), dead.end()};
 }

@@ -33,6 +33,14 @@ struct ClaimConfig {
   double poll_seconds = 1.0;
 };
 
+/// This host's name as claims record it (gethostname()).
+std::string find_this_host();
+
+/// True when the process `pid` of a runner on `host` is known to be gone: `host` is this host
+/// and no process has that pid. A pid reused by another process, or a runner on another host,
+/// is not known gone (only its heartbeat's age can tell); a live runner is never called gone.
+bool is_runner_gone(const std::string& host, std::int64_t pid);
+
 /// This process as a claim owner: host (gethostname() when empty), pid, a unique owner id.
 ClaimOwner make_claim_owner(const std::string& host, std::int64_t run_id, const std::string& sweep);
 

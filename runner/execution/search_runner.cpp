@@ -142,8 +142,11 @@ void record_search(const SweepSpec& spec, const search::SearchSettings& settings
     row.kind = new_trial ? "new" : "promotion";
     std::optional<SearchTrialRecord> trial;
     if (new_trial) {
-      trial = SearchTrialRecord{row.trial, static_cast<std::int64_t>(r.history.trials[step.trial].bracket),
-                                calc_search_step_params(search, r.history.trials[step.trial].point, step.rung).dump()};
+      // The trial's point: the axes' values, not the first step's rung (checkpoints, length).
+      nlohmann::json point = calc_search_step_params(search, r.history.trials[step.trial].point, step.rung);
+      point.erase("learning.heldout_checkpoints");
+      if (!search.length_path.empty()) point.erase(search.length_path);
+      trial = SearchTrialRecord{row.trial, static_cast<std::int64_t>(r.history.trials[step.trial].bracket), point.dump()};
       trials_stored = step.trial + 1;
     }
     store.insert_search_step(spec.name, row, trial);
@@ -161,6 +164,11 @@ bool is_sweep_registered(const std::string& db_path, const std::string& sweep) {
 
 }  // namespace
 
+double calc_search_cpu_seconds(const JobKind& kind, const nlohmann::json& config) {
+  const double estimate = kind.estimate_cost(config).cost;
+  return kind.name == "experiment" ? estimate * kSearchCpuSecondsPerJointSecond : estimate;
+}
+
 SearchRunSummary run_search(const SweepSpec& spec, const JobKind& kind, const RunOptions& options,
                             const ExpansionLimits& limits, const std::atomic<bool>& stop_requested) {
   const SpecSearch& search = *spec.search;
@@ -174,7 +182,7 @@ SearchRunSummary run_search(const SweepSpec& spec, const JobKind& kind, const Ru
     RandomStream stream = search::make_trial_stream(settings.seed, 0);
     const search::SearchPoint point = search::calc_random_point(settings.space, stream);
     for (std::size_t k = 0; k < search.rungs.size(); ++k) {
-      settings.rung_cost[k] = kind.estimate_cost(expand_step(spec, kind.schema, point, k).config()).cost;
+      settings.rung_cost[k] = calc_search_cpu_seconds(kind, expand_step(spec, kind.schema, point, k).config());
     }
   }
   RunOptions round = options;

@@ -13,14 +13,26 @@
 // committed results only: the same at -j1 and -j8, after kill -9 (the killed round's jobs are
 // pending and run again), and with several runners on one file (claims share the jobs).
 //
-// Promotions rerun. A step to rung r is a job whose learning.heldout_checkpoints stop at rung r's
-// checkpoint, started from scratch: this build's jobs cannot continue a learning pass from a
-// stored model and the trajectory state at a checkpoint, so a promotion costs the whole rung
-// (SearchSettings::resumable = false) and the budget counts it.
+// Rungs are short jobs; promotions rerun. A step to rung r below the last is a job that learns
+// exactly to rung r's checkpoint (SpecSearch::length_path: learning.epochs for batch jobs,
+// trajectory.reaching.reaches for online reaching jobs) with learning.heldout_checkpoints cut
+// after it; the last rung is the base's job. A promotion reruns its trial from scratch to the
+// longer rung, costing the whole rung (SearchSettings::resumable = false), and the budget counts
+// it. Why not continue from the stored model: a job's state at a checkpoint is more than its
+// learner (the plant's state, the trajectory position, the pass statistics and divergence
+// monitor, the batch shuffle stream), and jobs cannot start from such a state. The rerun is
+// exact for batch jobs: training draws its shuffles in epoch order, so a job cut after epoch e
+// is a prefix of the longer one and scores bit-identically at every checkpoint they share
+// (cmd_run_search_test, APromotedTrialScoresAsAStraightRunToTheLongerBudget). An online reaching
+// job cut after k reaches is not a prefix bit for bit: its inputs are normalised by the
+// statistics of its whole (shorter) trajectory, so its rung is a close, not an identical,
+// estimate of the longer job's checkpoint. Online jobs over other trajectories run the whole
+// pass at every rung (no key sets their length in checkpoints).
 //
-// Costs. A budget in jobs counts 1 per step. A budget in cpu_seconds counts the job-cost
-// model's uncalibrated estimate of each rung's job (job_cost.hpp, joint-seconds: the same on
-// every machine, so the decisions stay a function of the spec).
+// Costs. A budget in jobs counts 1 per step. A budget in cpu_seconds counts each rung's job as
+// the job-cost model's estimate (job_cost.hpp, joint-seconds) times a fixed, measured
+// CPU-seconds per joint-second (calc_search_cpu_seconds): a constant, not this machine's
+// timing, so the decisions stay a function of the spec.
 #include "runner/execution/job_kind.hpp"
 #include "runner/execution/sweep_runner.hpp"
 
@@ -39,6 +51,17 @@ struct SearchRunSummary {
   std::optional<double> best;  ///< the best objective at the last rung (as the metric, not the loss)
   std::size_t best_trial = 0;
 };
+
+/// CPU-seconds per joint-second of the experiment job's cost estimate, measured by
+/// tests/bench/bench_search.cpp (process CPU of its -j1 grids over their estimated joint-seconds,
+/// 2-core machine shared at load ≈ 12-14): fig6_1_kernel_width reduced (batch sine, 2 joints)
+/// 3.77 and 5.05 CPU-s for 1260 in two runs (0.0030, 0.0040); the reaching task reduced (online,
+/// 3 joints) 28.34 CPU-s for 7899 (0.0036). 0.0038 lies inside that spread (±15 % run to run).
+inline constexpr double kSearchCpuSecondsPerJointSecond = 0.0038;
+
+/// The CPU-seconds a cpu_seconds budget counts for one job configuration: the experiment job's
+/// estimate times kSearchCpuSecondsPerJointSecond; another job kind's (the fake job) estimate as it is.
+double calc_search_cpu_seconds(const JobKind& kind, const nlohmann::json& config);
 
 /// Runs `spec` (which has a search) to its end, or until a round is interrupted or fails to
 /// write. Throws SpecError, ConfigError or StoreError as expand_sweep and run_sweep do.

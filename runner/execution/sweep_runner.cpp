@@ -92,6 +92,7 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
   ProgressReporter progress(options.progress_out, options.progress, std::move(progress_jobs), threads);
   std::mutex summary_mutex;
   std::vector<HeadlineJob> headline_jobs;
+  std::vector<std::string> discarded_keys;  // guarded by summary_mutex
   // When the stop request was first seen (steady clock ticks; `none` before): the stop grace runs from it.
   constexpr std::chrono::steady_clock::rep none = std::numeric_limits<std::chrono::steady_clock::rep>::min();
   std::atomic<std::chrono::steady_clock::rep> stop_seen{none};
@@ -211,12 +212,13 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
       }
       // Counted and reported on the writer thread, once the result is committed.
       const bool ran_on = runs_on.value_or(false);
-      auto on_committed = [&, index, status, wall, ran_on, message = outcome.message,
+      auto on_committed = [&, index, status, wall, ran_on, key = job.key, message = outcome.message,
                            headline = std::move(headline)](bool written) mutable {
         if (!written) {  // fenced out: the claim was taken over while this attempt ran
           progress.job_dropped(index);
           std::lock_guard lock(summary_mutex);
           ++summary.discarded;
+          discarded_keys.push_back(key);
           return;
         }
         progress.job_committed(index, status, wall, message);
@@ -273,6 +275,13 @@ RunSummary run_sweep(const ExpandedSweep& sweep, const JobExecutor& executor, co
     summary.write_error = writer.error_text();
     if (summary.write_error.empty() && !claim_error.empty()) summary.write_error = claim_error;
     if (summary.write_error.empty()) claims.rethrow_error();
+  }
+  // A discarded result is the job of the runner that took its claim over: done there, or not yet.
+  if (summary.write_error.empty()) {
+    for (const std::string& key : discarded_keys) {
+      const std::optional<JobRecord> job = store.find_job(key);
+      if (!job || job->status != "done") ++summary.discarded_not_done;
+    }
   }
   summary.taken_over += claims.taken_over();
   // A stop that came after (or let finish) every job of the shard interrupted nothing.

@@ -55,6 +55,9 @@ struct RunSummary {
   int not_saved = 0;  ///< finished, but lost because a commit failed (they run again on resume)
   int finished_in_grace = 0;  ///< running at the stop request, let run on (stop_grace_seconds) and finished
   int discarded = 0;  ///< finished after another runner took the claim over: not written (the fence)
+  /// Of the discarded ones: not done in the file when this run ended (the runner that took them
+  /// over still holds them, or stopped too): the shard is not all done.
+  int discarded_not_done = 0;
   std::string write_error;  ///< the failed commit's error ("" when every write succeeded)
   bool interrupted = false;
   double elapsed_seconds = 0.0;
@@ -62,7 +65,8 @@ struct RunSummary {
   std::optional<RunHeadline> headline;  ///< best and worst of this run's done jobs by the main metric
   /// True when every job of the shard is done.
   bool all_done() const {
-    return failed + diverged + timeout + abandoned + not_saved == 0 && !interrupted && write_error.empty();
+    return failed + diverged + timeout + abandoned + not_saved + discarded_not_done == 0 && !interrupted &&
+           write_error.empty();
   }
 };
 

@@ -97,6 +97,17 @@ std::vector<Factor> make_factors(const SweepSpec& spec, const std::vector<PathSe
         entry.push_back({"learning.heldout_checkpoints", &spec.search->checkpoint_segments,
                          params.at("learning.heldout_checkpoints"), "sweep.search.objective.checkpoint" + where});
       }
+      if (!spec.search->length_path.empty()) {
+        // Every entry of a factor sets the same elements (the job keys rely on it): a step to the
+        // last rung sets the base's own length, which leaves its configuration and key the base's.
+        std::string unused;
+        const nlohmann::json* base_length = find_config_element(spec.base, spec.search->length_segments, unused);
+        const nlohmann::json length = params.contains(spec.search->length_path) ? params.at(spec.search->length_path)
+                                      : base_length != nullptr                     ? *base_length
+                                                                                   : nlohmann::json();
+        entry.push_back({spec.search->length_path, &spec.search->length_segments, length,
+                         "sweep.search.objective.checkpoint" + where});
+      }
       factor.push_back(std::move(entry));
     }
     factors.push_back(std::move(factor));

@@ -585,6 +585,12 @@ class SpecParser {
     if (multi_rung && result.rungs.size() < 2) {
       error(location + ".checkpoint", "successive halving needs at least two checkpoints up to the objective's");
     }
+    // The key that ends a step's learning at its rung (SpecSearch::length_path).
+    const std::string mode = resolved_["learning"].value("mode", "");
+    const std::string trajectory = resolved_.contains("trajectory") ? resolved_["trajectory"].value("kind", "") : "";
+    if (multi_rung && mode == "batch") result.length_path = "learning.epochs";
+    if (multi_rung && mode == "online" && trajectory == "reaching") result.length_path = "trajectory.reaching.reaches";
+    if (!result.length_path.empty()) result.length_segments = parse_config_path(result.length_path);
   }
 
   void read_search_space(const nlohmann::json& block, const std::string& at, SpecSearch& result) {
@@ -761,6 +767,11 @@ nlohmann::json calc_search_step_params(const SpecSearch& search, const search::S
   if (search.objective.checkpoint) {
     params["learning.heldout_checkpoints"] =
         std::vector<std::int64_t>(search.rungs.begin(), search.rungs.begin() + static_cast<std::ptrdiff_t>(rung + 1));
+  }
+  // Below the last rung, learning ends at the rung's checkpoint (the last rung is the job as the
+  // base defines it, so its key is the one a random or TPE search of the same point has).
+  if (!search.length_path.empty() && rung + 1 < search.rungs.size() && search.rungs[rung] > 0) {
+    params[search.length_path] = search.rungs[rung];
   }
   return params;
 }

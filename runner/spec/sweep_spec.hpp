@@ -76,14 +76,22 @@ struct SpecSearch {
   double budget = 0.0;
   /// "learning.heldout_checkpoints": a step to rung r runs the checkpoints rungs[0 … r].
   std::vector<PathSegment> checkpoint_segments;
+  /// The key that makes a job learn exactly to a checkpoint, in the checkpoints' unit, for asha,
+  /// successive_halving and hyperband: "learning.epochs" (batch; checkpoints count epochs) or
+  /// "trajectory.reaching.reaches" (online on reaches; checkpoints count reaches). A step to a
+  /// rung r below the last sets it to rungs[r], so a short rung is a short job. Empty for other
+  /// job kinds (an online pass over a sine or figure-eight): their short rungs run the whole pass.
+  std::string length_path;
+  std::vector<PathSegment> length_segments;
   /// The steps to expand, (point, rung) each, as the search runner decided them; unset: the steps
   /// decided before any result (calc_initial_search_steps).
   std::optional<std::vector<std::pair<search::SearchPoint, std::size_t>>> decided;
 };
 
 /// The values a search step sets, {"dotted.path": value}: each axis's value at `point` (a
-/// categorical axis's choice, an integer axis's whole number) and, when the objective has
-/// checkpoints, learning.heldout_checkpoints up to rung `rung`.
+/// categorical axis's choice, an integer axis's whole number), when the objective has
+/// checkpoints, learning.heldout_checkpoints up to rung `rung`, and below the last rung
+/// length_path = rungs[rung].
 nlohmann::json calc_search_step_params(const SpecSearch& search, const search::SearchPoint& point, std::size_t rung);
 
 /// The steps a search decides before any job has finished (at most `slots`), with their trials.

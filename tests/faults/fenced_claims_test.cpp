@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sqlite3.h>
 #include <thread>
 
 namespace armfarm {
@@ -25,6 +26,19 @@ namespace fs = std::filesystem;
 using test_support::read_output;
 using test_support::start_armfarm;
 using test_support::wait_armfarm;
+
+// `runs` rows of the file with this status, read with plain sqlite3.
+int count_runs(const std::string& db, const std::string& status) {
+  sqlite3* raw = nullptr;
+  EXPECT_EQ(sqlite3_open_v2(db.c_str(), &raw, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  sqlite3_stmt* statement = nullptr;
+  EXPECT_EQ(sqlite3_prepare_v2(raw, "SELECT count(*) FROM runs WHERE status = ?", -1, &statement, nullptr), SQLITE_OK);
+  sqlite3_bind_text(statement, 1, status.c_str(), -1, SQLITE_TRANSIENT);
+  const int n = sqlite3_step(statement) == SQLITE_ROW ? sqlite3_column_int(statement, 0) : -1;
+  sqlite3_finalize(statement);
+  sqlite3_close(raw);
+  return n;
+}
 
 class FencedClaimsTest : public ::testing::Test {
  protected:
@@ -95,6 +109,10 @@ void FencedClaimsTest::pause_a_runner_past_the_lease(const std::vector<std::stri
   // Written once: the finish time is the runner's that took over, before the paused one resumed.
   EXPECT_TRUE(store.find_job_claims(make_utc_timestamp(), true).empty());
   EXPECT_EQ(store.check_integrity(), "ok");
+  // The paused runner's `runs` row stays as the other runner marked it (before: its last update
+  // overwrote `interrupted` with `complete`).
+  EXPECT_EQ(count_runs(db, "interrupted"), 1);
+  EXPECT_EQ(count_runs(db, "complete"), 1);
 }
 
 TEST_F(FencedClaimsTest, APausedRunnerWithATimeoutDestroysNoFinishedResult) {
@@ -103,6 +121,54 @@ TEST_F(FencedClaimsTest, APausedRunnerWithATimeoutDestroysNoFinishedResult) {
 
 TEST_F(FencedClaimsTest, APausedRunnerWithoutATimeoutOverwritesNoFinishedResult) {
   pause_a_runner_past_the_lease({});
+}
+
+// The exit code of a runner whose result was discarded (README.md, exit status): its job is the
+// runner's that took the claim over; while that runner holds it (here: paused too) the job is
+// not done in the file, and the discarding runner exits 1 and says so. Had its heartbeat noticed
+// the take-over before the job finished, it waits for the claim instead (and, the other runner
+// being paused past the lease, takes it back and finishes it: exit 0).
+TEST_F(FencedClaimsTest, ARunnerWhoseDiscardedJobIsNotDoneElsewhereExitsOne) {
+  write_spec("x", 1, 2000);
+  const std::string db = path("x.db");
+  ASSERT_EQ(run_to_end({"lease", db, "3"}, "lease.txt"), 0);
+  const auto first = start_armfarm({"run", path("x.json"), "--db", db, "-j", "1"}, path("first.txt"));
+  const auto holds = [&](pid_t pid) {
+    for (const JobClaimRecord& claim : ResultsStore::open(db, ResultsStore::Mode::read_only).find_job_claims(make_utc_timestamp())) {
+      if (claim.pid == pid) return true;
+    }
+    return false;
+  };
+  const auto wait_until_held_by = [&](pid_t pid) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (!holds(pid) && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return holds(pid);
+  };
+  ASSERT_TRUE(wait_until_held_by(first.pid));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ASSERT_EQ(kill(first.pid, SIGSTOP), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(3500));  // past the 3 s lease
+  const auto second = start_armfarm({"run", path("x.json"), "--db", db, "-j", "1"}, path("second.txt"));
+  const bool taken_over = wait_until_held_by(second.pid);
+  kill(second.pid, SIGSTOP);
+  ASSERT_TRUE(taken_over);
+  ASSERT_EQ(kill(first.pid, SIGCONT), 0);
+  const int first_exit = wait_armfarm(first);
+  const std::string text = read_output(first);
+  kill(second.pid, SIGKILL);
+  kill(second.pid, SIGCONT);
+  wait_armfarm(second);
+  if (text.find("finished results discarded") != std::string::npos) {
+    EXPECT_EQ(first_exit, 1) << text;
+    EXPECT_NE(text.find("sweep x: 1 finished results discarded: another runner took their claims over"), std::string::npos)
+        << text;
+    EXPECT_NE(text.find(", and 1 of them are not done in the file yet (armfarm status " + db + ")\n"), std::string::npos)
+        << text;
+  } else {
+    EXPECT_EQ(first_exit, 0) << text;
+    EXPECT_NE(text.find("stale claims of stopped runners taken over"), std::string::npos) << text;
+  }
+  EXPECT_NE(first_exit, 3) << text;  // nothing of the file's was lost
 }
 
 TEST_F(FencedClaimsTest, APerRunnerClaimTimeoutIsRefused) {

@@ -1,6 +1,7 @@
 // The search tables: a database of the previous schema (version 5, before searches) migrates
 // with its jobs kept; a search, its rungs, trials and steps round-trip and are what a plain SQL
-// reader sees (the search_promotions view); a step naming no job is refused.
+// reader sees (the search_promotions view); a step naming no job is refused; merge copies a
+// search whole, extends one the file already has and refuses a disagreeing one.
 #include "results/results_store.hpp"
 
 #include <gtest/gtest.h>
@@ -122,6 +123,73 @@ TEST_F(SearchStoreTest, ASearchRoundTripsAndPlainSqlSeesItsPromotions) {
   EXPECT_EQ(query_rows(path("s.db"), "SELECT trial, from_rung, to_rung, key FROM search_promotions"),
             std::vector<std::string>{"0|0|1|ka1"});
   EXPECT_THROW(store.find_search_steps("nosuch"), StoreError);
+}
+
+// File `name` with sweep "s" (its jobs registered in `keys` order, so their ids differ between
+// files), the search, and steps 0 … steps−1 of the sequence ka (trial 0, rung 0), kb (trial 1,
+// rung 0), ka1 (trial 0 promoted); `committed` of them with objectives 0.25, 0.5, 0.125.
+void write_search_file(const std::string& file, const std::vector<std::string>& keys, int steps, int committed,
+                       const std::string& step1_key = "kb") {
+  ResultsStore store = ResultsStore::open(file, ResultsStore::Mode::read_write);
+  std::vector<JobRegistration> jobs;
+  for (const std::string& key : keys) jobs.push_back({key, {{"k", key}}, {{"k", key}}, 0});
+  store.insert_sweep_run(testing::make_sweep_registration("s"), jobs);
+  store.insert_search(make_search("s"));
+  const std::vector<SearchStepRecord> sequence = {new_step(0, 0, 0, 0, "new", 12.5, "ka"),
+                                                  new_step(1, 1, 0, 0, "new", 12.5, step1_key),
+                                                  new_step(2, 0, 1, 2, "promotion", 47.5, "ka1")};
+  const std::vector<std::optional<SearchTrialRecord>> trials = {SearchTrialRecord{0, 0, R"({"x":1})"},
+                                                                SearchTrialRecord{1, 0, R"({"x":2})"}, std::nullopt};
+  const std::vector<double> objectives = {0.25, 0.5, 0.125};
+  for (int i = 0; i < steps; ++i) store.insert_search_step("s", sequence[i], trials[i]);
+  for (int i = 0; i < committed; ++i) store.update_search_objective("s", i, objectives[i], "");
+}
+
+const char* const kMergedSteps =
+    "SELECT st.step, st.trial, st.rung, st.kind, j.key, st.objective, st.committed FROM search_steps st "
+    "JOIN jobs j ON j.id = st.job_id ORDER BY st.step";
+
+TEST_F(SearchStoreTest, MergeCopiesASearchWholeAndExtendsTheSameSearchStepByStep) {
+  write_search_file(path("short.db"), {"ka", "kb", "ka1"}, 2, 1);
+  write_search_file(path("long.db"), {"ka1", "kc", "kb", "ka"}, 3, 2);
+  const std::vector<std::string> expected = {"0|0|0|new|ka|0.25|1", "1|1|0|new|kb|0.5|1", "2|0|1|promotion|ka1|NULL|0"};
+  {
+    // The same search, further on in the other file: its third step added, step 1's objective taken.
+    ResultsStore store = ResultsStore::open(path("short.db"), ResultsStore::Mode::read_write);
+    const MergeReport report = store.merge_from(path("long.db"));
+    EXPECT_TRUE(report.conflicts.empty()) << report.conflicts.front();
+  }
+  EXPECT_EQ(query_rows(path("short.db"), kMergedSteps), expected);
+  EXPECT_EQ(query_rows(path("short.db"), "SELECT trial, params FROM search_trials ORDER BY trial"),
+            (std::vector<std::string>{R"(0|{"x":1})", R"(1|{"x":2})"}));
+  {
+    // A file without the search takes it whole: settings, rungs, trials, steps.
+    ResultsStore store = ResultsStore::open(path("empty.db"), ResultsStore::Mode::read_write);
+    const MergeReport report = store.merge_from(path("short.db"));
+    EXPECT_TRUE(report.conflicts.empty());
+  }
+  EXPECT_EQ(query_rows(path("empty.db"), kMergedSteps), expected);
+  const ResultsStore merged = ResultsStore::open(path("empty.db"), ResultsStore::Mode::read_only);
+  ASSERT_TRUE(merged.find_search("s").has_value());
+  EXPECT_EQ(merged.find_search("s")->rungs.size(), 3u);
+  EXPECT_EQ(merged.find_search("s")->seed, 7);
+  EXPECT_EQ(query_rows(path("empty.db"), "SELECT trial, from_rung, to_rung, key FROM search_promotions"),
+            std::vector<std::string>{"0|0|1|ka1"});
+}
+
+TEST_F(SearchStoreTest, MergeRefusesASearchWhoseStepsDisagreeAndKeepsThisFilesSearch) {
+  write_search_file(path("mine.db"), {"ka", "kb", "ka1", "kc"}, 2, 0);
+  write_search_file(path("other.db"), {"ka", "kb", "ka1", "kc"}, 3, 3, "kc");  // step 1 ran another job
+  ResultsStore store = ResultsStore::open(path("mine.db"), ResultsStore::Mode::read_write);
+  const MergeReport report = store.merge_from(path("other.db"));
+  ASSERT_EQ(report.conflicts.size(), 1u);
+  EXPECT_NE(report.conflicts[0].find("search s: step 1 runs a different trial, rung or job in " + path("other.db")),
+            std::string::npos)
+      << report.conflicts[0];
+  // Nothing of the other file's search: step 0's objective, taken before step 1 disagreed, was
+  // taken back with it, and step 2 was not added.
+  EXPECT_EQ(query_rows(path("mine.db"), kMergedSteps),
+            (std::vector<std::string>{"0|0|0|new|ka|NULL|0", "1|1|0|new|kb|NULL|0"}));
 }
 
 }  // namespace

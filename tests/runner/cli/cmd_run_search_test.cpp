@@ -3,7 +3,8 @@
 // runner is killed with SIGKILL mid-search and resumed at another thread count; a random search
 // whose jobs a TPE search of the same seed already ran still records its sweep and steps; a
 // real job's held-out objective without learning.heldout_checkpoints is read at its default
-// checkpoint (never undefined for every trial).
+// checkpoint (never undefined for every trial); an ASHA promotion of a batch job (each rung a
+// job that trains to its checkpoint's epoch) scores bit-identically to one straight run.
 #include <gtest/gtest.h>
 
 #include "support/armfarm_process.hpp"
@@ -111,6 +112,59 @@ TEST_F(CmdRunSearchTest, AHeldOutObjectiveWithoutCheckpointsIsReadAtTheDefaultOn
                                                   "JOIN job_metrics m ON m.job_id = st.job_id AND m.name = 'heldout_test_nmse' "
                                                   "AND m.joint = 2 ORDER BY st.step");
   EXPECT_EQ(seen, (std::vector<std::string>{"1|1", "1|1"}));
+}
+
+TEST_F(CmdRunSearchTest, APromotedTrialScoresAsAStraightRunToTheLongerBudget) {
+  // ASHA over epochs 1/3/9 of a short batch job: a step to rung r is a job that trains
+  // learning.epochs = rungs[r] epochs (the last rung: the base's 9). Batch training draws its
+  // shuffles in epoch order from the job's seed, so a job cut after epoch e is a prefix of the
+  // longer one and scores the same at every checkpoint it shares, bit for bit.
+  const std::string base = R"("active_joints": [1, 2],
+      "trajectory": {"kind": "sine", "sine": {"amplitude": [0.22, 0.2], "frequency": [0.5, 1.0], "phase": [0, 0], "duration": 2.0}},
+      "control": {"mode": "composite", "feed_forward": "learner", "gain_scale": 0.2},
+      "learning": {"mode": "batch", "collect_repeats": 2, "train_fraction": 0.75, "epochs": 9, "heldout_checkpoints": [1, 3, 9])";
+  std::ofstream(path("asha.json")) << R"({"name": "asha epochs", "base": {)" + base + R"(}},
+      "sweep": {"search": {"method": "asha", "seed": 2, "eta": 3, "slots": 1, "max_trials": 9,
+        "objective": {"metric": "heldout_test_nmse", "joint": 2},
+        "space": {"learning.lwpr.init_D": {"log_uniform": [0.05, 3.0]}}, "budget": {"jobs": 20}}}})";
+  const std::string db = path("asha.db");
+  ASSERT_EQ(test_support::wait_armfarm(test_support::start_armfarm({"run", path("asha.json"), "--db", db, "-j", "1", "-q"}, path("asha.txt"), false)), 0)
+      << std::ifstream(path("asha.txt")).rdbuf();
+  // 9 new trials, and (asynchronous promotions, as in asha_test's hand-worked example) some of
+  // them promoted to rung 1 and at least one to rung 2.
+  const std::vector<std::string> rungs = query_rows(db, "SELECT rung, count(*) FROM search_steps GROUP BY rung ORDER BY rung");
+  ASSERT_EQ(rungs.size(), 3u);
+  EXPECT_EQ(rungs[0], "0|9");
+  const std::vector<std::string> top = query_rows(db, "SELECT trial FROM search_steps WHERE rung = 2 ORDER BY step LIMIT 1");
+  ASSERT_EQ(top.size(), 1u);
+  // Each of that trial's jobs: its epochs and its objective at its own rung's checkpoint.
+  const std::string per_rung =
+      "SELECT st.rung, json_extract(j.config, '$.learning.epochs'), printf('%!.17g', st.objective) FROM search_steps st "
+      "JOIN jobs j ON j.id = st.job_id WHERE st.trial = " + top[0] + " ORDER BY st.rung";
+  const std::vector<std::string> steps = query_rows(db, per_rung);
+  ASSERT_EQ(steps.size(), 3u);
+  EXPECT_EQ(steps[0].substr(0, 4), "0|1|");
+  EXPECT_EQ(steps[1].substr(0, 4), "1|3|");
+  EXPECT_EQ(steps[2].substr(0, 4), "2|9|");
+  const std::string init_d = query_rows(db, "SELECT printf('%!.17g', json_extract(params, '$.\"learning.lwpr.init_D\"')) FROM search_trials "
+                                       "WHERE trial = " + top[0]).at(0);
+
+  // The straight run: the trial's point in a plain sweep, in a file of its own.
+  std::ofstream(path("straight.json")) << R"({"name": "straight", "base": {)" + base + R"(, "lwpr": {"init_D": )" + init_d + R"(}}}})";
+  const std::string straight = path("straight.db");
+  ASSERT_EQ(test_support::wait_armfarm(test_support::start_armfarm({"run", path("straight.json"), "--db", straight, "-j", "1", "-q"}, path("straight.txt"), false)), 0)
+      << std::ifstream(path("straight.txt")).rdbuf();
+  const std::vector<std::string> checkpoints =
+      query_rows(straight, "SELECT m.checkpoint, printf('%!.17g', m.value) FROM job_metrics m WHERE m.name = 'heldout_test_nmse' "
+                      "AND m.joint = 2 ORDER BY m.checkpoint");
+  ASSERT_EQ(checkpoints.size(), 3u);
+  for (std::size_t r = 0; r < 3; ++r) {
+    EXPECT_EQ(steps[r].substr(steps[r].rfind('|') + 1), checkpoints[r].substr(checkpoints[r].find('|') + 1))
+        << "rung " << r << " against the straight run's checkpoint " << checkpoints[r];
+  }
+  // The last rung is the straight job itself: the same key.
+  EXPECT_EQ(query_rows(straight, "SELECT key FROM jobs"),
+            query_rows(db, "SELECT j.key FROM search_steps st JOIN jobs j ON j.id = st.job_id WHERE st.rung = 2 AND st.trial = " + top[0]));
 }
 
 }  // namespace

@@ -1,9 +1,11 @@
-// ASHA's promotions against a hand-worked example (η = 3, 9 trials, rungs 0/1/2), and ASHA on a
-// multi-fidelity Branin against random search at the same cost.
+// ASHA's promotions against a hand-worked example (η = 3, 9 trials, rungs 0/1/2), and ASHA on
+// multi-fidelity closed forms (Branin, a quadratic on a log-uniform axis, a categorical axis)
+// against random search at the same cost.
 #include "runner/search/asha.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <utility>
 #include <vector>
@@ -96,6 +98,66 @@ TEST(Asha, FindsBraninsOptimumRegionAndBeatsRandomAtTheSameCost) {
   const double random = calc_median(random_best);
   std::printf("ASHA median best %.4f, random %.4f (Branin minimum %.4f)\n", asha, random, testing::kBraninMinimum);
   EXPECT_LT(asha, 1.0);
+  EXPECT_LT(asha, random);
+}
+
+// The two closed forms of the TPE tests (tpe_sampler_test.cpp) made multi-fidelity: rung r adds
+// (2 − r) · `noise` times a fixed per-point value in [0, 1), so short runs rank roughly.
+SearchSettings make_asha_settings(std::uint64_t seed, double full_runs) {
+  SearchSettings settings;
+  settings.seed = seed;
+  settings.method = SearchMethod::asha;
+  settings.rung_cost = {1.0, 3.0, 9.0};
+  settings.budget = full_runs * 9.0;
+  settings.slots = 2;
+  return settings;
+}
+
+TEST(Asha, FindsTheMinimumOfAQuadraticOnALogUniformAxisAtTheCostOfTenFullRuns) {
+  // (log10 x − log10 0.003)² on x ∈ [1e-5, 10]; rung noise up to 0.5 (decades²) at rung 0.
+  const double target = std::log10(0.003);
+  const LossFunction loss = [&](std::size_t, const SearchPoint& p, std::size_t rung) {
+    const double d = std::log10(p[0]) - target;
+    return d * d + 0.25 * (2.0 - static_cast<double>(rung)) * calc_point_noise(p);
+  };
+  std::vector<double> asha_best;
+  std::vector<double> random_best;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    SearchSettings settings = make_asha_settings(seed, 10.0);
+    settings.space.axes.push_back({"rate", AxisKind::log_uniform, 1e-5, 10.0, 0});
+    asha_best.push_back(calc_best_loss(settings, calc_search_sequence(settings, loss)));
+    settings.method = SearchMethod::random;
+    random_best.push_back(calc_best_loss(settings, calc_search_sequence(settings, loss)));
+  }
+  const double asha = calc_median(asha_best);
+  const double random = calc_median(random_best);
+  std::printf("log-uniform quadratic, cost of 10 full runs: ASHA median best %.2e, random %.2e\n", asha, random);
+  EXPECT_LT(std::sqrt(asha), 0.1);  // within a tenth of a decade of 0.003
+  EXPECT_LT(asha, random);
+}
+
+TEST(Asha, FindsTheBestChoiceOfACategoricalAxisAtTheCostOfTenFullRuns) {
+  // Six choices with offsets, choice 4 best by 1.0, plus y² on [−1, 1]; rung noise up to 3 at
+  // rung 0 (more than the gap between choices), so rung 0 alone cannot tell them apart.
+  const std::vector<double> offset = {3.0, 2.0, 4.0, 5.0, 0.0, 1.0};
+  const LossFunction loss = [&](std::size_t, const SearchPoint& p, std::size_t rung) {
+    return offset[static_cast<std::size_t>(p[0])] + p[1] * p[1] + 1.5 * (2.0 - static_cast<double>(rung)) * calc_point_noise(p);
+  };
+  std::vector<double> asha_best;
+  std::vector<double> random_best;
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    SearchSettings settings = make_asha_settings(seed, 10.0);
+    settings.space.axes.push_back({"kind", AxisKind::categorical, 0.0, 0.0, offset.size()});
+    settings.space.axes.push_back({"y", AxisKind::uniform, -1.0, 1.0, 0});
+    const double best = calc_best_loss(settings, calc_search_sequence(settings, loss));
+    EXPECT_LT(best, 0.25) << "seed " << seed;  // choice 4 with |y| < 0.5
+    asha_best.push_back(best);
+    settings.method = SearchMethod::random;
+    random_best.push_back(calc_best_loss(settings, calc_search_sequence(settings, loss)));
+  }
+  const double asha = calc_median(asha_best);
+  const double random = calc_median(random_best);
+  std::printf("categorical, cost of 10 full runs: ASHA median best %.4f, random %.4f\n", asha, random);
   EXPECT_LT(asha, random);
 }
 

@@ -66,6 +66,46 @@ TEST(SearchBlock, AGoodBlockReadsItsMethodObjectiveRungsAndSpace) {
   EXPECT_EQ(params.at("learning.heldout_checkpoints"), nlohmann::json::parse("[10, 50]"));
   EXPECT_EQ(params.at("learning.lwpr.init_n_reg"), 2);
   EXPECT_EQ(params.at("learning.lwpr.update_D"), true);
+  // Below the last rung the online reaching job learns exactly to the checkpoint: 50 reaches.
+  EXPECT_EQ(search.length_path, "trajectory.reaching.reaches");
+  EXPECT_EQ(params.at("trajectory.reaching.reaches"), 50);
+  // The last rung is the base's job: its length is not set.
+  EXPECT_FALSE(calc_search_step_params(search, {10.0, 20.0, 2.0, 1.0}, 2).contains("trajectory.reaching.reaches"));
+}
+
+TEST(SearchBlock, ShortAndLastRungStepsExpandTogetherWithTheKeysTheyHaveAlone) {
+  // A sweep's job keys assume every step sets the same elements: the last rung sets the base's
+  // own length. Expanded beside a short step, the last-rung job keeps the key it has alone.
+  const JobConfigSchema schema = make_experiment_config_schema();
+  const search::SearchPoint point = {10.0, 20.0, 2.0, 1.0};
+  SweepSpec both = parse_sweep_spec(make_spec(kGood), "spec.json", ".", schema);
+  const nlohmann::json base_reaches = both.base.at("trajectory").at("reaching").at("reaches");
+  both.search->decided = std::vector<std::pair<search::SearchPoint, std::size_t>>{{point, 0}, {point, 2}};
+  SweepSpec alone = both;
+  alone.search->decided = std::vector<std::pair<search::SearchPoint, std::size_t>>{{point, 2}};
+  const ExpandedSweep together = expand_sweep(std::move(both), schema);
+  const ExpandedSweep single = expand_sweep(std::move(alone), schema);
+  ASSERT_EQ(together.jobs.size(), 2u);
+  EXPECT_EQ(together.jobs[0].config().at("trajectory").at("reaching").at("reaches"), 10);
+  EXPECT_EQ(together.jobs[1].config().at("trajectory").at("reaching").at("reaches"), base_reaches);
+  EXPECT_EQ(together.jobs[1].key, single.jobs.at(0).key);
+}
+
+TEST(SearchBlock, ShortRungsOfABatchJobTrainFewerEpochsAndRandomSearchesKeepTheBaseLength) {
+  const JobConfigSchema schema = make_experiment_config_schema();
+  const std::string batch = R"({"name": "b", "base": {"learning": {"mode": "batch", "epochs": 9, "heldout": true,
+      "heldout_checkpoints": [1, 3, 9]}}, "sweep": {"search": {"method": "hyperband",
+      "objective": {"metric": "heldout_test_nmse"}, "space": {"learning.lwpr.init_D": {"log_uniform": [1, 1000]}},
+      "budget": {"jobs": 20}}}})";
+  const SpecSearch search = *parse_sweep_spec(batch, "spec.json", ".", schema).search;
+  EXPECT_EQ(search.length_path, "learning.epochs");
+  EXPECT_EQ(calc_search_step_params(search, {5.0}, 0).at("learning.epochs"), 1);
+  EXPECT_EQ(calc_search_step_params(search, {5.0}, 1).at("learning.epochs"), 3);
+  EXPECT_FALSE(calc_search_step_params(search, {5.0}, 2).contains("learning.epochs"));
+  // A one-rung method never cuts: its jobs are the base's.
+  std::string tpe = batch;
+  tpe.replace(tpe.find("hyperband"), 9, "tpe");
+  EXPECT_TRUE(parse_sweep_spec(tpe, "spec.json", ".", schema).search->length_path.empty());
 }
 
 TEST(SearchBlock, ExpandListsTheStepsDecidedBeforeAnyResult) {
@@ -76,6 +116,7 @@ TEST(SearchBlock, ExpandListsTheStepsDecidedBeforeAnyResult) {
   for (const ExpandedJob& job : sweep.jobs) {
     EXPECT_EQ(job.key.size(), 32u);
     EXPECT_EQ(job.config().at("learning").at("heldout_checkpoints"), nlohmann::json::parse("[10]"));
+    EXPECT_EQ(job.config().at("trajectory").at("reaching").at("reaches"), 10);
     const double d = job.config().at("learning").at("lwpr").at("init_D").get<double>();
     EXPECT_GE(d, 1.0);
     EXPECT_LE(d, 1000.0);

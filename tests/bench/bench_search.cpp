@@ -1,0 +1,258 @@
+// `make bench` figures for searches (issue 25, "Benchmarks"): on two shipped problems, the full
+// grid against the method and against random search, each search given 25 % of the grid's
+// estimated CPU-seconds (calc_search_cpu_seconds, what `budget.cpu_seconds` counts), over
+// 10 search seeds; median and spread of the best objective, and the measured CPU-seconds.
+//   1. fig6_1_kernel_width (sweeps/thesis/): learning.lwpr.init_D x update_D, objective
+//      heldout_test_nmse of joint 2; the method TPE. The grid is the shipped 6 x 2 (no repeat).
+//   2. reaching (the base of sweeps/thesis/table6_5_7_heldout_reaching.json): init_D x init_alpha
+//      x control.gain_scale, checkpoints after 10/50/200 reaches, objective the mean
+//      heldout_test_nmse at 200; the method ASHA (η 3) with the TPE sampler. Grid 3 x 3 x 3.
+// Reduced so that the whole program runs in minutes at -j1 (said again in its output):
+// fig6_1 collects 4 passes instead of 53; the reaching task has 200 reaches of 40 points (not
+// 1000 of 100) and 3 held-out transitions (not 9).
+// Each search runs in a database of its own, so its measured CPU is its own jobs'.
+#include "results/results_store.hpp"
+#include "runner/execution/job_kind.hpp"
+#include "runner/execution/search_runner.hpp"
+#include "runner/execution/sweep_runner.hpp"
+#include "runner/spec/sweep_stages.hpp"
+
+#include <benchmark/benchmark.h>
+#include <nlohmann/json.hpp>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace armfarm {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kSeeds = 10;
+constexpr double kBudgetFraction = 0.25;
+
+double process_cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
+fs::path scratch_folder() {
+  const fs::path folder = fs::temp_directory_path() / ("armfarm_bench_search_" + std::to_string(::getpid()));
+  fs::create_directories(folder);
+  return folder;
+}
+
+nlohmann::json read_json(const fs::path& file) {
+  std::ifstream in(file);
+  return nlohmann::json::parse(in);
+}
+
+struct Problem {
+  std::string name;
+  nlohmann::json base;
+  nlohmann::json grid;       ///< sweep.grid
+  nlohmann::json search;     ///< sweep.search without seed and budget
+  std::string metric;
+  std::optional<int> joint;  ///< empty: the mean row
+};
+
+// The objective of a done job: the metric row of `joint` at its highest checkpoint.
+std::optional<double> find_objective(const ResultsStore& store, const JobRecord& job, const Problem& problem) {
+  std::optional<double> value;
+  std::optional<std::int64_t> checkpoint;
+  for (const MetricRecord& m : store.find_metrics(job.id)) {
+    if (m.name != problem.metric || m.joint != problem.joint) continue;
+    if (!value || (m.checkpoint && (!checkpoint || *m.checkpoint > *checkpoint))) {
+      value = m.value;
+      checkpoint = m.checkpoint;
+    }
+  }
+  return value;
+}
+
+std::string write_spec(const fs::path& folder, const std::string& name, const nlohmann::json& spec) {
+  const fs::path file = folder / (name + ".json");
+  std::ofstream(file) << spec.dump(2);
+  return file.string();
+}
+
+struct SearchOutcome {
+  double best = std::numeric_limits<double>::infinity();
+  double spent = 0.0;  ///< estimated, in the budget's unit
+  double cpu = 0.0;    ///< measured
+  std::size_t steps = 0;
+};
+
+struct Summary {
+  double median = 0.0, low = 0.0, high = 0.0;
+};
+
+Summary summarise(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return {n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]), values.front(), values.back()};
+}
+
+void run_problem(benchmark::State& state, const Problem& problem) {
+  const JobKind kind = make_job_kind_from_environment();
+  const fs::path folder = scratch_folder();
+  const std::atomic<bool> no_stop{false};
+  RunOptions options;
+  options.threads = 1;
+
+  // The grid.
+  const std::string grid_name = problem.name + " grid";
+  const std::string grid_db = (folder / (problem.name + "_grid.db")).string();
+  const std::vector<SweepSpec> grid_spec = load_sweep_stages(
+      write_spec(folder, problem.name + "_grid", {{"name", grid_name}, {"base", problem.base}, {"sweep", {{"grid", problem.grid}}}}),
+      kind.schema);
+  const ExpandedSweep grid = expand_sweep(grid_spec.front(), kind.schema);
+  double grid_cost = 0.0;
+  for (const ExpandedJob& job : grid.jobs) grid_cost += calc_search_cpu_seconds(kind, job.config());
+  options.db_path = grid_db;
+  double cpu = process_cpu_seconds();
+  run_sweep(grid, kind.executor, options, no_stop);
+  const double grid_cpu = process_cpu_seconds() - cpu;
+  double grid_best = std::numeric_limits<double>::infinity();
+  {
+    const ResultsStore store = ResultsStore::open(grid_db, ResultsStore::Mode::read_only);
+    for (const JobRecord& job : store.find_jobs(grid_name)) {
+      const std::optional<double> objective = job.status == "done" ? find_objective(store, job, problem) : std::nullopt;
+      if (objective) grid_best = std::min(grid_best, *objective);
+    }
+  }
+
+  // The searches: the method and random, 25 % of the grid's estimated cost each.
+  const double budget = kBudgetFraction * grid_cost;
+  const auto run_one = [&](const nlohmann::json& method, std::uint64_t seed) {
+    nlohmann::json search = problem.search;
+    search.erase("method_settings");
+    search.update(method);
+    search["seed"] = seed;
+    search["budget"] = {{"cpu_seconds", budget}};
+    const std::string name = problem.name + " " + method.at("method").get<std::string>() + " " + std::to_string(seed);
+    const std::vector<SweepSpec> spec = load_sweep_stages(
+        write_spec(folder, problem.name + "_search", {{"name", name}, {"base", problem.base}, {"sweep", {{"search", search}}}}),
+        kind.schema);
+    RunOptions one = options;
+    one.db_path = (folder / (problem.name + "_search.db")).string();
+    for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(one.db_path + suffix);
+    const double start = process_cpu_seconds();
+    const SearchRunSummary summary = run_search(spec.front(), kind, one, ExpansionLimits{}, no_stop);
+    SearchOutcome outcome;
+    outcome.cpu = process_cpu_seconds() - start;
+    outcome.best = summary.best.value_or(std::numeric_limits<double>::infinity());
+    outcome.spent = summary.spent;
+    outcome.steps = summary.steps;
+    return outcome;
+  };
+  const nlohmann::json method = problem.search.at("method_settings");
+  const nlohmann::json random = {{"method", "random"}};
+  std::vector<double> method_best, random_best, method_spent, random_spent, method_cpu, random_cpu, method_steps, random_steps;
+  int wins = 0;
+  for (std::uint64_t seed = 1; seed <= static_cast<std::uint64_t>(kSeeds); ++seed) {
+    const SearchOutcome m = run_one(method, seed);
+    const SearchOutcome r = run_one(random, seed);
+    method_best.push_back(m.best);
+    random_best.push_back(r.best);
+    method_spent.push_back(m.spent);
+    random_spent.push_back(r.spent);
+    method_cpu.push_back(m.cpu);
+    random_cpu.push_back(r.cpu);
+    method_steps.push_back(static_cast<double>(m.steps));
+    random_steps.push_back(static_cast<double>(r.steps));
+    wins += m.best < r.best;
+    std::printf("  %s seed %2llu: %s best %.6g (%zu jobs, %.3g est, %.2f CPU s); random best %.6g (%zu jobs, %.3g est, %.2f CPU s)\n",
+                problem.name.c_str(), static_cast<unsigned long long>(seed), method.at("method").get<std::string>().c_str(), m.best,
+                m.steps, m.spent, m.cpu, r.best, r.steps, r.spent, r.cpu);
+  }
+  const Summary mb = summarise(method_best), rb = summarise(random_best);
+  const Summary ms = summarise(method_spent), rs = summarise(random_spent);
+  const Summary mc = summarise(method_cpu), rc = summarise(random_cpu);
+  std::printf("%s: grid %zu jobs, best %.6g, estimated %.4g, measured %.2f CPU s\n", problem.name.c_str(), grid.jobs.size(),
+              grid_best, grid_cost, grid_cpu);
+  std::printf("%s: budget %.4g estimated (%.0f %% of the grid's)\n", problem.name.c_str(), budget, 100.0 * kBudgetFraction);
+  std::printf("%s: method  best median %.6g [%.6g, %.6g], spent median %.4g est (%.0f %% of grid), CPU median %.2f s (%.0f %% of grid), jobs median %.0f\n",
+              problem.name.c_str(), mb.median, mb.low, mb.high, ms.median, 100.0 * ms.median / grid_cost, mc.median,
+              100.0 * mc.median / grid_cpu, summarise(method_steps).median);
+  std::printf("%s: random  best median %.6g [%.6g, %.6g], spent median %.4g est (%.0f %% of grid), CPU median %.2f s (%.0f %% of grid), jobs median %.0f\n",
+              problem.name.c_str(), rb.median, rb.low, rb.high, rs.median, 100.0 * rs.median / grid_cost, rc.median,
+              100.0 * rc.median / grid_cpu, summarise(random_steps).median);
+  std::printf("%s: goal 1 (method median within 5 %% of grid best): %.1f %% above it: %s; goal 2 (better than random): median %s, %d of %d seeds\n",
+              problem.name.c_str(), 100.0 * (mb.median / grid_best - 1.0), mb.median <= 1.05 * grid_best ? "met" : "not met",
+              mb.median < rb.median ? "better" : "not better", wins, kSeeds);
+  state.counters["grid_best"] = grid_best;
+  state.counters["method_median"] = mb.median;
+  state.counters["random_median"] = rb.median;
+  state.counters["wins"] = wins;
+  fs::remove_all(folder);
+}
+
+Problem make_kernel_width_problem() {
+  const nlohmann::json shipped = read_json(fs::path(ARMFARM_SOURCE_DIR) / "sweeps/thesis/fig6_1_kernel_width.json");
+  Problem p;
+  p.name = "fig6_1_kernel_width";
+  p.base = shipped.at("base");
+  p.base["learning"]["collect_repeats"] = 4;  // reduced from 53
+  p.base["recording"] = {{"series", nlohmann::json::array()}};
+  p.grid = shipped.at("sweep").at("grid");
+  p.search = {{"slots", 2},
+              {"objective", {{"metric", "heldout_test_nmse"}, {"joint", 2}}},
+              {"space",
+               {{"learning.lwpr.init_D", {{"log_uniform", {0.01, 3.0}}}},
+                {"learning.lwpr.update_D", {{"categorical", {false, true}}}}}},
+              {"method_settings", {{"method", "tpe"}}}};
+  p.metric = "heldout_test_nmse";
+  p.joint = 2;
+  return p;
+}
+
+Problem make_reaching_problem() {
+  const nlohmann::json shipped = read_json(fs::path(ARMFARM_SOURCE_DIR) / "sweeps/thesis/table6_5_7_heldout_reaching.json");
+  Problem p;
+  p.name = "reaching";
+  p.base = shipped.at("base");
+  p.base["trajectory"]["reaching"]["reaches"] = 200;           // reduced from 1000
+  p.base["trajectory"]["reaching"]["points_per_reach"] = 40;   // reduced from 100
+  p.base["learning"]["heldout_segments"] = 3;                  // reduced from 9
+  p.base["learning"]["heldout_checkpoints"] = {10, 50, 200};
+  p.base["recording"] = {{"series", nlohmann::json::array()}};
+  p.grid = {{"learning.lwpr.init_D", {0.1, 0.5, 2.5}},
+            {"learning.lwpr.init_alpha", {25.0, 100.0, 400.0}},
+            {"control.gain_scale", {0.2, 0.5, 1.0}}};
+  p.search = {{"slots", 2},
+              {"objective", {{"metric", "heldout_test_nmse"}, {"joint", "mean"}}},
+              {"space",
+               {{"learning.lwpr.init_D", {{"log_uniform", {0.1, 2.5}}}},
+                {"learning.lwpr.init_alpha", {{"log_uniform", {25.0, 400.0}}}},
+                {"control.gain_scale", {{"uniform", {0.2, 1.0}}}}}},
+              {"method_settings", {{"method", "asha"}, {"sampler", "tpe"}, {"eta", 3}}}};
+  p.metric = "heldout_test_nmse";
+  return p;
+}
+
+void BM_SearchKernelWidth(benchmark::State& state) {
+  for (auto _ : state) run_problem(state, make_kernel_width_problem());
+}
+BENCHMARK(BM_SearchKernelWidth)->Unit(benchmark::kSecond)->Iterations(1);
+
+void BM_SearchReaching(benchmark::State& state) {
+  for (auto _ : state) run_problem(state, make_reaching_problem());
+}
+BENCHMARK(BM_SearchReaching)->Unit(benchmark::kSecond)->Iterations(1);
+
+}  // namespace
+}  // namespace armfarm
+
+BENCHMARK_MAIN();
