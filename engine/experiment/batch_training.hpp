@@ -7,7 +7,7 @@
 #include "engine/experiment/control_pass.hpp"
 #include "engine/experiment/feed_forward_source.hpp"
 #include "engine/experiment/signal_statistics.hpp"
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"
 
 #include <Eigen/Core>
 

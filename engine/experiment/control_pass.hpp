@@ -11,7 +11,7 @@
 #include "engine/experiment/job_setup.hpp"
 #include "engine/experiment/pass_statistics.hpp"
 #include "engine/experiment/series_recorder.hpp"
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"
 #include "engine/random/random_stream.hpp"
 #include "engine/trajectory/trajectory.hpp"
 

@@ -4,7 +4,7 @@
 // own joint), the nominal model's full inverse dynamics (rigid body plus its joint damping and
 // friction, nominal_inverse_dynamics.hpp), or none.
 #include "engine/experiment/job_config.hpp"
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"
 #include "engine/physics/arm_simulation.hpp"
 
 #include <Eigen/Core>

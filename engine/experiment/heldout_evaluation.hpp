@@ -16,7 +16,7 @@
 // Every metric carries the checkpoint. The learner is taken by const reference: evaluating
 // cannot change it (its n_updates() is reported as heldout_learner_updates).
 #include "engine/experiment/control_pass.hpp"
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"
 
 #include <functional>
 #include <optional>

@@ -7,7 +7,7 @@
 #include "engine/experiment/feed_forward_source.hpp"
 #include "engine/experiment/pass_statistics.hpp"
 #include "engine/experiment/series_recorder.hpp"
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"
 
 namespace armfarm {
 

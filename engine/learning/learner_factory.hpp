@@ -3,7 +3,7 @@
 // sees only the Learner interface, so another learner is a new LearnerKind and a new case here,
 // with no change to the flow.
 #include "engine/learning/learning_config.hpp"
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"
 
 #include <Eigen/Core>
 

@@ -4,7 +4,7 @@
 // recognised by its magic when read. This is what a job stores in the results database
 // (learning.store_model) and what a job starts from (learning.initial_model); like the factory
 // (learner_factory.hpp), it is the one place that knows the concrete learners.
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"
 
 #include <memory>
 #include <string>

@@ -2,7 +2,7 @@
 // An LWPR model (Vijayakumar, D'Souza & Schaal 2005): one independent set of receptive fields
 // per output, each field a locally weighted PLS regression. Inputs and outputs are in the
 // caller's units; the model normalises them by LwprParams::norm_in / norm_out internally.
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"
 #include "engine/lwpr/lwpr_params.hpp"
 #include "engine/lwpr/receptive_field.hpp"
 

@@ -1,7 +1,7 @@
 // Versioned little-endian binary serialisation of LwprModel.
 #include "engine/lwpr/lwpr_model_file.hpp"
 
-#include "engine/learning/model_file_codec.hpp"
+#include "engine/learner/model_file_codec.hpp"
 
 #include <istream>
 #include <iterator>

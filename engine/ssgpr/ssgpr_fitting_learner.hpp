@@ -7,7 +7,7 @@
 // first update: online, the fit batch is the first ticks of the learning pass; batch, the first
 // shuffled training samples. The fit is one-off work inside one update() call, timed apart
 // (fit_seconds(), the fit alone: learning the kept samples afterwards is per-sample work).
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"
 #include "engine/ssgpr/ssgpr_fit.hpp"
 #include "engine/ssgpr/ssgpr_model.hpp"
 

@@ -6,7 +6,7 @@
 // with prior w ~ N(0, I) per output and noise σ_n²: A = σ_n² I + ΦᵀΦ (2D×2D, one Cholesky
 // factor L shared by all outputs), B = ΦᵀY (2D×n_out), W = A⁻¹B. Each sample costs O(D²).
 // Inputs in the caller's units; the model learns y / output_scale internally.
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"
 #include "engine/ssgpr/ssgpr_params.hpp"
 
 #include <Eigen/Core>

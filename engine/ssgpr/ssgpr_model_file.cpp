@@ -1,7 +1,7 @@
 // Versioned little-endian binary serialisation of SsgprModel.
 #include "engine/ssgpr/ssgpr_model_file.hpp"
 
-#include "engine/learning/model_file_codec.hpp"
+#include "engine/learner/model_file_codec.hpp"
 
 #include <cmath>
 #include <istream>

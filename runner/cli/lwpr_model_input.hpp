@@ -2,7 +2,7 @@
 // Where the `armfarm lwpr inspect|predict|export` verbs take a learned model from: a saved model
 // file (`armfarm lwpr fit --save`, `lwpr export`), or the model a job stored in a results
 // database (learning.store_model), named by its key: `MODEL.lwpr` or `--db DB --job KEY`.
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -1,9 +1,9 @@
 // Fuzz target: learner model files (engine/lwpr/lwpr_model_file, engine/ssgpr/ssgpr_model_file
-// over engine/learning/model_file_codec). The first byte picks the format and whether the input
+// over engine/learner/model_file_codec). The first byte picks the format and whether the input
 // is taken as a whole file (mostly refused by its magic or checksum) or as a payload that gets a
 // valid header and checksum, so that the payload decoder itself is explored. A well-formed
 // rejection is a std::runtime_error.
-#include "engine/learning/model_file_codec.hpp"
+#include "engine/learner/model_file_codec.hpp"
 #include "engine/lwpr/lwpr_model_file.hpp"
 #include "engine/ssgpr/ssgpr_model_file.hpp"
 

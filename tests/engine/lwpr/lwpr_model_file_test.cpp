@@ -1,7 +1,7 @@
 // LWPR model files: bit-identical round trip, clear errors for corrupt, truncated and future files.
 #include "engine/lwpr/lwpr_model_file.hpp"
 
-#include "engine/learning/model_file_codec.hpp"
+#include "engine/learner/model_file_codec.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,9 @@
 // runner/ (README.md, "Where things are"; HELPERS' house rules): base (below every other folder,
 // usable by all) depends on the standard library only; engine knows nothing of the
 // runner, the store, the analysis, JSON, SQLite or TBB; results depends on nothing of ours;
-// analysis on results only; engine/control not on engine/experiment; runner/spec and
-// runner/config not on runner/execution; runner/search (the samplers) on none of the runner's
+// analysis on results only; inside the engine, each folder includes only the engine folders below
+// it (kEngineFolders: learner/ below lwpr/ and ssgpr/, learning/ above them, experiment/ on top,
+// and a folder missing from the table fails); runner/spec and runner/config not on runner/execution; runner/search (the samplers) on none of the runner's
 // other folders, the store, JSON, SQLite or TBB; only engine/physics/simbody_* include Simbody.
 // A fixture tree with deliberately wrong includes proves the check fails.
 #include <gtest/gtest.h>
@@ -31,13 +32,58 @@ const std::vector<Rule>& layering_rules() {
        "engine/ knows nothing of the runner, the store, the analysis, JSON, SQLite or TBB"},
       {"results/", {"engine/", "runner/", "analysis/"}, "results/ depends on nothing of ours"},
       {"analysis/", {"engine/", "runner/"}, "analysis/ depends on results/ only"},
-      {"engine/control/", {"engine/experiment/"}, "control is a part the experiment assembles, not the other way"},
       {"runner/spec/", {"runner/execution/", "runner/cli/"}, "spec expansion does not know how jobs run"},
       {"runner/config/", {"runner/execution/", "runner/cli/"}, "configuration does not know how jobs run"},
       {"runner/search/", {"runner/execution/", "runner/cli/", "runner/spec/", "runner/config/", "results/", "analysis/", "nlohmann/", "sqlite3.h", "tbb/"},
        "the samplers are pure: no spec, store, JSON, SQLite or threads"},
   };
   return rules;
+}
+
+// The engine's inner arrows: each folder of engine/ with the engine folders it may include (its own
+// always). A folder not listed fails, so a new one takes its place in the order here.
+struct EngineFolder {
+  std::string name;
+  std::vector<std::string> may_include;
+};
+
+const std::vector<EngineFolder>& engine_folders() {
+  static const std::vector<EngineFolder> folders = {
+      {"config", {}},
+      {"io", {}},
+      {"random", {}},
+      {"learner", {}},
+      {"model", {"config", "io"}},
+      {"physics", {"config", "model"}},
+      {"kinematics", {"model", "physics"}},
+      {"trajectory", {"config", "kinematics", "model", "physics", "random"}},
+      {"control", {"config", "model", "physics"}},
+      {"lwpr", {"learner"}},
+      {"ssgpr", {"learner", "random"}},
+      {"learning", {"config", "learner", "lwpr", "ssgpr"}},
+      {"experiment", {"config", "io", "random", "learner", "model", "physics", "kinematics", "trajectory", "control", "lwpr", "ssgpr", "learning"}},
+  };
+  return folders;
+}
+
+/// The folder after "engine/" in a path ("engine/lwpr/x.hpp" -> "lwpr"); empty for other paths.
+std::string engine_folder_of(const std::string& path) {
+  if (path.compare(0, 7, "engine/") != 0) return {};
+  const std::size_t slash = path.find('/', 7);
+  return slash == std::string::npos ? std::string() : path.substr(7, slash - 7);
+}
+
+/// Why `file` may not include `include` by the engine's inner arrows; empty when it may.
+std::string check_engine_arrow(const std::string& file, const std::string& include) {
+  const std::string from = engine_folder_of(file), to = engine_folder_of(include);
+  if (from.empty() || to.empty() || from == to) return {};
+  const auto& folders = engine_folders();
+  const auto entry = std::find_if(folders.begin(), folders.end(), [&](const EngineFolder& f) { return f.name == from; });
+  if (entry == folders.end()) return "engine/" + from + "/ is not in the engine's layering table";
+  if (std::find(entry->may_include.begin(), entry->may_include.end(), to) != entry->may_include.end()) return {};
+  std::string allowed;
+  for (const std::string& name : entry->may_include) allowed += (allowed.empty() ? "" : ", ") + name;
+  return "engine/" + from + "/ includes only engine/{" + allowed + "}/ (the engine's inner arrows)";
 }
 
 const std::vector<std::string> kSimbodyHeaders = {"Simbody.h", "SimTKcommon", "SimTKmath", "SimTKsimbody", "simbody/"};
@@ -67,6 +113,7 @@ std::vector<std::string> find_layering_violations(const std::filesystem::path& r
             if (starts_with(include, prefix)) why.push_back(rule.why);
           }
         }
+        if (std::string inner = check_engine_arrow(file, include); !inner.empty()) why.push_back(inner);
         const bool simbody_file = starts_with(file, "engine/physics/simbody_");
         for (const std::string& header : kSimbodyHeaders) {
           if (!simbody_file && starts_with(include, header)) why.push_back("only engine/physics/simbody_* include Simbody");
@@ -87,6 +134,17 @@ TEST(LayeringTest, RealTreeFollowsTheArchitecture) {
   EXPECT_TRUE(violations.empty()) << text;
   // The engine, the runner and the checker's folders were read (a typo in a folder name would pass silently).
   EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(ARMFARM_SOURCE_DIR) / "engine/control"));
+  // Every folder of the engine has its row in the table (the check above would name a missing one
+  // only once it includes another folder), and every row names a folder that exists.
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(ARMFARM_SOURCE_DIR) / "engine")) {
+    if (!entry.is_directory()) continue;
+    const std::string name = entry.path().filename().string();
+    EXPECT_TRUE(std::any_of(engine_folders().begin(), engine_folders().end(), [&](const EngineFolder& f) { return f.name == name; }))
+        << "engine/" << name << "/ is not in the engine's layering table";
+  }
+  for (const EngineFolder& folder : engine_folders()) {
+    EXPECT_TRUE(std::filesystem::is_directory(std::filesystem::path(ARMFARM_SOURCE_DIR) / "engine" / folder.name)) << folder.name;
+  }
 }
 
 TEST(LayeringTest, FixtureWithWrongIncludesFails) {
@@ -97,8 +155,12 @@ TEST(LayeringTest, FixtureWithWrongIncludesFails) {
       "base/text.hpp:3: includes engine/io/number_text.hpp: base/ depends on the standard library only",
       "engine/control/gains.hpp:3: includes runner/spec/sweep_spec.hpp: engine/ knows nothing of the runner, the store, the analysis, JSON, SQLite or TBB",
       "engine/control/gains.hpp:4: includes nlohmann/json.hpp: engine/ knows nothing of the runner, the store, the analysis, JSON, SQLite or TBB",
-      "engine/control/gains.hpp:5: includes engine/experiment/run_experiment.hpp: control is a part the experiment assembles, not the other way",
+      "engine/control/gains.hpp:5: includes engine/experiment/run_experiment.hpp: engine/control/ includes only engine/{config, model, physics}/ (the engine's inner arrows)",
       "engine/control/gains.hpp:6: includes Simbody.h: only engine/physics/simbody_* include Simbody",
+      "engine/learner/learner.hpp:3: includes engine/lwpr/lwpr_model.hpp: engine/learner/ includes only engine/{}/ (the engine's inner arrows)",
+      "engine/lwpr/lwpr_model.hpp:3: includes engine/learning/learner_factory.hpp: engine/lwpr/ includes only engine/{learner}/ (the engine's inner arrows)",
+      "engine/plugins/extra.cpp:2: includes engine/model/arm_model.hpp: engine/plugins/ is not in the engine's layering table",
+      "engine/ssgpr/ssgpr_model.hpp:3: includes engine/lwpr/lwpr_params.hpp: engine/ssgpr/ includes only engine/{learner, random}/ (the engine's inner arrows)",
       "results/store.cpp:2: includes engine/model/arm_model.hpp: results/ depends on nothing of ours",
       "runner/search/sampler.cpp:3: includes nlohmann/json.hpp: the samplers are pure: no spec, store, JSON, SQLite or threads",
       "runner/spec/expand.cpp:2: includes runner/execution/job_executor.hpp: spec expansion does not know how jobs run",

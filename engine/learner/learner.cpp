@@ -1,2 +1,2 @@
 // Out-of-line anchor for the Learner interface's vtable.
-#include "engine/learning/learner.hpp"
+#include "engine/learner/learner.hpp"

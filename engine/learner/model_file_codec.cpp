@@ -1,4 +1,4 @@
-#include "engine/learning/model_file_codec.hpp"
+#include "engine/learner/model_file_codec.hpp"
 
 #include <cmath>
 #include <cstring>
