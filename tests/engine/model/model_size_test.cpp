@@ -56,7 +56,9 @@ TEST(ModelSize, NineHundredNinetyNineLinkChainLoadsInTreeOrder) {
   ASSERT_EQ(model.joints.size(), 999u);
   for (int j = 0; j < 999; ++j) {  // a chain: joint j moves link j + 1 (l_j) and hangs from the previous one
     EXPECT_EQ(model.links[model.joints[j].child_link].name, "l" + std::to_string(j));
-    if (j > 0) EXPECT_EQ(model.joints[j].parent_link, model.joints[j - 1].child_link);
+    if (j > 0) {
+      EXPECT_EQ(model.joints[j].parent_link, model.joints[j - 1].child_link);
+    }
   }
   EXPECT_EQ(model.links[model.end_effector.link].name, "l998");  // the one leaf
   // Closed form: 999 joint origins 0.01 m apart on z, the end effector at the last one's frame.
