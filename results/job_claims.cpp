@@ -265,10 +265,6 @@ std::vector<JobClaimRecord> ResultsStore::find_job_claims(const std::string& now
   return claims;
 }
 
-}  // namespace armfarm
-
-namespace armfarm {
-
 double ResultsStore::find_lease_seconds() const { return job_claims_sql::read_lease_seconds(*db_); }
 
 void ResultsStore::update_lease_seconds(double seconds, const std::string& now) {

@@ -44,6 +44,15 @@ class VisibleStateTest : public ::testing::Test {
     sqlite3_free(error);
     sqlite3_close(handle);
   }
+  /// Runs a sweep `name` of two 1 ms fake jobs into NAME.db and returns that file's path.
+  std::string run_two_fake_jobs(const std::string& name) const {
+    std::ofstream(path(name + ".json")) << R"({"name": ")" << name << R"(", "base": {"fake": {"sleep_ms": 1}},
+      "sweep": {"grid": {"learning.lwpr.init_D": [10, 20]}}})";
+    const std::string db = path(name + ".db");
+    std::string output;
+    EXPECT_EQ(armfarm({"run", path(name + ".json"), "--db", db, "-q"}, output), 0) << output;
+    return db;
+  }
   fs::path folder_;
 };
 
@@ -112,11 +121,9 @@ TEST_F(VisibleStateTest, ADeadRunnersClaimsAndRunAreShownAsNotRunning) {
 
 // Case 6: `run` added to a file with dangling metric rows and exited 0.
 TEST_F(VisibleStateTest, RunRefusesADamagedDatabaseBeforeAddingToIt) {
-  std::ofstream(path("d.json")) << R"({"name": "d", "base": {"fake": {"sleep_ms": 1}},
-      "sweep": {"grid": {"learning.lwpr.init_D": [10, 20]}}})";
-  const std::string db = path("d.db");
+  const std::string db = run_two_fake_jobs("d");
+  ASSERT_FALSE(HasFailure());
   std::string output;
-  ASSERT_EQ(armfarm({"run", path("d.json"), "--db", db, "-q"}, output), 0) << output;
   execute_sql(db, "PRAGMA foreign_keys = OFF; DELETE FROM sweep_jobs WHERE job_id = 1; DELETE FROM jobs WHERE id = 1");
   const auto before = fs::last_write_time(db);
   const auto size = fs::file_size(db);
@@ -134,11 +141,9 @@ TEST_F(VisibleStateTest, RunRefusesADamagedDatabaseBeforeAddingToIt) {
 
 // Case 6: `status --check` passed a jobs.status of 'weird'; plain `status` showed it as a count.
 TEST_F(VisibleStateTest, StatusRefusesAnUnknownJobStatus) {
-  std::ofstream(path("w.json")) << R"({"name": "w", "base": {"fake": {"sleep_ms": 1}},
-      "sweep": {"grid": {"learning.lwpr.init_D": [10, 20]}}})";
-  const std::string db = path("w.db");
+  const std::string db = run_two_fake_jobs("w");
+  ASSERT_FALSE(HasFailure());
   std::string output;
-  ASSERT_EQ(armfarm({"run", path("w.json"), "--db", db, "-q"}, output), 0) << output;
   execute_sql(db, "PRAGMA ignore_check_constraints = ON; UPDATE jobs SET status = 'weird' WHERE id = 1");
   EXPECT_EQ(armfarm({"status", "--check", db}, output), 2) << output;
   EXPECT_NE(output.find("status 'weird' is not a job status"), std::string::npos) << output;
