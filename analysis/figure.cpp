@@ -179,9 +179,11 @@ std::string make_tics_lines(const Panel& panel, int max_x_ticks, int max_y_ticks
     }
     if (panel.equal_axes) std::tie(low, high) = find_equal_axis_range(panel, axis);
     const char* name = axis == 0 ? "xtics" : "ytics";
-    // gnuplot extends an automatic range to the next tick: leave room for one more (equal axes
-    // have their range set, so their panel shows as many as asked for: 3 on a tracking panel, not 1).
-    const int max_ticks = std::max(1, (axis == 0 ? max_x_ticks : max_y_ticks) - (panel.equal_axes ? 0 : 1));
+    // gnuplot extends an automatic range to the next tick: leave room for one more (equal and
+    // tight axes end at their data, so their panel shows as many as asked for: 3 on a tracking
+    // panel, not 1).
+    const bool fixed_range = panel.equal_axes || (axis == 0 && panel.tight_x);  // signals' time axis: 1 label, "2005"
+    const int max_ticks = std::max(1, (axis == 0 ? max_x_ticks : max_y_ticks) - (fixed_range ? 0 : 1));
     if (axis == 0 ? panel.log_x : panel.log_y) {
       if (!(low > 0) || !(high >= low) || !std::isfinite(high)) {
         lines += std::string("set ") + name + " autofreq\n";
@@ -204,6 +206,10 @@ std::string make_tics_lines(const Panel& panel, int max_x_ticks, int max_y_ticks
         }
         const double spacing = (axis == 0 ? room_chars : room_lines) * step / decades;
         if (spacing >= needed) break;
+      }
+      if (step == 1) {  // every decade: gnuplot's own ticks, which also end the range on decades
+        lines += std::string("set ") + name + " autofreq\n";
+        continue;
       }
       char line[80];
       std::snprintf(line, sizeof line, "set %s %.17g, %.17g\n", name, std::pow(10.0, first), std::pow(10.0, step));
