@@ -136,6 +136,18 @@ TEST_F(SweepRunnerTest, AStopRequestLeavesUnfinishedJobsPendingForResume) {
   EXPECT_EQ(store.check_integrity(), "ok");
 }
 
+// The jobs of `sweep` that run now, 0 while the database cannot be read yet.
+int count_running_jobs(const std::string& db_path, const std::string& sweep) {
+  try {
+    const ResultsStore store = ResultsStore::open(db_path, ResultsStore::Mode::read_only);
+    const std::map<std::string, int> counts = store.count_jobs_by_status(sweep);
+    const auto running = counts.find("running");
+    return running == counts.end() ? 0 : running->second;
+  } catch (const std::exception&) {
+    return 0;
+  }
+}
+
 // Slurm's warning (a stop with a grace): the job expected to end within the grace finishes, the
 // one that cannot is stopped at once and stays pending, not failed; a stop at once (SIGTERM)
 // waits for neither.
@@ -153,8 +165,12 @@ TEST_F(SweepRunnerTest, AStopGraceLetsTheJobsThatCanEndInTimeFinish) {
     const std::atomic<bool> stop_at_once{at_once};
     options.stop_at_once = &stop_at_once;
     std::atomic<bool> stop{false};
+    // The stop comes once both jobs run (a fixed delay raced the jobs' start on a loaded machine).
     std::thread stopper([&] {
-      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+      while (std::chrono::steady_clock::now() < give_up && count_running_jobs(options.db_path, "g") < 2) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
       stop = true;
     });
     const auto start = std::chrono::steady_clock::now();
