@@ -32,7 +32,7 @@ RunFunction setup_expand(CLI::App& parent) {
       ->capture_default_str()->check(CLI::PositiveNumber);
 
   return [options] {
-    const JobKind kind = make_job_kind_from_environment(options->db);
+    const JobKind kind = make_job_kind(options->db);
     ExpandedSweep sweep;
     try {
       std::vector<SweepSpec> stages = load_sweep_stages(options->spec, kind.schema);

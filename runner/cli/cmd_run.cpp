@@ -108,7 +108,7 @@ RunFunction setup_run(CLI::App& parent) {
         })) {
       return 2;
     }
-    const JobKind kind = make_job_kind_from_environment(options->db);
+    const JobKind kind = make_job_kind(options->db);
     std::vector<SweepSpec> stages;
     RunOptions run;
     std::optional<ResultsStore> cost_reference;
@@ -195,7 +195,7 @@ RunFunction setup_run(CLI::App& parent) {
       const std::string stage_text = stages.size() > 1 ? " (stage " + std::to_string(s + 1) + " of " + std::to_string(stages.size()) + ")" : "";
       std::cout << "sweep " << sweep.spec.name << stage_text << ": " << sweep.jobs.size() << " jobs"
                 << (run.shard.count > 1 ? " (shard " + options->shard + ")" : "") << ", " << run.threads
-                << " threads, database " << run.db_path << (kind.name == "fake" ? ", FAKE jobs (ARMFARM_FAKE_JOBS=1)" : "")
+                << " threads, database " << run.db_path << (kind.name == "experiment" ? "" : ", " + kind.name + " jobs")
                 << std::endl;
       const std::string changes = make_input_change_text(find_input_changes(sweep, run.db_path));
       if (!changes.empty()) std::cout << "sweep " << sweep.spec.name << ": " << changes << std::endl;

@@ -103,7 +103,7 @@ std::string run_sbatch(const std::string& command, const std::string& what) {
 void print_missing_jobs(const ExpandedSweep& sweep, const SlurmPlan& plan, const std::set<std::string>& finished) {
   std::vector<std::string> keys;
   for (const ExpandedJob& job : sweep.jobs) keys.push_back(job.key);
-  const JobKind kind = make_job_kind_from_environment();
+  const JobKind kind = make_job_kind();
   const std::vector<int> shard_of = calc_shard_assignment(keys, calc_job_costs(sweep, kind.estimate_cost), plan.tasks);
   std::set<int> shards;
   std::vector<std::size_t> missing;
@@ -225,7 +225,7 @@ void check_slurm_options(const SlurmOptions& options) {
 
 /// The sweep of --spec, with at least --tasks jobs; throws SpecError or std::invalid_argument.
 ExpandedSweep load_slurm_sweep(const SlurmOptions& options) {
-  const JobKind kind = make_job_kind_from_environment();
+  const JobKind kind = make_job_kind();
   ExpandedSweep sweep = expand_sweep(load_sweep_spec(options.spec, kind.schema), kind.schema);
   if (options.tasks > static_cast<int>(sweep.jobs.size())) {
     throw std::invalid_argument("--tasks " + std::to_string(options.tasks) + ": more tasks than the " +
@@ -307,7 +307,7 @@ void choose_resubmitted_shards(SlurmPlan& plan) {
 void choose_warning_time(const SlurmOptions& options, const ExpandedSweep& sweep, SlurmPlan& plan) {
   std::optional<ResultsStore> reference;
   if (fs::exists(plan.db)) reference = ResultsStore::open(plan.db, ResultsStore::Mode::read_only);
-  const JobKind kind = make_job_kind_from_environment();
+  const JobKind kind = make_job_kind();
   const std::vector<double> seconds = calc_job_seconds(sweep, kind.estimate_cost, reference ? &*reference : nullptr);
   const double longest = seconds.empty() ? 0.0 : *std::max_element(seconds.begin(), seconds.end());
   plan.signal_before = options.signal_before > 0 ? options.signal_before : choose_signal_before(seconds, plan.time_limit);

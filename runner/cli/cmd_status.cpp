@@ -200,7 +200,7 @@ RunFunction setup_status(CLI::App& parent) {
         stopped_claims.insert(claim.key);
       }
     }
-    const JobKind kind = make_job_kind_from_environment(*db_path);
+    const JobKind kind = make_job_kind(*db_path);
     const std::vector<SweepRecord> sweeps = store.find_sweeps();
     if (sweeps.empty()) std::cout << *db_path << ": no sweeps\n";
     bool any_failure = false;

@@ -1,6 +1,6 @@
 #pragma once
 // A cheap, deterministic stand-in for the experiment job, for the runner's tests and
-// benchmarks (and `armfarm` itself when ARMFARM_FAKE_JOBS=1, a testing aid): its metrics and
+// benchmarks (and the test binary armfarm_fakejobs, never the product armfarm): its metrics and
 // series are closed-form functions of the configuration and seed; it can sleep, burn CPU,
 // fail, throw, diverge or hang on request (the `fake` section of its configuration).
 #include "runner/execution/job_cost.hpp"

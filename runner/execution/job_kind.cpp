@@ -1,18 +1,10 @@
 #include "runner/execution/job_kind.hpp"
 
-#include "runner/execution/fake_job.hpp"
 #include "runner/execution/stored_models.hpp"
-
-#include <cstdlib>
-#include <cstring>
 
 namespace armfarm {
 
-JobKind make_job_kind_from_environment(const std::string& db_path) {
-  const char* fake = std::getenv("ARMFARM_FAKE_JOBS");
-  if (fake != nullptr && std::strcmp(fake, "1") == 0) {
-    return {"fake", make_fake_job_config_schema(), make_fake_job_executor(), make_fake_job_cost_function()};
-  }
+JobKind make_experiment_job_kind(const std::string& db_path) {
   auto stored = std::make_shared<StoredModels>(db_path);
   return {"experiment", make_experiment_config_schema(stored), make_experiment_executor(stored), make_experiment_cost_function()};
 }

@@ -105,7 +105,7 @@ Summary summarise(std::vector<double> values) {
 }
 
 void run_problem(benchmark::State& state, const Problem& problem) {
-  const JobKind kind = make_job_kind_from_environment();
+  const JobKind kind = make_experiment_job_kind();
   const fs::path folder = scratch_folder();
   const std::atomic<bool> no_stop{false};
   RunOptions options;

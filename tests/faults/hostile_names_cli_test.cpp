@@ -309,7 +309,7 @@ TEST_F(HostileNamesCli, NothingRunsAndEveryOutputParses) {
                                    "else bash \"$script\" >> \"$script.log\" 2>&1 || exit 1; fi\necho 4242\n";
   fs::permissions(bin / "sbatch", fs::perms::owner_all);
   const test_support::CommandResult submitted = test_support::run_command_line(
-      "cd '" + folder_.string() + "' && PATH='" + bin.string() + "':$PATH ARMFARM_FAKE_JOBS=1 " + ARMFARM_BINARY +
+      "cd '" + folder_.string() + "' && PATH='" + bin.string() + "':$PATH " + ARMFARM_FAKE_JOBS_BINARY +
       " slurm '" + path("slurm.json") + "' --db '" + slurm_db + "' --tasks 2 --submit");
   EXPECT_EQ(submitted.exit_code, 0) << submitted.output;
   std::size_t scripts = 0;

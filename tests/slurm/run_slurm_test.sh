@@ -8,7 +8,7 @@
 # Slurm as written and run nothing). First one task is cancelled right after submission: the
 # merge still runs (afterany), merges the two other shards and names shard 2; then the same
 # command again submits only shard 2 and a merge; once more it finds nothing to submit. Then,
-# with fake jobs that sleep (ARMFARM_FAKE_JOBS=1), in one task each: 4 jobs of 20 s under a
+# with fake jobs that sleep (the test binary armfarm_fakejobs), in one task each: 4 jobs of 20 s under a
 # one-minute --time with the warning 30 s before (the task is warned, lets its running job end,
 # requeues itself, until the sweep completes), and 4 jobs of 6 s whose task is requeued with
 # `scontrol requeue` while a job runs; both end with every job done exactly once (the task logs'
@@ -17,12 +17,14 @@
 # Stops the daemons it started, by pid, on every exit path. Skips (exit 0, one line) when not
 # root or when the packages cannot be installed.
 #
-# usage: tests/slurm/run_slurm_test.sh [ARMFARM_BINARY]     (default: build/runner/armfarm)
+# usage: tests/slurm/run_slurm_test.sh [ARMFARM_BINARY [FAKE_JOBS_BINARY]]
+#   (default: build/runner/armfarm and, beside it, armfarm_fakejobs)
 # environment: SLURM_TEST_TIMEOUT (s, default 900) bounds the wait for the Slurm jobs.
 set -euo pipefail
 
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 armfarm=$(realpath "${1:-$repo/build/runner/armfarm}")
+fake_jobs_armfarm=$(realpath "${2:-$(dirname "$armfarm")/armfarm_fakejobs}")
 spec=$repo/tests/data/specs/slurm_small.json
 timeout=${SLURM_TEST_TIMEOUT:-900}
 started=$(date +%s)
@@ -32,6 +34,7 @@ skip() { say "SKIPPED: $*"; exit 0; }
 
 [ "$(id -u)" -eq 0 ] || skip "needs root (it installs packages and starts slurmctld, slurmd and munged)"
 [ -x "$armfarm" ] || { say "FAILED: no armfarm binary at $armfarm (build it first: make build)"; exit 1; }
+[ -x "$fake_jobs_armfarm" ] || { say "FAILED: no armfarm_fakejobs binary at $fake_jobs_armfarm (build it first: make build)"; exit 1; }
 
 # ---- packages ----
 if ! command -v slurmctld >/dev/null || ! command -v slurmd >/dev/null || ! command -v munged >/dev/null ||
@@ -248,7 +251,7 @@ echo "$again"
 grep -q "nothing to submit" <<<"$again" || { say "submitting again found work to do"; exit 1; }
 
 # Fake jobs from here on (they sleep: cheap on CPU), in sweeps of one task.
-export ARMFARM_FAKE_JOBS=1
+armfarm=$fake_jobs_armfarm
 say "4. a task past its time limit: 4 jobs of 20 s in one task with --time 1 (60 s), warned 30 s before"
 spec=$repo/tests/data/specs/slurm_timed.json
 db=$work/timed.db

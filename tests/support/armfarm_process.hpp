@@ -3,6 +3,7 @@
 #pragma once
 
 #include "support/command_line.hpp"
+#include "support/fake_jobs_binary.hpp"
 #include "support/text_file.hpp"
 
 #include <signal.h>
@@ -21,19 +22,19 @@ struct ArmfarmProcess {
   std::string output_path;  ///< stdout and stderr
 };
 
-/// Starts `armfarm ARGS` (with ARMFARM_FAKE_JOBS=1 when `fake_jobs`), stdout and stderr into
+/// Starts `armfarm ARGS` (armfarm_fakejobs, running the fake job, when `fake_jobs`), stdout and stderr into
 /// `output_path`.
 inline ArmfarmProcess start_armfarm(const std::vector<std::string>& arguments, const std::string& output_path,
                                     bool fake_jobs = true) {
+  const char* binary = fake_jobs ? ARMFARM_FAKE_JOBS_BINARY : ARMFARM_BINARY;
   const pid_t pid = fork();
   if (pid == 0) {
-    if (fake_jobs) setenv("ARMFARM_FAKE_JOBS", "1", 1);
     if (!freopen(output_path.c_str(), "w", stdout)) _exit(126);
     dup2(fileno(stdout), fileno(stderr));
-    std::vector<char*> argv = {const_cast<char*>(ARMFARM_BINARY)};
+    std::vector<char*> argv = {const_cast<char*>(binary)};
     for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    execv(ARMFARM_BINARY, argv.data());
+    execv(binary, argv.data());
     _exit(127);
   }
   return {pid, output_path};

@@ -2,6 +2,8 @@
 // captured together, and an exit status that cannot mistake a crash for success.
 #pragma once
 
+#include "support/fake_jobs_binary.hpp"
+
 #include <sys/wait.h>
 
 #include <cstdio>
@@ -39,9 +41,9 @@ inline CommandResult run_armfarm(const std::string& arguments) {
   return run_command_line(std::string(ARMFARM_BINARY) + " " + arguments);
 }
 
-/// run_armfarm with the runner's fake jobs switched on (ARMFARM_FAKE_JOBS=1).
+/// Runs the test binary armfarm_fakejobs (the same command line, running the runner's fake job).
 inline CommandResult run_armfarm_with_fake_jobs(const std::string& arguments) {
-  return run_command_line("ARMFARM_FAKE_JOBS=1 " + std::string(ARMFARM_BINARY) + " " + arguments);
+  return run_command_line(std::string(ARMFARM_FAKE_JOBS_BINARY) + " " + arguments);
 }
 #endif
 

@@ -20,9 +20,9 @@ namespace {
 namespace fs = std::filesystem;
 
 CommandResult run_armfarm(const std::string& arguments) {
-  // The experiment job (no ARMFARM_FAKE_JOBS), from the source tree so the model path resolves.
+  // The experiment job (the product armfarm), from the source tree so the model path resolves.
   const std::string command =
-      "cd " + std::string(ARMFARM_SOURCE_DIR) + " && env -u ARMFARM_FAKE_JOBS " + ARMFARM_BINARY + " " + arguments;
+      "cd " + std::string(ARMFARM_SOURCE_DIR) + " && " + ARMFARM_BINARY + " " + arguments;
   return run_command_line(command);
 }
 

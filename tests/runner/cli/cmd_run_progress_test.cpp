@@ -31,7 +31,7 @@ namespace {
 namespace fs = std::filesystem;
 
 CommandResult run_armfarm(const std::string& arguments) {
-  const std::string command = "ARMFARM_FAKE_JOBS=1 " + std::string(ARMFARM_BINARY) + " " + arguments;
+  const std::string command = std::string(ARMFARM_FAKE_JOBS_BINARY) + " " + arguments;
   return run_command_line(command);
 }
 

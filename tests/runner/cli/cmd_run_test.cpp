@@ -1,4 +1,4 @@
-// `armfarm run` as a process (fake jobs via ARMFARM_FAKE_JOBS=1): killed with SIGKILL in the
+// `armfarm run` as a process (armfarm_fakejobs: the fake job): killed with SIGKILL in the
 // middle of a sweep it loses no finished job and resumes to the uninterrupted result; SIGINT
 // stops it cleanly; bad specs exit 2 without creating a database; the other subcommands read the
 // result.
@@ -32,7 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 
 CommandResult run_command(const std::string& arguments) {
-  const std::string command = "ARMFARM_FAKE_JOBS=1 " + std::string(ARMFARM_BINARY) + " " + arguments;
+  const std::string command = std::string(ARMFARM_FAKE_JOBS_BINARY) + " " + arguments;
   return run_command_line(command);
 }
 
@@ -40,13 +40,12 @@ CommandResult run_command(const std::string& arguments) {
 pid_t start_run(const std::vector<std::string>& arguments) {
   const pid_t pid = fork();
   if (pid == 0) {
-    setenv("ARMFARM_FAKE_JOBS", "1", 1);
     freopen("/dev/null", "w", stdout);
     freopen("/dev/null", "w", stderr);
-    std::vector<char*> argv = {const_cast<char*>(ARMFARM_BINARY), const_cast<char*>("run")};
+    std::vector<char*> argv = {const_cast<char*>(ARMFARM_FAKE_JOBS_BINARY), const_cast<char*>("run")};
     for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    execv(ARMFARM_BINARY, argv.data());
+    execv(ARMFARM_FAKE_JOBS_BINARY, argv.data());
     _exit(127);
   }
   return pid;

@@ -33,13 +33,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// Runs a shell command line (fake jobs), stdout and stderr together.
-CommandResult run_shell(const std::string& command_line) {
-  const std::string command = "ARMFARM_FAKE_JOBS=1 " + command_line;
-  return run_command_line(command);
-}
+/// Runs a shell command line, stdout and stderr together.
+CommandResult run_shell(const std::string& command_line) { return run_command_line(command_line); }
 
-CommandResult run_armfarm(const std::string& arguments) { return run_shell(std::string(ARMFARM_BINARY) + " " + arguments); }
+/// Runs armfarm_fakejobs (fake jobs); the scripts it writes run the same binary.
+CommandResult run_armfarm(const std::string& arguments) { return run_shell(std::string(ARMFARM_FAKE_JOBS_BINARY) + " " + arguments); }
 
 /// Runs task `index` (0-based) of the array script as Slurm would.
 CommandResult run_array_task(const std::string& script, int index) {
@@ -714,7 +712,7 @@ TEST_F(SlurmCommand, SubmitPassesTheArrayIdToTheMergeDependency) {
                                 << "'\nn=$(wc -l < '" << log << "')\necho \"$((4240 + n));cluster1\"\n";
   fs::permissions(bin / "sbatch", fs::perms::owner_all);
   const CommandResult result =
-      run_shell("PATH=" + bin.string() + ":$PATH " + ARMFARM_BINARY + " slurm " + spec_ + " --db " + db_ + " --tasks 2 --submit");
+      run_shell("PATH=" + bin.string() + ":$PATH " + ARMFARM_FAKE_JOBS_BINARY + " slurm " + spec_ + " --db " + db_ + " --tasks 2 --submit");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("submitted array job 4241 (2 tasks)"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("submitted merge job 4242 (after array job 4241 ends)"), std::string::npos)
@@ -726,7 +724,7 @@ TEST_F(SlurmCommand, SubmitPassesTheArrayIdToTheMergeDependency) {
   // sbatch failing: exit 2 with one line.
   std::ofstream(bin / "sbatch") << "#!/bin/sh\necho 'sbatch: error: invalid partition' >&2\nexit 1\n";
   const CommandResult failed =
-      run_shell("PATH=" + bin.string() + ":$PATH " + ARMFARM_BINARY + " slurm " + spec_ + " --db " + db_ + " --tasks 2 --submit");
+      run_shell("PATH=" + bin.string() + ":$PATH " + ARMFARM_FAKE_JOBS_BINARY + " slurm " + spec_ + " --db " + db_ + " --tasks 2 --submit");
   EXPECT_EQ(failed.exit_code, 2) << failed.output;
   EXPECT_NE(failed.output.find("armfarm: sbatch for the job array failed (exit 1)"), std::string::npos) << failed.output;
 }

@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 
 // Runs armfarm in `directory` (the real experiment job), stdout and stderr together.
 CommandResult run_armfarm(const fs::path& directory, const std::string& arguments) {
-  const std::string command = "cd '" + directory.string() + "' && env -u ARMFARM_FAKE_JOBS " + std::string(ARMFARM_BINARY) + " " +
+  const std::string command = "cd '" + directory.string() + "' && " + std::string(ARMFARM_BINARY) + " " +
                               arguments;
   return run_command_line(command);
 }
