@@ -5,6 +5,7 @@
 #include "runner/spec/canonical_json.hpp"
 #include "runner/spec/spec_error.hpp"
 #include "runner/spec/sweep_expansion.hpp"
+#include "runner/spec/sweep_stages.hpp"
 
 #include <gtest/gtest.h>
 
@@ -137,8 +138,9 @@ TEST(SweepExpansion, FastAssemblyGivesWhatThePlainOneGivesOnShippedSpecs) {
                            "thesis/realtime_dof.json", "thesis/interference_two_task.json", "search/reaching_asha.json",
                            "search/fig6_1_kernel_width_tpe.json"}) {
     const std::string path = std::string(ARMFARM_SOURCE_DIR) + "/sweeps/" + name;
-    const ExpandedSweep fast = expand_sweep(load_sweep_spec(path, schema), schema, {}, JobAssemblyMethod::fast);
-    const ExpandedSweep plain = expand_sweep(load_sweep_spec(path, schema), schema, {}, JobAssemblyMethod::plain);
+    // A staged spec: its first stage (the others start from its stored models).
+    const ExpandedSweep fast = expand_sweep(load_sweep_stages(path, schema).front(), schema, {}, JobAssemblyMethod::fast);
+    const ExpandedSweep plain = expand_sweep(load_sweep_stages(path, schema).front(), schema, {}, JobAssemblyMethod::plain);
     EXPECT_GT(fast.jobs.size(), 0u) << name;
     expect_same_expansion(fast, plain, name);
   }
@@ -150,10 +152,10 @@ TEST(SweepExpansion, FastAssemblyGivesWhatThePlainOneGivesOnEveryKindOfAxis) {
       "grid": {"control.gain_scale": [0.5, 1, 2], "control.kp[1]": [1, 2]},
       "zip": [{"learning.lwpr.init_D": [10, 20], "trajectory.kind": ["figure8", "circle"]}],
       "random": {"samples": 3, "seed": 1, "params": {"learning.lwpr.init_alpha": {"loguniform": [1, 100]}}},
-      "repeat": [3, 5, 3]}})";
+      "repeat": [3, 5]}})";
   const ExpandedSweep fast = expand_sweep(parse_sweep_spec(text, "inline.json", ".", schema), schema, {}, JobAssemblyMethod::fast);
   const ExpandedSweep plain = expand_sweep(parse_sweep_spec(text, "inline.json", ".", schema), schema, {}, JobAssemblyMethod::plain);
-  EXPECT_EQ(fast.jobs.size(), 3u * 2u * 2u * 3u * 2u);  // the repeated seed 3 merges
+  EXPECT_EQ(fast.jobs.size(), 3u * 2u * 2u * 3u * 2u);
   expect_same_expansion(fast, plain, "inline");
   // And both refuse the same bad values with the same lines.
   const std::string bad = R"({"name": "n", "sweep": {"grid": {"control.gain_scale": [1, -1, 2], "control.kp[0]": [1, -2]}}})";
