@@ -1,10 +1,12 @@
 #include "analysis/sweep_data.hpp"
 
 #include "analysis/analysis_error.hpp"
+#include "base/config_path.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 #include <tuple>
 
 namespace armfarm {
@@ -67,31 +69,28 @@ std::string make_metric_axis_label(const MetricInfoTable& info, const MetricId& 
 
 namespace {
 
-// "control.kp[1]" -> "/control/kp/1" (JSON pointer), so nlohmann can look it up.
-std::optional<nlohmann::json::json_pointer> make_json_pointer(const std::string& dotted) {
-  std::string pointer;
-  std::string token;
-  auto flush = [&] {
-    if (token.empty()) return;
-    std::string escaped;
-    for (char c : token) {
-      if (c == '~') escaped += "~0";
-      else if (c == '/') escaped += "~1";
-      else escaped += c;
-    }
-    pointer += "/" + escaped;
-    token.clear();
-  };
-  for (char c : dotted) {
-    if (c == '.' || c == '[' || c == ']') flush();
-    else token += c;
-  }
-  flush();
+// The element `text` (a configuration path, base/config_path.hpp) names in `config`, or nullptr
+// when it names none or does not parse.
+const nlohmann::json* find_config_value(const nlohmann::json& config, const std::string& text) {
+  ConfigPath path;
   try {
-    return nlohmann::json::json_pointer(pointer);
-  } catch (const nlohmann::json::exception&) {
-    return std::nullopt;
+    path = parse_config_path(text);
+  } catch (const std::invalid_argument&) {
+    return nullptr;
   }
+  const nlohmann::json* node = &config;
+  for (const PathSegment& segment : path) {
+    if (segment.index) {
+      if (!node->is_array() || *segment.index >= node->size()) return nullptr;
+      node = &(*node)[*segment.index];
+    } else {
+      if (!node->is_object()) return nullptr;
+      const auto found = node->find(segment.key);
+      if (found == node->end()) return nullptr;
+      node = &*found;
+    }
+  }
+  return node;
 }
 
 }  // namespace
@@ -101,13 +100,9 @@ nlohmann::json find_param_value(const JobResult& job, const std::string& path) {
     auto it = job.params.find(path);
     if (it != job.params.end()) return *it;
   }
-  const auto pointer = make_json_pointer(path);
-  if (!pointer || !job.config.is_object()) return nullptr;
-  try {
-    if (job.config.contains(*pointer)) return job.config.at(*pointer);
-  } catch (const nlohmann::json::exception&) {
-  }
-  return nullptr;
+  if (!job.config.is_object()) return nullptr;
+  const nlohmann::json* value = find_config_value(job.config, path);
+  return value != nullptr ? *value : nullptr;
 }
 
 std::string choose_sweep(const ResultsStore& store, const std::optional<std::string>& requested) {

@@ -1,6 +1,7 @@
 #include "analysis/table.hpp"
 
 #include "analysis/analysis_error.hpp"
+#include "base/config_path.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -55,12 +56,13 @@ NameMatch make_param_name_match(const std::string& word) { return NameMatch{calc
 
 namespace {
 
-// Every dotted path of a job's configuration, for did-you-mean suggestions.
-void collect_config_paths(const nlohmann::json& node, const std::string& prefix, std::vector<std::string>& paths) {
+// Every path of a job's configuration down to its values (not into arrays), printed, for
+// did-you-mean suggestions.
+void collect_config_paths(const nlohmann::json& node, const ConfigPath& prefix, std::vector<std::string>& paths) {
   if (node.is_object()) {
-    for (const auto& item : node.items()) collect_config_paths(item.value(), prefix.empty() ? item.key() : prefix + "." + item.key(), paths);
+    for (const auto& item : node.items()) collect_config_paths(item.value(), prefix.child(item.key()), paths);
   } else if (!prefix.empty()) {
-    paths.push_back(prefix);
+    paths.push_back(prefix.to_string());
   }
 }
 
@@ -71,7 +73,7 @@ std::string make_suggestion(const std::string& word, const std::vector<std::stri
 
 std::vector<std::string> list_param_candidates(const SweepData& data) {
   std::vector<std::string> candidates = data.varying_params;
-  if (!data.jobs.empty()) collect_config_paths(data.jobs.front().config, "", candidates);
+  if (!data.jobs.empty()) collect_config_paths(data.jobs.front().config, ConfigPath(), candidates);
   return candidates;
 }
 

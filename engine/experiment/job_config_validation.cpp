@@ -3,7 +3,9 @@
 #include "base/number_format.hpp"
 #include "engine/experiment/job_steps.hpp"
 #include "engine/learning/learner_model_file.hpp"
+#include "engine/lwpr/lwpr_param_problem.hpp"
 #include "engine/physics/arm_simulation.hpp"
+#include "engine/ssgpr/ssgpr_param_problem.hpp"
 #include "engine/trajectory/trajectory.hpp"
 
 #include <algorithm>
@@ -23,16 +25,19 @@ class Checker {
  public:
   Checker(std::vector<ConfigProblem>& problems) : problems_(problems) {}
 
-  void add(const std::string& path, const std::string& message) { problems_.push_back({path, message}); }
+  void add(const std::string& path, const std::string& message) { problems_.push_back({path, message, "", std::nullopt}); }
 
   void check_number(const JobConfigKey& key, const std::string& path, double value) {
     if (key.range.contains(value)) return;
-    add(path, with_unit(format_number(value), key.unit) + " is outside the allowed range " + with_unit(key.range.describe(), key.unit));
+    problems_.push_back({path,
+                         with_unit(format_number(value), key.unit) + " is outside the allowed range " + with_unit(key.range.describe(), key.unit),
+                         key.unit, key.range});
   }
 
   void check_integer(const JobConfigKey& key, const std::string& path, long long value) {
     if (key.range.contains(static_cast<double>(value))) return;
-    add(path, std::to_string(value) + " is outside the allowed range " + key.range.describe() + " (integers)");
+    problems_.push_back({path, std::to_string(value) + " is outside the allowed range " + key.range.describe() + " (integers)",
+                         key.unit, key.range});
   }
 
   void check_elements(const JobConfigKey& key, const Eigen::Ref<const Eigen::VectorXd>& values) {
@@ -278,25 +283,23 @@ void check_key(const JobConfigKey& key, JobConfig& config, int n, int movable, C
   }
 }
 
+// A learner parameter set's problem at its key path under `prefix` ("learning.lwpr"): a known
+// key's own path ("learning.lwpr.init_D", "learning.ssgpr.lengthscales[2]"), else the block's.
+void add_param_problem(const ParamProblem& problem, const std::string& prefix, bool known, Checker& checker) {
+  if (!known) {
+    checker.add(prefix, problem.describe());
+    return;
+  }
+  checker.add(prefix + "." + problem.name + (problem.element ? "[" + std::to_string(*problem.element) + "]" : ""), problem.message);
+}
+
 void check_lwpr(const JobConfig& config, int n, const std::vector<ConfigProblem>& problems, Checker& checker) {
   if (has_problem_under(problems, "learning.lwpr.")) return;  // one report per cause
-  try {
-    lwpr::validate_lwpr_params(config.learning.lwpr, 3 * n, n);
-  } catch (const std::invalid_argument& error) {
-    // "LWPR parameter init_D must be symmetric" → learning.lwpr.init_D: must be symmetric
-    std::string message = error.what();
-    const std::string prefix = "LWPR parameter ";
-    if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
-    const auto space = message.find(' ');
-    const std::string name = message.substr(0, space);
-    const auto& keys = lwpr_params_keys();
-    const bool known = std::any_of(keys.begin(), keys.end(), [&](const auto& key) { return name == key.name; });
-    if (known && space != std::string::npos) {
-      checker.add("learning.lwpr." + name, message.substr(space + 1));
-    } else {
-      checker.add("learning.lwpr", message);
-    }
-  }
+  const std::optional<ParamProblem> problem = lwpr::find_lwpr_param_problem(config.learning.lwpr, 3 * n, n);
+  if (!problem) return;
+  const auto& keys = lwpr_params_keys();
+  const bool known = std::any_of(keys.begin(), keys.end(), [&](const auto& key) { return problem->name == key.name; });
+  add_param_problem(*problem, "learning.lwpr", known, checker);
 }
 
 // A learner to start from or to store needs a learning mode; a model to start from must read and
@@ -328,21 +331,11 @@ void check_ssgpr(const JobConfig& config, int n, const std::vector<ConfigProblem
   const SsgprLearningConfig& ssgpr = config.learning.ssgpr;
   if (ssgpr.fit_samples == 1) checker.add("learning.ssgpr.fit_samples", "is 1; give 0 (no fit) or at least 2 samples");
   if (has_problem_under(problems, "learning.ssgpr.")) return;  // one report per cause
-  try {
-    ssgpr::validate_ssgpr_params(ssgpr.params, 3 * n, n);
-  } catch (const std::invalid_argument& error) {
-    // "SSGPR parameter lengthscales[2] must be ..." → learning.ssgpr.lengthscales[2]: must be ...
-    std::string message = error.what();
-    const std::string prefix = "SSGPR parameter ";
-    if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
-    const auto space = message.find(' ');
-    const std::string name = message.substr(0, space);
-    const std::string base = name.substr(0, name.find('['));
-    const auto& keys = ssgpr_learning_config_keys();
-    const bool known = std::any_of(keys.begin(), keys.end(), [&](const auto& key) { return base == key.name; });
-    checker.add(known && space != std::string::npos ? "learning.ssgpr." + name : "learning.ssgpr",
-                known && space != std::string::npos ? message.substr(space + 1) : message);
-  }
+  const std::optional<ParamProblem> problem = ssgpr::find_ssgpr_param_problem(ssgpr.params, 3 * n, n);
+  if (!problem) return;
+  const auto& keys = ssgpr_learning_config_keys();
+  const bool known = std::any_of(keys.begin(), keys.end(), [&](const auto& key) { return problem->name == key.name; });
+  add_param_problem(*problem, "learning.ssgpr", known, checker);
 }
 
 void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
@@ -598,6 +591,13 @@ std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& f
     check_cost(config, n, limits, checker);
   }
   return problems;
+}
+
+std::variant<ValidJobConfig, std::vector<ConfigProblem>> check_job_config(JobConfig config, const ModelFacts& facts,
+                                                                          const JobCostLimits& limits) {
+  std::vector<ConfigProblem> problems = validate(config, facts, limits);
+  if (!problems.empty()) return problems;
+  return ValidJobConfig(std::move(config));
 }
 
 std::string make_problems_text(const std::vector<ConfigProblem>& problems) {

@@ -3,12 +3,17 @@
 // key's range from the key tables (job_config.hpp), list sizes against the model's joints,
 // the cross-field rules, LWPR's and SSGPR's parameter shapes, and the job's cost bound. The runner calls it
 // (through parse_job_config) for every job of a sweep before the database is opened; the
-// engine's run_experiment() calls it again so that no unchecked configuration runs.
+// engine's run_experiment() takes the ValidJobConfig that check_job_config makes as the proof,
+// and validates only a plain JobConfig (one check at its entry).
 #include "engine/experiment/job_config.hpp"
 #include "engine/model/arm_model.hpp"
 
 #include <functional>
+#include <optional>
+#include <stdexcept>
 #include <string>
+#include <utility>
+#include <variant>
 #include <vector>
 
 namespace armfarm {
@@ -16,8 +21,24 @@ namespace armfarm {
 /// One problem: the key path ("trajectory.figure_eight.scale", "control.kp[2]") and what is
 /// wrong, with the value, its unit and the allowed range.
 struct ConfigProblem {
-  std::string path;
-  std::string message;
+  std::string path;            ///< a configuration path's text (base/config_path.hpp); "" for the whole
+  std::string message;         ///< what is wrong, without the path
+  std::string unit;            ///< the key's unit ("rad", "s") when the value is outside its range, else ""
+  std::optional<Range> range;  ///< the range the value is outside, else empty
+};
+
+/// A configuration problem found where a value is used rather than in validate() (the start
+/// posture against the model a job runs on): what() is "path: message", and the problem is
+/// carried whole so that a caller never cuts the text up.
+class ConfigProblemError : public std::invalid_argument {
+ public:
+  explicit ConfigProblemError(ConfigProblem problem)
+      : std::invalid_argument(problem.path.empty() ? problem.message : problem.path + ": " + problem.message),
+        problem_(std::move(problem)) {}
+  const ConfigProblem& problem() const { return problem_; }
+
+ private:
+  ConfigProblem problem_;
 };
 
 /// What the configuration is checked against, from the model it will run on.
@@ -76,5 +97,29 @@ std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& f
 
 /// "path: message; path: message" (one line).
 std::string make_problems_text(const std::vector<ConfigProblem>& problems);
+
+class ValidJobConfig;
+
+/// `config` as a ValidJobConfig when validate(config, facts, limits) finds no problem, else
+/// every problem. The one way to make a ValidJobConfig.
+std::variant<ValidJobConfig, std::vector<ConfigProblem>> check_job_config(JobConfig config, const ModelFacts& facts,
+                                                                          const JobCostLimits& limits = {});
+
+/// A JobConfig that validate() found no problem in against the facts of the model it runs on:
+/// the proof of the one validation at the edge (the runner's parse_job_config). The engine's
+/// entry points that take one (run_experiment, build_job_trajectories) do not validate again;
+/// those that take a plain JobConfig validate it once at their entry.
+class ValidJobConfig {
+ public:
+  const JobConfig& get() const { return config_; }
+  /// Read like the JobConfig it holds (a copy, where a caller wants one to change).
+  operator const JobConfig&() const { return config_; }  // NOLINT(google-explicit-constructor)
+
+ private:
+  explicit ValidJobConfig(JobConfig config) : config_(std::move(config)) {}
+  friend std::variant<ValidJobConfig, std::vector<ConfigProblem>> check_job_config(JobConfig config, const ModelFacts& facts,
+                                                                                   const JobCostLimits& limits);
+  JobConfig config_;
+};
 
 }  // namespace armfarm

@@ -1,5 +1,7 @@
 #include "engine/experiment/job_model.hpp"
 
+#include "engine/experiment/job_config_validation.hpp"
+
 #include "engine/model/end_effector.hpp"
 #include "engine/model/model_loading.hpp"
 
@@ -15,8 +17,8 @@ ArmModel make_job_model(const ArmModel& file_model, const JobConfig& config) {
   if (config.start_posture.size() == 0) return model;
   const std::vector<int> movable = model.movable_joints();
   if (config.start_posture.size() != static_cast<Eigen::Index>(movable.size())) {
-    throw std::invalid_argument("start_posture: has " + std::to_string(config.start_posture.size()) + " values; " +
-                                model.source_file + " has " + std::to_string(movable.size()) + " joints");
+    throw ConfigProblemError({"start_posture", "has " + std::to_string(config.start_posture.size()) + " values; " +
+                                                   model.source_file + " has " + std::to_string(movable.size()) + " joints", "", std::nullopt});
   }
   for (std::size_t i = 0; i < movable.size(); ++i) {
     model.joints[movable[i]].start_position = config.start_posture[static_cast<Eigen::Index>(i)];

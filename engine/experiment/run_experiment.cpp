@@ -1,5 +1,5 @@
 // One experiment job as a list of phases (each in its own file under engine/experiment/):
-//   validation       job_config_validation  the one validate() of the configuration
+//   validation       job_config_validation  the one validate() (done at the edge: a ValidJobConfig)
 //   setup            job_setup          joints, nominal model, gains, the true plant, the PD and
 //                                       integrator steps (job_steps: "auto" by the criterion)
 //   trajectories     heldout_evaluation the training trajectory and its held-out variant
@@ -36,6 +36,7 @@
 #include <chrono>
 #include <memory>
 #include <optional>
+#include <variant>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -59,12 +60,18 @@ std::vector<int> resolve_checkpoints(const LearningConfig& learning, int last, c
   return learning.heldout_checkpoints;
 }
 
-void check_config(const ArmModel& model, const JobConfig& config) {
-  const std::vector<ConfigProblem> problems = validate(config, make_model_facts(model));
-  if (!problems.empty()) throw std::invalid_argument(make_problems_text(problems));
+// The engine's own precondition: `model` is the job's (make_job_model of its file for `config`).
+void require_job_model(const ArmModel& model, const JobConfig& config) {
   if (const std::string problem = check_job_model(model, config); !problem.empty()) {
     throw std::invalid_argument(model.source_file + ": " + problem);
   }
+}
+
+// The one check of a plain JobConfig at the engine's entry (a ValidJobConfig has had it).
+ValidJobConfig check_config(const ArmModel& model, const JobConfig& config) {
+  std::variant<ValidJobConfig, std::vector<ConfigProblem>> checked = check_job_config(config, make_model_facts(model));
+  if (auto* problems = std::get_if<std::vector<ConfigProblem>>(&checked)) throw std::invalid_argument(make_problems_text(*problems));
+  return std::get<ValidJobConfig>(std::move(checked));
 }
 
 /// The job itself, on its trajectories (`built` when the job built them, else `shared`).
@@ -74,8 +81,8 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
   double simulated_seconds = 0.0;
   LearnerClock learner_clock;
 
-  // Setup (the configuration checked once), trajectories, learner.
-  check_config(model, config);
+  // Setup (the configuration was checked once, at the edge: a ValidJobConfig), trajectories, learner.
+  require_job_model(model, config);
   JobSetup setup(model, config);
   MetricWriter metrics(outcome.metrics, setup.joint_numbers());
   JobTrajectories built;
@@ -190,19 +197,32 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
 
 }  // namespace
 
-JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const std::function<bool()>& should_stop) {
+JobOutcome run_experiment(const ArmModel& model, const ValidJobConfig& config, const std::function<bool()>& should_stop) {
   return run_job(model, config, nullptr, should_stop);
 }
 
-JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const JobTrajectories& trajectories,
+JobOutcome run_experiment(const ArmModel& model, const ValidJobConfig& config, const JobTrajectories& trajectories,
                           const std::function<bool()>& should_stop) {
   return run_job(model, config, &trajectories, should_stop);
 }
 
-JobTrajectories build_job_trajectories(const ArmModel& model, const JobConfig& config) {
-  check_config(model, config);
+JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const std::function<bool()>& should_stop) {
+  return run_experiment(model, check_config(model, config), should_stop);
+}
+
+JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const JobTrajectories& trajectories,
+                          const std::function<bool()>& should_stop) {
+  return run_experiment(model, check_config(model, config), trajectories, should_stop);
+}
+
+JobTrajectories build_job_trajectories(const ArmModel& model, const ValidJobConfig& config) {
+  require_job_model(model, config);
   JobSetup setup(model, config);
-  return build_job_trajectories(config, setup.nominal());
+  return build_job_trajectories(config.get(), setup.nominal());
+}
+
+JobTrajectories build_job_trajectories(const ArmModel& model, const JobConfig& config) {
+  return build_job_trajectories(model, check_config(model, config));
 }
 
 }  // namespace armfarm

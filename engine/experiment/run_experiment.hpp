@@ -16,6 +16,7 @@
 // learning.store_model the outcome carries the learner's model file as it is at the end.
 #include "engine/experiment/heldout_evaluation.hpp"
 #include "engine/experiment/job_config.hpp"
+#include "engine/experiment/job_config_validation.hpp"
 #include "engine/experiment/job_outcome.hpp"
 #include "engine/model/arm_model.hpp"
 
@@ -29,18 +30,25 @@ namespace armfarm {
 /// tick) ends it with status timeout. Throws std::invalid_argument naming the configuration field
 /// for an unusable configuration. Deterministic: the same model, config and seed give the same
 /// metrics (timing metrics learner_us_* and sim_seconds_per_wall_second excepted).
+/// A plain JobConfig is validated once here (validate() against make_model_facts(model)); a
+/// ValidJobConfig, the proof of the runner's validation, is not validated again. Either way the
+/// model must be make_job_model's for the configuration.
 JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const std::function<bool()>& should_stop = {});
+JobOutcome run_experiment(const ArmModel& model, const ValidJobConfig& config, const std::function<bool()>& should_stop = {});
 
 /// The job's trajectories (training and, when it has one, the held-out variant) exactly as
 /// run_experiment builds them: a pure function of the model and the configuration's keys for
 /// which is_trajectory_input() holds (heldout_evaluation.hpp). Throws std::invalid_argument as
 /// run_experiment does for an unusable configuration.
 JobTrajectories build_job_trajectories(const ArmModel& model, const JobConfig& config);
+JobTrajectories build_job_trajectories(const ArmModel& model, const ValidJobConfig& config);
 
 /// run_experiment on trajectories built beforehand by build_job_trajectories(model, other) for a
 /// configuration `other` equal to `config` on every trajectory input: the same outcome, bit for
 /// bit, as building them in the job. `trajectories` is only read, so jobs may share one build.
 JobOutcome run_experiment(const ArmModel& model, const JobConfig& config, const JobTrajectories& trajectories,
+                          const std::function<bool()>& should_stop = {});
+JobOutcome run_experiment(const ArmModel& model, const ValidJobConfig& config, const JobTrajectories& trajectories,
                           const std::function<bool()>& should_stop = {});
 
 }  // namespace armfarm

@@ -79,6 +79,11 @@ std::string describe_bad_number(std::string_view token) {
   return "not a finite number" + describe_token(token);
 }
 
+std::string make_bad_number_ending(std::string_view token) {
+  if (is_decimal_number(token)) return ": " + describe_bad_number(token);
+  return " is not a finite number" + describe_token(token);
+}
+
 std::size_t find_control_character(std::string_view text) {
   for (std::size_t i = 0; i < text.size(); ++i) {
     const auto c = static_cast<unsigned char>(text[i]);

@@ -28,6 +28,11 @@ std::string describe_token(std::string_view token);
 /// overflows a double", else "not a finite number" + describe_token(token).
 std::string describe_bad_number(std::string_view token);
 
+/// The end of "SUBJECT WHY" for a subject that names the value ("tag A: value 3", "vertex x"):
+/// ": '1e-400' underflows to zero (…)" or ": '1e999' overflows a double (…)" for a decimal number
+/// out of a double's range, else " is not a finite number" + describe_token(token).
+std::string make_bad_number_ending(std::string_view token);
+
 /// The first control character of `text` (bytes 0x00–0x1f and 0x7f, tab excepted) as its
 /// position, or npos.
 std::size_t find_control_character(std::string_view text);

@@ -145,8 +145,7 @@ class DcgParser {
       // All of the token (an embedded NUL or control character is not a number), finite.
       const std::optional<double> value = parse_finite_number(token);
       if (!value) {
-        fail(line, "tag " + tag + ": value " + std::to_string(values.size() + 1) + " is not a finite number" +
-                       describe_token(token));
+        fail(line, "tag " + tag + ": value " + std::to_string(values.size() + 1) + make_bad_number_ending(token));
       }
       values.push_back(*value);
     }

@@ -35,7 +35,7 @@ bool is_obj_keyword(const std::string& word) {
 
 double parse_coordinate(const std::string& token, const char* what, const std::string& path, int line) {
   const std::optional<double> value = parse_finite_number(token);
-  if (!value) fail(path, line, std::string(what) + " is not a finite number" + describe_token(token));
+  if (!value) fail(path, line, std::string(what) + make_bad_number_ending(token));
   return *value;
 }
 

@@ -7,6 +7,7 @@
 #include "analysis/comparison.hpp"
 #include "results/readable_check.hpp"
 #include "results/results_store.hpp"
+#include "runner/cli/number_checks.hpp"
 #include "runner/cli/subcommand.hpp"
 
 #include <fstream>
@@ -54,8 +55,8 @@ RunFunction setup_compare(CLI::App& parent) {
   sub->add_option("new", options->next, "New database")->required();
   sub->add_option("--sweep", options->sweep, "Only this sweep's jobs");
   sub->add_option("--metrics", options->metrics, "Only these metrics")->delimiter(',');
-  sub->add_option("--rtol", options->rtol, "Relative tolerance (default 1e-6)")->check(CLI::NonNegativeNumber);
-  sub->add_option("--atol", options->atol, "Absolute tolerance (default 0)")->check(CLI::NonNegativeNumber);
+  sub->add_option("--rtol", options->rtol, "Relative tolerance (default 1e-6)")->check(make_non_negative_check());
+  sub->add_option("--atol", options->atol, "Absolute tolerance (default 0)")->check(make_non_negative_check());
   sub->add_option("--tolerances", options->tolerances, "JSON file of per-metric / per-joint tolerances and directions");
   sub->add_option("--format", options->format, "md or json")->check(CLI::IsMember({"md", "json"}));
   sub->add_flag("--all", options->show_all, "List every compared metric, not only those outside tolerance");

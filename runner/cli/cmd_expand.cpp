@@ -2,6 +2,7 @@
 // varying parameters (the JSON form also gives each job's full configuration, accepted as is by
 // `armfarm job`). A spec with stages expands one stage (--stage, default the first); a stage whose
 // jobs start from stored models needs the database that holds them (--db).
+#include "runner/cli/number_checks.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/job_kind.hpp"
 #include "runner/execution/sweep_runner.hpp"
@@ -29,7 +30,7 @@ RunFunction setup_expand(CLI::App& parent) {
   app->add_option("--db", options->db, "Results database whose stored models learning.initial_model references name");
   app->add_option("--stage", options->stage, "The stage of a staged spec to expand (default: the first)");
   app->add_option("--max-jobs", options->limits.max_jobs, "Refuse a sweep of more jobs than this")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(make_positive_check());
 
   return [options] {
     const JobKind kind = make_job_kind(options->db);

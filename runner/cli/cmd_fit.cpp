@@ -8,6 +8,7 @@
 #include "engine/lwpr/lwpr_model.hpp"
 #include "engine/random/random_stream.hpp"
 #include "engine/ssgpr/ssgpr_fitting_learner.hpp"
+#include "runner/cli/number_checks.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/io/csv_reader.hpp"
 #include "runner/lwpr_params_json.hpp"
@@ -69,12 +70,12 @@ std::vector<double> to_list(const Eigen::VectorXd& v) { return std::vector<doubl
 void add_fit_options(CLI::App& app, FitOptions& opt) {
   app.add_option("--train", opt.train, "Training CSV: header row, N input columns, then output columns")->required();
   app.add_option("--test", opt.test, "Test CSV with the same columns")->required();
-  app.add_option("--inputs", opt.inputs, "Number of input columns N")->required()->check(CLI::PositiveNumber);
+  app.add_option("--inputs", opt.inputs, "Number of input columns N")->required()->check(make_positive_check());
   app.add_option("--params", opt.params,
                  "Learner parameters (JSON): LWPR with the published library's names; SSGPR with the learning.ssgpr keys "
                  "(lengthscales in input standard deviations)");
-  app.add_option("--epochs", opt.epochs, "Passes over the training data")->check(CLI::PositiveNumber);
-  app.add_option("--shuffle", opt.shuffle, "Shuffle each epoch with this seed")->check(CLI::NonNegativeNumber);
+  app.add_option("--epochs", opt.epochs, "Passes over the training data")->check(make_positive_check());
+  app.add_option("--shuffle", opt.shuffle, "Shuffle each epoch with this seed")->check(make_non_negative_check());
   app.add_option("--save", opt.save, "Write the trained model to this file (the learner's model file format)");
   app.add_flag("--json", opt.json, "Print one JSON object instead of text");
 }

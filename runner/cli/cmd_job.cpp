@@ -10,6 +10,7 @@
 #include "engine/model/model_loading.hpp"
 #include "engine/io/input_file.hpp"
 #include "results/results_store.hpp"
+#include "runner/cli/number_checks.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/execution/stop_signal.hpp"
@@ -124,7 +125,7 @@ nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& s
   std::map<std::string, std::string> written;
   for (const InputFileField& field : schema.input_files) {
     std::string unused;
-    const std::vector<PathSegment> segments = parse_config_path(field.path);
+    const ConfigPath segments = parse_config_path(field.path);
     const nlohmann::json* value = find_config_element(config, segments, unused);
     const auto entry = recorded.find(field.path);
     if (value == nullptr || entry == recorded.end() || !entry->is_object() || entry->value("path", "") != *value) continue;
@@ -179,7 +180,7 @@ RunFunction setup_job(CLI::App& parent) {
   auto db = std::make_shared<std::string>();
   command->add_option("--db", *db, "Results database (read only) whose stored models learning.initial_model references name");
   command->add_option("--timeout", *timeout, "Stop the job after this many seconds of wall clock (0: none)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(make_non_negative_check())
       ->capture_default_str();
   return [path, as_json, timeout, ee, strict, db] {
     // Without --db a reference fails in the resolver with its "needs a results database" line.

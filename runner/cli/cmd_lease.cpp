@@ -3,6 +3,7 @@
 // takes its job over. It is the file's, not a runner's, so that every runner judges by the same
 // one; a runner heartbeats at a sixth of it and reads it again at every beat.
 #include "results/results_store.hpp"
+#include "runner/cli/number_checks.hpp"
 #include "runner/cli/subcommand.hpp"
 
 #include <iostream>
@@ -20,7 +21,7 @@ RunFunction setup_lease(CLI::App& parent) {
       "lease", "Show or set how long a job claim may go without a heartbeat before another runner takes it over");
   app->add_option("db", options->db, "Results database (created if absent when SECONDS is given)")->required();
   app->add_option("seconds", options->seconds, "The new lease, s (every runner of the file uses it; default 60)")
-      ->check(CLI::PositiveNumber);
+      ->check(make_positive_check());
 
   return [options, app] {
     const bool set = app->count("seconds") > 0;

@@ -5,6 +5,7 @@
 #include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/param_unit.hpp"
+#include "runner/cli/number_checks.hpp"
 #include "runner/cli/subcommand.hpp"
 
 #include <iostream>
@@ -49,15 +50,15 @@ RunFunction setup_plot(CLI::App& parent) {
   sub->add_option("--metric", options->metric, "metric-vs-param: the metric on the y axis");
   sub->add_option("--param", options->param, "metric-vs-param: the swept parameter on the x axis");
   sub->add_option("--group", options->group, "metric-vs-param: one curve per value of this parameter");
-  sub->add_option("--joint", options->joint, "metric-vs-param: joint of a per-joint metric (1-based)")->check(CLI::PositiveNumber);
+  sub->add_option("--joint", options->joint, "metric-vs-param: joint of a per-joint metric (1-based)")->check(make_positive_check());
   sub->add_option("--checkpoint", options->checkpoint, "metric-vs-param: checkpoint of a held-out metric (heldout_*)")
-      ->check(CLI::PositiveNumber);
+      ->check(make_positive_check());
   sub->add_option("--style", options->style,
                   "paper (3.5 in wide, 8 pt; default for .pdf and .png), slide (10 x 5.6 in, 16 pt) or screen (default for .svg)")
       ->check(CLI::IsMember({"paper", "slide", "screen"}));
   sub->add_option("--size", options->size, "Width,height in inches (overrides the style)")->delimiter(',')->expected(2)
-      ->check(CLI::Range(0.5, 100.0));
-  sub->add_option("--font-size", options->font_size, "Font size in points (overrides the style)")->check(CLI::Range(1.0, 200.0));
+      ->check(make_range_check(0.5, 100.0));
+  sub->add_option("--font-size", options->font_size, "Font size in points (overrides the style)")->check(make_range_check(1.0, 200.0));
   sub->add_option("--title", options->title, "Figure title (\"\" for none)");
   sub->add_option("--xlabel", options->x_label, "x-axis label of every panel");
   sub->add_option("--ylabel", options->y_label, "y-axis label of every panel");

@@ -2,6 +2,7 @@
 // results database (resume is the default; --force runs everything again). A spec with stages
 // runs them in order (runner/spec/sweep_stages.hpp).
 #include "results/readable_check.hpp"
+#include "runner/cli/number_checks.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/input_changes.hpp"
 #include "runner/execution/job_kind.hpp"
@@ -65,13 +66,13 @@ RunFunction setup_run(CLI::App& parent) {
   app->add_option("spec", options->spec, "Sweep spec (JSON)")->required();
   app->add_option("--db", options->db, "Results database (created if absent)")->capture_default_str();
   app->add_option("-j,--jobs", options->threads, "Jobs run in parallel (default: the number of cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(make_non_negative_check());
   app->add_option("--timeout", options->timeout, "Stop a job after this many seconds of wall clock (0: none)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(make_non_negative_check());
   app->add_option("--stop-grace", options->stop_grace,
                   "On a stop signal (Slurm's warning, Ctrl-C), let running jobs the cost model expects to end within "
                   "this many seconds finish, at most that long; the others stop at once and stay pending (0: all stop at once)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(make_non_negative_check());
   app->add_flag("--force", options->force, "Run every job again, even those already done");
   app->add_flag("--keep-failed", options->keep_failed,
                 "Failed, diverged and timed-out jobs are results: do not run them again (armfarm slurm's tasks)");
@@ -86,10 +87,10 @@ RunFunction setup_run(CLI::App& parent) {
   app->add_flag("-q,--quiet", options->quiet, "No progress output; only the summary and errors");
   app->add_option("--heartbeat", options->heartbeat,
                   "When standard error is not a terminal: a progress line every this many seconds (0: none)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(make_non_negative_check())
       ->capture_default_str();
   app->add_option("--max-jobs", options->limits.max_jobs, "Refuse a sweep of more jobs than this")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(make_positive_check());
 
   return [options, app] {
     if (app->count("--claim-timeout") > 0) {

@@ -6,6 +6,7 @@
 #include "analysis/printable_text.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/slurm_script.hpp"
+#include "runner/cli/number_checks.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/execution/job_cost.hpp"
 #include "runner/execution/job_kind.hpp"
@@ -178,14 +179,14 @@ void add_slurm_options(CLI::App& app, SlurmOptions& options) {
                  "Seconds before the time limit at which Slurm warns a task (SIGUSR1): it lets the jobs that can "
                  "end in time finish, stops the others and saves (0: chosen from the job-cost model)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 65535));
+      ->check(make_range_check(0, 65535));
   app.add_flag("--requeue,!--no-requeue", options.requeue,
                "A task stopped by the warning (time limit, preemption) requeues itself and resumes its shard")
       ->capture_default_str();
   app.add_option("--max-requeues", options.max_requeues,
                  "A warned task requeues itself only while it has restarted fewer times than this (SLURM_RESTART_COUNT)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 100000));
+      ->check(make_range_check(0, 100000));
   app.add_flag("--dry-run", options.dry_run, "Print the scripts and the submit commands; write and submit nothing");
   app.add_flag("--missing", options.missing,
                "Name the jobs not finished in DB and their shards (the merge job runs it), exit 1 if any; write and submit nothing");

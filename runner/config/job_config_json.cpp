@@ -1,6 +1,7 @@
 #include "runner/config/job_config_json.hpp"
 
 #include "engine/experiment/job_config_validation.hpp"
+#include "base/config_path.hpp"
 #include "engine/io/input_file.hpp"
 #include "runner/config/config_error.hpp"
 #include "runner/config/config_value_json.hpp"
@@ -10,7 +11,8 @@
 
 #include <stdexcept>
 #include <string>
-#include <string_view>
+#include <utility>
+#include <variant>
 #include <vector>
 
 namespace armfarm {
@@ -18,63 +20,63 @@ namespace {
 
 using nlohmann::json;
 
-std::vector<std::string> split_path(const std::string& path) {
-  std::vector<std::string> parts;
-  std::string::size_type start = 0;
-  for (auto dot = path.find('.'); dot != std::string::npos; dot = path.find('.', start)) {
-    parts.push_back(path.substr(start, dot - start));
-    start = dot + 1;
-  }
-  parts.push_back(path.substr(start));
-  return parts;
+/// Each key of job_config_keys() with its path parsed once (the table is built once per process).
+const std::vector<ConfigPath>& job_config_key_paths() {
+  static const std::vector<ConfigPath> paths = [] {
+    std::vector<ConfigPath> parsed;
+    for (const JobConfigKey& key : job_config_keys()) parsed.push_back(parse_config_path(key.path));
+    return parsed;
+  }();
+  return paths;
 }
 
-/// The value at a dotted path, nullptr when absent (no allocation: it runs for every key of
-/// every job a sweep expands).
-const json* find_value(const json& root, const std::string& path) {
+/// The element one segment below `node`, nullptr when absent.
+const json* find_child(const json& node, const PathSegment& segment) {
+  if (segment.index) return node.is_array() && *segment.index < node.size() ? &node[*segment.index] : nullptr;
+  if (!node.is_object()) return nullptr;
+  const auto found = node.find(segment.key);
+  return found == node.end() ? nullptr : &*found;
+}
+
+/// The value at the first `count` segments of `path`, nullptr when absent (no allocation: it runs
+/// for every key of every job a sweep expands).
+const json* find_value(const json& root, const ConfigPath& path, std::size_t count) {
   const json* node = &root;
-  std::string_view rest = path;
-  while (true) {
-    const std::size_t dot = rest.find('.');
-    const std::string_view part = rest.substr(0, dot);
-    if (!node->is_object()) return nullptr;
-    const auto found = node->find(part);
-    if (found == node->end()) return nullptr;
-    node = &*found;
-    if (dot == std::string_view::npos) return node;
-    rest.remove_prefix(dot + 1);
+  for (std::size_t i = 0; i < count && i < path.size() && node != nullptr; ++i) node = find_child(*node, path[i]);
+  return node;
+}
+
+/// Whether two paths of the same length have the same parent (all but their last segment).
+bool have_same_parent(const ConfigPath& a, const ConfigPath& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i + 1 < a.size(); ++i) {
+    if (a[i] != b[i]) return false;
   }
+  return true;
 }
 
 /// find_value for keys read in table order: keys of one parent object follow each other
-/// (learning.lwpr.*), so the parent found for the last key is reused.
+/// (learning.lwpr.*), so the parent found for the last key is reused. The paths it is given
+/// must outlive it (job_config_key_paths()).
 class ValueFinder {
  public:
   explicit ValueFinder(const json& root) : root_(root) {}
-  const json* find(const std::string& path) {
-    const std::size_t dot = path.rfind('.');
-    if (dot == std::string::npos) return find_value(root_, path);
-    const std::string_view parent(path.data(), dot);
-    if (parent != parent_path_ || !have_parent_) {
-      parent_ = find_value(root_, std::string(parent));
-      parent_path_ = parent;
-      have_parent_ = true;
-    }
-    if (parent_ == nullptr || !parent_->is_object()) return nullptr;
-    const auto found = parent_->find(std::string_view(path).substr(dot + 1));
-    return found == parent_->end() ? nullptr : &*found;
+  const json* find(const ConfigPath& path) {
+    if (path.size() <= 1) return find_value(root_, path, path.size());
+    if (last_ == nullptr || !have_same_parent(*last_, path)) parent_ = find_value(root_, path, path.size() - 1);
+    last_ = &path;
+    return parent_ == nullptr ? nullptr : find_child(*parent_, path.back());
   }
 
  private:
   const json& root_;
-  std::string_view parent_path_;  // views a key's path in job_config_keys()
+  const ConfigPath* last_ = nullptr;  // the path whose parent is parent_
   const json* parent_ = nullptr;
-  bool have_parent_ = false;
 };
 
-void set_value(json& root, const std::string& path, json value) {
+void set_value(json& root, const ConfigPath& path, json value) {
   json* node = &root;
-  for (const std::string& part : split_path(path)) node = &(*node)[part];
+  for (const PathSegment& segment : path) node = &(*node)[segment.key];  // key tables name no indices
   *node = std::move(value);
 }
 
@@ -90,27 +92,29 @@ const std::vector<RunnerConfigKey>& runner_config_keys() {
 nlohmann::json make_job_config_defaults() {
   JobConfig defaults;
   json tree = json::object();
-  for (const RunnerConfigKey& key : runner_config_keys()) set_value(tree, key.path, key.default_value);
-  for (const JobConfigKey& key : job_config_keys()) set_value(tree, key.path, make_field_json(key.field(defaults)));
+  for (const RunnerConfigKey& key : runner_config_keys()) set_value(tree, parse_config_path(key.path), key.default_value);
+  const std::vector<JobConfigKey>& keys = job_config_keys();
+  for (std::size_t i = 0; i < keys.size(); ++i) set_value(tree, job_config_key_paths()[i], make_field_json(keys[i].field(defaults)));
   return tree;
 }
 
 nlohmann::json make_job_config_types() {
   JobConfig defaults;
   json tree = make_job_config_defaults();
-  for (const JobConfigKey& key : job_config_keys()) {
-    const ValueKind kind = key.field(defaults).kind;
+  const std::vector<JobConfigKey>& keys = job_config_keys();
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const ValueKind kind = keys[i].field(defaults).kind;
     if (kind == ValueKind::real_or_list || kind == ValueKind::real_matrix || kind == ValueKind::integer_or_auto ||
         kind == ValueKind::real_or_auto || kind == ValueKind::point_or_auto) {
-      set_value(tree, key.path, nullptr);
+      set_value(tree, job_config_key_paths()[i], nullptr);
     }
   }
   // A model file path or a stored-model reference object, resolved when the sweep expands.
-  set_value(tree, "learning.initial_model", nullptr);
+  set_value(tree, parse_config_path("learning.initial_model"), nullptr);
   return tree;
 }
 
-JobConfig parse_job_config(const nlohmann::json& c, int movable_joints,
+ValidJobConfig parse_job_config(const nlohmann::json& c, int movable_joints,
                            const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
   return parse_job_config(c, ModelFacts{movable_joints, {}, {}}, stored_model_bytes);
 }
@@ -126,16 +130,18 @@ void check_recorded_hash(const std::string& path, const std::string& bytes, cons
   if (now != hash) throw std::runtime_error(make_input_changed_text(path, hash, now));
 }
 
-// parse_job_config with each key's value found by `lookup(path)` (nullptr: the default).
+// parse_job_config with each key's value found by `lookup(key, path)` (nullptr: the default).
 // `recorded`: the recorded configuration, whose input hashes every file read is checked
 // against; `contents`: a cache of those files keyed by their hashes (nullptr: read every file).
 template <typename Lookup>
-JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
+ValidJobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
                      const std::function<std::string(const std::string& hash)>& stored_model_bytes,
                      const json* recorded_config = nullptr, JobFileContents* contents = nullptr) {
   JobConfig config;
-  for (const JobConfigKey& key : job_config_keys()) {
-    const json* value = lookup(key.path);
+  const std::vector<JobConfigKey>& keys = job_config_keys();
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const JobConfigKey& key = keys[i];
+    const json* value = lookup(key.path, job_config_key_paths()[i]);
     if (value == nullptr || value->is_null()) continue;  // the default
     std::string suffix;
     const std::string problem = read_field_json(*value, key.field(config), suffix);
@@ -189,33 +195,33 @@ JobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
       throw ConfigError("learning.initial_model", error.what());
     }
   }
-  const std::vector<ConfigProblem> problems = validate(config, facts);
-  if (!problems.empty()) {
-    const std::string text = make_problems_text(problems);
-    const std::string& path = problems.front().path;
-    throw ConfigError(path, path.empty() ? text : text.substr(path.size() + 2));
+  std::variant<ValidJobConfig, std::vector<ConfigProblem>> checked = check_job_config(std::move(config), facts);
+  if (const auto* problems = std::get_if<std::vector<ConfigProblem>>(&checked)) {
+    // The first problem's path, and every problem in the message: "m1; p2: m2".
+    const std::vector<ConfigProblem> others(problems->begin() + 1, problems->end());
+    throw ConfigError(problems->front().path, problems->front().message + (others.empty() ? "" : "; " + make_problems_text(others)));
   }
-  return config;
+  return std::get<ValidJobConfig>(std::move(checked));
 }
 
 }  // namespace
 
-JobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
+ValidJobConfig parse_job_config(const nlohmann::json& c, const ModelFacts& facts,
                            const std::function<std::string(const std::string& hash)>& stored_model_bytes) {
   ValueFinder finder(c);
-  return parse_with([&](const std::string& path) { return finder.find(path); }, facts, stored_model_bytes);
+  return parse_with([&](const std::string&, const ConfigPath& path) { return finder.find(path); }, facts, stored_model_bytes);
 }
 
-JobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelFacts& facts,
+ValidJobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelFacts& facts,
                                     const std::function<std::string(const std::string& hash)>& stored_model_bytes,
                                     JobFileContents* contents) {
   const auto inputs = recorded.find("inputs");
   const bool records = inputs != recorded.end() && inputs->is_object() && !inputs->empty();
   ValueFinder finder(recorded);
   return parse_with(
-      [&](const std::string& path) -> const json* {
-        if (records && inputs->contains(path)) {
-          if (const json* resolved = find_resolved_input(recorded, path)) return resolved;
+      [&](const std::string& text, const ConfigPath& path) -> const json* {
+        if (records && inputs->contains(text)) {
+          if (const json* resolved = find_resolved_input(recorded, text)) return resolved;
         }
         return finder.find(path);
       },

@@ -33,7 +33,8 @@ nlohmann::json make_job_config_defaults();
 nlohmann::json make_job_config_types();
 
 /// Parses a resolved configuration (defaults merged) for an arm with `movable_joints` movable
-/// joints and validates it. Throws ConfigError (runner/config/config_error.hpp) naming the
+/// joints and validates it: the one validation at the edge, whose proof (ValidJobConfig,
+/// job_config_validation.hpp) the engine's run_experiment takes without validating again. Throws ConfigError (runner/config/config_error.hpp) naming the
 /// JSON path of the first problem; its message lists every problem ("path: what; path: what").
 /// `null` at a key means its default (configurations stored before the defaults were written out).
 ///
@@ -41,12 +42,12 @@ nlohmann::json make_job_config_types();
 /// stored model ("stored:<hash>", runner/execution/stored_models.hpp) is fetched with
 /// `stored_model_bytes(hash)`, which throws std::exception when it cannot (unset: such a
 /// configuration is refused).
-JobConfig parse_job_config(const nlohmann::json& config, int movable_joints,
+ValidJobConfig parse_job_config(const nlohmann::json& config, int movable_joints,
                            const std::function<std::string(const std::string& hash)>& stored_model_bytes = {});
 
 /// The same, checked against everything known of the model: a joint-space recorded trajectory
 /// must also stay within the joints' position limits (the first line outside them is named).
-JobConfig parse_job_config(const nlohmann::json& config, const ModelFacts& facts,
+ValidJobConfig parse_job_config(const nlohmann::json& config, const ModelFacts& facts,
                            const std::function<std::string(const std::string& hash)>& stored_model_bytes = {});
 
 /// The same for a configuration with its inputs recorded (runner/spec/input_files.hpp): each
@@ -65,7 +66,7 @@ struct JobFileContents {
   std::string model_bytes;
 };
 
-JobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelFacts& facts,
+ValidJobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelFacts& facts,
                                     const std::function<std::string(const std::string& hash)>& stored_model_bytes = {},
                                     JobFileContents* contents = nullptr);
 

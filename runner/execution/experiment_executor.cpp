@@ -33,8 +33,7 @@ InputFileField make_model_field(const std::shared_ptr<JobModels>& models) {
     try {
       return models->get_file(resolved)->input_files;
     } catch (const ConfigError& error) {
-      const std::string message = error.what();  // "model: FILE: problem"
-      throw std::runtime_error(message.substr(error.json_path().empty() ? 0 : error.json_path().size() + 2));
+      throw std::runtime_error(error.message());  // "FILE: problem", without the "model" path
     }
   };
   return field;
@@ -93,7 +92,7 @@ std::string find_model_path(const nlohmann::json& recorded) {
 void check_config(const nlohmann::json& recorded, JobModels& models, const std::shared_ptr<StoredModels>& stored,
                   JobFileContents* contents) {
   const std::string path = find_model_path(recorded);
-  const JobConfig job = parse_recorded_job_config(recorded, *models.get_facts(path),
+  const ValidJobConfig job = parse_recorded_job_config(recorded, *models.get_facts(path),
                                                   make_stored_model_reader(stored), contents);
   models.get(path, job);
 }
@@ -157,7 +156,7 @@ JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored) {
     const std::string path = find_model_path(recorded);
     const std::shared_ptr<const ModelFacts> facts = models->get_facts(path);
     model_hashes->check(recorded, path);
-    const JobConfig job = parse_recorded_job_config(recorded, *facts, make_stored_model_reader(stored));
+    const ValidJobConfig job = parse_recorded_job_config(recorded, *facts, make_stored_model_reader(stored));
     const auto model = models->get(path, job);
     JobOutcome outcome;
     try {

@@ -27,7 +27,7 @@ std::string calc_text_without(const nlohmann::json& config, const std::set<std::
   stripped.erase("inputs");
   for (const std::string& field : fields) {
     std::string problem;
-    std::vector<PathSegment> segments;
+    ConfigPath segments;
     try {
       segments = parse_config_path(field);
     } catch (const std::invalid_argument&) {

@@ -19,7 +19,8 @@ JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
     const std::string path = config.at("model").get<std::string>();
     const int movable = static_cast<int>(models->get_file(path)->movable_joints().size());
     // The model a job starts from does not change its cost: a stored one is not fetched here.
-    const JobConfig job = parse_job_config(config, movable, [](const std::string&) { return std::string(); });
+    const ValidJobConfig parsed = parse_job_config(config, movable, [](const std::string&) { return std::string(); });
+    const JobConfig& job = parsed.get();
     // The arm as the job runs it: its end effector and start posture chosen by the job's own
     // configuration, as at expansion and in the executor (a choice those accept works here).
     models->get(path, job);

@@ -1,5 +1,6 @@
 #include "runner/execution/job_models.hpp"
 
+#include "engine/experiment/job_config_validation.hpp"
 #include "engine/experiment/job_model.hpp"
 #include "engine/model/model_loading.hpp"
 #include "runner/config/config_error.hpp"
@@ -37,9 +38,8 @@ std::shared_ptr<const ArmModel> JobModels::get(const std::string& path, const Jo
     made = std::make_shared<const ArmModel>(make_job_model(*file, config));
   } catch (const ModelError& error) {
     throw ConfigError("end_effector.link", error.what());
-  } catch (const std::invalid_argument& error) {
-    const std::string message = error.what();  // "start_posture: ..."
-    throw ConfigError("start_posture", message.substr(message.find(": ") + 2));
+  } catch (const ConfigProblemError& error) {
+    throw ConfigError(error.problem().path, error.problem().message);
   }
   made_.emplace(key, made);
   return made;

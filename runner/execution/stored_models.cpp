@@ -1,5 +1,7 @@
 #include "runner/execution/stored_models.hpp"
 
+#include "runner/config/config_error.hpp"
+
 #include "results/results_store.hpp"
 #include "runner/execution/outcome_record.hpp"
 
@@ -106,7 +108,7 @@ void resolve_stored_model_reference(nlohmann::json& config, StoredModels* models
         {"kind", "stored_model"}, {"reference", value}, {"job", resolved.job_key}, {"hash", resolved.hash}};
     value = std::string(kStoredModelPrefix) + resolved.hash;
   } catch (const std::runtime_error& error) {
-    throw std::runtime_error(std::string("learning.initial_model: ") + error.what());
+    throw ConfigError("learning.initial_model", error.what());
   }
 }
 

@@ -101,7 +101,7 @@ nlohmann::json calc_checked_value(const nlohmann::json& value, const nlohmann::j
   }
 }
 
-const nlohmann::json* find_schema_reference(const nlohmann::json& defaults, const std::vector<PathSegment>& segments,
+const nlohmann::json* find_schema_reference(const nlohmann::json& defaults, const ConfigPath& segments,
                                             std::string& problem) {
   const nlohmann::json* node = &defaults;
   for (std::size_t i = 0; i < segments.size(); ++i) {
@@ -109,14 +109,14 @@ const nlohmann::json* find_schema_reference(const nlohmann::json& defaults, cons
     const PathSegment& segment = segments[i];
     if (segment.index) {
       if (!node->is_array()) {
-        problem = "'" + make_config_path(segments, i) + "' is not an array";
+        problem = "'" + segments.to_string(i) + "' is not an array";
         return nullptr;
       }
       node = node->empty() ? &number_reference() : &(*node)[0];
       continue;
     }
     if (!node->is_object()) {
-      problem = i == 0 ? "the configuration is not an object" : "'" + make_config_path(segments, i) + "' is not an object";
+      problem = i == 0 ? "the configuration is not an object" : "'" + segments.to_string(i) + "' is not an object";
       return nullptr;
     }
     const auto found = node->find(segment.key);
@@ -124,7 +124,7 @@ const nlohmann::json* find_schema_reference(const nlohmann::json& defaults, cons
       std::vector<std::string> keys;
       for (const auto& item : node->items()) keys.push_back(item.key());
       problem = "no key '" + segment.key + "' in " +
-                (i == 0 ? std::string("the configuration") : "'" + make_config_path(segments, i) + "'") +
+                (i == 0 ? std::string("the configuration") : "'" + segments.to_string(i) + "'") +
                 make_did_you_mean(segment.key, keys);
       return nullptr;
     }

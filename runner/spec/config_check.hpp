@@ -21,7 +21,7 @@ nlohmann::json calc_checked_value(const nlohmann::json& value, const nlohmann::j
 /// The default that describes the element a path names: object keys descend into the
 /// defaults, array indices into the default array's first element (a number for an empty one).
 /// Returns nullptr (with `problem` set) when the defaults have no such key.
-const nlohmann::json* find_schema_reference(const nlohmann::json& defaults, const std::vector<PathSegment>& segments,
+const nlohmann::json* find_schema_reference(const nlohmann::json& defaults, const ConfigPath& segments,
                                             std::string& problem);
 
 /// Overlays `overrides` onto `target`: objects merge key by key, everything else is replaced.

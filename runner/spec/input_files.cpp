@@ -21,7 +21,7 @@ void visit_recorded_fields(const nlohmann::json& config, Visit visit) {
   if (inputs == config.end() || !inputs->is_object()) return;
   for (const auto& [name, entry] : inputs->items()) {
     if (!entry.is_object() || entry.value("kind", "file") != "file") continue;
-    std::vector<PathSegment> segments;
+    ConfigPath segments;
     try {
       segments = parse_config_path(name);
     } catch (const std::invalid_argument&) {
@@ -114,7 +114,7 @@ std::vector<InputProblem> record_input_files(nlohmann::json& config, const std::
 
 nlohmann::json calc_config_with_resolved_inputs(const nlohmann::json& config) {
   nlohmann::json result = config;
-  visit_recorded_fields(config, [&](const std::vector<PathSegment>& segments, const nlohmann::json& entry) {
+  visit_recorded_fields(config, [&](const ConfigPath& segments, const nlohmann::json& entry) {
     set_config_element(result, segments, entry.at("resolved"));
   });
   result.erase("inputs");
@@ -129,7 +129,7 @@ const nlohmann::json* find_resolved_input(const nlohmann::json& config, const st
   const auto path = entry->find("path");
   const auto resolved = entry->find("resolved");
   if (path == entry->end() || resolved == entry->end()) return nullptr;
-  std::vector<PathSegment> segments;
+  ConfigPath segments;
   try {
     segments = parse_config_path(field);
   } catch (const std::invalid_argument&) {
@@ -152,7 +152,7 @@ nlohmann::json make_job_key_document(const nlohmann::json& config) {
   const auto inputs = config.find("inputs");
   if (inputs == config.end()) return config;
   nlohmann::json document = config;
-  visit_recorded_fields(config, [&](const std::vector<PathSegment>& segments, const nlohmann::json& entry) {
+  visit_recorded_fields(config, [&](const ConfigPath& segments, const nlohmann::json& entry) {
     set_config_element(document, segments, "xxh3-128:" + entry.value("hash", std::string()));
   });
   nlohmann::json hashes = nlohmann::json::object();

@@ -9,31 +9,22 @@
 namespace armfarm {
 namespace {
 
-// Whether one path is the other or lies inside it.
-bool overlaps(const std::vector<PathSegment>& a, const std::vector<PathSegment>& b) {
-  const std::size_t n = std::min(a.size(), b.size());
-  for (std::size_t i = 0; i < n; ++i) {
-    if (a[i].index != b[i].index || (!a[i].index && a[i].key != b[i].key)) return false;
-  }
-  return true;
-}
-
 // A string no configuration holds: control characters, which specs never carry in values.
 std::string make_marker(std::size_t hole) { return "\x1f\x1e" "armfarm key hole " + std::to_string(hole) + "\x1e\x1f"; }
 
 }  // namespace
 
-JobKeyTemplate::JobKeyTemplate(const nlohmann::json& config, const std::vector<std::vector<PathSegment>>& holes) {
+JobKeyTemplate::JobKeyTemplate(const nlohmann::json& config, const std::vector<ConfigPath>& holes) {
   const auto inputs = config.find("inputs");
   for (std::size_t i = 0; i < holes.size(); ++i) {
     if (holes[i].empty() || holes[i].front().key == "inputs") return;
     for (std::size_t j = i + 1; j < holes.size(); ++j) {
-      if (overlaps(holes[i], holes[j])) return;
+      if (holes[i].overlaps(holes[j])) return;
     }
     if (inputs != config.end() && inputs->is_object()) {
       for (const auto& [name, entry] : inputs->items()) {
         try {
-          if (overlaps(holes[i], parse_config_path(name))) return;  // the key document rewrites it
+          if (holes[i].overlaps(parse_config_path(name))) return;  // the key document rewrites it
         } catch (const std::invalid_argument&) {
           // not a field path (an include)
         }

@@ -19,7 +19,7 @@ class JobKeyTemplate {
   /// that vary between the jobs this template serves. The template is unusable (usable() false)
   /// when a hole names an input file field or lies inside "inputs", when two holes overlap, or when
   /// the configuration cannot be cut cleanly at them.
-  JobKeyTemplate(const nlohmann::json& config, const std::vector<std::vector<PathSegment>>& holes);
+  JobKeyTemplate(const nlohmann::json& config, const std::vector<ConfigPath>& holes);
 
   bool usable() const { return usable_; }
 

@@ -60,10 +60,18 @@ struct ExpandedSweep {
   std::string spec_hash;          ///< hash of the canonical list of job keys
 };
 
+/// How the expansion assembles each job's configuration tree and key. `fast` edits one tree in
+/// place and sets it back after each job, and hashes a key from a text cut up once per distinct
+/// "inputs" (JobKeyTemplate); `plain` copies the base for each job and hashes the whole tree.
+/// Both give the same jobs, keys and spec hash (tests/runner/spec/sweep_expansion_test.cpp
+/// compares them); `plain` is the reference, `fast` what armfarm runs.
+enum class JobAssemblyMethod { fast, plain };
+
 /// Expands and checks every job with schema.validate. Throws SpecError naming the spec location
 /// of the value that failed (or the base configuration), and, before expanding anything, when
 /// calc_expansion_count(spec) exceeds limits.max_jobs ("FILE: sweep: expands to N jobs, over
 /// the limit of M; --max-jobs raises it").
-ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const ExpansionLimits& limits = {});
+ExpandedSweep expand_sweep(SweepSpec spec, const JobConfigSchema& schema, const ExpansionLimits& limits = {},
+                           JobAssemblyMethod method = JobAssemblyMethod::fast);
 
 }  // namespace armfarm

@@ -60,14 +60,6 @@ std::string locate_line(const std::string& file, const JsonDocument& document, c
 
 std::string quoted(const std::string& parent, const std::string& key) { return parent + "[\"" + key + "\"]"; }
 
-bool is_prefix_path(const std::vector<PathSegment>& a, const std::vector<PathSegment>& b) {
-  if (a.size() > b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    if (a[i].index != b[i].index || a[i].key != b[i].key) return false;
-  }
-  return true;
-}
-
 class SpecParser {
  public:
   SpecParser(const std::string& file, const std::string& folder, const JobConfigSchema& schema)
@@ -139,7 +131,7 @@ class SpecParser {
   // Who wrote each input field: this spec (base or an axis), else the last include, else nobody.
   std::map<std::string, std::string> calc_input_folders(const nlohmann::json& root, const SweepSpec& spec) {
     std::map<std::string, std::string> folders;
-    std::vector<std::vector<PathSegment>> axes;
+    std::vector<ConfigPath> axes;
     for (const SpecAxis& axis : spec.grid) axes.push_back(axis.segments);
     for (const SpecZipGroup& group : spec.zip) {
       for (const SpecAxis& axis : group.axes) axes.push_back(axis.segments);
@@ -151,10 +143,10 @@ class SpecParser {
       for (const SpecSearchAxis& axis : spec.search->axes) axes.push_back(axis.segments);
     }
     for (const InputFileField& field : schema_.input_files) {
-      const std::vector<PathSegment> segments = parse_config_path(field.path);
+      const ConfigPath segments = parse_config_path(field.path);
       std::string problem;
       bool written_here = root.contains("base") && find_config_element(root["base"], segments, problem) != nullptr;
-      for (const auto& axis : axes) written_here = written_here || is_prefix_path(axis, segments) || is_prefix_path(segments, axis);
+      for (const auto& axis : axes) written_here = written_here || axis.overlaps(segments);
       const auto from_include = input_folders_.find(field.path);
       folders[field.path] = written_here ? folder_ : from_include != input_folders_.end() ? from_include->second : schema_.default_folder;
       if (!written_here && from_include != input_folders_.end()) writers_[field.path] = input_writers_.at(field.path);
@@ -219,7 +211,7 @@ class SpecParser {
   }
 
   // Resolves a dotted path of an axis; false (with an error) when it names nothing.
-  bool resolve_path(const std::string& path, const std::string& location, std::vector<PathSegment>& segments,
+  bool resolve_path(const std::string& path, const std::string& location, ConfigPath& segments,
                     const nlohmann::json*& reference) {
     try {
       segments = parse_config_path(path);
@@ -238,7 +230,7 @@ class SpecParser {
       return false;
     }
     for (const auto& [other_path, other] : claimed_) {
-      if (is_prefix_path(other.first, segments) || is_prefix_path(segments, other.first)) {
+      if (other.first.overlaps(segments)) {
         error(location, "'" + path + "' overlaps '" + other_path + "', already varied at " + other.second);
         return false;
       }
@@ -689,7 +681,7 @@ class SpecParser {
   }
 
   void read_repeat(const nlohmann::json& repeat, SweepSpec& spec) {
-    std::vector<PathSegment> segments;
+    ConfigPath segments;
     const nlohmann::json* reference = nullptr;
     if (!resolve_path("seed", "sweep.repeat", segments, reference)) return;
     if (!resolved_["seed"].is_number_integer()) {
@@ -748,7 +740,7 @@ class SpecParser {
   std::map<std::string, std::string> input_writers_;  // field → that include's file
   std::map<std::string, std::string> writers_;        // the same, for fields this spec does not set
   std::vector<std::string> errors_;
-  std::map<std::string, std::pair<std::vector<PathSegment>, std::string>> claimed_;
+  std::map<std::string, std::pair<ConfigPath, std::string>> claimed_;
 };
 
 }  // namespace

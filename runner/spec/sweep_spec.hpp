@@ -20,7 +20,7 @@ namespace armfarm {
 /// A configuration element set to one of a list of values.
 struct SpecAxis {
   std::string path;  ///< dotted path into the job configuration
-  std::vector<PathSegment> segments;
+  ConfigPath segments;
   std::vector<nlohmann::json> values;  ///< normalized to the configuration's type
   std::string location;                ///< where in the spec, e.g. sweep.grid["control.gain_scale"]
 };
@@ -34,7 +34,7 @@ enum class RandomDistribution { uniform, loguniform, choice };
 
 struct SpecRandomParam {
   std::string path;
-  std::vector<PathSegment> segments;
+  ConfigPath segments;
   RandomDistribution distribution = RandomDistribution::uniform;
   double low = 0.0, high = 0.0;          ///< uniform and loguniform bounds
   std::vector<nlohmann::json> choices;   ///< choice
@@ -61,7 +61,7 @@ struct SpecObjective {
 
 /// One axis of a search space, where it was written and, for a categorical axis, its values.
 struct SpecSearchAxis {
-  std::vector<PathSegment> segments;
+  ConfigPath segments;
   std::vector<nlohmann::json> choices;  ///< categorical: normalized to the configuration's type
   std::string location;
 };
@@ -75,14 +75,14 @@ struct SpecSearch {
   enum class BudgetUnit { jobs, cpu_seconds } budget_unit = BudgetUnit::jobs;
   double budget = 0.0;
   /// "learning.heldout_checkpoints": a step to rung r runs the checkpoints rungs[0 … r].
-  std::vector<PathSegment> checkpoint_segments;
+  ConfigPath checkpoint_segments;
   /// The key that makes a job learn exactly to a checkpoint, in the checkpoints' unit, for asha,
   /// successive_halving and hyperband: "learning.epochs" (batch; checkpoints count epochs) or
   /// "trajectory.reaching.reaches" (online on reaches; checkpoints count reaches). A step to a
   /// rung r below the last sets it to rungs[r], so a short rung is a short job. Empty for other
   /// job kinds (an online pass over a sine or figure-eight): their short rungs run the whole pass.
   std::string length_path;
-  std::vector<PathSegment> length_segments;
+  ConfigPath length_segments;
   /// The steps to expand, (point, rung) each, as the search runner decided them; unset: the steps
   /// decided before any result (calc_initial_search_steps).
   std::optional<std::vector<std::pair<search::SearchPoint, std::size_t>>> decided;

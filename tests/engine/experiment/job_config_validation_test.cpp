@@ -219,6 +219,33 @@ TEST(JobConfigValidation, SsgprBlockIsCheckedWhenSsgprLearns) {
   EXPECT_TRUE(validate(config, kLwr3).empty()) << problems_of(config);
 }
 
+TEST(JobConfigValidation, ProblemsCarryPathMessageUnitAndRangeApart) {
+  JobConfig config;
+  config.simulation.dt = -1.0;
+  bool found = false;
+  for (const ConfigProblem& problem : validate(config, kLwr3)) {
+    if (problem.path != "dt") continue;
+    found = true;
+    EXPECT_EQ(problem.unit, "s");
+    ASSERT_TRUE(problem.range.has_value());
+    EXPECT_FALSE(problem.range->contains(-1.0));
+    EXPECT_TRUE(problem.range->contains(0.01));
+    EXPECT_EQ(problem.message.find("dt:"), std::string::npos) << "the message repeats the path: " << problem.message;
+  }
+  EXPECT_TRUE(found) << problems_of(config);
+  // A learner parameter's own problem, found by the learner's check, lands at its key with the
+  // learner's words and no "LWPR parameter" prefix.
+  config = JobConfig();
+  config.learning.lwpr.init_D = Eigen::MatrixXd::Identity(21, 21);
+  config.learning.lwpr.init_D(0, 1) = 0.5;  // not symmetric
+  const std::vector<ConfigProblem> problems = validate(config, kLwr3);
+  ASSERT_EQ(problems.size(), 1u) << problems_of(config);
+  EXPECT_EQ(problems[0].path, "learning.lwpr.init_D");
+  EXPECT_EQ(problems[0].message, "must be symmetric");
+  EXPECT_EQ(problems[0].unit, "");
+  EXPECT_FALSE(problems[0].range.has_value());
+}
+
 TEST(JobConfigValidation, SsgprCostBoundNamesTheFeatures) {
   JobConfig config;
   config.learning.learner = LearnerKind::ssgpr;

@@ -37,7 +37,10 @@ TEST(StrictDcg, NulInsideANumberIsRefusedNotTruncated) {
 TEST(StrictDcg, NanInfHexAndOverflowAreRefused) {
   EXPECT_EQ(dcg_problem("0.1 nan 0.3"), ":3: tag s: value 2 is not a finite number: 'nan'");
   EXPECT_EQ(dcg_problem("0.1 0.2 -inf"), ":3: tag s: value 3 is not a finite number: '-inf'");
-  EXPECT_EQ(dcg_problem("1e999 0.2 0.3"), ":3: tag s: value 1 is not a finite number: '1e999'");
+  EXPECT_EQ(dcg_problem("1e999 0.2 0.3"), ":3: tag s: value 1: '1e999' overflows a double (above 1.8e308 in magnitude)");
+  // Out of a double's range, not "not a finite number": 1e-400 is a finite number no double holds.
+  EXPECT_EQ(dcg_problem("0.1 1e-400 0.3"),
+            ":3: tag s: value 2: '1e-400' underflows to zero (below 4.9e-324, the smallest double, in magnitude)");
   EXPECT_EQ(dcg_problem("0x1p-3 0.2 0.3"), ":3: tag s: value 1 is not a finite number (a 6-byte token, not shown)");
   EXPECT_EQ(dcg_problem("0.1m 0.2 0.3"), ":3: tag s: value 1 is not a finite number (a 4-byte token, not shown)");
 }

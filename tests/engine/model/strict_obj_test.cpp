@@ -54,7 +54,9 @@ TEST(StrictObj, NonFiniteOrGarbageVtVnVpValuesAreRefused) {
   EXPECT_EQ(obj_problem(kTriangle + "vn -inf 0 1\nf 1 2 3\n"), ":4: vn value is not a finite number: '-inf'");
   EXPECT_EQ(obj_problem(kTriangle + "vt 0 nan\nf 1 2 3\n"), ":4: vt value is not a finite number: 'nan'");
   EXPECT_EQ(obj_problem(kTriangle + "vn 0 1\nf 1 2 3\n"), ":4: vn needs three numbers, got 2");
-  EXPECT_EQ(obj_problem(kTriangle + "vp 1e999\nf 1 2 3\n"), ":4: vp value is not a finite number: '1e999'");
+  EXPECT_EQ(obj_problem(kTriangle + "vp 1e999\nf 1 2 3\n"), ":4: vp value: '1e999' overflows a double (above 1.8e308 in magnitude)");
+  EXPECT_EQ(obj_problem("v 0 1e-400 0\n"),
+            ":1: vertex coordinate: '1e-400' underflows to zero (below 4.9e-324, the smallest double, in magnitude)");
   EXPECT_EQ(obj_problem("v 0 0 0 0x10\n"), ":1: vertex coordinate is not a finite number (a 4-byte token, not shown)");
 }
 

@@ -1,4 +1,5 @@
-// Dotted paths: parsing, lookup with suggestions, assignment.
+// Lookups of typed paths in a JSON tree, with suggestions, and assignment (parsing and printing:
+// tests/base/config_path_test.cpp).
 #include "runner/spec/config_path.hpp"
 
 #include <gtest/gtest.h>
@@ -6,19 +7,7 @@
 namespace armfarm {
 namespace {
 
-TEST(ConfigPath, ParsesKeysAndIndices) {
-  const auto segments = parse_config_path("control.kp[1]");
-  ASSERT_EQ(segments.size(), 3u);
-  EXPECT_EQ(segments[1].key, "kp");
-  EXPECT_EQ(segments[2].index, 1u);
-  EXPECT_EQ(make_config_path(segments), "control.kp[1]");
-  EXPECT_EQ(make_config_path(parse_config_path("a[0][2].b")), "a[0][2].b");
-  for (const char* bad : {"", "a..b", "a.", "a[x]", "[0]", "a[1"}) {
-    EXPECT_THROW(parse_config_path(bad), std::invalid_argument) << bad;
-  }
-}
-
-TEST(ConfigPath, FindsAndSetsElementsAndExplainsMisses) {
+TEST(ConfigPathLookup, FindsAndSetsElementsAndExplainsMisses) {
   nlohmann::json config = {{"control", {{"kp", {1.0, 2.0}}, {"gain_scale", 1.0}}}};
   std::string problem;
   EXPECT_EQ(*find_config_element(config, parse_config_path("control.kp[1]"), problem), 2.0);

@@ -103,7 +103,7 @@ TEST(JobKeyTemplate, KeysMatchCalcJobKeyAndInputFieldsAreNotHoles) {
       {"model", "arm.urdf"},
       {"control", {{"gain_scale", 1.0}, {"kp", {1.0, 2.5, 3.0}}}},
       {"inputs", {{"model", {{"path", "arm.urdf"}, {"resolved", "/m/arm.urdf"}, {"hash", "ab"}, {"files", nlohmann::json::array()}}}}}};
-  const std::vector<std::vector<PathSegment>> holes = {parse_config_path("control.kp[1]"), parse_config_path("seed")};
+  const std::vector<ConfigPath> holes = {parse_config_path("control.kp[1]"), parse_config_path("seed")};
   const JobKeyTemplate key_template(config, holes);
   ASSERT_TRUE(key_template.usable());
   std::string scratch;
