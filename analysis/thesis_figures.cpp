@@ -39,11 +39,12 @@ const ThesisFigure& find_figure(const ThesisResults& thesis, const std::string& 
   throw AnalysisError(thesis.path + ": no figure " + number + " in its `figures`");
 }
 
-// "Figure 6.9 (thesis, page 58): caption" — the page only where the thesis states it.
-std::string make_heading(const ThesisFigure& figure) {
+// "Figure 6.9 (thesis, page 58)" — the page only where the thesis states it; with the caption
+// for the figures whose panels do not say what they show.
+std::string make_heading(const ThesisFigure& figure, bool with_caption = true) {
   std::string heading = "Figure " + figure.number + " (thesis";
   if (figure.page) heading += ", page " + std::to_string(*figure.page);
-  return heading + "): " + figure.caption;
+  return heading + ")" + (with_caption ? ": " + figure.caption : std::string());
 }
 
 // The printed table whose cells give a figure's numbers (its facts' "table": a number such as
@@ -76,10 +77,10 @@ std::string require_sweep(const ResultsStore& store, const ThesisResults& thesis
 
 // "thesis 0.58 · armfarm 0.86 [0.80, 0.92] (5) · matches" for one compared cell.
 std::string describe_cell(const ComparedCell& cell) {
-  std::string text = "thesis " + format_table_number(cell.thesis->value) + " · armfarm ";
+  std::string text = "thesis " + format_table_number(cell.thesis->value) + ", armfarm ";
   if (cell.state != CellState::compared) return text + "not run";
   text += format_mean_ci(cell.armfarm, 3) + " (" + std::to_string(cell.armfarm.count) + ")";
-  if (cell.verdict != Verdict::none && cell.verdict != Verdict::one_seed) text += " · " + std::string(to_string(cell.verdict));
+  if (cell.verdict != Verdict::none && cell.verdict != Verdict::one_seed) text += ", " + std::string(to_string(cell.verdict));
   return text;
 }
 
@@ -404,8 +405,8 @@ Figure make_signal_figure(const ResultsStore& store, const ThesisResults& thesis
   const ThesisComparison comparison = make_thesis_comparison(thesis, store, Aggregate::mean, mapping.sweep);
   const std::vector<int> joints = find_active_joints(*source.job, static_cast<int>(source.feedback.rows.cols()) - 1);
   Figure result;
-  result.title = make_heading(figure) + "\narmfarm: sweep " + sweep + ", job " + source.job->key.substr(0, 8) + " (seed " +
-                 std::to_string(source.job->seed) + ")";
+  result.title = make_heading(figure, false) + ": feedback, feed-forward" + (with_composite ? ", composite" : "") + " torque\narmfarm: " +
+                 sweep + ", job " + source.job->key.substr(0, 8) + " (seed " + std::to_string(source.job->seed) + ")";
   if (mapping.checkpoint) {
     const std::int64_t checkpoint = std::llround(*mapping.checkpoint);
     result.title += ", held-out pass after " + std::to_string(checkpoint) + " reaches";
@@ -417,7 +418,7 @@ Figure make_signal_figure(const ResultsStore& store, const ThesisResults& thesis
                                                                                                              : nullptr)
                                                         : nullptr;
   if (thesis_fields && thesis_fields->is_number()) result.title += " (thesis: " + format_count(thesis_fields->get<double>()) + ")";
-  result.title += "\npanels: avg(ff/fb), thesis (table " + (table.number ? *table.number : table.id) + ") and armfarm mean [95 % CI] (seeds)";
+  result.title += "\npanels: avg(ff/fb) of table " + (table.number ? *table.number : table.id) + "; armfarm mean [95 % CI] (seeds)";
   for (Eigen::Index c = 1; c < source.feedback.rows.cols(); ++c) {
     const int k = static_cast<int>(c);  // the thesis's "Joint k"
     Panel panel;

@@ -148,7 +148,7 @@ TEST_F(ThesisFigureTest, Figure69DrawsTheHeldOutTorquesOfItsCheckpointBesideTabl
   ASSERT_EQ(figure.panels.size(), 3u);
   // Seed 1 (the lowest), checkpoint 200: feedback 201 + column, feed-forward and composite 2001 + column.
   const Panel& joint3 = figure.panels[2];
-  EXPECT_EQ(joint3.title.rfind("joint 3 (arm 4): ff/fb thesis 0.6566 · armfarm ", 0), 0u) << joint3.title;
+  EXPECT_EQ(joint3.title.rfind("joint 3 (arm 4): ff/fb thesis 0.6566, armfarm ", 0), 0u) << joint3.title;
   EXPECT_EQ(find_curve(joint3, "feedback", Curve::Style::lines).y.front(), 203.0);
   EXPECT_EQ(find_curve(joint3, "feed-forward", Curve::Style::lines).y.front(), 2003.0);
   EXPECT_EQ(find_curve(joint3, "composite", Curve::Style::lines).y.front(), 2003.0);
