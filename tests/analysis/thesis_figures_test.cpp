@@ -146,12 +146,12 @@ TEST_F(ThesisFigureTest, Figure67DrawsFieldsPerOutputAgainstReachesWithBandsAndT
 TEST_F(ThesisFigureTest, Figure69DrawsTheHeldOutTorquesOfItsCheckpointBesideTable66) {
   const Figure figure = draw("6.9");
   ASSERT_EQ(figure.panels.size(), 3u);
-  // Seed 1 (the lowest), checkpoint 200: feedback 201 + column, feed-forward and composite 2001 + column.
+  // Seed 1 (the lowest), checkpoint 200: feedback 201 + column (joint 3 is column 3), feed-forward and composite 2001 + column.
   const Panel& joint3 = figure.panels[2];
   EXPECT_EQ(joint3.title.rfind("joint 3 (arm 4): ff/fb thesis 0.6566, armfarm ", 0), 0u) << joint3.title;
-  EXPECT_EQ(find_curve(joint3, "feedback", Curve::Style::lines).y.front(), 203.0);
-  EXPECT_EQ(find_curve(joint3, "feed-forward", Curve::Style::lines).y.front(), 2003.0);
-  EXPECT_EQ(find_curve(joint3, "composite", Curve::Style::lines).y.front(), 2003.0);
+  EXPECT_EQ(find_curve(joint3, "feedback", Curve::Style::lines).y.front(), 204.0);
+  EXPECT_EQ(find_curve(joint3, "feed-forward", Curve::Style::lines).y.front(), 2004.0);
+  EXPECT_EQ(find_curve(joint3, "composite", Curve::Style::lines).y.front(), 2004.0);
   EXPECT_EQ(find_curve(joint3, "feedback", Curve::Style::lines).x.back(), 0.49);
   // armfarm's ff/fb of joint 2 (arm joint 2) at 200 over seeds 1, 2: 0.62, 0.72, mean 0.67.
   EXPECT_NE(figure.panels[1].title.find("armfarm 0.67 ["), std::string::npos) << figure.panels[1].title;
