@@ -387,6 +387,7 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
       case Curve::Style::points: look = "with points pt 7 ps 0.6"; break;
       case Curve::Style::lines_points: look = "with linespoints lw " + lw + " pt 7"; break;
       case Curve::Style::error_bars: look = "with yerrorlines lw " + lw + " pt 7"; break;
+      case Curve::Style::band: look = "with filledcurves fs transparent solid 0.25 noborder"; break;
     }
     if (curve.emphasised) return look + " lc rgb '#000000' dt 2";
     const std::size_t colour = colour_of(curve.title);
@@ -449,7 +450,10 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
       const Curve& curve = panel.curves[c];
       const std::string file = (std::filesystem::path(data_dir) / data_file_name(p, c)).string();
       script << (i ? ", \\\n     " : "") << quote_gnuplot(file)
-             << (curve.style == Curve::Style::error_bars ? " using 1:2:3:4 " : " using 1:2 ") << looks[p][c] << " notitle";
+             << (curve.style == Curve::Style::error_bars ? " using 1:2:3:4 "
+                 : curve.style == Curve::Style::band     ? " using 1:3:4 "
+                                                         : " using 1:2 ")
+             << looks[p][c] << " notitle";
     }
     if (p == 0) {
       for (std::size_t e = 0; e < legend.size(); ++e) {
@@ -574,7 +578,7 @@ void write_figure(const Figure& figure, const std::string& out_path, const Figur
       std::ofstream data(work / data_file_name(p, c));
       char line[128];
       for (std::size_t i = 0; i < curve.x.size() && i < curve.y.size(); ++i) {
-        if (curve.style == Curve::Style::error_bars) {
+        if (curve.style == Curve::Style::error_bars || curve.style == Curve::Style::band) {
           const double low = i < curve.y_low.size() ? curve.y_low[i] : curve.y[i];
           const double high = i < curve.y_high.size() ? curve.y_high[i] : curve.y[i];
           std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g\n", curve.x[i], curve.y[i], low, high);

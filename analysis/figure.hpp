@@ -8,12 +8,13 @@
 namespace armfarm {
 
 struct Curve {
-  enum class Style { lines, points, lines_points, error_bars };
+  /// band: the area between y_low and y_high (a confidence band), translucent, no line; y unused.
+  enum class Style { lines, points, lines_points, error_bars, band };
   std::string title;
   std::vector<double> x;
   std::vector<double> y;
-  std::vector<double> y_low;   ///< error_bars: lower end of each bar (same size as y)
-  std::vector<double> y_high;  ///< error_bars: upper end of each bar
+  std::vector<double> y_low;   ///< error_bars, band: lower end of each bar (same size as y)
+  std::vector<double> y_high;  ///< error_bars, band: upper end of each bar
   Style style = Style::lines;
   bool emphasised = false;     ///< drawn last, black, dashed (e.g. a desired path on top)
 };

@@ -202,23 +202,6 @@ std::string describe_where(const ThesisMapping& mapping) {
 }
 
 // The physical (1-based) joint of the thesis's "Joint k" in `job`: the k-th of its active joints.
-std::optional<int> resolve_joint(const JobResult& job, int active_joint) {
-  const json active = find_param_value(job, "active_joints");
-  if (!active.is_array() || active.empty()) return active_joint;
-  if (active_joint > static_cast<int>(active.size()) || !active[active_joint - 1].is_number()) return std::nullopt;
-  // The stored configuration is normalized JSON: joint numbers may read back as 2.0.
-  const double joint = active[active_joint - 1].get<double>();
-  if (joint != std::floor(joint) || joint < 1.0) return std::nullopt;
-  return static_cast<int>(joint);
-}
-
-bool job_matches(const JobResult& job, const ThesisMapping& mapping) {
-  for (const auto& [path, value] : mapping.where) {
-    if (find_param_value(job, path) != value) return false;
-  }
-  return true;
-}
-
 // The swept parameters (other than the seed) in which `jobs` differ, comma-separated.
 std::string find_differing_params(const SweepData& data, const std::vector<const JobResult*>& jobs) {
   std::string names;
@@ -264,7 +247,7 @@ ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, Sw
   std::vector<double> values;
   std::vector<const JobResult*> pooled;
   for (const JobResult& job : sweep->second.jobs) {
-    if (!job_matches(job, mapping)) continue;
+    if (!matches_thesis_where(job, mapping)) continue;
     ++matching;
     if (job.status != "done") {
       (job.status == "pending" || job.status == "running" ? unfinished : failed) += 1;
@@ -273,7 +256,7 @@ ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, Sw
     ++done;
     MetricId id{*mapping.metric, std::nullopt};
     if (mapping.active_joint) {
-      id.joint = resolve_joint(job, *mapping.active_joint);
+      id.joint = resolve_thesis_joint(job, *mapping.active_joint);
       if (!id.joint) {
         ++joint_missing;
         continue;
@@ -391,6 +374,13 @@ ThesisResults parse_thesis_results(const nlohmann::json& document, const std::st
       const json& figure = (*figures)[i];
       if (!figure.is_object()) reader.fail(where, "expected an object");
       const std::string number = reader.string(figure, where, "number");
+      ThesisFigure drawn;
+      drawn.number = number;
+      drawn.caption = reader.string(figure, where, "caption");
+      drawn.page = reader.optional_positive_int(figure, where, "page");
+      if (auto facts = figure.find("facts"); facts != figure.end()) drawn.facts = *facts;
+      drawn.mapping = reader.mapping(figure, where);
+      results.figures.push_back(std::move(drawn));
       if (auto mapping = figure.find("armfarm"); mapping != figure.end() && mapping->is_object()) {
         if (auto sweep = mapping->find("sweep"); sweep != mapping->end() && sweep->is_string()) {
           results.figure_sweeps[sweep->get<std::string>()].push_back(number);
@@ -542,6 +532,23 @@ void assign_verdicts(const ThesisResults& thesis, std::vector<ComparedTable>& ta
       cell.verdict_note = notes;
     }
   }
+}
+
+std::optional<int> resolve_thesis_joint(const JobResult& job, int active_joint) {
+  const json active = find_param_value(job, "active_joints");
+  if (!active.is_array() || active.empty()) return active_joint;
+  if (active_joint > static_cast<int>(active.size()) || !active[active_joint - 1].is_number()) return std::nullopt;
+  // The stored configuration is normalized JSON: joint numbers may read back as 2.0.
+  const double joint = active[active_joint - 1].get<double>();
+  if (joint != std::floor(joint) || joint < 1.0) return std::nullopt;
+  return static_cast<int>(joint);
+}
+
+bool matches_thesis_where(const JobResult& job, const ThesisMapping& mapping) {
+  for (const auto& [path, value] : mapping.where) {
+    if (find_param_value(job, path) != value) return false;
+  }
+  return true;
 }
 
 ThesisResults parse_thesis_results_text(const std::string& text, const std::string& path) {

@@ -75,6 +75,16 @@ struct ThesisClaim {
   ThesisCellRef less;
 };
 
+/// A figure of the thesis as the file states it: number, caption, page (where the text gives
+/// one), its stated facts (as written: numbers, text) and its `armfarm` mapping.
+struct ThesisFigure {
+  std::string number;  ///< "6.7"
+  std::string caption;
+  std::optional<int> page;
+  nlohmann::json facts;  ///< the `facts` object (null when absent)
+  ThesisMapping mapping;
+};
+
 struct ThesisResults {
   std::string path;
   /// The printed tables, then one table per figure with `fact_cells` (id "fig6_7", no number,
@@ -82,10 +92,19 @@ struct ThesisResults {
   /// dotted path, so the number has one home).
   std::vector<ThesisTable> tables;
   std::vector<ThesisClaim> comparisons;
+  std::vector<ThesisFigure> figures;  ///< in the file's order
   /// Sweeps the figures name (their `armfarm.sweep`), with the figure numbers: a --sweep that
   /// only draws figures without numbers is still known.
   std::map<std::string, std::vector<std::string>> figure_sweeps;
 };
+
+/// Whether `job` passes every `where` entry of `mapping` (its swept parameter, else its resolved
+/// configuration by dotted path, equals the value).
+bool matches_thesis_where(const JobResult& job, const ThesisMapping& mapping);
+
+/// The arm joint (1-based) of the thesis's "Joint k" in `job`: the k-th of its active_joints, k
+/// itself when every joint moves; empty when the job moves fewer than k joints.
+std::optional<int> resolve_thesis_joint(const JobResult& job, int active_joint);
 
 /// Parses the text of the thesis results file `path` (the runner reads it, see
 /// engine/io/input_file.hpp). Throws AnalysisError "path: line L, column C: not valid JSON: …"

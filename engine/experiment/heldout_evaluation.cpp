@@ -3,6 +3,7 @@
 #include "engine/experiment/collection_pass.hpp"
 #include "engine/experiment/job_report.hpp"
 #include "engine/experiment/signal_statistics.hpp"
+#include "engine/experiment/tick_recording.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -55,6 +56,19 @@ TrajectoryConfig make_heldout_config(const JobConfig& config, ArmDynamics& dynam
       break;
   }
   return heldout;
+}
+
+/// `recorded`'s series renamed for `checkpoint`, their time measured from the pass's first
+/// recorded tick (`dt` s per tick), appended to `kept`.
+void keep_heldout_series(std::vector<Series> recorded, int checkpoint, double dt, std::vector<Series>& kept) {
+  for (Series& series : recorded) {
+    if (series.rows.rows() > 0 && series.rows.cols() > 0) {
+      const double start = series.rows(0, 0);
+      for (Eigen::Index r = 0; r < series.rows.rows(); ++r) series.rows(r, 0) = calc_recorded_tick_time(series.rows(r, 0) - start, dt);
+    }
+    series.name = make_heldout_series_name(series.name, checkpoint);
+    kept.push_back(std::move(series));
+  }
 }
 
 }  // namespace
@@ -150,8 +164,15 @@ PassResult HeldoutEvaluation::evaluate(const Learner& learner, int checkpoint, s
   options.statistics = &statistics;
   options.schedule_mismatch = true;
   options.should_stop = should_stop_;
+  const std::vector<std::string> recorded = select_heldout_series(config.recording.series);
+  SeriesRecorder recorder(recorded, setup_.joint_numbers());
+  if (!recorded.empty()) {
+    options.recorder = &recorder;
+    options.record_every = config.recording.every;
+  }
   const PassResult pass = run_control_pass(setup_, plant_, trajectory_, options);
   simulated_seconds_ += pass.simulated_seconds;
+  if (!recorded.empty()) keep_heldout_series(recorder.take_series(), checkpoint, config.simulation.dt, series_);
   if (pass.status == JobStatus::timeout) return pass;
   plain.add(names::heldout_diverged, pass.status == JobStatus::diverged ? 1.0 : 0.0);
   if (statistics.ticks() > 0) statistics.write_metrics(prefixed, floors);

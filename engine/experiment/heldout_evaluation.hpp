@@ -13,7 +13,10 @@
 // learning.collect_gain_scale (streams "heldout.*"), on which the learner's prediction is
 // scored (heldout_test_nmse), and (2) a control pass with the job's controller and the frozen
 // learner's feed-forward (heldout_tracking_nmse, heldout_ff_fb_ratio_avg, heldout_id_nmse, ...).
-// Every metric carries the checkpoint. The learner is taken by const reference: evaluating
+// Every metric carries the checkpoint. The `heldout_` names of recording.series
+// (series_recorder.hpp) record their signal over each held-out control pass, stored as
+// heldout_<NAME>_c<checkpoint> with time measured from the pass's start (every
+// recording.every ticks, as the job's own passes). The learner is taken by const reference: evaluating
 // cannot change it (its n_updates() is reported as heldout_learner_updates).
 #include "engine/experiment/control_pass.hpp"
 #include "engine/learner/learner.hpp"
@@ -54,6 +57,9 @@ class HeldoutEvaluation {
   /// and does not end the job; only should_stop does (the result is then not ok).
   PassResult evaluate(const Learner& learner, int checkpoint, std::vector<Metric>& metrics);
 
+  /// The series recorded in the held-out passes so far (heldout_F_c200, …), handed over once.
+  std::vector<Series> take_series() { return std::move(series_); }
+
   const JointTrajectory& trajectory() const { return trajectory_; }
   const std::vector<Sample>& test_samples() const { return samples_; }
   double simulated_seconds() const { return simulated_seconds_; }
@@ -64,6 +70,7 @@ class HeldoutEvaluation {
   std::function<bool()> should_stop_;
   ArmSimulation plant_;
   std::vector<Sample> samples_;
+  std::vector<Series> series_;
   double simulated_seconds_ = 0.0;
 };
 

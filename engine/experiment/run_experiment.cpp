@@ -113,7 +113,7 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
   } else if (config.learning.mode == LearningMode::frozen) {
     checkpoints = {0};  // the learner never changes: one evaluation
   }
-  SeriesRecorder recorder(config.recording.series, setup.joint_numbers());
+  SeriesRecorder recorder(select_pass_series(config.recording.series), setup.joint_numbers());
   ArmSimulation plant = setup.make_plant();
 
   std::optional<HeldoutEvaluation> heldout;
@@ -126,6 +126,9 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
     metrics.add(metric_names::pd_substeps_used, setup.pd_substeps());
     metrics.add(metric_names::integrator_steps_used, setup.integrator_steps());
     outcome.series = recorder.take_series();
+    if (heldout) {
+      for (Series& series : heldout->take_series()) outcome.series.push_back(std::move(series));
+    }
     if (learner && config.learning.store_model) outcome.model_file = encode_learner_model(*learner);
     return std::move(outcome);
   };

@@ -2,13 +2,47 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
 namespace armfarm {
 
+namespace {
+
+constexpr const char* kHeldoutPrefix = "heldout_";
+
+bool is_heldout_name(const std::string& name) { return name.rfind(kHeldoutPrefix, 0) == 0; }
+
+}  // namespace
+
 const std::vector<std::string>& recordable_series_names() {
-  static const std::vector<std::string> names = {"POS", "POS_D", "PHI", "PHI_D", "VEL", "VEL_D", "ACC",
-                                                 "ACC_D", "TOR",   "F",     "FF",    "RF",    "TRIAL"};
+  static const std::vector<std::string> names = [] {
+    const std::vector<std::string> per_tick = {"POS", "POS_D", "PHI", "PHI_D", "VEL", "VEL_D", "ACC", "ACC_D", "TOR", "F", "FF", "RF"};
+    std::vector<std::string> all = per_tick;
+    all.push_back("TRIAL");
+    for (const std::string& name : per_tick) all.push_back(kHeldoutPrefix + name);
+    return all;
+  }();
   return names;
+}
+
+std::vector<std::string> select_pass_series(const std::vector<std::string>& requested) {
+  std::vector<std::string> names;
+  for (const std::string& name : requested) {
+    if (!is_heldout_name(name)) names.push_back(name);
+  }
+  return names;
+}
+
+std::vector<std::string> select_heldout_series(const std::vector<std::string>& requested) {
+  std::vector<std::string> names;
+  for (const std::string& name : requested) {
+    if (is_heldout_name(name)) names.push_back(name.substr(std::char_traits<char>::length(kHeldoutPrefix)));
+  }
+  return names;
+}
+
+std::string make_heldout_series_name(const std::string& name, long checkpoint) {
+  return kHeldoutPrefix + name + "_c" + std::to_string(checkpoint);
 }
 
 SeriesRecorder::SeriesRecorder(const std::vector<std::string>& requested, const std::vector<int>& joint_numbers)

@@ -11,8 +11,19 @@
 
 namespace armfarm {
 
-/// The names a configuration may request.
+/// The names a configuration may request: the signals of the job's own passes (POS … RF,
+/// TRIAL), and each per-tick signal with the prefix `heldout_` ("heldout_F"), which records that
+/// signal in every held-out control pass instead, stored per checkpoint (heldout_series_name).
 const std::vector<std::string>& recordable_series_names();
+
+/// `requested` without the held-out names: what the job's own passes record.
+std::vector<std::string> select_pass_series(const std::vector<std::string>& requested);
+/// The signals the held-out control passes record: the `heldout_` names of `requested`, prefix
+/// removed ("heldout_F" → "F").
+std::vector<std::string> select_heldout_series(const std::vector<std::string>& requested);
+/// The stored name of signal `name` recorded in the held-out pass at `checkpoint`:
+/// "heldout_F_c200" (the spelling of a checkpoint's metric column, results/).
+std::string make_heldout_series_name(const std::string& name, long checkpoint);
 
 class SeriesRecorder {
  public:

@@ -1,7 +1,12 @@
 // `armfarm plot DB KIND [--sweep NAME] [--job KEY] [--out FILE.pdf|.svg|.png] [--metric M --param P
 // [--group P] [--joint J] [--checkpoint N]] [--style paper|slide|screen] [--size W,H] [--font-size PT]
 // [--title T] [--xlabel X] [--ylabel Y]`: the thesis's figures from a results database, via gnuplot.
+// `armfarm plot DB thesis-figure --figure 6.7 --against sweeps/thesis/thesis_results.json`: a
+// figure of chapter 6 beside the thesis's numbers (analysis/thesis_figures.hpp).
+#include "analysis/analysis_error.hpp"
 #include "analysis/plots.hpp"
+#include "analysis/thesis_figures.hpp"
+#include "engine/io/input_file.hpp"
 #include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/param_unit.hpp"
@@ -33,17 +38,37 @@ struct PlotOptions {
   std::optional<std::string> title, x_label, y_label;
   std::string kernel_param = "learning.lwpr.init_D";
   std::string adaptation_param = "learning.lwpr.update_D";
+  std::string figure;   ///< thesis-figure: "6.7"
+  std::string against;  ///< thesis-figure: thesis_results.json
 };
+
+// The thesis figure `options` ask for (kind thesis-figure), from the numbers of `options.against`.
+Figure make_requested_thesis_figure(const ResultsStore& store, const PlotOptions& options) {
+  if (options.figure.empty() || options.against.empty()) {
+    throw AnalysisError("thesis-figure needs --figure N (one of 6.1, 6.2, 6.7, 6.8, 6.9, 6.10, 6.11, 6.12, 6.13) and --against "
+                        "sweeps/thesis/thesis_results.json");
+  }
+  const ThesisResults thesis =
+      parse_thesis_results_text(read_input_file_as<AnalysisError>(options.against, InputFileKind::json), options.against);
+  ThesisFigureRequest request;
+  request.number = options.figure;
+  if (!options.sweep.empty()) request.sweep = options.sweep;
+  request.job_keys = options.jobs;
+  request.param_unit = find_param_unit;
+  return make_thesis_figure(store, thesis, request);
+}
 
 }  // namespace
 
 RunFunction setup_plot(CLI::App& parent) {
   auto options = std::make_shared<PlotOptions>();
-  CLI::App* sub = parent.add_subcommand("plot", "Plot a sweep: nmse-vs-kernel, rf-growth, signals, tracking, metric-vs-param, search");
+  CLI::App* sub = parent.add_subcommand("plot", "Plot a sweep: nmse-vs-kernel, rf-growth, signals, tracking, metric-vs-param, search, thesis-figure");
   sub->add_option("database", options->database, "Results database (SQLite)")->required();
-  sub->add_option("kind", options->kind, "nmse-vs-kernel | rf-growth | signals | tracking | metric-vs-param | search (objective against cost, random beside the method)")
+  sub->add_option("kind", options->kind,
+                  "nmse-vs-kernel | rf-growth | signals | tracking | metric-vs-param | search (objective against cost, random beside the "
+                  "method) | thesis-figure (--figure N --against thesis_results.json: a chapter-6 figure with the thesis's numbers)")
       ->required()
-      ->check(CLI::IsMember({"nmse-vs-kernel", "rf-growth", "signals", "tracking", "metric-vs-param", "search"}));
+      ->check(CLI::IsMember({"nmse-vs-kernel", "rf-growth", "signals", "tracking", "metric-vs-param", "search", "thesis-figure"}));
   sub->add_option("--sweep", options->sweep, "Sweep name (needed when the database holds several)");
   sub->add_option("--job", options->jobs, "Job key or unique prefix (repeatable; default: chosen from the sweep)");
   sub->add_option("--out", options->out, "Output file, .pdf, .svg or .png by extension (default: KIND.svg)");
@@ -68,9 +93,15 @@ RunFunction setup_plot(CLI::App& parent) {
   sub->add_flag("--liny", options->linear_y, "Linear y axis");
   sub->add_option("--kernel-param", options->kernel_param, "nmse-vs-kernel: kernel-width parameter");
   sub->add_option("--adaptation-param", options->adaptation_param, "nmse-vs-kernel: distance-metric adaptation parameter");
+  sub->add_option("--figure", options->figure,
+                  "thesis-figure: 6.1, 6.2 (kernel width), 6.7 (fields per reach), 6.8-6.10 (held-out torques), 6.11 (recordings), "
+                  "6.12, 6.13 (torques on the recordings)");
+  sub->add_option("--against", options->against,
+                  "thesis-figure: thesis results JSON (sweeps/thesis/thesis_results.json): the sweep, filter and the numbers overlaid");
   return [options] {
     PlotRequest request;
-    request.kind = parse_plot_kind(options->kind);
+    const bool thesis_figure = options->kind == "thesis-figure";  // analysis/thesis_figures.hpp
+    if (!thesis_figure) request.kind = parse_plot_kind(options->kind);
     if (!options->sweep.empty()) request.sweep = options->sweep;
     request.job_keys = options->jobs;
     request.metric = options->metric;
@@ -86,7 +117,7 @@ RunFunction setup_plot(CLI::App& parent) {
     const std::string out = options->out.empty() ? options->kind + ".svg" : options->out;
     const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
     verify_readable(store);  // damaged rows and series are an error, not a quiet plot
-    Figure figure = make_plot_figure(store, request);
+    Figure figure = thesis_figure ? make_requested_thesis_figure(store, *options) : make_plot_figure(store, request);
     if (options->title) figure.title = *options->title;
     for (Panel& panel : figure.panels) {
       if (options->x_label) panel.x_label = *options->x_label;

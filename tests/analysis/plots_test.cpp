@@ -18,17 +18,7 @@ namespace armfarm {
 namespace {
 
 
-SeriesRecord make_series(const std::string& name, std::vector<std::string> columns, int rows,
-                         const std::function<double(int, int)>& value) {
-  SeriesRecord series;
-  series.name = name;
-  series.columns = std::move(columns);
-  series.rows.resize(rows, static_cast<Eigen::Index>(series.columns.size()));
-  for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < static_cast<int>(series.columns.size()); ++c) series.rows(r, c) = value(r, c);
-  }
-  return series;
-}
+using testing::make_series;
 
 // Figure 6.1's sweep as the thesis runs it (sweeps/thesis/fig6_1_kernel_width.json): init_D
 // from 0.01 to 3 against update_D, 5 seeds, 60 jobs, each with a recorded path; receptive

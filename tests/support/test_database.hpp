@@ -6,6 +6,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,19 @@ struct TestJob {
   std::vector<MetricRecord> metrics;
   std::vector<SeriesRecord> series;
 };
+
+/// A series `name` of `rows` rows whose cell (r, c) is value(r, c).
+inline SeriesRecord make_series(const std::string& name, std::vector<std::string> columns, int rows,
+                                const std::function<double(int, int)>& value) {
+  SeriesRecord series;
+  series.name = name;
+  series.columns = std::move(columns);
+  series.rows.resize(rows, static_cast<Eigen::Index>(series.columns.size()));
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < static_cast<int>(series.columns.size()); ++c) series.rows(r, c) = value(r, c);
+  }
+  return series;
+}
 
 /// A fresh temporary directory, removed when the object goes.
 struct TemporaryDirectory {

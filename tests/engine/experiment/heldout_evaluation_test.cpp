@@ -250,6 +250,54 @@ TEST(HeldoutEvaluation, OnlineCheckpointsEvaluateWithLearningFrozen) {
               m["heldout_tracking_nmse@4"]);
 }
 
+// Figures 6.8-6.10 draw the torques of the held-out passes: a `heldout_` series name records its
+// signal in every held-out control pass, one series per checkpoint, and the recorded torques are
+// the ones the pass's metrics average (checked against heldout_ff_abs_avg / heldout_fb_abs_avg).
+TEST(HeldoutEvaluation, HeldOutPassesRecordTheirTorquesPerCheckpoint) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_learning_config(TrajectoryKind::reaching);
+  config.learning.mode = LearningMode::online;
+  config.trajectory.reaching.reaches = 2;
+  config.trajectory.reaching.points_per_reach = 40;
+  config.learning.heldout_checkpoints = {0, 2};
+  JobConfig recording = config;
+  recording.recording.series = {"TRIAL", "heldout_F", "heldout_FF", "heldout_TOR"};
+  const JobOutcome outcome = run_experiment(model, recording);
+  ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
+  std::map<std::string, const Series*> series;
+  for (const Series& s : outcome.series) series[s.name] = &s;
+  for (const char* name : {"F", "FF", "TOR"}) EXPECT_EQ(series.count(name), 0u) << name << " is not recorded in the learning pass";
+  EXPECT_EQ(series.count("TRIAL"), 1u);
+  const auto m = metrics_by_key(outcome);
+  for (int checkpoint : {0, 2}) {
+    const std::string suffix = "_c" + std::to_string(checkpoint);
+    for (const char* name : {"heldout_F", "heldout_FF", "heldout_TOR"}) ASSERT_EQ(series.count(name + suffix), 1u) << name << suffix;
+    const Series& feedback = *series.at("heldout_F" + suffix);
+    const Series& feed_forward = *series.at("heldout_FF" + suffix);
+    ASSERT_EQ(feedback.columns.size(), 8u);  // t and the seven joints
+    EXPECT_EQ(feedback.columns[1], "j1");
+    ASSERT_GT(feedback.rows.rows(), 2);
+    // Time from the pass's start, one row per tick.
+    EXPECT_EQ(feedback.rows(0, 0), 0.0);
+    EXPECT_DOUBLE_EQ(feedback.rows(1, 0), config.simulation.dt);
+    EXPECT_EQ(feed_forward.rows.rows(), feedback.rows.rows());
+    for (int j = 1; j <= 7; ++j) {
+      const std::string at = "_j" + std::to_string(j) + "@" + std::to_string(checkpoint);
+      const double ff = feed_forward.rows.col(j).cwiseAbs().mean();
+      const double fb = feedback.rows.col(j).cwiseAbs().mean();
+      EXPECT_NEAR(ff, m.at("heldout_ff_abs_avg" + at), 1e-9 * (1.0 + ff)) << at;
+      EXPECT_NEAR(fb, m.at("heldout_fb_abs_avg" + at), 1e-9 * (1.0 + fb)) << at;
+    }
+  }
+  // The learnt feed-forward grows from checkpoint 0 (nothing learnt) to 2: the series differ.
+  EXPECT_LT(series.at("heldout_FF_c0")->rows.rightCols(7).cwiseAbs().mean(), series.at("heldout_FF_c2")->rows.rightCols(7).cwiseAbs().mean());
+  // Recording changes no metric.
+  const auto plain = metrics_by_key(run_experiment(model, config));
+  for (const char* key : {"heldout_ff_fb_ratio_avg_j2@2", "heldout_tracking_nmse@2", "heldout_test_nmse@2", "tracking_nmse"}) {
+    EXPECT_EQ(m.at(key), plain.at(key)) << key;
+  }
+}
+
 TEST(HeldoutEvaluation, CheckpointsOutOfOrderNameTheField) {
   JobConfig config = make_learning_config(TrajectoryKind::sine);
   config.learning.heldout_checkpoints = {3, 2, -1};
