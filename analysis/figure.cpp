@@ -82,6 +82,7 @@ bool ends_with(const std::string& text, const std::string& suffix) {
 // The legend below the panels: one entry per distinct title, as many to a row as fit the page.
 struct LegendLayout {
   std::size_t rows = 0;
+  std::size_t columns = 1;
 };
 LegendLayout make_legend_layout(const Figure& figure, double char_width_fraction) {
   std::vector<std::string> entries;
@@ -100,7 +101,7 @@ LegendLayout make_legend_layout(const Figure& figure, double char_width_fraction
   }
   const std::size_t per_row =
       std::max<std::size_t>(1, static_cast<std::size_t>(0.95 / (char_width_fraction * (1.15 * static_cast<double>(longest) + 12))));
-  return {(entries.size() + per_row - 1) / per_row};
+  return {(entries.size() + per_row - 1) / per_row, per_row};
 }
 
 // A step of 1, 2 or 5 × 10^k that puts at most `max_ticks` ticks on [low, high].
@@ -150,7 +151,11 @@ std::string make_equal_ranges(const Panel& panel) {
 // "set xtics STEP" / "set ytics STEP" for a linear axis, so that the labels of a narrow (short)
 // panel do not run into each other ("0.240.260.28"); gnuplot's automatic ticks ignore the
 // panel's size. With equal axes both take the smaller count, as the panel shrinks to fit both (at most 4).
-std::string make_tics_lines(const Panel& panel, int max_x_ticks, int max_y_ticks) {
+// A log axis gets "set xtics 10^first, 10^step": a label every `step` decades from the lowest
+// decade the axis reaches, `step` the smallest whose labels fit the panel's `room_chars` across
+// (x, labels '%g') or `room_lines` down (y). (A bare factor, "set xtics 1e3", counts from 1,
+// not from the data, and left a single label on a narrow panel over 0.01-3.)
+std::string make_tics_lines(const Panel& panel, int max_x_ticks, int max_y_ticks, double room_chars, double room_lines) {
   if (panel.equal_axes) max_x_ticks = max_y_ticks = std::min({max_x_ticks, max_y_ticks, 4});
   std::string lines;
   for (int axis = 0; axis < 2; ++axis) {
@@ -174,17 +179,41 @@ std::string make_tics_lines(const Panel& panel, int max_x_ticks, int max_y_ticks
     }
     if (panel.equal_axes) std::tie(low, high) = find_equal_axis_range(panel, axis);
     const char* name = axis == 0 ? "xtics" : "ytics";
-    const int max_ticks = std::max(1, (axis == 0 ? max_x_ticks : max_y_ticks) - 1);
+    // gnuplot extends an automatic range to the next tick: leave room for one more (equal and
+    // tight axes end at their data, so their panel shows as many as asked for: 3 on a tracking
+    // panel, not 1).
+    const bool fixed_range = panel.equal_axes || (axis == 0 && panel.tight_x);  // signals' time axis: 1 label, "2005"
+    const int max_ticks = std::max(1, (axis == 0 ? max_x_ticks : max_y_ticks) - (fixed_range ? 0 : 1));
     if (axis == 0 ? panel.log_x : panel.log_y) {
-      // On a log axis the increment is a factor: every 10^k decades when there are too many.
-      const double decades = low > 0 && high > low ? std::ceil(std::log10(high)) - std::floor(std::log10(low)) : 0;
-      if (decades > max_ticks) {
-        char line[64];
-        std::snprintf(line, sizeof line, "set %s 1e%d\n", name, static_cast<int>(std::ceil(decades / max_ticks)));
-        lines += line;
-      } else {
+      if (!(low > 0) || !(high >= low) || !std::isfinite(high)) {
         lines += std::string("set ") + name + " autofreq\n";
+        continue;
       }
+      // gnuplot's autoscale ends a log axis on whole decades.
+      const int first = static_cast<int>(std::floor(std::log10(low) + 1e-9));
+      const int last = std::max(first + 1, static_cast<int>(std::ceil(std::log10(high) - 1e-9)));
+      const int decades = last - first;
+      int step = 1;
+      for (; step < decades; ++step) {
+        double needed = 1.6;  // lines between two y labels
+        if (axis == 0) {      // characters between two x labels' centres: the widest and a gap
+          std::size_t widest = 0;
+          for (int k = first; k <= last; k += step) {
+            char label[32];
+            widest = std::max<std::size_t>(widest, static_cast<std::size_t>(std::snprintf(label, sizeof label, "%g", std::pow(10.0, k))));
+          }
+          needed = static_cast<double>(widest) + 2;
+        }
+        const double spacing = (axis == 0 ? room_chars : room_lines) * step / decades;
+        if (spacing >= needed) break;
+      }
+      if (step == 1) {  // every decade: gnuplot's own ticks, which also end the range on decades
+        lines += std::string("set ") + name + " autofreq\n";
+        continue;
+      }
+      char line[80];
+      std::snprintf(line, sizeof line, "set %s %.17g, %.17g\n", name, std::pow(10.0, first), std::pow(10.0, step));
+      lines += line;
       continue;
     }
     if (!(high > low)) {
@@ -243,7 +272,7 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
   const int max_x_ticks = std::clamp(static_cast<int>(panel_chars / 7), 2, 10);
   const int max_y_ticks = std::clamp(static_cast<int>(panel_lines / 1.6), 2, 10);
   const std::size_t label_chars = static_cast<std::size_t>(std::max(8.0, panel_chars));
-  const std::size_t y_label_chars = static_cast<std::size_t>(std::max(8.0, panel_lines * 1.25 * 1.6));
+  std::size_t y_label_chars = 8, y_label_chars_inner = 8;  // set below from the panels' height (first column, others)
   const std::string figure_title = wrap_text(figure.title, static_cast<std::size_t>(std::max(
                                                                10.0, terminal.width_pt / (0.55 * terminal.font_pt) - 2)));
   std::ostringstream script;
@@ -266,23 +295,55 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
     {
       const double char_w = 0.55 * terminal.font_pt / terminal.width_pt;
       const double char_h = 1.25 * terminal.font_pt / terminal.height_pt;
-      const std::size_t key_rows = rows * columns > n_panels ? 0 : make_legend_layout(figure, char_w).rows;
+      const LegendLayout key = make_legend_layout(figure, char_w);
+      const std::size_t key_rows = rows * columns > n_panels ? 0 : key.rows;
       std::size_t title_lines = figure.title.empty() ? 0 : 1;
       for (char c : figure_title) title_lines += c == '\n';
-      // The tallest wrapped x label and panel title set the room between rows.
-      double x_label_lines = 1, title_lines_panel = 1;
+      // The tallest wrapped x label and panel title set the room between rows (no line for
+      // titles when no panel has one: a single panel under the figure's title).
+      double x_label_lines = 1, title_lines_panel = 0;
       for (const Panel& panel : figure.panels) {
         const std::string x = wrap_text(panel.x_label, label_chars), t = wrap_text(panel.title, label_chars);
         x_label_lines = std::max(x_label_lines, 1.0 + static_cast<double>(std::count(x.begin(), x.end(), '\n')));
-        title_lines_panel = std::max(title_lines_panel, 1.0 + static_cast<double>(std::count(t.begin(), t.end(), '\n')));
+        if (!panel.title.empty()) {
+          title_lines_panel = std::max(title_lines_panel, 1.0 + static_cast<double>(std::count(t.begin(), t.end(), '\n')));
+        }
       }
+      const double bottom = std::min(0.7, (3.0 + x_label_lines + terminal.key_row_lines * static_cast<double>(key_rows)) * char_h);
+      // (2.6 lines hold a panel title's gaps; without one, 1.4 leave the top tick label its half line.)
+      const double top_lines = (title_lines_panel > 0 ? 2.6 + title_lines_panel : 1.4) + 1.1 * static_cast<double>(title_lines);
+      const double top = std::max(0.55, 1 - top_lines * char_h);
+      const double row_spacing = std::min(0.3, (4.8 + x_label_lines + title_lines_panel) * char_h);
+      // A y label runs along its panel's height and past either end, beside the panel's title
+      // above and the x tick labels below (both right of it), short of the figure's title, the
+      // legend and the next row's label; 0.55 em a character. A label that fits is not wrapped
+      // (the search plot's was, and a second line, unaccounted for, touched the tick labels).
+      const double plot_lines = ((top - bottom) - row_spacing * static_cast<double>(rows - 1)) / static_cast<double>(rows) / char_h;
+      double beyond = std::min(1.5 + title_lines_panel, 2.5 + x_label_lines);
+      if (rows > 1) beyond = std::min(beyond, row_spacing / char_h / 2 - 0.5);
+      y_label_chars = static_cast<std::size_t>(std::max(8.0, (plot_lines + 2 * beyond) * 1.25 / 0.55));
+      // Past the first column the left neighbour's last x tick label reaches under the label.
+      y_label_chars_inner = static_cast<std::size_t>(std::max(8.0, (plot_lines + 0.4) * 1.25 / 0.55));
+      // Each further line of a wrapped y label widens the room left of every column.
+      std::size_t y_label_lines = 1;
+      for (std::size_t p = 0; p < figure.panels.size(); ++p) {
+        const std::string y = wrap_text(figure.panels[p].y_label, p % columns == 0 ? y_label_chars : y_label_chars_inner);
+        y_label_lines = std::max<std::size_t>(y_label_lines, 1 + static_cast<std::size_t>(std::count(y.begin(), y.end(), '\n')));
+      }
+      const double left = (12 + 1.25 / 0.55 * static_cast<double>(y_label_lines - 1)) * char_w;
       char margins[160];
-      std::snprintf(margins, sizeof margins, " margins %.4f,%.4f,%.4f,%.4f spacing %.4f,%.4f", std::min(0.3, 12 * char_w),
-                    1 - 2 * char_w, std::min(0.7, (3.0 + x_label_lines + 1.25 * static_cast<double>(key_rows)) * char_h),
-                    std::max(0.55, 1 - (2.6 + title_lines_panel + 1.1 * static_cast<double>(title_lines)) * char_h), std::min(0.3, 12 * char_w),
-                    std::min(0.3, (4.8 + x_label_lines + title_lines_panel) * char_h));
+      std::snprintf(margins, sizeof margins, " margins %.4f,%.4f,%.4f,%.4f spacing %.4f,%.4f", std::min(0.3, left), 1 - 2 * char_w,
+                    bottom, top, std::min(0.3, left), row_spacing);
       layout += margins;
-      if (key_rows > 0) script << "set key at screen 0.5, screen 0.005 center bottom vertical maxrows " << key_rows << "\n";
+      // Column by column in `key_rows` rows; but gnuplot caps a vertical key's rows at the
+      // panel's height and spreads the rest over columns past the page's edges (a 60-job
+      // tracking figure showed 7 of its 13 entries), so a taller key fills row by row,
+      // `key.columns` to a row.
+      if (key_rows > 0 && static_cast<double>(key_rows) * terminal.key_row_lines <= plot_lines) {
+        script << "set key at screen 0.5, screen 0.005 center bottom vertical maxrows " << key_rows << "\n";
+      } else if (key_rows > 0) {
+        script << "set key at screen 0.5, screen 0.005 center bottom horizontal maxcols " << key.columns << "\n";
+      }
     }
     if (!figure.title.empty()) layout += " title " + quote_gnuplot(figure_title);
     script << layout << "\n";
@@ -352,10 +413,14 @@ std::string make_gnuplot_script(const Figure& figure, const TerminalSettings& te
   }
   for (std::size_t p = 0; p < n_panels; ++p) {
     const Panel& panel = figure.panels[p];
-    script << make_tics_lines(panel, max_x_ticks, max_y_ticks);
+    script << make_tics_lines(panel, max_x_ticks, max_y_ticks, panel_chars, panel_lines);
+    // gnuplot centres a wrapped y label's lines on the place of one, so that the last runs into
+    // the tick labels ("(count)" on "1e+03"): each further line moves it left by about a line.
+    const std::string y_label = wrap_text(panel.y_label, p % columns == 0 ? y_label_chars : y_label_chars_inner);
+    const auto y_lines = 1 + std::count(y_label.begin(), y_label.end(), '\n');
     script << "set title " << quote_gnuplot(wrap_text(panel.title, label_chars)) << "\n"
            << "set xlabel " << quote_gnuplot(wrap_text(panel.x_label, label_chars)) << "\n"
-           << "set ylabel " << quote_gnuplot(wrap_text(panel.y_label, y_label_chars)) << "\n"
+           << "set ylabel " << quote_gnuplot(y_label) << " offset " << -1.3 * static_cast<double>(y_lines - 1) << ",0\n"
            << (panel.log_x ? "set logscale x\nset format x '%g'\n" : "unset logscale x\nset format x '%g'\n")
            << (panel.log_y ? "set logscale y\nset format y '%.0e'\n" : "unset logscale y\nset format y '%g'\n")
            << (panel.equal_axes ? "set size ratio -1\n" : "set size noratio\n")
@@ -443,11 +508,19 @@ TerminalSettings make_terminal_settings(const std::string& out_path, const Figur
   }
   if (options.width_in) width = *options.width_in;
   if (options.font_pt) font = *options.font_pt;
+  const double key_row_lines = format == Format::svg ? 1.25 : 1.0;
   // The legend's rows below the panels add to the height (unless the size is given), so that
   // many entries do not squeeze the panels; spare grid cells hold the legend instead.
   if (!options.height_in && rows * columns == n_panels) {
     const LegendLayout legend = make_legend_layout(figure, 0.55 * font / (width * 72));
-    height += 1.25 * 1.25 * font * static_cast<double>(legend.rows) / 72;
+    height += key_row_lines * 1.25 * font * static_cast<double>(legend.rows) / 72;
+  }
+  // So do the figure's title lines past two (its notes: error bars, marks, jobs not shown), but
+  // on a slide, whose size is the screen's: four lines took a third of a 2-row paper figure.
+  if (!options.height_in && style != FigureStyle::slide) {
+    const std::string title = wrap_text(figure.title, static_cast<std::size_t>(std::max(10.0, width * 72 / (0.55 * font) - 2)));
+    const auto lines = static_cast<double>(std::count(title.begin(), title.end(), '\n')) + (title.empty() ? 0 : 1);
+    height += 1.1 * 1.25 * font * std::max(0.0, lines - 2) / 72;
   }
   if (options.height_in) height = *options.height_in;
   if (!(width > 0 && height > 0 && font > 0 && width <= 100 && height <= 100 && font <= 200)) {
@@ -471,7 +544,7 @@ TerminalSettings make_terminal_settings(const std::string& out_path, const Figur
                     300.0 / 96);
       break;
   }
-  return {line, line_width, width * 72, height * 72, font};
+  return {line, line_width, width * 72, height * 72, font, key_row_lines};
 }
 
 void write_figure(const Figure& figure, const std::string& out_path, const FigureOptions& options) {

@@ -61,6 +61,7 @@ struct TerminalSettings {
   std::string terminal_line;
   double line_width = 2.0;
   double width_pt = 750, height_pt = 525, font_pt = 9;  ///< the page, for margins in character units
+  double key_row_lines = 1.25;  ///< a legend row's height in lines of 1.25 em (gnuplot's svg 1.5 em, cairo's 1.17 em)
 };
 TerminalSettings make_terminal_settings(const std::string& out_path, const FigureOptions& options, const Figure& figure);
 

@@ -326,8 +326,10 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   const bool log_x = request.log_x.value_or(true);
   const bool log_y = request.log_y.value_or(true);  // nMSE spans decades across kernel widths
   std::string undefined, marked;
-  std::string kernel_label = make_param_axis_label(request, request.kernel_param);
-  if (kernel_label == request.kernel_param) kernel_label += " (kernel width, 1/input²)";
+  // The key's last segment: its panels are narrow (two columns at 3.5 in), and the dotted path
+  // with "(kernel width, 1/input²)" took three lines of each; the title says "kernel width".
+  const std::string kernel_unit = request.param_unit ? request.param_unit(request.kernel_param) : std::string();
+  const std::string kernel_label = last_segment_of(request.kernel_param) + " (" + (kernel_unit.empty() ? "1/input²" : kernel_unit) + ")";
   for (int joint : joints) {
     Panel panel;
     panel.title = "joint " + std::to_string(joint);
@@ -419,17 +421,55 @@ Figure make_metric_vs_param(const SweepData& data, const PlotRequest& request) {
 }
 
 // A job's label among `jobs`: the parameters that tell them apart ("init_D=0.05"), its key's
-// start when none does; for a single job, all its varying parameters (make_job_label).
-std::string make_distinguishing_label(const JobResult& job, const std::vector<const JobResult*>& jobs) {
+// start when none does; for a single job, all its varying parameters (make_job_label). With
+// `without_seed` the seed is not one of them (the repeats of a configuration share a label).
+std::string make_distinguishing_label(const JobResult& job, const std::vector<const JobResult*>& jobs, bool without_seed = false) {
   if (jobs.size() <= 1) return make_job_label(job);
   std::string label;
   for (const auto& item : job.params.items()) {
+    if (without_seed && item.key() == "seed") continue;
     const bool differs = std::any_of(jobs.begin(), jobs.end(), [&](const JobResult* other) {
       return find_param_value(*other, item.key()) != item.value();
     });
     if (differs) label += (label.empty() ? "" : ", ") + last_segment_of(item.key()) + "=" + format_param_value(item.value());
   }
-  return label.empty() ? job.key.substr(0, 8) : label;
+  return label.empty() && !without_seed ? job.key.substr(0, 8) : label;
+}
+
+// The jobs a figure of one curve per job draws: one per group, a group being the repeats
+// (seeds) of one configuration, drawn by its first repeat and named by the parameters that
+// tell the groups apart ("" when only the seed varies). At most 24 groups (12 colours, then
+// dashed) are drawn, so that 60 jobs give 12 legend entries, not 60; `note` says what was left
+// out ("" when nothing was).
+struct DrawnJobs {
+  std::vector<const JobResult*> jobs;
+  std::vector<std::string> labels;
+  std::string note;
+};
+constexpr std::size_t kMaxDrawnGroups = 24;
+DrawnJobs choose_one_job_per_group(const std::vector<const JobResult*>& jobs) {
+  DrawnJobs drawn;
+  std::size_t groups = 0, most_repeats = 1;
+  std::map<std::string, std::size_t> repeats;
+  for (const JobResult* job : jobs) {
+    const std::string label = make_distinguishing_label(*job, jobs, /*without_seed=*/true);
+    most_repeats = std::max(most_repeats, ++repeats[label]);
+    if (repeats[label] > 1) continue;
+    ++groups;
+    if (drawn.jobs.size() == kMaxDrawnGroups) continue;
+    drawn.jobs.push_back(job);
+    drawn.labels.push_back(label);
+  }
+  if (most_repeats > 1) {
+    const bool even = std::all_of(repeats.begin(), repeats.end(), [&](const auto& entry) { return entry.second == most_repeats; });
+    drawn.note = "its first of " + std::string(even ? "" : "up to ") + std::to_string(most_repeats) + " repeats";
+  }
+  if (groups > drawn.jobs.size()) {
+    drawn.note += std::string(drawn.note.empty() ? "" : "; ") + std::to_string(drawn.jobs.size()) + " of " + std::to_string(groups) +
+                  " configurations drawn (--job KEY chooses)";
+  }
+  if (!drawn.note.empty()) drawn.note = "a curve per configuration: " + drawn.note;
+  return drawn;
 }
 
 // "j3" (a series column) → "joint 3".
@@ -455,17 +495,18 @@ Figure make_rf_growth(const ResultsStore& store, const SweepData& data, const Pl
   }
   Panel panel;
   panel.title = "receptive fields during learning";
-  for (const JobResult* job : jobs) {
-    const SeriesRecord series = require_series(store, *job, "RF");
+  const DrawnJobs drawn = choose_one_job_per_group(jobs);
+  for (std::size_t i = 0; i < drawn.jobs.size(); ++i) {
+    const SeriesRecord series = require_series(store, *drawn.jobs[i], "RF");
     const int y_column = find_column(series, "n_receptive_fields", static_cast<int>(series.columns.size()) - 1);
     panel.x_label = series.columns.empty() ? "trial" : series.columns[0];
     if (panel.x_label == "t") panel.x_label = "time (s)";
-    panel.curves.push_back(make_series_curve(series, 0, y_column, make_distinguishing_label(*job, jobs)));
+    panel.curves.push_back(make_series_curve(series, 0, y_column, drawn.labels[i]));
   }
   panel.y_label = "receptive fields (count)";
   panel.tight_x = true;
   Figure figure;
-  figure.title = "Receptive-field growth (sweep " + data.name + ")";
+  figure.title = "Receptive-field growth (sweep " + data.name + ")" + (drawn.note.empty() ? "" : "\n" + drawn.note);
   figure.panels.push_back(std::move(panel));
   return figure;
 }
@@ -526,16 +567,21 @@ Figure make_tracking(const ResultsStore& store, const SweepData& data, const Plo
   panel.x_label = "y (m)";
   panel.y_label = "z (m)";
   panel.equal_axes = true;
-  for (const JobResult* job : jobs) {
+  const DrawnJobs drawn = choose_one_job_per_group(jobs);
+  for (std::size_t i = 0; i < drawn.jobs.size(); ++i) {
+    const JobResult* job = drawn.jobs[i];
     const SeriesRecord actual = require_series(store, *job, "POS");
     const nlohmann::json mode = find_param_value(*job, "control.mode");
-    std::string title = make_distinguishing_label(*job, jobs);
-    if (mode.is_string() && title.find(mode.get<std::string>()) == std::string::npos) title = mode.get<std::string>() + ", " + title;
+    std::string title = drawn.labels[i];
+    if (mode.is_string() && title.find(mode.get<std::string>()) == std::string::npos) {
+      title = mode.get<std::string>() + (title.empty() ? "" : ", " + title);
+    }
+    if (title.empty()) title = "actual";
     panel.curves.push_back(make_series_curve(actual, find_column(actual, "y", 2), find_column(actual, "z", 3), title));
   }
   // The desired path on top (one per distinct desired path; jobs of one trajectory share it).
   std::vector<std::vector<double>> seen;
-  for (const JobResult* job : jobs) {
+  for (const JobResult* job : drawn.jobs) {
     const SeriesRecord desired = require_series(store, *job, "POS_D");
     Curve curve = make_series_curve(desired, find_column(desired, "y", 2), find_column(desired, "z", 3), "desired");
     std::vector<double> signature = curve.x;
@@ -546,7 +592,7 @@ Figure make_tracking(const ResultsStore& store, const SweepData& data, const Plo
     panel.curves.push_back(std::move(curve));
   }
   Figure figure;
-  figure.title = "Tracking (sweep " + data.name + ")";
+  figure.title = "Tracking (sweep " + data.name + ")" + (drawn.note.empty() ? "" : "\n" + drawn.note);
   figure.panels.push_back(std::move(panel));
   return figure;
 }

@@ -1,6 +1,7 @@
 #include "analysis/printable_text.hpp"
 
 #include <cstddef>
+#include <cstring>
 
 namespace armfarm {
 
@@ -37,9 +38,17 @@ std::size_t utf8_sequence_length(const std::string& text, std::size_t at) {
   return length;
 }
 
-}  // namespace
+// U+2400 + c for a C0 control c, U+2421 for DEL (the Control Pictures block), as UTF-8.
+std::string make_control_picture(unsigned char c) {
+  const unsigned code = c == 0x7F ? 0x2421u : 0x2400u + c;
+  return {static_cast<char>(0xE0 | (code >> 12)), static_cast<char>(0x80 | ((code >> 6) & 0x3F)),
+          static_cast<char>(0x80 | (code & 0x3F))};
+}
 
-std::string make_printable_text(const std::string& text, bool keep_newlines) {
+// The text with each unprintable character replaced: a C0 control or DEL by `c0(byte)`, and
+// a C1 control or a byte that is not UTF-8 by U+FFFD; `keep` C0 characters stay.
+template <typename C0Replacement>
+std::string replace_unprintable(const std::string& text, const char* keep, const C0Replacement& c0) {
   std::string out;
   out.reserve(text.size());
   for (std::size_t at = 0; at < text.size();) {
@@ -50,9 +59,12 @@ std::string make_printable_text(const std::string& text, bool keep_newlines) {
       ++at;
       continue;
     }
-    const bool c0_or_del = length == 1 && (lead < 0x20 || lead == 0x7F) && !(keep_newlines && lead == '\n');
+    const bool kept = lead != 0 && std::strchr(keep, lead) != nullptr;
+    const bool c0_or_del = length == 1 && (lead < 0x20 || lead == 0x7F) && !kept;
     const bool c1 = length == 2 && lead == 0xC2 && static_cast<unsigned char>(text[at + 1]) < 0xA0;
-    if (c0_or_del || c1) {
+    if (c0_or_del) {
+      out += c0(lead);
+    } else if (c1) {
       out += kReplacement;
     } else {
       out.append(text, at, length);
@@ -61,5 +73,13 @@ std::string make_printable_text(const std::string& text, bool keep_newlines) {
   }
   return out;
 }
+
+}  // namespace
+
+std::string make_printable_text(const std::string& text, bool keep_newlines) {
+  return replace_unprintable(text, keep_newlines ? "\n" : "", [](unsigned char) { return std::string(kReplacement); });
+}
+
+std::string make_visible_text(const std::string& text) { return replace_unprintable(text, "\n\t", make_control_picture); }
 
 }  // namespace armfarm

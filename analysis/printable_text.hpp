@@ -12,4 +12,10 @@ namespace armfarm {
 /// Printable UTF-8 (accents, arrows) is kept as it is.
 std::string make_printable_text(const std::string& text, bool keep_newlines = false);
 
+/// `text` for a page a reader looks at (the report's HTML): as make_printable_text, but a C0
+/// control character or DEL shows as its Unicode control picture (ESC as U+241B "␛", CR as
+/// U+240D "␍"), so that a name with an escape sequence reads as what it holds. Line breaks and
+/// tabs stay (a spec in <pre>); C1 controls and bytes that are not UTF-8 become U+FFFD.
+std::string make_visible_text(const std::string& text);
+
 }  // namespace armfarm

@@ -2,6 +2,7 @@
 
 #include "analysis/analysis_error.hpp"
 #include "analysis/plots.hpp"
+#include "analysis/printable_text.hpp"
 #include "analysis/search_summary.hpp"
 #include "analysis/sweep_data.hpp"
 #include "analysis/table.hpp"
@@ -20,7 +21,7 @@ namespace armfarm {
 
 std::string escape_html(const std::string& text) {
   std::string out;
-  for (char c : text) {
+  for (char c : make_visible_text(text)) {
     switch (c) {
       case '&': out += "&amp;"; break;
       case '<': out += "&lt;"; break;

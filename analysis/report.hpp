@@ -50,7 +50,8 @@ std::vector<std::string> write_report(const ResultsStore& store, const std::opti
 /// cut, "_" and 16 hex digits of a hash of the whole name follow, so that distinct names stay distinct.
 std::string make_report_file_name(const std::string& prefix, const std::string& name);
 
-/// Escapes &, <, >, " and ' for HTML text and attributes.
+/// Escapes &, <, >, " and ' for HTML text and attributes; control characters show as their
+/// control pictures (make_visible_text: an ESC from a sweep's name reads "␛[31m").
 std::string escape_html(const std::string& text);
 
 }  // namespace armfarm

@@ -497,6 +497,18 @@ std::string escape_latex(const std::string& text) {
   return out;
 }
 
+// A Markdown table cell on one line: a line break as <br> (GitHub's way inside a cell) and a
+// pipe escaped, so that a value holding either does not end the row or the cell.
+std::string escape_markdown_cell(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '\n') out += "<br>";
+    else if (c == '|') out += "\\|";
+    else out += c;
+  }
+  return out;
+}
+
 std::string escape_csv(const std::string& text) {
   if (text.find_first_of(",\"\n") == std::string::npos) return text;
   std::string out = "\"";
@@ -518,16 +530,16 @@ std::string format_table(const Table& table, TableFormat format, Aggregate aggre
   std::ostringstream out;
   switch (format) {
     case TableFormat::markdown: {
-      if (!table.title.empty()) out << "### " << table.title << "\n\n";
+      if (!table.title.empty()) out << "### " << escape_markdown_cell(table.title) << "\n\n";  // a heading is one line too
       out << "|";
-      for (const std::string& header : table.row_headers) out << " " << header << " |";
-      for (const TableColumn& column : table.columns) out << " " << column.header << " |";
+      for (const std::string& header : table.row_headers) out << " " << escape_markdown_cell(header) << " |";
+      for (const TableColumn& column : table.columns) out << " " << escape_markdown_cell(column.header) << " |";
       out << " jobs done |\n|";
       for (std::size_t i = 0; i < table.row_headers.size() + table.columns.size() + 1; ++i) out << "---|";
       out << "\n";
       for (const TableRow& row : table.rows) {
         out << "|";
-        for (const std::string& label : row.labels) out << " " << label << " |";
+        for (const std::string& label : row.labels) out << " " << escape_markdown_cell(label) << " |";
         for (std::size_t c = 0; c < row.cells.size(); ++c) {
           out << " " << format_cell(row.cells[c], aggregate, false, row.footnotes[c]) << " |";
         }

@@ -54,7 +54,7 @@ RunFunction setup_table(CLI::App& parent) {
   sub->add_flag("--notes", options->notes,
                 "With --format csv: the footnotes (why a cell is empty or what a mean left out) as '# [k] ...' lines "
                 "after each table (off by default: pandas reads them as rows)");
-  sub->add_option("--format", options->format, "md, csv, latex or json")->check(CLI::IsMember({"md", "csv", "latex", "json"}));
+  sub->add_option("--format", options->format, "md, csv, latex or json (one document: {\"tables\": [{\"sweep\", \"title\", \"rows\", …}]})")->check(CLI::IsMember({"md", "csv", "latex", "json"}));
   auto against = std::make_shared<std::string>();  // analysis/thesis_comparison.hpp
   sub->add_option("--against", *against, "Thesis results JSON (sweeps/thesis/thesis_results.json): thesis value, armfarm value, ratio per cell");
   return [options, against] {
@@ -80,6 +80,8 @@ RunFunction setup_table(CLI::App& parent) {
       if (sweeps.empty()) throw AnalysisError(options->database + ": the database holds no sweep");
     }
     std::size_t notes_left_out = 0;
+    // json: one document for every table of every sweep, {"tables": [{"sweep": …, "title": …}, …]}.
+    nlohmann::json json_tables = nlohmann::json::array();
     for (const std::string& sweep : sweeps) {
       const SweepData data = load_sweep_data(store, sweep);
       std::vector<TableSpec> specs;
@@ -101,6 +103,12 @@ RunFunction setup_table(CLI::App& parent) {
         spec.where = where;
         const Table table = make_table(data, spec);
         const std::string text = format_table(table, format, aggregate, options->notes ? CsvNotes::comment_lines : CsvNotes::omitted);
+        if (format == TableFormat::json) {
+          nlohmann::json document = {{"sweep", sweep}};
+          document.update(nlohmann::json::parse(text));
+          json_tables.push_back(std::move(document));
+          continue;
+        }
         // md and latex are text for a terminal or a document: names print without escapes
         // (csv keeps the values exactly, json escapes control characters).
         const bool for_reading = format == TableFormat::markdown || format == TableFormat::latex;
@@ -116,6 +124,7 @@ RunFunction setup_table(CLI::App& parent) {
         }
       }
     }
+    if (format == TableFormat::json) std::cout << nlohmann::json{{"tables", json_tables}}.dump(2) << "\n";
     if (notes_left_out > 0) {
       std::cerr << "armfarm: table: " << notes_left_out
                 << " footnotes (why cells are empty) left out of the CSV; --notes adds them as '# [k]' lines\n";

@@ -30,6 +30,34 @@ SeriesRecord make_series(const std::string& name, std::vector<std::string> colum
   return series;
 }
 
+// Figure 6.1's sweep as the thesis runs it (sweeps/thesis/fig6_1_kernel_width.json): init_D
+// from 0.01 to 3 against update_D, 5 seeds, 60 jobs, each with a recorded path; receptive
+// fields in the thousands for narrow kernels.
+void write_kernel_width_sweep(const std::string& db) {
+  std::vector<testing::TestJob> jobs;
+  for (bool update_d : {false, true}) {
+    for (double init_d : {0.01, 0.03, 0.1, 0.3, 1.0, 3.0}) {
+      for (int seed = 1; seed <= 5; ++seed) {
+        testing::TestJob job;
+        job.params = {{"learning.lwpr.update_D", update_d}, {"learning.lwpr.init_D", init_d}, {"seed", seed}};
+        const double nmse = 0.002 / std::sqrt(init_d) * (update_d ? 0.7 : 1.0) * (1 + 0.05 * seed);
+        job.metrics = {{0, "same_run_test_nmse", 1, nmse, ""}, {0, "same_run_test_nmse", 2, 1.5 * nmse, ""},
+                       {0, "n_receptive_fields", std::nullopt, std::round(1500 * std::pow(init_d, 0.6) + 7 * seed), ""}};
+        constexpr int n = 40;
+        for (const char* name : {"POS_D", "POS"}) {
+          const double error = std::string(name) == "POS" ? 0.002 * init_d + 0.0001 * seed : 0.0;
+          job.series.push_back(make_series(name, {"t", "x", "y", "z"}, n, [&](int r, int c) {
+            const double t = 7.5 * r / n;
+            return c == 0 ? t : c == 1 ? 0.5 : c == 2 ? 0.15 * std::sin(0.8378 * t) + error : 0.6 + 0.1 * std::sin(1.6755 * t);
+          }));
+        }
+        jobs.push_back(job);
+      }
+    }
+  }
+  testing::write_test_sweep(db, "fig6_1_kernel_width", jobs);
+}
+
 class PlotTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -279,6 +307,63 @@ TEST_F(PlotTest, NoTextOverlapsOnAnyPlotKindOfASevenJointSweep) {
   }
 }
 
+// Found on the thesis's figure 6.1 database (60 jobs, init_D 0.01-3, issue 24): at paper style
+// the kernel-width panels showed one x tick label ("set xtics 1e3" counts decades from 1), the
+// receptive-field panel's y label wrapped onto its tick labels, tracking had a legend entry per
+// job (a 4017 px tall PNG), and a single panel kept a blank title line under the figure's title.
+TEST_F(PlotTest, KernelWidthSweepOfSixtyJobsReadsAtPaperStyle) {
+  const std::string db = directory_.file("fig6_1.db");
+  write_kernel_width_sweep(db);
+  keep_for_inspection(db);
+  const auto plot = [&](const std::string& arguments, const std::string& name) {
+    const std::string out = directory_.file(name);
+    const auto result = testing::run_armfarm("plot " + db + " " + arguments + " --out " + out);
+    EXPECT_EQ(result.exit_code, 0) << arguments << ": " << result.output;
+    keep_for_inspection(out);
+    return test_support::read_text_file(out);
+  };
+  const std::string nmse = plot("nmse-vs-kernel --style paper", "fig6_1_nmse.svg");
+  const auto boxes = testing::find_text_boxes(nmse);
+  const auto frames = testing::find_plot_frames(nmse);
+  ASSERT_EQ(frames.size(), 3u);  // joints 1 and 2, receptive fields
+  for (const testing::Frame& frame : frames) {
+    const auto ticks = testing::find_x_tick_labels(boxes, frame);
+    EXPECT_GE(ticks.size(), 3u) << "x tick labels of a log axis over 0.01-3: " << ticks.size();
+    EXPECT_NE(std::find(ticks.begin(), ticks.end(), "0.01"), ticks.end());
+  }
+  for (const char* label : {"receptive fields (count)", "same-run test nMSE"}) {
+    EXPECT_TRUE(std::any_of(boxes.begin(), boxes.end(), [&](const testing::TextBox& b) { return b.rotated && b.text == label; }))
+        << "y label '" << label << "' not on one line";
+  }
+  const auto crowded = testing::find_crowded_y_labels(boxes, 0.3);
+  EXPECT_TRUE(crowded.empty()) << crowded.size() << " crowded, first " << (crowded.empty() ? "" : crowded.front());
+  EXPECT_TRUE(testing::find_overlapping_text(nmse).empty());
+
+  // Tracking: one entry per configuration (12), not per job (60), and a page of sane height.
+  const std::string tracking = plot("tracking --style paper", "fig6_1_tracking.svg");
+  std::size_t entries = 0;
+  for (const testing::TextBox& box : testing::find_text_boxes(tracking)) entries += box.text.find("init_D=") != std::string::npos;
+  EXPECT_EQ(entries, 12u);
+  EXPECT_EQ(tracking.find("seed="), std::string::npos);
+  EXPECT_NE(tracking.find("a curve per configuration: its first of 5 repeats"), std::string::npos);
+  const std::string png = plot("tracking --style paper", "fig6_1_tracking.png");
+  ASSERT_GT(png.size(), 24u);
+  const auto be32 = [&png](std::size_t at) {
+    return (static_cast<unsigned char>(png[at]) << 24) | (static_cast<unsigned char>(png[at + 1]) << 16) |
+           (static_cast<unsigned char>(png[at + 2]) << 8) | static_cast<unsigned char>(png[at + 3]);
+  };
+  EXPECT_EQ(be32(16), 1050u);     // 3.5 in at 300 dpi
+  EXPECT_LE(be32(20), 1800u);     // was 4017: 61 legend rows
+  EXPECT_TRUE(testing::find_overlapping_text(tracking).empty());
+
+  // One panel, no panel title: the figure's title sits right above the frame.
+  const std::string metric = plot("metric-vs-param --metric n_receptive_fields --param learning.lwpr.init_D --style paper",
+                                  "fig6_1_metric.svg");
+  const auto rooms = testing::find_room_above_frames(testing::find_text_boxes(metric), testing::find_plot_frames(metric));
+  ASSERT_EQ(rooms.size(), 1u);
+  EXPECT_LT(rooms[0], 1.2) << "a blank line between the title and the panel";
+}
+
 TEST(SvgTextBoxes, FindsADeliberateOverlapAndNotItsSeparatedTwin) {
   const std::string label_a = "<g transform=\"translate(100.00,50.00)\" stroke=\"none\" font-size=\"12.00\" text-anchor=\"end\">\n"
                               "<text>torque (N·m)</text>\n</g>\n";
@@ -293,6 +378,40 @@ TEST(SvgTextBoxes, FindsADeliberateOverlapAndNotItsSeparatedTwin) {
   const auto boxes = testing::find_text_boxes("<svg>" + rotated + "</svg>");
   ASSERT_EQ(boxes.size(), 1u);
   EXPECT_GT(boxes[0].bottom - boxes[0].top, boxes[0].right - boxes[0].left);
+}
+
+// The checks behind the paper-style test, each on a fixture made to fail it and its fixed twin.
+TEST(SvgTextBoxes, FramesTicksCrowdedLabelsAndRoomAboveAFrame) {
+  const std::string frame = "<path stroke='black'  d='M42.00,30.00 L42.00,200.00 L150.00,200.00 L150.00,30.00 L42.00,30.00 Z  '/>";
+  const std::string open_path = "<path d='M42.00,30.00 L42.00,200.00 L150.00,200.00 L150.00,30.00 L42.00,30.00  '/>";
+  const auto text = [](double x, double y, const std::string& content, const std::string& extra = "") {
+    return "<g transform=\"translate(" + std::to_string(x) + "," + std::to_string(y) + ")" + extra +
+           "\" font-size=\"8.00\" text-anchor=\"middle\">\n<text>" + content + "</text>\n</g>\n";
+  };
+  const auto frames = testing::find_plot_frames("<svg>" + frame + frame + open_path + "</svg>");
+  ASSERT_EQ(frames.size(), 1u);  // the same border twice is one frame; an open path is none
+  EXPECT_EQ(frames[0].left, 42.0);
+  EXPECT_EQ(frames[0].bottom, 200.0);
+  // One tick label under the frame (the fault) against three; a label elsewhere does not count.
+  const std::string one_tick = "<svg>" + frame + text(78, 210, "0.1") + text(300, 210, "0.01") + "</svg>";
+  EXPECT_EQ(testing::find_x_tick_labels(testing::find_text_boxes(one_tick), frames[0]).size(), 1u);
+  const std::string ticks = "<svg>" + frame + text(42, 210, "0.01") + text(96, 210, "0.1") + text(150, 210, "1") + "</svg>";
+  EXPECT_EQ(testing::find_x_tick_labels(testing::find_text_boxes(ticks), frames[0]).size(), 3u);
+  // A y label's line 0.4 units from the tick labels (touching, not overlapping) against 4.4 units.
+  const std::string tick = "<g transform=\"translate(36.00,100.00)\" font-size=\"8.00\" text-anchor=\"end\">\n<text>1e+03</text>\n</g>\n";
+  const std::string touching = "<svg>" + tick + text(12, 100, "(count)", " rotate(270)") + "</svg>";
+  ASSERT_TRUE(testing::find_overlapping_text(touching).empty());
+  EXPECT_EQ(testing::find_crowded_y_labels(testing::find_text_boxes(touching), 0.3).size(), 1u);
+  const std::string apart = "<svg>" + tick + text(8, 100, "(count)", " rotate(270)") + "</svg>";
+  EXPECT_TRUE(testing::find_crowded_y_labels(testing::find_text_boxes(apart), 0.3).empty());
+  // A title one blank line above the frame against one right above it.
+  const auto room = [&](double title_baseline) {
+    return testing::find_room_above_frames(testing::find_text_boxes("<svg>" + frame + text(96, title_baseline, "title") + "</svg>"),
+                                           frames);
+  };
+  ASSERT_EQ(room(27).size(), 1u);
+  EXPECT_LT(room(27)[0], 1.2);
+  EXPECT_GT(room(17)[0], 1.2);
 }
 
 TEST_F(PlotTest, ReportIsSelfContainedHtmlPerSweep) {

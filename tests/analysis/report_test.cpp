@@ -180,6 +180,42 @@ TEST_F(ReportTest, AFiveThousandCharacterSweepNameGetsPagesAndTheIndex) {
   EXPECT_EQ(pages, 1u + 2u + 6u + 2u);  // index, two sweep pages, a page per job (keys of 5 000 characters too)
 }
 
+// Issue 29: a sweep named with an ANSI escape kept the raw ESC in every page; the reader now
+// sees it as its control picture (U+241B), also in a job's message and a string parameter.
+TEST(ReportNames, ControlCharactersOfNamesShowAsControlPicturesAndNoneReachesAPage) {
+  testing::TemporaryDirectory dir;
+  const std::string db = dir.file("results.db");
+  const std::string name = "red\x1b[31mname\x07\r";
+  std::vector<testing::TestJob> jobs(2);
+  jobs[0].params = {{"control.gain_scale", 0.5}, {"trajectory.kind", "a\x1b[2Jb"}};
+  jobs[0].metrics = {{0, "tracking_nmse", std::nullopt, 0.5, ""}};
+  jobs[1].params = {{"control.gain_scale", 2.0}, {"trajectory.kind", "c"}};
+  jobs[1].status = "failed";
+  jobs[1].message = "boom\x1b]0;title\x07\x7f";
+  testing::write_test_sweep(db, name, jobs);
+  const std::string out = dir.file("report");
+  const auto result = testing::run_armfarm("report " + db + " --out " + out);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  std::size_t pages = 0;
+  for (const auto& entry : fs::directory_iterator(out)) {
+    const std::string page = read_file(entry.path());
+    ++pages;
+    for (const char c : page) {
+      const auto byte = static_cast<unsigned char>(c);
+      EXPECT_FALSE(byte < 0x20 && c != '\n' && c != '\t') << entry.path().filename() << ": control byte " << int(byte);
+      EXPECT_NE(byte, 0x7F) << entry.path().filename();
+      if (byte < 0x20 && c != '\n' && c != '\t') break;
+    }
+  }
+  EXPECT_EQ(pages, 1u + 1u + 2u);
+  const std::string index = read_file(fs::path(out) / "index.html");
+  EXPECT_NE(index.find("red\xE2\x90\x9B[31mname\xE2\x90\x87\xE2\x90\x8D"), std::string::npos) << index;  // ␛ ␇ ␍
+  const std::string sweep = read_file(fs::path(out) / (make_report_file_name("sweep_", name) + ".html"));
+  EXPECT_NE(sweep.find("a\xE2\x90\x9B[2Jb"), std::string::npos);
+  EXPECT_NE(sweep.find("boom\xE2\x90\x9B]0;title\xE2\x90\x87\xE2\x90\xA1"), std::string::npos);  // … ␇ ␡
+  EXPECT_NE(sweep.find("<pre>{&quot;name&quot;"), std::string::npos);  // the spec in <pre>, escaped as before
+}
+
 TEST(ReportAgainst, SweepPageShowsTheThesisValueBesideArmfarms) {
   testing::TemporaryDirectory dir;
   const std::string db = dir.file("results.db");

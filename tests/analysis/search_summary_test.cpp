@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 
 #include "support/test_database.hpp"
+#include "support/text_file.hpp"
+#include "svg_text_boxes.hpp"
 
 #include <string>
 #include <vector>
@@ -144,6 +146,26 @@ TEST_F(SearchSummaryTest, PlotSearchDrawsTheMethodBesideRandomOfTheSameObjective
   EXPECT_EQ(make_plot_figure(store, request).panels[0].curves.size(), 3u);  // every search
   request.sweep = "plain";
   EXPECT_THROW(make_plot_figure(store, request), AnalysisError);
+}
+
+// Issue 24: at paper style the search plot of a lone search (sweeps/search/fig6_1_kernel_width_tpe.json)
+// wrapped its y label ("best heldout_test_nmse (joint" over "2)"), the panel having room for it.
+TEST_F(SearchSummaryTest, PlotSearchAtPaperStyleKeepsItsYLabelOnOneLine) {
+  const std::string lone = directory_.file("lone.db");
+  {
+    ResultsStore store = ResultsStore::open(lone, ResultsStore::Mode::read_write);
+    store.insert_sweep_run(make_sweep("tpe_s"), {});
+    store.insert_search(make_search("tpe_s", "tpe", "heldout_test_nmse", {{0, std::nullopt, 1.0}}));
+    add_steps(store, "tpe_s", {{0, 0, 0, 0, "new", 1.0, "t0", std::nullopt, "", false}, {1, 1, 0, 0, "new", 1.0, "t1", std::nullopt, "", false}},
+              {0.4, 0.3}, 2);
+  }
+  const std::string out = directory_.file("search.svg");
+  const auto result = testing::run_armfarm("plot " + lone + " search --style paper --out " + out);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string svg = test_support::read_text_file(out);
+  EXPECT_NE(svg.find(">best heldout_test_nmse (joint 2)</text>"), std::string::npos) << svg;
+  EXPECT_TRUE(testing::find_overlapping_text(svg).empty());
+  EXPECT_TRUE(testing::find_crowded_y_labels(testing::find_text_boxes(svg), 0.3).empty());
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,8 @@ namespace armfarm::testing {
 struct TextBox {
   std::string text;
   double left = 0, top = 0, right = 0, bottom = 0;
+  bool rotated = false;   ///< a quarter turn (a y label)
+  double font_size = 0;
 };
 
 inline std::string find_attribute(const std::string& tag, const std::string& name) {
@@ -60,12 +63,12 @@ inline std::vector<TextBox> find_text_boxes(const std::string& svg) {
     const std::string anchor = find_attribute(tag, "text-anchor");
     const double start = anchor == "middle" ? -length / 2 : anchor == "end" ? -length : 0.0;
     // Along the text: [start, start + length]; across: [-0.8, 0.2] em from the baseline.
-    TextBox box{plain, start, -0.8 * size, start + length, 0.2 * size};
+    TextBox box{plain, start, -0.8 * size, start + length, 0.2 * size, false, size};
     const double quarter_turns = std::fmod(std::round(angle / 90.0) + 4.0, 4.0);
     if (quarter_turns == 1 || quarter_turns == 3) {  // rotate(90) or rotate(270): along becomes vertical
       const double sign = quarter_turns == 1 ? 1.0 : -1.0;
       const double a = sign * box.left, b = sign * box.right, c = -sign * box.top, d = -sign * box.bottom;
-      box = TextBox{plain, std::min(c, d), std::min(a, b), std::max(c, d), std::max(a, b)};
+      box = TextBox{plain, std::min(c, d), std::min(a, b), std::max(c, d), std::max(a, b), true, size};
     }
     box.left += x;
     box.right += x;
@@ -90,6 +93,88 @@ inline std::vector<std::string> find_overlapping_text(const std::string& svg, do
     }
   }
   return overlaps;
+}
+
+/// A panel's plot area: gnuplot draws each border as one closed path "M a,b L a,c L d,c L d,b
+/// L a,b Z" (its grid and curves are open paths).
+struct Frame {
+  double left = 0, top = 0, right = 0, bottom = 0;
+};
+
+inline std::vector<Frame> find_plot_frames(const std::string& svg) {
+  std::vector<Frame> frames;
+  for (auto at = svg.find("d='M"); at != std::string::npos; at = svg.find("d='M", at + 1)) {
+    double x[5], y[5];
+    char close = 0;
+    if (std::sscanf(svg.c_str() + at + 3, "M%lf,%lf L%lf,%lf L%lf,%lf L%lf,%lf L%lf,%lf %c", &x[0], &y[0], &x[1], &y[1], &x[2], &y[2],
+                    &x[3], &y[3], &x[4], &y[4], &close) != 11 || close != 'Z') {
+      continue;
+    }
+    const bool rectangle = x[0] == x[1] && y[1] == y[2] && x[2] == x[3] && y[3] == y[0] && x[4] == x[0] && y[4] == y[0] &&
+                           x[0] != x[2] && y[0] != y[1];
+    if (!rectangle) continue;
+    const Frame frame{std::min(x[0], x[2]), std::min(y[0], y[1]), std::max(x[0], x[2]), std::max(y[0], y[1])};
+    const bool seen = std::any_of(frames.begin(), frames.end(), [&](const Frame& f) {
+      return std::abs(f.left - frame.left) < 0.5 && std::abs(f.top - frame.top) < 0.5 && std::abs(f.right - frame.right) < 0.5 &&
+             std::abs(f.bottom - frame.bottom) < 0.5;
+    });
+    if (!seen) frames.push_back(frame);
+  }
+  return frames;
+}
+
+inline bool is_number_text(const std::string& text) {
+  char* end = nullptr;
+  std::strtod(text.c_str(), &end);
+  return end != text.c_str() && *end == '\0';
+}
+
+/// The x tick labels of a frame: numbers centred within its width, just below its bottom edge.
+inline std::vector<std::string> find_x_tick_labels(const std::vector<TextBox>& boxes, const Frame& frame) {
+  std::vector<std::string> labels;
+  for (const TextBox& box : boxes) {
+    const double centre = (box.left + box.right) / 2;
+    const bool below = box.top >= frame.bottom - 0.5 && box.top <= frame.bottom + 1.5 * box.font_size;
+    if (!box.rotated && below && centre >= frame.left - 1 && centre <= frame.right + 1 && is_number_text(box.text)) {
+      labels.push_back(box.text);
+    }
+  }
+  return labels;
+}
+
+/// Rotated labels (y labels) nearer than `gap_em` of their font size to an upright text beside
+/// them (tick labels), as "'label' and 'tick' 0.1 em apart": touching is not overlapping, but
+/// reads as one blot on paper.
+inline std::vector<std::string> find_crowded_y_labels(const std::vector<TextBox>& boxes, double gap_em) {
+  std::vector<std::string> crowded;
+  for (const TextBox& label : boxes) {
+    if (!label.rotated) continue;
+    for (const TextBox& other : boxes) {
+      if (other.rotated || std::min(label.bottom, other.bottom) - std::max(label.top, other.top) <= 0) continue;
+      const double gap = std::max(other.left - label.right, label.left - other.right);
+      if (gap < gap_em * label.font_size) {
+        char apart[32];
+        std::snprintf(apart, sizeof apart, "%.2f", gap / label.font_size);
+        crowded.push_back("'" + label.text + "' and '" + other.text + "' " + apart + " em apart");
+      }
+    }
+  }
+  return crowded;
+}
+
+/// The empty room between each frame's top and the lowest text above it (its title, or the
+/// figure's), in units of that text's font size; a frame with no text above is left out.
+inline std::vector<double> find_room_above_frames(const std::vector<TextBox>& boxes, const std::vector<Frame>& frames) {
+  std::vector<double> rooms;
+  for (const Frame& frame : frames) {
+    const TextBox* lowest = nullptr;
+    for (const TextBox& box : boxes) {
+      const bool above = box.bottom <= frame.top + 0.5 && box.right > frame.left && box.left < frame.right && !box.rotated;
+      if (above && (!lowest || box.bottom > lowest->bottom)) lowest = &box;
+    }
+    if (lowest) rooms.push_back((frame.top - lowest->bottom) / lowest->font_size);
+  }
+  return rooms;
 }
 
 }  // namespace armfarm::testing

@@ -383,7 +383,7 @@ TEST(TableCommand, CheckpointRowsMatchTheStoredRows) {
 
   const auto result = testing::run_armfarm("table " + db + " --rows checkpoint,joint --cols heldout_ff_fb_ratio_avg --format json");
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  const auto json = nlohmann::json::parse(result.output);
+  const auto json = nlohmann::json::parse(result.output)["tables"].at(0);
   ASSERT_EQ(json["rows"].size(), 9u);
   for (const auto& row : json["rows"]) {
     const std::int64_t checkpoint = std::stoll(row["params"]["checkpoint"].get<std::string>());
@@ -418,7 +418,7 @@ TEST(TableCommand, ReadsADatabaseAndAggregatesRepeats) {
   testing::write_test_sweep(db, "gains", jobs);
   const auto result = testing::run_armfarm("table " + db + " --format json");
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  const auto json = nlohmann::json::parse(result.output);
+  const auto json = nlohmann::json::parse(result.output)["tables"].at(0);
   EXPECT_NEAR(json["rows"][0]["cells"]["ff_fb_ratio_avg"]["mean"].get<double>(), 0.85, 1e-12);
   EXPECT_EQ(json["rows"][0]["cells"]["ff_fb_ratio_avg"]["n"].get<int>(), 2);
   EXPECT_EQ(json["rows"][0]["params"]["joint"], "2");
@@ -428,6 +428,47 @@ TEST(TableCommand, ReadsADatabaseAndAggregatesRepeats) {
   EXPECT_NE(bad.output.find("no metric 'no_such_metric'"), std::string::npos) << bad.output;
   const auto missing = testing::run_armfarm("table " + directory.file("absent.db"));
   EXPECT_EQ(missing.exit_code, 2) << missing.output;
+}
+
+// Issue 29: several tables printed several JSON documents (one per table), which no JSON
+// reader takes; and a newline in a value ended a Markdown row in the middle.
+TEST(TableCommand, JsonIsOneDocumentForEveryTableAndMarkdownRowsStayOneLine) {
+  testing::TemporaryDirectory directory;
+  const std::string db = directory.file("results.db");
+  std::vector<testing::TestJob> jobs(2);
+  jobs[0].params = {{"trajectory.recorded.file", "two\nlines|piped"}};
+  jobs[0].metrics = {{0, "tracking_nmse", std::nullopt, 0.25, ""}};
+  jobs[1].params = {{"trajectory.recorded.file", "plain"}};
+  jobs[1].metrics = {{0, "tracking_nmse", std::nullopt, 0.5, ""}};
+  testing::write_test_sweep(db, "first", jobs);
+  testing::write_test_sweep(db, "second", jobs);
+
+  const auto json = testing::run_armfarm("table " + db + " --cols tracking_nmse --format json");
+  ASSERT_EQ(json.exit_code, 0) << json.output;
+  const auto document = nlohmann::json::parse(json.output);  // throws on a second document
+  ASSERT_EQ(document["tables"].size(), 2u) << json.output;
+  EXPECT_EQ(document["tables"][0]["sweep"], "first");
+  EXPECT_EQ(document["tables"][1]["sweep"], "second");
+  EXPECT_EQ(document["tables"][1]["rows"].size(), 2u);
+  const auto& rows_of_first = document["tables"][0]["rows"];
+  EXPECT_TRUE(std::any_of(rows_of_first.begin(), rows_of_first.end(), [](const nlohmann::json& row) {
+    return row["params"]["trajectory.recorded.file"] == "two\nlines|piped";  // exact in JSON
+  })) << rows_of_first;
+
+  const auto md = testing::run_armfarm("table " + db + " --sweep first --cols tracking_nmse --format md");
+  ASSERT_EQ(md.exit_code, 0) << md.output;
+  std::istringstream lines(md.output);
+  std::size_t rows = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.empty() || line[0] != '|') {
+      EXPECT_TRUE(line.empty() || line.rfind("### ", 0) == 0) << "a line outside the table: " << line << "\n" << md.output;
+      continue;
+    }
+    ++rows;
+    EXPECT_EQ(line.back(), '|') << line;
+  }
+  EXPECT_EQ(rows, 4u) << md.output;  // header, rule, two rows
+  EXPECT_NE(md.output.find("| two<br>lines\\|piped |"), std::string::npos) << md.output;
 }
 
 }  // namespace

@@ -54,7 +54,7 @@ TEST(TrustedNumbers, PerJointRowsShowPerJointValues) {
   testing::write_test_sweep(db, "gains", make_gain_jobs());
   const auto result = testing::run_armfarm("table " + db + " --rows control.gain_scale,joint --cols tracking_nmse --format json");
   ASSERT_EQ(result.exit_code, 0) << result.output;
-  const auto json = nlohmann::json::parse(result.output);
+  const auto json = nlohmann::json::parse(result.output)["tables"].at(0);
   ASSERT_EQ(json["rows"].size(), 6u);  // 2 gains × 3 joints
   for (const auto& row : json["rows"]) {
     const std::string gain = row["params"]["control.gain_scale"], joint = row["params"]["joint"];
