@@ -56,7 +56,9 @@ Replay replay(const SweepSpec& spec, const search::SearchSettings& settings, con
               const std::string& db_path, std::map<std::pair<std::size_t, std::size_t>, std::string>& key_cache) {
   Replay r;
   std::optional<ResultsStore> store;
-  if (std::filesystem::exists(db_path)) store = ResultsStore::open(db_path, ResultsStore::Mode::read_only);
+  // Opened writable, as run opens it: a file another runner is creating at this moment (empty,
+  // its schema not yet committed) is waited for, not refused as "empty file".
+  if (std::filesystem::exists(db_path)) store = ResultsStore::open(db_path, ResultsStore::Mode::read_write);
   // Takes the committed outcome of the next step without a loss; false when its job has not run.
   const auto take_loss = [&] {
     const std::size_t s = r.history.losses.size();
