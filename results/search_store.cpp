@@ -154,6 +154,28 @@ void ResultsStore::insert_search_step(const std::string& sweep, const SearchStep
                                       const std::optional<SearchTrialRecord>& new_trial) {
   SqliteTransaction transaction(*db_);
   const std::int64_t id = find_search_id(*db_, sweep);
+  SqliteStatement job = db_->prepare("SELECT id FROM jobs WHERE key = ?");
+  job.bind(1, step.job_key);
+  if (!job.step()) throw StoreError(path_ + ": search step " + std::to_string(step.step) + " names no job '" + step.job_key + "'");
+  const std::int64_t job_id = job.column_int(0);
+  // Several runners on one file record the same steps: a step written already is left as it is
+  // when it agrees (the same decision, taken by the other runner), refused when it does not.
+  SqliteStatement existing = db_->prepare(
+      "SELECT st.trial, st.rung, st.visible, st.kind, st.job_id, t.params FROM search_steps st "
+      "LEFT JOIN search_trials t ON t.search_id = st.search_id AND t.trial = st.trial WHERE st.search_id = ? AND st.step = ?");
+  existing.bind(1, id).bind(2, step.step);
+  if (existing.step()) {
+    const bool same = existing.column_int(0) == step.trial && existing.column_int(1) == step.rung &&
+                      existing.column_int(2) == step.visible && existing.column_text(3) == step.kind &&
+                      existing.column_int(4) == job_id && (!new_trial || existing.column_text(5) == new_trial->params);
+    if (!same) {
+      throw StoreError(path_ + ": search step " + std::to_string(step.step) + " of sweep '" + sweep +
+                       "' is recorded with another decision (trial " + std::to_string(existing.column_int(0)) + ", rung " +
+                       std::to_string(existing.column_int(1)) + ") than this runner took (trial " + std::to_string(step.trial) +
+                       ", rung " + std::to_string(step.rung) + "): the file holds another search under this name");
+    }
+    return;  // the transaction rolls back: nothing was written
+  }
   if (new_trial) {
     db_->prepare("INSERT INTO search_trials (search_id, trial, bracket, params) VALUES (?, ?, ?, ?)")
         .bind(1, id)
@@ -162,10 +184,6 @@ void ResultsStore::insert_search_step(const std::string& sweep, const SearchStep
         .bind(4, new_trial->params)
         .execute();
   }
-  SqliteStatement job = db_->prepare("SELECT id FROM jobs WHERE key = ?");
-  job.bind(1, step.job_key);
-  if (!job.step()) throw StoreError(path_ + ": search step " + std::to_string(step.step) + " names no job '" + step.job_key + "'");
-  const std::int64_t job_id = job.column_int(0);
   db_->prepare(
          "INSERT INTO search_steps (search_id, step, trial, rung, visible, kind, cost, job_id) "
          "VALUES (?, ?, ?, ?, ?, ?, ?, ?)")

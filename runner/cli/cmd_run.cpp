@@ -149,15 +149,18 @@ RunFunction setup_run(CLI::App& parent) {
     StopSignalScope signals;
     run.stop_at_once = &signals.stop_at_once();
 
+    // Refused before any stage runs (a stage before the search would be half of a sharded run).
+    for (const SweepSpec& stage : stages) {
+      if (stage.search && run.shard.count > 1) {
+        std::cerr << "armfarm: " << options->spec << ": sweep.search: " << kSearchNotShardedReason << "\n";
+        return 2;
+      }
+    }
+
     // Stages run in order, each expanded only after the ones before it ran (its jobs may start
     // from the models they stored); a stage that is not all done stops the rest.
     for (std::size_t s = 0; s < stages.size(); ++s) {
       if (stages[s].search) {
-        if (run.shard.count > 1) {
-          std::cerr << "armfarm: " << options->spec << ": a search decides its jobs as it runs and is not sharded; "
-                    << "run several runners on one database instead\n";
-          return 2;
-        }
         const std::string name = stages[s].name;
         std::cout << "search " << name << ": " << to_string(stages[s].search->settings.method) << ", " << run.threads
                   << " threads, database " << run.db_path << std::endl;

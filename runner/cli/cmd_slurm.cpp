@@ -12,6 +12,7 @@
 #include "runner/execution/job_kind.hpp"
 #include "runner/execution/progress_reporter.hpp"
 #include "runner/execution/shard.hpp"
+#include "runner/execution/search_runner.hpp"
 #include "runner/execution/sweep_runner.hpp"
 #include "runner/spec/spec_error.hpp"
 #include "runner/spec/sweep_expansion.hpp"
@@ -228,6 +229,9 @@ void check_slurm_options(const SlurmOptions& options) {
 ExpandedSweep load_slurm_sweep(const SlurmOptions& options) {
   const JobKind kind = make_job_kind();
   ExpandedSweep sweep = expand_sweep(load_sweep_spec(options.spec, kind.schema), kind.schema);
+  if (sweep.spec.search && options.tasks > 1) {
+    throw std::invalid_argument(options.spec + ": sweep.search: " + kSearchNotShardedReason);
+  }
   if (options.tasks > static_cast<int>(sweep.jobs.size())) {
     throw std::invalid_argument("--tasks " + std::to_string(options.tasks) + ": more tasks than the " +
                                 std::to_string(sweep.jobs.size()) + " jobs of " + options.spec);

@@ -56,7 +56,9 @@ Replay replay(const SweepSpec& spec, const search::SearchSettings& settings, con
               const std::string& db_path, std::map<std::pair<std::size_t, std::size_t>, std::string>& key_cache) {
   Replay r;
   std::optional<ResultsStore> store;
-  if (std::filesystem::exists(db_path)) store = ResultsStore::open(db_path, ResultsStore::Mode::read_only);
+  // Opened writable, as run opens it: a file another runner is creating at this moment (empty,
+  // its schema not yet committed) is waited for, not refused as "empty file".
+  if (std::filesystem::exists(db_path)) store = ResultsStore::open(db_path, ResultsStore::Mode::read_write);
   // Takes the committed outcome of the next step without a loss; false when its job has not run.
   const auto take_loss = [&] {
     const std::size_t s = r.history.losses.size();
@@ -127,7 +129,10 @@ void record_search(const SweepSpec& spec, const search::SearchSettings& settings
   }
   store.insert_search(record);
   const std::vector<SearchStepRecord> stored = store.find_search_steps(spec.name);
-  std::size_t trials_stored = store.find_search_trials(spec.name).size();
+  // A step is its trial's first ("new") by the history, never by what the file holds yet: another
+  // runner may be writing the same steps (insert_search_step keeps the first writer's agreeing row).
+  std::vector<bool> trial_started(r.history.trials.size(), false);
+  for (std::size_t s = 0; s < stored.size() && s < r.history.steps.size(); ++s) trial_started[r.history.steps[s].trial] = true;
   for (std::size_t s = stored.size(); s < r.history.steps.size(); ++s) {
     if (!store.find_job(r.keys[s])) break;  // registered by a later round
     const search::SearchStep& step = r.history.steps[s];
@@ -138,7 +143,8 @@ void record_search(const SweepSpec& spec, const search::SearchSettings& settings
     row.visible = static_cast<std::int64_t>(step.visible);
     row.cost = step.cost;
     row.job_key = r.keys[s];
-    const bool new_trial = step.trial >= trials_stored;
+    const bool new_trial = !trial_started[step.trial];
+    trial_started[step.trial] = true;
     row.kind = new_trial ? "new" : "promotion";
     std::optional<SearchTrialRecord> trial;
     if (new_trial) {
@@ -147,7 +153,6 @@ void record_search(const SweepSpec& spec, const search::SearchSettings& settings
       point.erase("learning.heldout_checkpoints");
       if (!search.length_path.empty()) point.erase(search.length_path);
       trial = SearchTrialRecord{row.trial, static_cast<std::int64_t>(r.history.trials[step.trial].bracket), point.dump()};
-      trials_stored = step.trial + 1;
     }
     store.insert_search_step(spec.name, row, trial);
   }
@@ -185,6 +190,9 @@ SearchRunSummary run_search(const SweepSpec& spec, const JobKind& kind, const Ru
       settings.rung_cost[k] = calc_search_cpu_seconds(kind, expand_step(spec, kind.schema, point, k).config());
     }
   }
+  // TPE's start-up: the spec's, or a quarter of the jobs to the last rung the budget buys.
+  settings.tpe.startup =
+      search.tpe_startup != 0 ? search.tpe_startup : search::calc_tpe_startup(settings.budget / settings.rung_cost.back());
   RunOptions round = options;
   round.rerun_unsuccessful = false;  // a failed or diverged trial is an outcome (+∞), not retried every round
   std::map<std::pair<std::size_t, std::size_t>, std::string> key_cache;

@@ -52,6 +52,17 @@ struct SearchRunSummary {
   std::size_t best_trial = 0;
 };
 
+/// Why a search is not dealt to shards (`run --shard I/N`, `slurm --tasks N` with N > 1), for
+/// the one-line refusal after "SPEC: sweep.search: ". A shard runs in a file of its own, and a
+/// step is decided over the committed objectives of the steps before it (search_schedule.hpp):
+/// whichever way the steps were dealt, a shard would lack the other shards' objectives, so it
+/// could not take the decisions one search takes, and waiting for them is not possible across
+/// files. A deterministic search needs every result in one database.
+inline constexpr const char* kSearchNotShardedReason =
+    "a search is not sharded: each step is decided over the objectives of the steps before it, which other shards' "
+    "files would hold, so no shard could take the decisions of the one search; run several runners on one database "
+    "(one machine), or on N machines N searches with their own names and seeds, then merge the files";
+
 /// CPU-seconds per joint-second of the experiment job's cost estimate, measured by
 /// tests/bench/bench_search.cpp (process CPU of its -j1 grids over their estimated joint-seconds,
 /// 2-core machine shared at load ≈ 12-14): fig6_1_kernel_width reduced (batch sine, 2 joints)

@@ -29,6 +29,12 @@ std::vector<double> axis_values(const SearchAxis& axis, std::size_t index, const
 
 }  // namespace
 
+std::size_t calc_tpe_startup(double full_trials) {
+  constexpr double kLeast = 2.0, kMost = 10.0;
+  if (!(full_trials < 4.0 * kMost)) return static_cast<std::size_t>(kMost);  // also +inf and NaN
+  return static_cast<std::size_t>(std::clamp(std::ceil(full_trials / 4.0), kLeast, kMost));
+}
+
 SearchPoint calc_tpe_point(const SearchSpace& space, const TpeSettings& settings, const std::vector<Observation>& known,
                            const std::vector<Observation>& pending, RandomStream& stream) {
   if (known.size() < std::max<std::size_t>(settings.startup, 2)) return calc_random_point(space, stream);

@@ -20,6 +20,12 @@
 // (search_schedule.hpp), never by timing.
 //
 // Until `startup` losses are known, proposals are prior draws (calc_random_point).
+//
+// Start-up and the budget. A fixed start-up of 10 (Optuna's default) is a whole search when the
+// budget buys 10 trials or fewer, so a spec that does not set `tpe_startup` gets
+//   startup = clamp(⌈B / 4⌉, 2, 10),   B = the budget over the cost of one job to the last rung
+// (calc_tpe_startup): a quarter of what the budget buys is drawn from the prior, the rest is
+// TPE's; 10 from B = 37 on. Two is the least that gives a good and a bad group.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -34,6 +40,10 @@ struct TpeSettings {
   std::size_t max_good = 25;    ///< at most this many good observations
   std::size_t candidates = 24;  ///< draws from ℓ scored per proposal
 };
+
+/// The start-up for a budget that buys `full_trials` jobs run to the last rung (see "Start-up and
+/// the budget" above); full_trials may be fractional or infinite (no budget: 10).
+std::size_t calc_tpe_startup(double full_trials);
 
 /// A point and its loss (lower is better; +∞ for a failed trial).
 struct Observation {

@@ -408,7 +408,8 @@ class SpecParser {
       error(at, "expected an object {\"method\": ..., \"objective\": {...}, \"space\": {...}, \"budget\": {...}}");
       return;
     }
-    check_keys(block, at, {"method", "sampler", "seed", "eta", "slots", "max_trials", "bracket_size", "objective", "space", "budget", "comment"});
+    check_keys(block, at, {"method", "sampler", "seed", "eta", "slots", "max_trials", "bracket_size", "tpe_startup", "objective", "space",
+                            "budget", "comment"});
     SpecSearch result;
     search::SearchSettings& settings = result.settings;
     const std::vector<std::string> methods = {"random", "tpe", "asha", "successive_halving", "hyperband"};
@@ -456,6 +457,11 @@ class SpecParser {
         settings.method != search::SearchMethod::random && settings.method != search::SearchMethod::tpe) {
       error(at + ".max_trials", "applies to random, tpe and asha (brackets fix their own sizes)");
     }
+    if (block.contains("tpe_startup") && settings.method != search::SearchMethod::tpe &&
+        settings.sampler != search::SearchSampler::tpe) {
+      error(at + ".tpe_startup", "applies to TPE proposals only (method \"tpe\" or sampler \"tpe\")");
+    }
+    result.tpe_startup = read_count(block, at, "tpe_startup", 2, 1000000, 0);
     read_search_budget(block, at, result);
     read_search_objective(block, at, result, multi_rung);
     read_search_space(block, at, result);
@@ -585,6 +591,27 @@ class SpecParser {
     if (!result.length_path.empty()) result.length_segments = parse_config_path(result.length_path);
   }
 
+  // A search axis may not vary a key that each step already sets: learning.heldout_checkpoints
+  // (the checkpoints up to the step's rung) or the length key of a rung's job (learning.epochs,
+  // trajectory.reaching.reaches: the rung's checkpoint). Such an axis would give two values to
+  // one key, so it is refused rather than given a meaning.
+  bool check_not_set_by_rungs(const std::string& path, const std::string& where, const std::vector<PathSegment>& segments,
+                              const SpecSearch& result) {
+    const auto overlaps = [&](const std::vector<PathSegment>& set) {
+      return !set.empty() && (is_prefix_path(set, segments) || is_prefix_path(segments, set));
+    };
+    if (overlaps(result.length_segments)) {
+      error(where, "'" + path + "' is set by the search: a step to a rung runs " + result.length_path +
+                       " up to that rung's checkpoint (learning.heldout_checkpoints are the rungs), so it cannot be an axis too");
+      return false;
+    }
+    if (overlaps(result.checkpoint_segments)) {
+      error(where, "'" + path + "' is set by the search: each step runs the held-out checkpoints up to its rung (the objective's checkpoint), so it cannot be an axis too");
+      return false;
+    }
+    return true;
+  }
+
   void read_search_space(const nlohmann::json& block, const std::string& at, SpecSearch& result) {
     const std::string location = at + ".space";
     if (!block.contains("space") || !block["space"].is_object() || block["space"].empty()) {
@@ -600,6 +627,7 @@ class SpecParser {
       sampled.path = path;
       const nlohmann::json* reference = nullptr;
       if (!resolve_path(path, where, axis.segments, reference)) continue;
+      if (!check_not_set_by_rungs(path, where, axis.segments, result)) continue;
       if (!distribution.is_object() || distribution.size() != 1) {
         error(where, "expected one of {\"uniform\": [low, high]}, {\"log_uniform\": [low, high]}, {\"integer\": [low, high]}, {\"categorical\": [...]}");
         continue;

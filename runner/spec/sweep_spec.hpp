@@ -74,6 +74,9 @@ struct SpecSearch {
   std::vector<std::int64_t> rungs;     ///< the checkpoints that are rungs, increasing (one rung when none)
   enum class BudgetUnit { jobs, cpu_seconds } budget_unit = BudgetUnit::jobs;
   double budget = 0.0;
+  /// `tpe_startup`: prior draws before TPE's estimators are used; 0 (not given): the runner sets
+  /// search::calc_tpe_startup of what the budget buys (tpe_sampler.hpp).
+  std::size_t tpe_startup = 0;
   /// "learning.heldout_checkpoints": a step to rung r runs the checkpoints rungs[0 … r].
   ConfigPath checkpoint_segments;
   /// The key that makes a job learn exactly to a checkpoint, in the checkpoints' unit, for asha,

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "support/armfarm_process.hpp"
+#include "support/command_line.hpp"
 #include "support/scratch_file.hpp"
 #include "support/sqlite_rows.hpp"
 
@@ -20,6 +21,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
@@ -76,11 +78,58 @@ TEST_F(CmdRunSearchTest, TheTrialSequenceIsTheSameAtJ1J2AndAfterAKillAndResume) 
   EXPECT_EQ(query_rows(killed, kSteps), reference);
 }
 
+TEST_F(CmdRunSearchTest, TwoRunnersOnOneDatabaseTakeTheSameTrialSequenceAndRunEachJobOnce) {
+  // The fixture's search with jobs of 0.3 s, so that the second process is surely running before
+  // the first could finish alone.
+  std::string text;
+  {
+    std::ifstream in(path("search.json"));
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::string fast = "\"sleep_ms\": 80";
+  text.replace(text.find(fast), fast.size(), "\"sleep_ms\": 300");
+  std::ofstream(path("slow.json")) << text;
+  const auto start = [&](const std::string& db, const std::string& log) {
+    return test_support::start_armfarm({"run", path("slow.json"), "--db", db, "-j", "1", "-q"}, path(log));
+  };
+  ASSERT_EQ(test_support::wait_armfarm(start(path("alone.db"), "alone.txt")), 0);
+  const std::vector<std::string> reference = query_rows(path("alone.db"), kSteps);
+  ASSERT_EQ(reference.size(), 14u);
+  // Two processes started together on one new file, one thread each: they replay the same
+  // decisions, share the jobs by their claims and record each step once.
+  const std::string shared = path("shared_two.db");
+  const test_support::ArmfarmProcess first = start(shared, "first.txt");
+  const test_support::ArmfarmProcess second = start(shared, "second.txt");
+  EXPECT_EQ(test_support::wait_armfarm(first), 0) << std::ifstream(path("first.txt")).rdbuf();
+  EXPECT_EQ(test_support::wait_armfarm(second), 0) << std::ifstream(path("second.txt")).rdbuf();
+  EXPECT_EQ(query_rows(shared, kSteps), reference);
+  // No job ran twice, and both runners did some of them.
+  EXPECT_EQ(query_rows(shared, "SELECT count(*), sum(attempts), sum(status = 'done') FROM jobs"),
+            std::vector<std::string>{"14|14|14"});
+  EXPECT_EQ(query_rows(shared, "SELECT count(DISTINCT pid) FROM runs WHERE jobs_run > 0"), std::vector<std::string>{"2"});
+}
+
+TEST_F(CmdRunSearchTest, ASearchIsNotShardedAndTheRefusalSaysWhy) {
+  // A shard's file would lack the other shards' objectives, which each decision needs.
+  const std::string spec = path("search.json");
+  for (const std::string& command : {"run " + spec + " --db " + path("shard.db") + " --shard 1/2",
+                                     "slurm " + spec + " --db " + path("shard.db") + " --tasks 2"}) {
+    const test_support::CommandResult result = test_support::run_armfarm_with_fake_jobs(command);
+    EXPECT_EQ(result.exit_code, 2) << command << "\n" << result.output;
+    EXPECT_NE(result.output.find("armfarm: " + spec + ": sweep.search: a search is not sharded: each step is decided over the "
+                                 "objectives of the steps before it"),
+              std::string::npos)
+        << command << "\n" << result.output;
+    EXPECT_FALSE(fs::exists(path("shard.db"))) << command;
+  }
+}
+
 TEST_F(CmdRunSearchTest, ARandomSearchOfJobsAnotherSweepRanIsStillRecorded) {
-  // Below TPE's 10 startup trials its proposals are the prior draws random search makes from
-  // the same seed: the random search's 6 jobs are all done before it starts.
+  // Below TPE's start-up (10 here, set in the spec: the budget rule would give 2) its proposals
+  // are the prior draws random search makes from the same seed: the random search's 6 jobs are
+  // all done before it starts.
   std::ofstream(path("tpe.json")) << R"({"name": "tpe six", "base": {"fake": {"sleep_ms": 1}},
-      "sweep": {"search": {"method": "tpe", "seed": 5, "objective": {"metric": "tracking_nmse", "joint": 1},
+      "sweep": {"search": {"method": "tpe", "seed": 5, "tpe_startup": 10, "objective": {"metric": "tracking_nmse", "joint": 1},
         "space": {"control.gain_scale": {"uniform": [0.5, 50]}}, "budget": {"jobs": 6}}}})";
   std::ofstream(path("random.json")) << R"({"name": "random six", "base": {"fake": {"sleep_ms": 1}},
       "sweep": {"search": {"method": "random", "seed": 5, "objective": {"metric": "tracking_nmse", "joint": 1},

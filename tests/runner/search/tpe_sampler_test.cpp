@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 #include "runner/search/search_sequence.hpp"
@@ -64,6 +65,40 @@ TEST(Tpe, FindsTheMinimumOfAQuadraticOnALogUniformAxisInThirtyTrials) {
   std::printf("log-uniform quadratic, 30 trials: TPE median best %.2e, random %.2e\n", m.tpe, m.random);
   EXPECT_LT(std::sqrt(m.tpe), 0.05);  // within 5 % of a decade of 0.003
   EXPECT_LT(m.tpe, m.random);
+}
+
+TEST(Tpe, TheStartupIsAQuarterOfWhatTheBudgetBuysBetweenTwoAndTen) {
+  EXPECT_EQ(calc_tpe_startup(3.0), 2u);    // ⌈0.75⌉ = 1, raised to 2
+  EXPECT_EQ(calc_tpe_startup(8.0), 2u);
+  EXPECT_EQ(calc_tpe_startup(8.5), 3u);    // ⌈2.125⌉
+  EXPECT_EQ(calc_tpe_startup(12.0), 3u);
+  EXPECT_EQ(calc_tpe_startup(30.0), 8u);   // ⌈7.5⌉
+  EXPECT_EQ(calc_tpe_startup(37.0), 10u);  // ⌈9.25⌉
+  EXPECT_EQ(calc_tpe_startup(1000.0), 10u);
+  EXPECT_EQ(calc_tpe_startup(std::numeric_limits<double>::infinity()), 10u);
+}
+
+TEST(Tpe, WithTheBudgetRuleTwelveTrialsBeatRandom) {
+  // The log-uniform quadratic of the test above at 12 trials: with the rule's 3 prior draws TPE
+  // has nine proposals of its own. (The fixed 10 is printed beside it: on this one-axis
+  // problem its two proposals after 10 draws did better, 1.10e-03 against 3.39e-03, so the
+  // rule is not asserted to beat it.)
+  SearchSettings settings;
+  settings.space.axes.push_back({"rate", AxisKind::log_uniform, 1e-5, 10.0, 0});
+  settings.max_trials = 12;
+  settings.slots = 2;
+  const double target = std::log10(0.003);
+  const LossFunction loss = [&](std::size_t, const SearchPoint& p, std::size_t) {
+    const double d = std::log10(p[0]) - target;
+    return d * d;
+  };
+  settings.tpe.startup = 10;
+  const Medians fixed = run_both(settings, loss);
+  settings.tpe.startup = calc_tpe_startup(12.0);
+  const Medians rule = run_both(settings, loss);
+  std::printf("log-uniform quadratic, 12 trials: TPE median best %.2e (start-up %zu), %.2e (start-up 10), random %.2e\n",
+              rule.tpe, settings.tpe.startup, fixed.tpe, rule.random);
+  EXPECT_LT(rule.tpe, rule.random);
 }
 
 TEST(Tpe, SettlesOnTheBestChoiceOfACategoricalAxis) {

@@ -170,6 +170,19 @@ TEST(SearchBlock, BadBlocksAreRefusedWithTheirJsonPath) {
       {"one choice", R"({"method": "tpe", "objective": {"metric": "heldout_test_nmse"},
           "space": {"learning.lwpr.update_D": {"categorical": [true]}}, "budget": {"jobs": 9}})",
        "sweep.search.space[\"learning.lwpr.update_D\"].categorical: expected a list of at least two values"},
+      // An axis on a key every step sets (the rung's length, the checkpoints) would give it two values.
+      {"reaches axis under asha", R"({"method": "asha", "objective": {"metric": "heldout_test_nmse"},
+          "space": {"trajectory.reaching.reaches": {"integer": [200, 400]}}, "budget": {"jobs": 9}})",
+       "sweep.search.space[\"trajectory.reaching.reaches\"]: 'trajectory.reaching.reaches' is set by the search: a step to a rung runs trajectory.reaching.reaches up to that rung's checkpoint"},
+      {"checkpoints axis", R"({"method": "tpe", "objective": {"metric": "heldout_test_nmse"},
+          "space": {"learning.heldout_checkpoints": {"categorical": [[10, 200], [50, 200]]}}, "budget": {"jobs": 9}})",
+       "sweep.search.space[\"learning.heldout_checkpoints\"]: 'learning.heldout_checkpoints' is set by the search"},
+      {"tpe_startup without tpe", R"({"method": "asha", "tpe_startup": 4, "objective": {"metric": "heldout_test_nmse"},
+          "space": {"learning.lwpr.init_D": {"uniform": [1, 2]}}, "budget": {"jobs": 9}})",
+       "sweep.search.tpe_startup: applies to TPE proposals only"},
+      {"tpe_startup of one", R"({"method": "tpe", "tpe_startup": 1, "objective": {"metric": "heldout_test_nmse"},
+          "space": {"learning.lwpr.init_D": {"uniform": [1, 2]}}, "budget": {"jobs": 9}})",
+       "sweep.search.tpe_startup: expected an integer in [2, 1000000]"},
   };
   for (const BadBlock& b : bad) {
     const std::vector<std::string> errors = collect_errors(make_spec(b.block));
@@ -178,6 +191,36 @@ TEST(SearchBlock, BadBlocksAreRefusedWithTheirJsonPath) {
     for (const std::string& line : errors) found = found || (line.find(b.expected) != std::string::npos && line.rfind("spec.json: ", 0) == 0);
     EXPECT_TRUE(found) << b.name << ": no line contains \"" << b.expected << "\"; got:\n" << errors.front();
   }
+}
+
+TEST(SearchBlock, AnEpochsAxisIsRefusedUnderSuccessiveHalvingOfABatchJobAndAllowedUnderTpe) {
+  // learning.epochs is the length of a batch job's rung under asha, successive_halving and
+  // hyperband; a one-rung method runs the base's length, so there it is an ordinary axis.
+  const std::string batch = R"({"name": "b", "base": {"learning": {"mode": "batch", "epochs": 9, "heldout": true,
+      "heldout_checkpoints": [1, 3, 9]}}, "sweep": {"search": {"method": "METHOD",
+      "objective": {"metric": "heldout_test_nmse"}, "space": {"learning.epochs": {"integer": [9, 20]}},
+      "budget": {"jobs": 20}}}})";
+  const auto with = [&](const std::string& method) {
+    std::string text = batch;
+    return collect_errors(text.replace(text.find("METHOD"), 6, method));
+  };
+  for (const char* method : {"asha", "successive_halving", "hyperband"}) {
+    const std::vector<std::string> errors = with(method);
+    ASSERT_EQ(errors.size(), 1u) << method;
+    EXPECT_NE(errors[0].find("spec.json: sweep.search.space[\"learning.epochs\"]: 'learning.epochs' is set by the search"),
+              std::string::npos)
+        << errors[0];
+  }
+  EXPECT_TRUE(with("tpe").empty());
+  EXPECT_TRUE(with("random").empty());
+}
+
+TEST(SearchBlock, TpeStartupIsReadAndDefaultsToTheBudgetRule) {
+  const JobConfigSchema schema = make_experiment_config_schema();
+  std::string block = kGood;
+  EXPECT_EQ(parse_sweep_spec(make_spec(block), "spec.json", ".", schema).search->tpe_startup, 0u);  // the rule
+  block.insert(1, R"("tpe_startup": 5, )");
+  EXPECT_EQ(parse_sweep_spec(make_spec(block), "spec.json", ".", schema).search->tpe_startup, 5u);
 }
 
 TEST(SearchBlock, ASearchDoesNotCombineWithGridAxes) {
