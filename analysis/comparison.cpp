@@ -99,26 +99,26 @@ bool ComparisonReport::regressed() const {
   for (const StatusChange& change : status_changes) {
     if (change.base_status == "done") return true;
   }
-  return std::any_of(metrics.begin(), metrics.end(), [](const MetricComparison& m) { return m.verdict == Verdict::regressed; });
+  return std::any_of(metrics.begin(), metrics.end(), [](const MetricComparison& m) { return m.verdict == ChangeVerdict::regressed; });
 }
 
 namespace {
 
-Verdict judge(double base, double next, const Tolerance& tolerance, BetterDirection direction) {
-  if (std::isnan(base) && std::isnan(next)) return Verdict::within;
+ChangeVerdict judge(double base, double next, const Tolerance& tolerance, BetterDirection direction) {
+  if (std::isnan(base) && std::isnan(next)) return ChangeVerdict::within;
   const bool judged = direction == BetterDirection::lower || direction == BetterDirection::higher;
   if (std::isnan(base) != std::isnan(next)) {
-    if (!judged) return Verdict::changed;
-    return std::isnan(next) ? Verdict::regressed : Verdict::improved;  // a result became (un)defined
+    if (!judged) return ChangeVerdict::changed;
+    return std::isnan(next) ? ChangeVerdict::regressed : ChangeVerdict::improved;  // a result became (un)defined
   }
-  if (std::fabs(next - base) <= tolerance.atol + tolerance.rtol * std::fabs(base)) return Verdict::within;
+  if (std::fabs(next - base) <= tolerance.atol + tolerance.rtol * std::fabs(base)) return ChangeVerdict::within;
   switch (direction) {
-    case BetterDirection::lower: return next < base ? Verdict::improved : Verdict::regressed;
-    case BetterDirection::higher: return next > base ? Verdict::improved : Verdict::regressed;
+    case BetterDirection::lower: return next < base ? ChangeVerdict::improved : ChangeVerdict::regressed;
+    case BetterDirection::higher: return next > base ? ChangeVerdict::improved : ChangeVerdict::regressed;
     case BetterDirection::none:
-    case BetterDirection::unknown: return Verdict::changed;
+    case BetterDirection::unknown: return ChangeVerdict::changed;
   }
-  return Verdict::changed;
+  return ChangeVerdict::changed;
 }
 
 }  // namespace
@@ -280,7 +280,7 @@ ComparisonReport compare_results(const std::vector<JobResult>& base, const std::
                                                        : std::copysign(std::numeric_limits<double>::infinity(), difference);
       comparison.verdict = judge(comparison.base, comparison.next, tolerance, direction);
       // Timings vary with the machine: shown when asked, never a regression.
-      if (!is_result && comparison.verdict != Verdict::within) comparison.verdict = Verdict::changed;
+      if (!is_result && comparison.verdict != ChangeVerdict::within) comparison.verdict = ChangeVerdict::changed;
       report.metrics.push_back(comparison);
     }
   }
@@ -289,12 +289,12 @@ ComparisonReport compare_results(const std::vector<JobResult>& base, const std::
 
 namespace {
 
-const char* verdict_word(Verdict verdict) {
+const char* verdict_word(ChangeVerdict verdict) {
   switch (verdict) {
-    case Verdict::within: return "ok";
-    case Verdict::improved: return "improved";
-    case Verdict::regressed: return "REGRESSED";
-    case Verdict::changed: return "changed";
+    case ChangeVerdict::within: return "ok";
+    case ChangeVerdict::improved: return "improved";
+    case ChangeVerdict::regressed: return "REGRESSED";
+    case ChangeVerdict::changed: return "changed";
   }
   return "ok";
 }
@@ -343,9 +343,9 @@ std::string format_comparison(const ComparisonReport& report, bool json, bool sh
   int improved = 0;
   int changed = 0;
   for (const MetricComparison& m : report.metrics) {
-    regressed += m.verdict == Verdict::regressed;
-    improved += m.verdict == Verdict::improved;
-    changed += m.verdict == Verdict::changed;
+    regressed += m.verdict == ChangeVerdict::regressed;
+    improved += m.verdict == ChangeVerdict::improved;
+    changed += m.verdict == ChangeVerdict::changed;
   }
   out << "Compared " << report.jobs_paired << " jobs";
   if (!report.pair_by.empty()) {
@@ -359,7 +359,7 @@ std::string format_comparison(const ComparisonReport& report, bool json, bool sh
   if (any_outside || show_all) {
     out << "| job | metric | base | new | change | better | verdict |\n|---|---|---|---|---|---|---|\n";
     for (const MetricComparison& m : report.metrics) {
-      if (!show_all && m.verdict == Verdict::within) continue;
+      if (!show_all && m.verdict == ChangeVerdict::within) continue;
       out << "| " << m.key.substr(0, 12) << " | " << make_metric_label(m.metric) << " | " << format_table_number(m.base, 6)
           << " | " << format_table_number(m.next, 6) << " | " << format_percent(m.relative_change) << " | "
           << (m.is_result ? std::string(to_string(m.direction)) : std::string(to_string(m.direction)) + " (timing)")

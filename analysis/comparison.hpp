@@ -39,7 +39,7 @@ struct ToleranceTable {
 ToleranceTable parse_tolerances(const std::string& text, const std::string& source, const Tolerance& defaults);
 
 /// changed: outside tolerance, but metric_info gives no better direction (none or unknown).
-enum class Verdict { within, improved, regressed, changed };
+enum class ChangeVerdict { within, improved, regressed, changed };
 
 struct MetricComparison {
   std::string key;       ///< the base job's
@@ -50,7 +50,7 @@ struct MetricComparison {
   double relative_change = 0.0;  ///< (next − base)/|base|; ±inf when base is 0 and next is not
   BetterDirection direction = BetterDirection::unknown;
   bool is_result = true;  ///< false for timing and diagnostic metrics (compared only when asked)
-  Verdict verdict = Verdict::within;
+  ChangeVerdict verdict = ChangeVerdict::within;
 };
 
 struct StatusChange {

@@ -595,11 +595,9 @@ class SpecParser {
   // (the checkpoints up to the step's rung) or the length key of a rung's job (learning.epochs,
   // trajectory.reaching.reaches: the rung's checkpoint). Such an axis would give two values to
   // one key, so it is refused rather than given a meaning.
-  bool check_not_set_by_rungs(const std::string& path, const std::string& where, const std::vector<PathSegment>& segments,
+  bool check_not_set_by_rungs(const std::string& path, const std::string& where, const ConfigPath& segments,
                               const SpecSearch& result) {
-    const auto overlaps = [&](const std::vector<PathSegment>& set) {
-      return !set.empty() && (is_prefix_path(set, segments) || is_prefix_path(segments, set));
-    };
+    const auto overlaps = [&](const ConfigPath& set) { return !set.empty() && set.overlaps(segments); };
     if (overlaps(result.length_segments)) {
       error(where, "'" + path + "' is set by the search: a step to a rung runs " + result.length_path +
                        " up to that rung's checkpoint (learning.heldout_checkpoints are the rungs), so it cannot be an axis too");

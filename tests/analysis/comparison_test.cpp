@@ -38,12 +38,12 @@ TEST(Comparison, DirectionDecidesBetweenImprovementAndRegression) {
   ToleranceTable tolerances;
   tolerances.defaults.rtol = 0.05;
   const auto improved = compare_results(base, better, tolerances, {}, make_info());
-  EXPECT_EQ(find(improved, "tracking_nmse").verdict, Verdict::improved);
-  EXPECT_EQ(find(improved, "ff_fb_ratio_avg").verdict, Verdict::improved);
+  EXPECT_EQ(find(improved, "tracking_nmse").verdict, ChangeVerdict::improved);
+  EXPECT_EQ(find(improved, "ff_fb_ratio_avg").verdict, ChangeVerdict::improved);
   EXPECT_FALSE(improved.regressed());
   const auto regressed = compare_results(base, worse, tolerances, {}, make_info());
-  EXPECT_EQ(find(regressed, "tracking_nmse").verdict, Verdict::regressed);
-  EXPECT_EQ(find(regressed, "ff_fb_ratio_avg").verdict, Verdict::regressed);
+  EXPECT_EQ(find(regressed, "tracking_nmse").verdict, ChangeVerdict::regressed);
+  EXPECT_EQ(find(regressed, "ff_fb_ratio_avg").verdict, ChangeVerdict::regressed);
   EXPECT_NEAR(find(regressed, "tracking_nmse").relative_change, 0.2, 1e-12);
   EXPECT_TRUE(regressed.regressed());
   tolerances.defaults.rtol = 0.5;  // wide enough: within tolerance
@@ -78,7 +78,7 @@ TEST(Comparison, TolerancesFilePerMetricAndJoint) {
   EXPECT_TRUE(compare_results(base, next, table, {}, make_info()).metrics.empty());  // timing: left out
   const auto shown = compare_results(base, next, table, {}, make_info(), true);     // --timing: shown, not gating
   ASSERT_EQ(shown.metrics.size(), 1u);
-  EXPECT_EQ(shown.metrics[0].verdict, Verdict::changed);
+  EXPECT_EQ(shown.metrics[0].verdict, ChangeVerdict::changed);
   EXPECT_FALSE(shown.regressed());
   try {
     parse_tolerances(R"({"metrics": {"tracking_nmse": {"rtol": "wide"}}})", "tol.json", Tolerance{});
@@ -96,8 +96,8 @@ TEST(Comparison, TripledTorqueSaturationIsARegressionAndNoDirectionIsReportedAsS
   const std::vector<JobResult> next = {
       make_job("a", {{{"torque_saturation_fraction", 2}, 0.03}, {{"n_receptive_fields", {}}, 140}})};
   const auto report = compare_results(base, next, ToleranceTable{}, {}, make_info());
-  EXPECT_EQ(find(report, "torque_saturation_fraction").verdict, Verdict::regressed);
-  EXPECT_EQ(find(report, "n_receptive_fields").verdict, Verdict::changed);
+  EXPECT_EQ(find(report, "torque_saturation_fraction").verdict, ChangeVerdict::regressed);
+  EXPECT_EQ(find(report, "n_receptive_fields").verdict, ChangeVerdict::changed);
   EXPECT_EQ(find(report, "n_receptive_fields").direction, BetterDirection::none);
   EXPECT_TRUE(report.regressed());
   EXPECT_NE(format_comparison(report, false, false).find("| none | changed |"), std::string::npos);
@@ -193,7 +193,7 @@ TEST(ComparisonPairing, JobsThatDifferOnlyInWhatTheyRecordPair) {
   ASSERT_EQ(report.metrics.size(), 2u);
   EXPECT_EQ(report.metrics[1].key, "a2");
   EXPECT_EQ(report.metrics[1].next_key, "b2");
-  EXPECT_EQ(report.metrics[1].verdict, Verdict::regressed);  // 0.02 -> 0.03, lower is better
+  EXPECT_EQ(report.metrics[1].verdict, ChangeVerdict::regressed);  // 0.02 -> 0.03, lower is better
   // A computed difference (the learning mode) still keeps them apart.
   const std::vector<JobResult> batch = {make_job("c1", 0.2, "batch", 0, 0.01)};
   const ComparisonReport apart = compare_results(base, batch, {}, {}, make_info());
