@@ -209,13 +209,16 @@ class OnGeneratedDatabases(unittest.TestCase):
         thesis = self.write_thesis_file("generated")
         times = os.path.join(self.directory, "times.txt")
         with open(times, "w") as out:
-            out.write("spec=generated rc=0 wall=0:01.00 user_s=1.50 sys_s=0.25 load_start=2.00 load_end=3.00\n")
+            out.write("spec=generated rc=0 wall=0:01.00 user_s=1.50 sys_s=0.25 load_start=2.00 load_end=3.00\n"
+                      "spec=other rc=0 user_s=9 sys_s=9 load_start=9 load_end=9\n"
+                      "spec=generated rc=0 wall=0:01.00 user_s=0.75 sys_s=0.50 load_start=4.50 load_end=1.50\n")
         code, out, err = run_tool("thesis_tables.py", "--armfarm", ARMFARM, "--thesis", thesis, "--times", times, database.path)
         self.assertEqual(code, 0, err)
         self.assertIn("| Joint 1 | nMSE | 3 | 2 [-0.4841, 4.484] (3) | matches |", out)
         self.assertRegex(out, r"\| Joint 2 \| nMSE \| 10 \| 6 \[3\.516, 8\.484\] \(3\) \| same direction \(.*3 of 3 seeds.*\) \|")
         self.assertIn("| All | test | 5 | 1 [0.7516, 1.248] (3) | differs |", out)
-        self.assertRegex(out, r"\| `generated` \| 3 / 3 \| 3 \| 0 min \d\d s \| 0 min 02 s \| 2\.00 → 3\.00 \|")
+        # Two runs in the log: CPU 1.5 + 0.25 + 0.75 + 0.5 = 3 s, loads 1.5 to 4.5.
+        self.assertRegex(out, r"\| `generated` \| 3 / 3 \| 3 \| 0 min \d\d s \| 0 min 03 s \(2 runs\) \| 1\.5–4\.5 \|")
         self.assertIn("holds on 2 of 3 compared cells (1 matches, 1 same direction); does not hold on All test: thesis 5, "
                       "armfarm 1 [0.752, 1.25] (3).", out)
         self.assertIn("1 matches, 1 same direction, 1 differs, 0 one seed, 0 not compared.", out)
