@@ -188,7 +188,9 @@ def render(per_database, specs, times):
         if not compared_count(table):
             continue
         spec_walls = [duration(specs[s.split('.')[0]]["wall"]) for s in table.get("sweeps", []) if s.split(".")[0] in specs]
-        lines += [f"#### {title(table)}: {table.get('caption', '')}", "",
+        caption = table.get("caption", "")
+        heading = caption if caption.startswith(title(table)) else f"{title(table)}: {caption}"
+        lines += [f"#### {heading}", "",
                   f"armfarm: sweep {', '.join(table.get('sweeps', []))} (`{os.path.basename(database)}`, wall time "
                   f"{', '.join(spec_walls) or 'unknown'}), mean [95 % Student-t interval] (n seeds) over done jobs; "
                   "verdicts by the rule under \"Verdicts\"", "",
@@ -198,7 +200,7 @@ def render(per_database, specs, times):
             key = cell.get("verdict") or "not compared"
             counts[key] = counts.get(key, 0) + 1
         lines.append("")
-        paragraph = sentence(table)
+        paragraph = sentence(table, numbers=False)
         if paragraph:
             sentences.append(paragraph)
     lines += ["#### Holds? (from the verdicts)", ""]
