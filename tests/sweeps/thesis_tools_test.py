@@ -26,7 +26,6 @@ sys.path.insert(0, TOOLS)
 
 import ff_fb_indicator  # noqa: E402
 import holds_sentences  # noqa: E402
-import ik_noise_verdict  # noqa: E402
 import seed_statistics  # noqa: E402
 
 ARMFARM = os.environ.get("ARMFARM", "")
@@ -62,6 +61,10 @@ class GeneratedDatabase:
                                 (job, name, joint, checkpoint))
         self.connection.execute("INSERT INTO metrics (job_id, name, joint, checkpoint, value) VALUES (?, ?, ?, ?, ?)",
                                 (job, name, joint, checkpoint, float(value)))
+
+    def set_params(self, job, params):
+        """The job's swept values as `params` (what a spec of those axes would have stored)."""
+        self.connection.execute("UPDATE sweep_jobs SET params = ? WHERE job_id = ?", (json.dumps(params), job))
 
     def commit(self):
         self.connection.commit()
@@ -173,6 +176,46 @@ class OnGeneratedDatabases(unittest.TestCase):
         self.assertIn("**moves toward, partly** — joints moving toward table 6.1: 1 of", verdicts[1])
         self.assertIn("**does not move toward** — joints moving toward table 6.1: none", verdicts[2])
         self.assertIn("gap widens: no", verdicts[2])
+
+    def test_interference_verdict_pairs_before_and_after_by_seed(self):
+        database = GeneratedDatabase(self.directory, "interference", {"repeat": 6})
+        # Seeds 0-2 score A before B (train_a's model), seeds 3-5 stand for the after jobs of
+        # seeds 0-2 (train_b's model). Ratios 1.05, 1.05, 1.2: seed 2 is 20 % worse, so the rule
+        # (at most 10 % worse in every seed) does not hold; mean 1.1.
+        before, after = [0.1, 0.2, 0.3], [0.105, 0.21, 0.36]
+        for index, (job, _, _) in enumerate(database.jobs()):
+            seed, stage = index % 3, ("train_a" if index < 3 else "train_b")
+            database.connection.execute("UPDATE jobs SET seed = ? WHERE id = ?", (seed, job))
+            database.set_params(job, {"seed": seed, "learning.initial_model": {"sweep": "interference." + stage, "params": {"seed": seed}}})
+            database.set_metric(job, "heldout_test_nmse", None, (before if index < 3 else after)[seed])
+        database.commit()
+        code, out, err = run_tool("interference_verdict.py", database.path, "--sweep", "interference")
+        self.assertEqual(code, 0, err)
+        self.assertIn("| after / before | 1.050 | 1.050 | 1.200 |", out)
+        self.assertIn("mean 1.100", out)
+        self.assertIn("**does not hold** (seeds 2 above)", out)
+        code, out, err = run_tool("interference_verdict.py", database.path, "--sweep", "interference", "--tolerance", "0.25")
+        self.assertEqual(code, 0, err)
+        self.assertIn("**holds**.", out)
+
+    def test_realtime_verdict_per_number_of_joints(self):
+        database = GeneratedDatabase(self.directory, "realtime", {"repeat": 4})
+        # 1 joint: 2.0 and 1.5 simulated seconds per wall second, both >= 1: holds; mean 1.75,
+        # s = 0.35355, half width 12.706 * 0.35355 / sqrt(2) = 3.177: [-1.43, 4.93]. 2 joints: 1.2
+        # and 0.9, one below real time: does not hold.
+        speeds = {1: [2.0, 1.5], 2: [1.2, 0.9]}
+        for index, (job, _, _) in enumerate(database.jobs()):
+            joints, seed = 1 + index // 2, index % 2
+            database.connection.execute("UPDATE jobs SET seed = ? WHERE id = ?", (seed, job))
+            database.set_params(job, {"active_joints": list(range(1, joints + 1)), "learning.lwpr.init_D": 0.05, "seed": seed})
+            database.set_metric(job, "sim_seconds_per_wall_second", None, speeds[joints][seed])
+            database.set_metric(job, "learner_us_per_update", None, 10.0 * joints)
+            database.set_metric(job, "n_receptive_fields", None, 3.0 * joints)
+        database.commit()
+        code, out, err = run_tool("realtime_verdict.py", database.path, "--sweep", "realtime")
+        self.assertEqual(code, 0, err)
+        self.assertIn("| 1 | 3 [3, 3] (2) | 10 [10, 10] (2) | 1.75 [-1.43, 4.93] (2) | holds |", out)
+        self.assertIn("| 2 | 6 [6, 6] (2) | 20 [20, 20] (2) | 1.05 [-0.856, 2.96] (2) | does not hold |", out)
 
     def write_thesis_file(self, sweep):
         path = os.path.join(self.directory, "thesis.json")
