@@ -24,7 +24,7 @@ import os
 import sqlite3
 import sys
 
-from seed_statistics import holds_in_seeds, mean_interval
+from seed_statistics import format_mean_interval, holds_in_seeds, mean_interval
 
 WEAK = (1, 5, 6)
 MAJOR = (2, 3, 4)
@@ -87,13 +87,6 @@ def judge(ratios, thesis):
     return results
 
 
-def format_interval(values):
-    mean, low, high = mean_interval(values)
-    if low is None:
-        return f"{mean:.3f} ({len(values)})"
-    return f"{mean:.3f} [{low:.3f}, {high:.3f}] ({len(values)})"
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("database")
@@ -108,9 +101,9 @@ def main():
     print("|---|" + "---|" * (len(joints) + 1))
     for sigma in sorted(ratios):
         by_seed = ratios[sigma]
-        cells = [format_interval([v[j] for v in by_seed.values() if j in v]) for j in joints]
+        cells = [format_mean_interval([v[j] for v in by_seed.values() if j in v]) for j in joints]
         gaps = [gap(v) for v in by_seed.values() if all(j in v for j in WEAK + MAJOR)]
-        print(f"| {sigma * 1000:g} | " + " | ".join(cells) + f" | {format_interval(gaps) if gaps else '—'} |")
+        print(f"| {sigma * 1000:g} | " + " | ".join(cells) + f" | {format_mean_interval(gaps) if gaps else '—'} |")
     print("| thesis (table 6.1) | " + " | ".join(f"{thesis[j]:.3f}" if j in thesis else "—" for j in joints)
           + f" | {gap(thesis):.3f} |")
     print()

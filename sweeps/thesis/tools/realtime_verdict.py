@@ -15,7 +15,7 @@ import json
 import sqlite3
 import sys
 
-from seed_statistics import mean_interval
+from seed_statistics import format_mean_interval
 
 METRICS = ("n_receptive_fields", "learner_us_per_update", "sim_seconds_per_wall_second")
 
@@ -40,13 +40,6 @@ def read_jobs(path, sweep):
     return jobs
 
 
-def cell(values, digits):
-    mean, low, high = mean_interval(values)
-    if low is None:
-        return f"{mean:.{digits}g} ({len(values)})"
-    return f"{mean:.{digits}g} [{low:.{digits}g}, {high:.{digits}g}] ({len(values)})"
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("database")
@@ -65,7 +58,7 @@ def main():
             by_seed = jobs.get((joints, width), {})
             for metric, digits in zip(METRICS, (4, 3, 3)):
                 values = [m[metric] for m in by_seed.values() if metric in m]
-                cells.append(cell(values, digits) if values else "—")
+                cells.append(format_mean_interval(values, f".{digits}g") if values else "—")
             speeds = [m["sim_seconds_per_wall_second"] for m in by_seed.values() if "sim_seconds_per_wall_second" in m]
             real_time = real_time and bool(speeds) and min(speeds) >= 1.0
         print(f"| {joints} | " + " | ".join(cells) + f" | {'holds' if real_time else 'does not hold'} |")

@@ -65,6 +65,14 @@ def mean_interval(values):
     return mean, mean - half, mean + half
 
 
+def format_mean_interval(values, spec=".3f"):
+    """'mean [low, high] (n)' (or 'mean (1)'), each number formatted by `spec`."""
+    mean, low, high = mean_interval(values)
+    if low is None:
+        return f"{mean:{spec}} ({len(values)})"
+    return f"{mean:{spec}} [{low:{spec}}, {high:{spec}}] ({len(values)})"
+
+
 def sign_test_p(k, n):
     """One-sided P(X >= k) for X ~ Binomial(n, 1/2)."""
     return sum(math.comb(n, i) for i in range(k, n + 1)) / 2.0 ** n
