@@ -89,18 +89,25 @@ void check_param_known(const SweepData& data, const std::string& path, const std
 
 }  // namespace
 
-Table make_table(const SweepData& data, const TableSpec& spec) {
-  Table table;
-  table.title = spec.title;
-  const bool joint_rows = std::find(spec.rows.begin(), spec.rows.end(), "joint") != spec.rows.end();
-  const bool checkpoint_rows = std::find(spec.rows.begin(), spec.rows.end(), "checkpoint") != spec.rows.end();
-  auto is_dimension = [](const std::string& row) { return row == "joint" || row == "checkpoint"; };
+namespace {
 
+bool is_dimension(const std::string& row) { return row == "joint" || row == "checkpoint"; }
+
+bool has_row(const TableSpec& spec, const std::string& row) {
+  return std::find(spec.rows.begin(), spec.rows.end(), row) != spec.rows.end();
+}
+
+bool is_joint_wanted(const TableSpec& spec, int joint) {
+  return spec.joints.empty() || std::find(spec.joints.begin(), spec.joints.end(), joint) != spec.joints.end();
+}
+
+/// The --where and --rows parameters name something in the sweep; checkpoint rows need checkpoints.
+void check_table_rows(const SweepData& data, const TableSpec& spec) {
   for (const auto& [path, wanted] : spec.where) check_param_known(data, path, "--where");
   for (const std::string& row : spec.rows) {
     if (!is_dimension(row)) check_param_known(data, row, "--rows");
   }
-  if (checkpoint_rows) {
+  if (has_row(spec, "checkpoint")) {
     const bool any_checkpoint = std::any_of(data.jobs.begin(), data.jobs.end(), [](const JobResult& job) {
       return std::any_of(job.metrics.begin(), job.metrics.end(), [](const auto& item) { return item.first.checkpoint.has_value(); });
     });
@@ -109,9 +116,10 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
                           "set learning.heldout_checkpoints to evaluate held-out checkpoints");
     }
   }
-  table.row_headers = spec.rows;
+}
 
-  // Jobs kept by --where.
+/// Jobs kept by --where.
+std::vector<const JobResult*> select_table_jobs(const SweepData& data, const TableSpec& spec) {
   std::vector<const JobResult*> jobs;
   for (const JobResult& job : data.jobs) {
     bool keep = true;
@@ -120,89 +128,125 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
     }
     if (keep) jobs.push_back(&job);
   }
+  return jobs;
+}
 
-  // Which metric ids exist: decide per metric between job-level and per-joint columns.
-  std::map<std::string, std::set<std::optional<int>>> ids_by_name;
+/// Which metric ids the kept jobs have, per name: their joints (none: job level) and checkpoints.
+struct MetricShapes {
+  std::map<std::string, std::set<std::optional<int>>> joints_by_name;
   std::map<std::string, std::set<std::int64_t>> checkpoints_by_name;
+};
+
+MetricShapes find_metric_shapes(const std::vector<const JobResult*>& jobs) {
+  MetricShapes shapes;
   for (const JobResult* job : jobs) {
     for (const auto& [id, value] : job->metrics) {
-      ids_by_name[id.name].insert(id.joint);
-      if (id.checkpoint) checkpoints_by_name[id.name].insert(*id.checkpoint);
+      shapes.joints_by_name[id.name].insert(id.joint);
+      if (id.checkpoint) shapes.checkpoints_by_name[id.name].insert(*id.checkpoint);
     }
   }
+  return shapes;
+}
+
+/// Every metric name of the sweep, in order of first appearance.
+std::vector<std::string> list_metric_names(const SweepData& data) {
   std::vector<std::string> all_names;
   for (const JobResult& job : data.jobs) {
     for (const auto& [id, value] : job.metrics) {
       if (std::find(all_names.begin(), all_names.end(), id.name) == all_names.end()) all_names.push_back(id.name);
     }
   }
-  auto joint_wanted = [&](int joint) {
-    return spec.joints.empty() || std::find(spec.joints.begin(), spec.joints.end(), joint) != spec.joints.end();
-  };
+  return all_names;
+}
+
+/// The columns of metric `name`: one per checkpoint (unless checkpoints are rows), each
+/// job-level, from the row's joint, or one per wanted joint.
+void add_metric_columns(const TableSpec& spec, const std::string& name, const std::set<std::optional<int>>& joints,
+                        const std::set<std::int64_t>* checkpoints, Table& table) {
+  const bool joint_rows = has_row(spec, "joint");
+  const bool checkpoint_rows = has_row(spec, "checkpoint");
+  const bool has_job_level = joints.count(std::nullopt) > 0;
+  const bool has_joints = joints.size() > (has_job_level ? 1u : 0u);
+  // The checkpoint dimension: from the row, one column per checkpoint, or none.
+  std::vector<std::optional<std::int64_t>> checkpoint_columns{std::nullopt};
+  const bool checkpointed = checkpoints != nullptr;
+  if (checkpointed && !checkpoint_rows) checkpoint_columns = decltype(checkpoint_columns)(checkpoints->begin(), checkpoints->end());
+  for (const std::optional<std::int64_t>& checkpoint : checkpoint_columns) {
+    TableColumn column;
+    column.metric = MetricId{name, std::nullopt, checkpoint};
+    column.checkpoint_from_row = checkpoint_rows && checkpointed;
+    column.unchecked_on_checkpoint_rows = checkpoint_rows && !checkpointed;
+    if (joint_rows) {
+      column.joint_from_row = has_joints;
+      column.job_level_on_joint_rows = !has_joints;
+      column.header = make_metric_label(column.metric);
+      table.columns.push_back(column);
+    } else if (has_job_level) {
+      column.header = make_metric_label(column.metric);
+      table.columns.push_back(column);
+    } else {
+      for (const std::optional<int>& joint : joints) {
+        if (joint && is_joint_wanted(spec, *joint)) {
+          column.metric.joint = joint;
+          column.header = make_metric_label(column.metric);
+          table.columns.push_back(column);
+        }
+      }
+    }
+  }
+}
+
+/// The columns of every --cols metric the kept jobs have; a name the sweep lacks is refused.
+void add_table_columns(const SweepData& data, const TableSpec& spec, const std::vector<const JobResult*>& jobs,
+                       Table& table) {
+  const MetricShapes shapes = find_metric_shapes(jobs);
+  const std::vector<std::string> all_names = list_metric_names(data);
   for (const std::string& name : spec.metrics) {
-    auto found = ids_by_name.find(name);
-    if (found == ids_by_name.end()) {
+    auto found = shapes.joints_by_name.find(name);
+    if (found == shapes.joints_by_name.end()) {
       if (std::find(all_names.begin(), all_names.end(), name) == all_names.end()) {
         throw AnalysisError("sweep '" + data.name + "': --cols: no metric '" + name + "'" + make_suggestion(name, all_names));
       }
       continue;  // present, but not in the jobs --where kept
     }
-    const bool has_job_level = found->second.count(std::nullopt) > 0;
-    const bool has_joints = found->second.size() > (has_job_level ? 1u : 0u);
-    // The checkpoint dimension: from the row, one column per checkpoint, or none.
-    std::vector<std::optional<std::int64_t>> checkpoint_columns{std::nullopt};
-    const auto checkpoints = checkpoints_by_name.find(name);
-    const bool checkpointed = checkpoints != checkpoints_by_name.end();
-    if (checkpointed && !checkpoint_rows) checkpoint_columns = decltype(checkpoint_columns)(checkpoints->second.begin(), checkpoints->second.end());
-    for (const std::optional<std::int64_t>& checkpoint : checkpoint_columns) {
-      TableColumn column;
-      column.metric = MetricId{name, std::nullopt, checkpoint};
-      column.checkpoint_from_row = checkpoint_rows && checkpointed;
-      column.unchecked_on_checkpoint_rows = checkpoint_rows && !checkpointed;
-      if (joint_rows) {
-        column.joint_from_row = has_joints;
-        column.job_level_on_joint_rows = !has_joints;
-        column.header = make_metric_label(column.metric);
-        table.columns.push_back(column);
-      } else if (has_job_level) {
-        column.header = make_metric_label(column.metric);
-        table.columns.push_back(column);
-      } else {
-        for (const std::optional<int>& joint : found->second) {
-          if (joint && joint_wanted(*joint)) {
-            column.metric.joint = joint;
-            column.header = make_metric_label(column.metric);
-            table.columns.push_back(column);
-          }
-        }
-      }
-    }
+    const auto checkpoints = shapes.checkpoints_by_name.find(name);
+    add_metric_columns(spec, name, found->second,
+                       checkpoints == shapes.checkpoints_by_name.end() ? nullptr : &checkpoints->second, table);
   }
+}
 
-  // Group jobs by their row labels, in expansion order.
-  std::vector<std::vector<std::string>> group_labels;
-  std::vector<std::vector<const JobResult*>> group_jobs;
+/// Jobs grouped by their row labels (the swept parameters of --rows), in expansion order.
+struct RowGroups {
+  std::vector<std::vector<std::string>> labels;
+  std::vector<std::vector<const JobResult*>> jobs;
+};
+
+RowGroups group_jobs_by_row(const TableSpec& spec, const std::vector<const JobResult*>& jobs) {
+  RowGroups groups;
   for (const JobResult* job : jobs) {
     std::vector<std::string> labels;
     for (const std::string& row : spec.rows) {
       if (!is_dimension(row)) labels.push_back(format_param_value(find_param_value(*job, row)));
     }
-    auto it = std::find(group_labels.begin(), group_labels.end(), labels);
-    if (it == group_labels.end()) {
-      group_labels.push_back(labels);
-      group_jobs.push_back({job});
+    auto it = std::find(groups.labels.begin(), groups.labels.end(), labels);
+    if (it == groups.labels.end()) {
+      groups.labels.push_back(labels);
+      groups.jobs.push_back({job});
     } else {
-      group_jobs[static_cast<std::size_t>(it - group_labels.begin())].push_back(job);
+      groups.jobs[static_cast<std::size_t>(it - groups.labels.begin())].push_back(job);
     }
   }
+  return groups;
+}
 
-  // A row aggregates repeats: its jobs may differ in their seed only.
-  for (std::size_t g = 0; g < group_jobs.size(); ++g) {
+/// A row aggregates repeats: its jobs may differ in their seed only.
+void check_rows_pool_seeds_only(const SweepData& data, const TableSpec& spec, const RowGroups& groups) {
+  for (std::size_t g = 0; g < groups.jobs.size(); ++g) {
     std::vector<std::string> differing;
     for (const std::string& path : data.varying_params) {
-      if (path == "seed" || std::find(spec.rows.begin(), spec.rows.end(), path) != spec.rows.end()) continue;
-      const nlohmann::json first = find_param_value(*group_jobs[g].front(), path);
-      for (const JobResult* job : group_jobs[g]) {
+      if (path == "seed" || has_row(spec, path)) continue;
+      const nlohmann::json first = find_param_value(*groups.jobs[g].front(), path);
+      for (const JobResult* job : groups.jobs[g]) {
         if (find_param_value(*job, path) != first) {
           differing.push_back(path);
           break;
@@ -212,96 +256,115 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
     if (!differing.empty()) {
       std::string names, row;
       for (const std::string& path : differing) names += (names.empty() ? "" : ", ") + path;
-      for (const std::string& label : group_labels[g]) row += (row.empty() ? "" : ", ") + label;
+      for (const std::string& label : groups.labels[g]) row += (row.empty() ? "" : ", ") + label;
       throw AnalysisError("sweep '" + data.name + "': the row" + (row.empty() ? "" : " (" + row + ")") +
                           " would pool jobs that differ in " + names +
                           ", not only in their seed; add them to --rows or choose with --where");
     }
   }
+}
 
-  auto add_footnote = [&](const std::string& text) {
-    auto it = std::find(table.footnotes.begin(), table.footnotes.end(), text);
-    if (it != table.footnotes.end()) return static_cast<int>(it - table.footnotes.begin()) + 1;
-    table.footnotes.push_back(text);
-    return static_cast<int>(table.footnotes.size());
-  };
+/// The 1-based number of footnote `text`, added when new.
+int add_footnote(Table& table, const std::string& text) {
+  auto it = std::find(table.footnotes.begin(), table.footnotes.end(), text);
+  if (it != table.footnotes.end()) return static_cast<int>(it - table.footnotes.begin()) + 1;
+  table.footnotes.push_back(text);
+  return static_cast<int>(table.footnotes.size());
+}
 
-  auto make_row = [&](const std::vector<std::string>& labels, const std::vector<const JobResult*>& members,
-                      std::optional<int> joint, std::optional<std::int64_t> checkpoint) {
-    TableRow row;
-    row.joint = joint;
-    row.checkpoint = checkpoint;
-    std::size_t label_index = 0;
-    for (const std::string& header : spec.rows) {
-      if (header == "joint") row.labels.push_back(std::to_string(joint.value_or(0)));
-      else if (header == "checkpoint") row.labels.push_back(std::to_string(checkpoint.value_or(0)));
-      else row.labels.push_back(labels[label_index++]);
-    }
-    for (const JobResult* job : members) {
-      if (job->status == "done") ++row.jobs_done;
-      else if (is_finished_badly(job->status)) ++row.jobs_failed;
-      else ++row.jobs_unfinished;
-    }
-    for (const TableColumn& column : table.columns) {
-      MetricId id = column.metric;
-      if (column.joint_from_row) id.joint = joint;
-      if (column.checkpoint_from_row) id.checkpoint = checkpoint;
-      const bool not_shown = column.job_level_on_joint_rows || column.unchecked_on_checkpoint_rows;
-      std::vector<double> values;
-      int present = 0, undefined = 0;
-      std::string undefined_reason, partial_note;
-      for (const JobResult* job : members) {
-        if (job->status != "done" || not_shown) continue;
-        auto found = job->metrics.find(id);
-        if (found == job->metrics.end()) continue;
-        ++present;
-        auto reason = job->reasons.find(id);
-        if (std::isfinite(found->second)) {
-          values.push_back(found->second);
-          // A job-level mean that left joints out says so: footnote it.
-          bool joint_undefined = false;
-          if (!id.joint) {
-            for (const auto& [other, value] : job->metrics) {
-              if (other.name == id.name && other.checkpoint == id.checkpoint && other.joint && !std::isfinite(value)) {
-                joint_undefined = true;
-              }
-            }
+/// One cell's values over the done jobs of a row, and why some are missing.
+struct CellValues {
+  std::vector<double> values;
+  int present = 0, undefined = 0;
+  std::string undefined_reason, partial_note;
+};
+
+CellValues collect_cell_values(const std::vector<const JobResult*>& members, const MetricId& id) {
+  CellValues cell;
+  for (const JobResult* job : members) {
+    if (job->status != "done") continue;
+    auto found = job->metrics.find(id);
+    if (found == job->metrics.end()) continue;
+    ++cell.present;
+    auto reason = job->reasons.find(id);
+    if (std::isfinite(found->second)) {
+      cell.values.push_back(found->second);
+      // A job-level mean that left joints out says so: footnote it.
+      bool joint_undefined = false;
+      if (!id.joint) {
+        for (const auto& [other, value] : job->metrics) {
+          if (other.name == id.name && other.checkpoint == id.checkpoint && other.joint && !std::isfinite(value)) {
+            joint_undefined = true;
           }
-          if (joint_undefined && reason != job->reasons.end() && partial_note.empty()) partial_note = reason->second;
-        } else {
-          ++undefined;
-          if (undefined_reason.empty()) undefined_reason = reason != job->reasons.end() ? reason->second : "undefined";
         }
       }
-      row.cells.push_back(calc_summary_statistics(std::move(values)));
-      const std::string where = column.metric.name + (id.joint ? ", joint " + std::to_string(*id.joint) : std::string()) +
-                                (id.checkpoint ? ", checkpoint " + std::to_string(*id.checkpoint) : std::string());
-      int footnote = 0;
-      if (column.job_level_on_joint_rows) {
-        footnote = add_footnote(column.metric.name + ": a job-level metric, no per-joint value");
-      } else if (column.unchecked_on_checkpoint_rows) {
-        footnote = add_footnote(column.metric.name + ": a training-run metric, not evaluated per checkpoint");
-      } else if (undefined > 0) {
-        footnote = add_footnote(where + ": undefined in " + std::to_string(undefined) + " of " + std::to_string(present) +
-                                " jobs: " + undefined_reason);
-      } else if (!partial_note.empty()) {
-        footnote = add_footnote(where + ": " + partial_note);
-      }
-      row.footnotes.push_back(footnote);
+      if (joint_undefined && reason != job->reasons.end() && cell.partial_note.empty()) cell.partial_note = reason->second;
+    } else {
+      ++cell.undefined;
+      if (cell.undefined_reason.empty()) cell.undefined_reason = reason != job->reasons.end() ? reason->second : "undefined";
     }
-    return row;
-  };
+  }
+  return cell;
+}
 
-  // Each group expands over its joints and checkpoints, nested in the order of spec.rows.
+/// The footnote of a cell (0: none): a column not shown on such rows, undefined or partial values.
+int choose_cell_footnote(Table& table, const TableColumn& column, const MetricId& id, const CellValues& cell) {
+  const std::string where = column.metric.name + (id.joint ? ", joint " + std::to_string(*id.joint) : std::string()) +
+                            (id.checkpoint ? ", checkpoint " + std::to_string(*id.checkpoint) : std::string());
+  if (column.job_level_on_joint_rows) return add_footnote(table, column.metric.name + ": a job-level metric, no per-joint value");
+  if (column.unchecked_on_checkpoint_rows) {
+    return add_footnote(table, column.metric.name + ": a training-run metric, not evaluated per checkpoint");
+  }
+  if (cell.undefined > 0) {
+    return add_footnote(table, where + ": undefined in " + std::to_string(cell.undefined) + " of " +
+                                   std::to_string(cell.present) + " jobs: " + cell.undefined_reason);
+  }
+  if (!cell.partial_note.empty()) return add_footnote(table, where + ": " + cell.partial_note);
+  return 0;
+}
+
+/// One row: the group's labels (and its joint and checkpoint), its job counts and a cell per column.
+TableRow make_row(const TableSpec& spec, const std::vector<std::string>& labels, const std::vector<const JobResult*>& members,
+                  std::optional<int> joint, std::optional<std::int64_t> checkpoint, Table& table) {
+  TableRow row;
+  row.joint = joint;
+  row.checkpoint = checkpoint;
+  std::size_t label_index = 0;
+  for (const std::string& header : spec.rows) {
+    if (header == "joint") row.labels.push_back(std::to_string(joint.value_or(0)));
+    else if (header == "checkpoint") row.labels.push_back(std::to_string(checkpoint.value_or(0)));
+    else row.labels.push_back(labels[label_index++]);
+  }
+  for (const JobResult* job : members) {
+    if (job->status == "done") ++row.jobs_done;
+    else if (is_finished_badly(job->status)) ++row.jobs_failed;
+    else ++row.jobs_unfinished;
+  }
+  for (const TableColumn& column : table.columns) {
+    MetricId id = column.metric;
+    if (column.joint_from_row) id.joint = joint;
+    if (column.checkpoint_from_row) id.checkpoint = checkpoint;
+    const bool not_shown = column.job_level_on_joint_rows || column.unchecked_on_checkpoint_rows;
+    CellValues cell = not_shown ? CellValues{} : collect_cell_values(members, id);
+    row.cells.push_back(calc_summary_statistics(std::move(cell.values)));
+    row.footnotes.push_back(choose_cell_footnote(table, column, id, cell));
+  }
+  return row;
+}
+
+/// Each group expands over its joints and checkpoints, nested in the order of spec.rows.
+void add_table_rows(const TableSpec& spec, const RowGroups& groups, Table& table) {
+  const bool joint_rows = has_row(spec, "joint");
+  const bool checkpoint_rows = has_row(spec, "checkpoint");
   const auto joint_at = std::find(spec.rows.begin(), spec.rows.end(), "joint");
   const auto checkpoint_at = std::find(spec.rows.begin(), spec.rows.end(), "checkpoint");
   const bool joint_outer = joint_at < checkpoint_at;
-  for (std::size_t g = 0; g < group_labels.size(); ++g) {
+  for (std::size_t g = 0; g < groups.labels.size(); ++g) {
     std::set<std::optional<int>> group_joints;
     std::set<std::optional<std::int64_t>> group_checkpoints;
-    for (const JobResult* job : group_jobs[g]) {
+    for (const JobResult* job : groups.jobs[g]) {
       for (const auto& [id, value] : job->metrics) {
-        if (id.joint && joint_wanted(*id.joint)) group_joints.insert(id.joint);
+        if (id.joint && is_joint_wanted(spec, *id.joint)) group_joints.insert(id.joint);
         if (id.checkpoint) group_checkpoints.insert(id.checkpoint);
       }
     }
@@ -309,14 +372,28 @@ Table make_table(const SweepData& data, const TableSpec& spec) {
     if (!checkpoint_rows) group_checkpoints = {std::nullopt};
     if (joint_outer) {
       for (const auto& joint : group_joints) {
-        for (const auto& checkpoint : group_checkpoints) table.rows.push_back(make_row(group_labels[g], group_jobs[g], joint, checkpoint));
+        for (const auto& checkpoint : group_checkpoints) table.rows.push_back(make_row(spec, groups.labels[g], groups.jobs[g], joint, checkpoint, table));
       }
     } else {
       for (const auto& checkpoint : group_checkpoints) {
-        for (const auto& joint : group_joints) table.rows.push_back(make_row(group_labels[g], group_jobs[g], joint, checkpoint));
+        for (const auto& joint : group_joints) table.rows.push_back(make_row(spec, groups.labels[g], groups.jobs[g], joint, checkpoint, table));
       }
     }
   }
+}
+
+}  // namespace
+
+Table make_table(const SweepData& data, const TableSpec& spec) {
+  Table table;
+  table.title = spec.title;
+  check_table_rows(data, spec);
+  table.row_headers = spec.rows;
+  const std::vector<const JobResult*> jobs = select_table_jobs(data, spec);
+  add_table_columns(data, spec, jobs, table);
+  const RowGroups groups = group_jobs_by_row(spec, jobs);
+  check_rows_pool_seeds_only(data, spec, groups);
+  add_table_rows(spec, groups, table);
   return table;
 }
 

@@ -23,7 +23,7 @@
 // monitor, the batch shuffle stream), and jobs cannot start from such a state. The rerun is
 // exact for batch jobs: training draws its shuffles in epoch order, so a job cut after epoch e
 // is a prefix of the longer one and scores bit-identically at every checkpoint they share
-// (cmd_run_search_test, APromotedTrialScoresAsAStraightRunToTheLongerBudget). An online reaching
+// (search_runner_test, APromotedTrialScoresAsAStraightRunToTheLongerBudget). An online reaching
 // job cut after k reaches is not a prefix bit for bit: its inputs are normalised by the
 // statistics of its whole (shorter) trajectory, so its rung is a close, not an identical,
 // estimate of the longer job's checkpoint. Online jobs over other trajectories run the whole

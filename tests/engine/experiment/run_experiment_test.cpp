@@ -5,12 +5,18 @@
 #include "engine/experiment/tick_recording.hpp"
 #include "../physics/test_arms.hpp"
 #include "job_metrics.hpp"
+#include "engine/learning/learner_model_file.hpp"
+#include "engine/experiment/job_config_validation.hpp"
 
 #include <gtest/gtest.h>
 
 #include <charconv>
 #include <cstdio>
 #include <map>
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <string>
 
 namespace armfarm {
 namespace {
@@ -287,6 +293,338 @@ TEST(RunExperiment, EveryMetricIsCatalogued) {
     EXPECT_NO_THROW(find_metric_info(metric.name)) << metric.name;
     if (!metric.value) { EXPECT_FALSE(metric.reason.empty()) << metric.name; }
   }
+}
+
+}  // namespace
+}  // namespace armfarm
+
+// ------------------------------------------------------------------------------------------------
+// Folded in from engine/experiment/shared_trajectory_test.cpp:
+// A job run on a trajectory built beforehand (and shared with another job) gives the same
+// outcome, bit for bit, as the job building its own; the trajectory inputs are what decides.
+
+namespace armfarm {
+namespace {
+
+/// A short online reaching job on joints 1, 2, 4 with the held-out evaluation on.
+JobConfig make_reaching_config() {
+  JobConfig config;
+  config.active_joints = {1, 2, 4};
+  config.seed = 3;
+  config.trajectory.kind = TrajectoryKind::reaching;
+  config.trajectory.reaching.reaches = 4;
+  config.trajectory.reaching.points_per_reach = 60;
+  config.learning.mode = LearningMode::online;
+  config.learning.heldout = true;
+  config.learning.heldout_segments = 2;
+  config.recording.series = {"TRIAL", "RF"};
+  return config;
+}
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void expect_identical(const JobOutcome& a, const JobOutcome& b) {
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.message, b.message);
+  EXPECT_TRUE(same_bits(a.end_time, b.end_time));
+  ASSERT_EQ(a.metrics.size(), b.metrics.size());
+  int compared = 0;
+  for (std::size_t i = 0; i < a.metrics.size(); ++i) {
+    const Metric& x = a.metrics[i];
+    const Metric& y = b.metrics[i];
+    ASSERT_EQ(x.name, y.name);
+    EXPECT_EQ(x.joint, y.joint) << x.name;
+    if (find_metric_info(x.name).kind == MetricKind::timing) continue;
+    ASSERT_EQ(x.value.has_value(), y.value.has_value()) << x.name;
+    if (x.value) { EXPECT_TRUE(same_bits(*x.value, *y.value)) << x.name << ": " << *x.value << " vs " << *y.value; }
+    ++compared;
+  }
+  EXPECT_GT(compared, 30);
+  ASSERT_EQ(a.series.size(), b.series.size());
+  for (std::size_t s = 0; s < a.series.size(); ++s) {
+    ASSERT_EQ(a.series[s].rows.rows(), b.series[s].rows.rows()) << a.series[s].name;
+    ASSERT_EQ(a.series[s].rows.cols(), b.series[s].rows.cols()) << a.series[s].name;
+    EXPECT_EQ(std::memcmp(a.series[s].rows.data(), b.series[s].rows.data(), sizeof(double) * a.series[s].rows.size()), 0)
+        << a.series[s].name;
+  }
+}
+
+TEST(SharedTrajectory, JobOnASharedBuildIsBitIdenticalToOneThatBuildsItsOwn) {
+  const ArmModel model = testing::load_lwr3();
+  const JobConfig config = make_reaching_config();
+  // The build comes from another job of the sweep: equal trajectory inputs, other gains and LWPR.
+  JobConfig other = config;
+  other.control.gain_scale = 0.2;
+  other.learning.lwpr.init_D = Eigen::MatrixXd::Constant(1, 1, 2.0);
+  const JobTrajectories shared = build_job_trajectories(model, other);
+  ASSERT_TRUE(shared.heldout.has_value());
+  const JobOutcome rebuilt = run_experiment(model, config);
+  const JobOutcome reused = run_experiment(model, config, shared);
+  ASSERT_EQ(rebuilt.status, JobStatus::done) << rebuilt.message;
+  expect_identical(rebuilt, reused);
+  // Shared read-only: a second job on the same build gives the same again.
+  expect_identical(rebuilt, run_experiment(model, config, shared));
+}
+
+TEST(SharedTrajectory, BuildDependsOnTrajectoryInputsOnly) {
+  const ArmModel model = testing::load_lwr3();
+  const JobConfig config = make_reaching_config();
+  const JobTrajectories base = build_job_trajectories(model, config);
+  JobConfig gains = config;
+  gains.control.gain_scale = 0.3;
+  gains.learning.lwpr.init_D = Eigen::MatrixXd::Constant(1, 1, 0.5);
+  gains.simulation.integrator = IntegratorKind::runge_kutta_merson;
+  EXPECT_FALSE(is_trajectory_input("control.gain_scale"));
+  EXPECT_FALSE(is_trajectory_input("integrator"));
+  EXPECT_EQ(build_job_trajectories(model, gains).training.q, base.training.q);
+  JobConfig seed = config;
+  seed.seed = 4;
+  EXPECT_TRUE(is_trajectory_input("seed"));
+  EXPECT_NE(build_job_trajectories(model, seed).training.q, base.training.q);
+  JobConfig reaches = config;
+  reaches.learning.heldout_segments = 3;
+  EXPECT_TRUE(is_trajectory_input("learning.heldout_segments"));
+  EXPECT_NE(build_job_trajectories(model, reaches).heldout->q.rows(), base.heldout->q.rows());
+  for (const char* path : {"trajectory.kind", "trajectory.reaching.reaches", "dt", "active_joints"}) {
+    EXPECT_TRUE(is_trajectory_input(path)) << path;
+  }
+}
+
+TEST(SharedTrajectory, TrajectoryInputsAreKeys) {
+  // Every input the builder reads outside the trajectory block is a real key (no misspelt name
+  // that would silently leave a field out of the runner's trajectory key).
+  std::set<std::string> inputs;
+  for (const JobConfigKey& key : job_config_keys()) {
+    if (is_trajectory_input(key.path) && key.path.rfind("trajectory.", 0) != 0) inputs.insert(key.path);
+  }
+  EXPECT_EQ(inputs, (std::set<std::string>{"dt", "seed", "active_joints", "armature_scale", "end_effector.link", "end_effector.offset", "learning.mode", "learning.heldout",
+                                           "learning.heldout_amplitude_scale", "learning.heldout_phase_step",
+                                           "learning.heldout_segments", "learning.heldout_recorded_fraction", "start_posture"}));
+}
+
+}  // namespace
+}  // namespace armfarm
+
+// ------------------------------------------------------------------------------------------------
+// Folded in from engine/experiment/ssgpr_job_test.cpp:
+// A job with learning.learner = "ssgpr": every phase (batch training, the same-run and held-out
+// scores, the learner's feed-forward, online learning) drives SSGPR through the Learner
+// interface. Compared against feedback alone on the same plant, so it cannot pass by construction.
+
+namespace armfarm {
+namespace {
+
+using testing::job_metrics;
+
+// Joints 2 and 4 (6 inputs, 2 outputs) on a 6 s sine at low gains.
+JobConfig make_ssgpr_config(LearningMode mode) {
+  JobConfig config;
+  config.active_joints = {2, 4};
+  config.trajectory.kind = TrajectoryKind::sine;
+  config.trajectory.sine.duration = 6.0;
+  config.control.gain_scale = 0.2;
+  config.learning.mode = mode;
+  config.learning.learner = LearnerKind::ssgpr;
+  config.learning.ssgpr.params.features = 60;
+  config.learning.ssgpr.fit_samples = 120;
+  config.learning.ssgpr.fit.iterations = 40;
+  return config;
+}
+
+TEST(SsgprJob, BatchLearnedFeedForwardBeatsLowGainFeedback) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig feedback = make_ssgpr_config(LearningMode::none);
+  feedback.control.mode = ControlMode::feedback;
+  feedback.control.feed_forward = FeedForwardSource::none;
+  const JobConfig learned = make_ssgpr_config(LearningMode::batch);
+  const JobOutcome f_outcome = run_experiment(model, feedback), l_outcome = run_experiment(model, learned);
+  ASSERT_EQ(f_outcome.status, JobStatus::done) << f_outcome.message;
+  ASSERT_EQ(l_outcome.status, JobStatus::done) << l_outcome.message;
+  auto f = job_metrics(f_outcome), l = job_metrics(l_outcome);
+  EXPECT_LT(5.0 * l["tracking_nmse"], f["tracking_nmse"]);
+  for (int joint : {2, 4}) EXPECT_GE(l["ff_fb_ratio_avg_j" + std::to_string(joint)], 0.8) << "joint " << joint;
+  EXPECT_LT(l["same_run_test_nmse"], 0.1);
+  EXPECT_LT(l["heldout_test_nmse"], 1.0);
+  EXPECT_EQ(l["n_receptive_fields"], 60.0);  // D
+  // The numbers the model stores, counted independently: Ω (D×6), L (F×F), B and W (F×2), the
+  // update scratch φ, rotated, gain (F each), y_scaled and error (2 each) and the output scale (2), F = 2D.
+  const double F = 120.0;
+  EXPECT_EQ(l["learner_memory_bytes"], 8.0 * (60 * 6 + F * F + 2 * F * 2 + 3 * F + 3 * 2));
+  EXPECT_GT(l["learner_fit_seconds"], 0.0);
+  EXPECT_GT(l["learner_us_per_update"], 0.0);
+  std::printf("batch SSGPR D = 60, gain 0.2: tracking nMSE %.5f (feedback %.4f), ff/fb j2 %.2f j4 %.2f, same-run nMSE %.4f, "
+              "held-out nMSE %.4f, fit %.2f s, %.1f us/update, %.1f us/predict\n",
+              l["tracking_nmse"], f["tracking_nmse"], l["ff_fb_ratio_avg_j2"], l["ff_fb_ratio_avg_j4"], l["same_run_test_nmse"],
+              l["heldout_test_nmse"], l["learner_fit_seconds"], l["learner_us_per_update"], l["learner_us_per_predict"]);
+}
+
+TEST(SsgprJob, OnlineSsgprIsDeterministicAndUntrustedUntilFitted) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_ssgpr_config(LearningMode::online);
+  const JobOutcome first = run_experiment(model, config), second = run_experiment(model, config);
+  ASSERT_EQ(first.status, JobStatus::done) << first.message;
+  ASSERT_EQ(first.metrics.size(), second.metrics.size());
+  for (std::size_t i = 0; i < first.metrics.size(); ++i) {
+    if (find_metric_info(first.metrics[i].name).kind != MetricKind::result) continue;
+    EXPECT_EQ(first.metrics[i].name, second.metrics[i].name);
+    EXPECT_EQ(first.metrics[i].value, second.metrics[i].value) << first.metrics[i].name;
+  }
+  auto m = job_metrics(first);
+  // 600 ticks, the first 120 kept for the fit: feed-forward untrusted (0) on at least those.
+  for (int joint : {2, 4}) {
+    const double untrusted = m["ff_untrusted_fraction_j" + std::to_string(joint)];
+    EXPECT_GE(untrusted, 120.0 / 600.0 - 1e-12) << joint;
+    EXPECT_LT(untrusted, 0.5) << joint;
+  }
+  // A seed of the frequency draw alone changes the learnt model, hence the scores.
+  config.learning.ssgpr.params.seed = 2;
+  auto other = job_metrics(run_experiment(model, config));
+  EXPECT_NE(other["heldout_test_nmse"], m["heldout_test_nmse"]);
+  EXPECT_NE(other["tracking_nmse"], m["tracking_nmse"]);
+}
+
+}  // namespace
+}  // namespace armfarm
+
+// ------------------------------------------------------------------------------------------------
+// Folded in from engine/experiment/stored_model_test.cpp:
+// Learned models as results (issue 12): a job returns its learner's model file, and a second job
+// started from that file predicts exactly what the first predicted at its end.
+
+namespace armfarm {
+namespace {
+
+std::map<std::string, double> checkpoint_metrics(const JobOutcome& outcome, std::int64_t checkpoint) {
+  std::map<std::string, double> metrics;
+  for (const Metric& metric : outcome.metrics) {
+    if (!metric.checkpoint || metric.checkpoint->number != checkpoint || !metric.value) continue;
+    metrics[metric.joint ? metric.name + "_j" + std::to_string(*metric.joint) : metric.name] = *metric.value;
+  }
+  return metrics;
+}
+
+// Two joints learnt online over two periods of the default sine: a few seconds of simulation.
+JobConfig make_online_config() {
+  JobConfig config;
+  config.active_joints = {2, 4};
+  config.trajectory.kind = TrajectoryKind::sine;
+  config.trajectory.sine.duration = 8.0;
+  config.control.gain_scale = 0.2;
+  config.learning.mode = LearningMode::online;
+  config.learning.store_model = true;
+  return config;
+}
+
+TEST(StoredModel, AFrozenSecondJobPredictsExactlyWhatTheFirstPredictedAtItsEnd) {
+  const ArmModel arm = testing::load_lwr3();
+  const JobConfig first_config = make_online_config();
+  const JobOutcome first = run_experiment(arm, first_config);
+  ASSERT_EQ(first.status, JobStatus::done) << first.message;
+  ASSERT_FALSE(first.model_file.empty());
+  const auto learnt = decode_learner_model(first.model_file);
+  ASSERT_GT(learnt->size(), 0u);
+  ASSERT_GT(learnt->n_updates(), 0u);
+
+  JobConfig second_config = first_config;
+  second_config.learning.mode = LearningMode::frozen;
+  second_config.learning.initial_model = "first job";
+  second_config.learning.initial_model_bytes = first.model_file;
+  const JobOutcome second = run_experiment(arm, second_config);
+  ASSERT_EQ(second.status, JobStatus::done) << second.message;
+  // Frozen: the model the second job ends with is, byte for byte, the one it started from.
+  EXPECT_EQ(second.model_file, first.model_file);
+
+  // The held-out set is the same realisation in both jobs (same trajectory and seed). The first
+  // job scored it with its learner in memory at the end of learning (checkpoint = all periods),
+  // the second with the learner decoded from the file before its pass (checkpoint 0): every
+  // held-out figure must agree exactly.
+  std::int64_t last = 0;
+  for (const Metric& m : first.metrics) {
+    if (m.checkpoint) last = std::max(last, m.checkpoint->number);
+  }
+  const auto a = checkpoint_metrics(first, last), b = checkpoint_metrics(second, 0);
+  ASSERT_GT(a.count("heldout_test_nmse"), 0u);
+  ASSERT_GT(a.count("heldout_tracking_nmse"), 0u);
+  for (const char* name : {"heldout_test_nmse", "heldout_tracking_nmse", "heldout_ff_fb_ratio_avg_j2", "heldout_ff_fb_ratio_avg_j4",
+                           "heldout_learner_updates", "heldout_n_receptive_fields"}) {
+    ASSERT_GT(a.count(name), 0u) << name;
+    ASSERT_GT(b.count(name), 0u) << name;
+    EXPECT_EQ(a.at(name), b.at(name)) << name;
+  }
+  EXPECT_EQ(b.at("heldout_learner_updates"), static_cast<double>(learnt->n_updates()));
+  std::printf("stored model: %zu fields, %llu updates, %zu bytes; held-out test nMSE %.4g in both jobs\n", learnt->size(),
+              static_cast<unsigned long long>(learnt->n_updates()), first.model_file.size(), a.at("heldout_test_nmse"));
+}
+
+TEST(StoredModel, AnOnlineJobContinuesLearningFromTheStoredModel) {
+  const ArmModel arm = testing::load_lwr3();
+  JobConfig config = make_online_config();
+  config.learning.heldout = false;
+  config.trajectory.sine.duration = 4.0;
+  const JobOutcome first = run_experiment(arm, config);
+  ASSERT_EQ(first.status, JobStatus::done) << first.message;
+  JobConfig again = config;
+  again.learning.initial_model = "first job";
+  again.learning.initial_model_bytes = first.model_file;
+  const JobOutcome second = run_experiment(arm, again);
+  ASSERT_EQ(second.status, JobStatus::done) << second.message;
+  const auto a = decode_learner_model(first.model_file), b = decode_learner_model(second.model_file);
+  // The second job's learner started with the first one's samples: it learnt the same pass again.
+  EXPECT_EQ(b->n_updates(), 2 * a->n_updates());
+}
+
+// An SSGPR job that fits its hyperparameters on its first samples stores the fitted model (on main
+// it failed after its whole simulation: the model-file dispatch had no case for that learner).
+TEST(StoredModel, AnSsgprJobThatFitsItsHyperparametersStoresTheFittedModel) {
+  const ArmModel arm = testing::load_lwr3();
+  JobConfig config = make_online_config();
+  config.learning.heldout = false;
+  config.trajectory.sine.duration = 2.0;
+  config.control.gain_scale = 1.0;  // full-gain feedback while the learner waits for its fit batch
+  config.learning.learner = LearnerKind::ssgpr;
+  config.learning.ssgpr.params.features = 20;
+  config.learning.ssgpr.fit_samples = 40;
+  config.learning.ssgpr.fit.iterations = 5;
+  ASSERT_TRUE(validate(config, ModelFacts{7}).empty());
+  const JobOutcome outcome = run_experiment(arm, config);
+  ASSERT_EQ(outcome.status, JobStatus::done) << outcome.message;
+  ASSERT_EQ(find_learner_model_kind(outcome.model_file), "ssgpr");
+  const auto learnt = decode_learner_model(outcome.model_file);
+  EXPECT_EQ(learnt->size(), 20u);
+  EXPECT_GT(learnt->n_updates(), 40u);  // the fit batch and every sample after it
+  EXPECT_EQ(learnt->input_dim(), 6);
+}
+
+TEST(StoredModel, ValidationRefusesAModelOfTheWrongSizeAndAFrozenJobWithoutOne) {
+  const ArmModel arm = testing::load_lwr3();
+  JobConfig config = make_online_config();
+  config.learning.heldout = false;
+  config.trajectory.sine.duration = 2.0;
+  const JobOutcome two_joints = run_experiment(arm, config);
+  ASSERT_EQ(two_joints.status, JobStatus::done) << two_joints.message;
+
+  JobConfig three = config;
+  three.active_joints = {1, 2, 4};
+  three.learning.initial_model = "two.lwpr";
+  three.learning.initial_model_bytes = two_joints.model_file;
+  std::vector<ConfigProblem> problems = validate(three, ModelFacts{7});
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].path, "learning.initial_model");
+  EXPECT_NE(problems[0].message.find("maps 6 inputs to 2 outputs"), std::string::npos) << problems[0].message;
+
+  JobConfig corrupt = config;
+  corrupt.learning.initial_model = "bad.lwpr";
+  corrupt.learning.initial_model_bytes = two_joints.model_file;
+  corrupt.learning.initial_model_bytes[corrupt.learning.initial_model_bytes.size() / 2] ^= 0x5a;
+  problems = validate(corrupt, ModelFacts{7});
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(problems[0].message.find("checksum"), std::string::npos) << problems[0].message;
+
+  JobConfig frozen = config;
+  frozen.learning.mode = LearningMode::frozen;
+  problems = validate(frozen, ModelFacts{7});
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].path, "learning.mode");
 }
 
 }  // namespace

@@ -1,12 +1,18 @@
 // The architecture's arrows, checked on every #include of base/, engine/, results/, analysis/ and
-// runner/ (README.md, "Where things are"; HELPERS' house rules): base (below every other folder,
-// usable by all) depends on the standard library only; engine knows nothing of the
-// runner, the store, the analysis, JSON, SQLite or TBB; results depends on nothing of ours;
-// analysis on results only; inside the engine, each folder includes only the engine folders below
-// it (kEngineFolders: learner/ below lwpr/ and ssgpr/, learning/ above them, experiment/ on top,
-// and a folder missing from the table fails); runner/spec and runner/config not on runner/execution; runner/search (the samplers) on none of the runner's
-// other folders, the store, JSON, SQLite or TBB; only engine/physics/simbody_* include Simbody.
-// A fixture tree with deliberately wrong includes proves the check fails.
+// runner/ (README.md, "The arrows"; HELPERS' house rules). From the bottom:
+//   base/      (header-only) the standard library only; every other folder may include it;
+//   engine/    base/ only of ours: nothing of the runner, the store, the analysis, JSON, SQLite or
+//              TBB; inside it each folder includes only the engine folders below it
+//              (kEngineFolders: config, io, random and learner/ at the bottom, lwpr/ and ssgpr/
+//              on learner/, learning/ above them, experiment/ on top; a folder missing from the
+//              table fails); only engine/physics/simbody_* include Simbody;
+//   results/   base/ only;
+//   analysis/  results/ and base/ only;
+//   runner/    anything below; inside it runner/spec and runner/config not on runner/execution or
+//              runner/cli, runner/search (the samplers) on none of the runner's other folders,
+//              the store, JSON, SQLite or TBB.
+// A fixture tree with deliberately wrong includes proves the check fails (and its includes of
+// base/ from results/ and analysis/ that it passes).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -30,8 +36,8 @@ const std::vector<Rule>& layering_rules() {
        "base/ depends on the standard library only"},
       {"engine/", {"runner/", "results/", "analysis/", "nlohmann/", "sqlite3.h", "tbb/", "CLI/"},
        "engine/ knows nothing of the runner, the store, the analysis, JSON, SQLite or TBB"},
-      {"results/", {"engine/", "runner/", "analysis/"}, "results/ depends on nothing of ours"},
-      {"analysis/", {"engine/", "runner/"}, "analysis/ depends on results/ only"},
+      {"results/", {"engine/", "runner/", "analysis/"}, "results/ depends on base/ only"},
+      {"analysis/", {"engine/", "runner/"}, "analysis/ depends on results/ and base/ only"},
       {"runner/spec/", {"runner/execution/", "runner/cli/"}, "spec expansion does not know how jobs run"},
       {"runner/config/", {"runner/execution/", "runner/cli/"}, "configuration does not know how jobs run"},
       {"runner/search/", {"runner/execution/", "runner/cli/", "runner/spec/", "runner/config/", "results/", "analysis/", "nlohmann/", "sqlite3.h", "tbb/"},
@@ -151,7 +157,7 @@ TEST(LayeringTest, FixtureWithWrongIncludesFails) {
   const std::vector<std::string> violations =
       find_layering_violations(std::filesystem::path(ARMFARM_TEST_DATA_DIR) / "layering");
   const std::vector<std::string> expected = {
-      "analysis/table.cpp:3: includes engine/model/arm_model.hpp: analysis/ depends on results/ only",
+      "analysis/table.cpp:3: includes engine/model/arm_model.hpp: analysis/ depends on results/ and base/ only",
       "base/text.hpp:3: includes engine/io/number_text.hpp: base/ depends on the standard library only",
       "engine/control/gains.hpp:3: includes runner/spec/sweep_spec.hpp: engine/ knows nothing of the runner, the store, the analysis, JSON, SQLite or TBB",
       "engine/control/gains.hpp:4: includes nlohmann/json.hpp: engine/ knows nothing of the runner, the store, the analysis, JSON, SQLite or TBB",
@@ -161,7 +167,7 @@ TEST(LayeringTest, FixtureWithWrongIncludesFails) {
       "engine/lwpr/lwpr_model.hpp:3: includes engine/learning/learner_factory.hpp: engine/lwpr/ includes only engine/{learner}/ (the engine's inner arrows)",
       "engine/plugins/extra.cpp:2: includes engine/model/arm_model.hpp: engine/plugins/ is not in the engine's layering table",
       "engine/ssgpr/ssgpr_model.hpp:3: includes engine/lwpr/lwpr_params.hpp: engine/ssgpr/ includes only engine/{learner, random}/ (the engine's inner arrows)",
-      "results/store.cpp:2: includes engine/model/arm_model.hpp: results/ depends on nothing of ours",
+      "results/store.cpp:2: includes engine/model/arm_model.hpp: results/ depends on base/ only",
       "runner/search/sampler.cpp:3: includes nlohmann/json.hpp: the samplers are pure: no spec, store, JSON, SQLite or threads",
       "runner/spec/expand.cpp:2: includes runner/execution/job_executor.hpp: spec expansion does not know how jobs run",
   };
