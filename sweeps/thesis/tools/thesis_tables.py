@@ -131,9 +131,15 @@ def compared_count(table):
     return sum(1 for c in table.get("cells", []) if c.get("state") == "compared")
 
 
+def rank(table):
+    """More compared cells first; among tables of none, the database that holds the sweep."""
+    absent = sum(1 for c in table.get("cells", []) if "absent" in (c.get("reason") or ""))
+    return compared_count(table), -absent
+
+
 def pick_tables(per_database):
     """[(table, database)]: each thesis table from the database that compared most of its cells
-    (the first database on a tie), in thesis_results.json's order."""
+    (else the one holding its sweep; the first database on a tie), in thesis_results.json's order."""
     order, best = [], {}
     for database, tables in per_database:
         for table in tables:
@@ -141,7 +147,7 @@ def pick_tables(per_database):
             if key not in best:
                 order.append(key)
                 best[key] = (table, database)
-            elif compared_count(table) > compared_count(best[key][0]):
+            elif rank(table) > rank(best[key][0]):
                 best[key] = (table, database)
     return [best[key] for key in order]
 
@@ -184,8 +190,13 @@ def render(per_database, specs, times):
               f"| **{duration(total_wall)}** | {duration(total_cpu) if total_cpu else ''} | |", ""]
     counts = {}
     sentences = []
+    absent = []
     for table, database in pick_tables(per_database):
         if not compared_count(table):
+            if table.get("cells"):
+                reasons = sorted({armfarm_cell(c) for c in table["cells"]})
+                absent.append(f"{title(table)} ({len(table['cells'])} cells: {'; '.join(reasons)})")
+                counts["not compared"] = counts.get("not compared", 0) + len(table["cells"])
             continue
         spec_walls = [duration(specs[s.split('.')[0]]["wall"]) for s in table.get("sweeps", []) if s.split(".")[0] in specs]
         caption = table.get("caption", "")
@@ -203,10 +214,12 @@ def render(per_database, specs, times):
         paragraph = sentence(table, numbers=False)
         if paragraph:
             sentences.append(paragraph)
+    if absent:
+        lines += ["#### Not compared in these databases", ""] + [f"- {entry}" for entry in absent] + [""]
     lines += ["#### Holds? (from the verdicts)", ""]
     for paragraph in sentences:
         lines += [paragraph, ""]
-    lines.append("Verdicts over " + str(sum(counts.values())) + " cells of the tables above: "
+    lines.append("Verdicts over " + str(sum(counts.values())) + " cells of chapter 6: "
                  + ", ".join(f"{counts.get(word, 0)} {word}" for word in VERDICTS + ("not compared",)) + ".")
     lines += ["", END]
     return "\n".join(lines) + "\n"
