@@ -201,15 +201,27 @@ std::string describe_where(const ThesisMapping& mapping) {
   return text;
 }
 
-// The physical (1-based) joint of the thesis's "Joint k" in `job`: the k-th of its active joints.
+// `job`'s value of `path`, without a "params"."seed" that equals the job's own seed: a stored-model
+// reference to the earlier stage's job of the same seed ({"stage": "train", "params": {"seed": s}}
+// in the job of seed s) repeats with the seed, so two-stage specs repeated by seed pool.
+json param_value_without_own_seed(const JobResult& job, const std::string& path) {
+  json value = find_param_value(job, path);
+  if (!value.is_object()) return value;
+  auto params = value.find("params");
+  if (params == value.end() || !params->is_object()) return value;
+  auto seed = params->find("seed");
+  if (seed != params->end() && seed->is_number_integer() && seed->get<std::int64_t>() == job.seed) params->erase(seed);
+  return value;
+}
+
 // The swept parameters (other than the seed) in which `jobs` differ, comma-separated.
 std::string find_differing_params(const SweepData& data, const std::vector<const JobResult*>& jobs) {
   std::string names;
   for (const std::string& path : data.varying_params) {
     if (path == "seed" || jobs.empty()) continue;
-    const json first = find_param_value(*jobs.front(), path);
+    const json first = param_value_without_own_seed(*jobs.front(), path);
     for (const JobResult* job : jobs) {
-      if (find_param_value(*job, path) != first) {
+      if (param_value_without_own_seed(*job, path) != first) {
         names += (names.empty() ? "" : ", ") + path;
         break;
       }

@@ -356,6 +356,27 @@ TEST(ThesisComparison, CellsPoolOnlyJobsThatDifferInTheirSeed) {
       << comparison.tables[0].cells[0].reason;
 }
 
+// A later stage repeated by seed names the earlier stage's job of its own seed: those jobs pool;
+// a reference to another seed's model is a difference.
+TEST(ThesisComparison, StageJobsWhoseModelComesFromTheirOwnSeedPool) {
+  SweepData data = make_verdict_sweep({1.0, 1.1}, {0.5, 0.6}, {2.0, 2.1});
+  for (JobResult& job : data.jobs) {
+    job.params["learning.initial_model"] = {{"stage", "train"}, {"params", {{"seed", job.seed}}}};
+  }
+  data.varying_params = calc_varying_params(data.jobs);
+  const ThesisResults thesis = parse_thesis_results(nlohmann::json::parse(kVerdictThesis), "verdicts.json");
+  ThesisComparison comparison = make_thesis_comparison(thesis, {{"v", data}}, Aggregate::mean);
+  ASSERT_EQ(comparison.tables[0].cells[0].state, CellState::compared) << comparison.tables[0].cells[0].reason;
+  EXPECT_EQ(comparison.tables[0].cells[0].armfarm.count, 2);
+
+  data.jobs[1].params["learning.initial_model"]["params"]["seed"] = 0;  // seed 1's job on seed 0's model
+  data.varying_params = calc_varying_params(data.jobs);
+  comparison = make_thesis_comparison(thesis, {{"v", data}}, Aggregate::mean);
+  EXPECT_EQ(comparison.tables[0].cells[0].state, CellState::not_run);
+  EXPECT_NE(comparison.tables[0].cells[0].reason.find("differ in learning.initial_model"), std::string::npos)
+      << comparison.tables[0].cells[0].reason;
+}
+
 TEST(ThesisResults, ComparisonsMustAgreeWithTheThesissOwnValues) {
   auto with_claim = [](const std::string& greater, const std::string& less) {
     nlohmann::json document = nlohmann::json::parse(kVerdictThesis);

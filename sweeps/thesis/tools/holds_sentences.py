@@ -39,7 +39,9 @@ def title(table):
     return caption.split(":")[0] if caption.startswith("Figure") else caption.rstrip(".")
 
 
-def sentence(table):
+def sentence(table, numbers=True):
+    """The paragraph of one table; `numbers` False names the differing cells without their values
+    (for a page that prints them in a table beside it)."""
     cells = table.get("cells", [])
     compared = [c for c in cells if c.get("state") == "compared" and c.get("verdict") in HOLDS + ("differs",)]
     one_seed = [c for c in cells if c.get("state") == "compared" and c.get("verdict") not in HOLDS + ("differs",)]
@@ -54,7 +56,10 @@ def sentence(table):
     text = (f"**{title(table)}** ({', '.join(table.get('sweeps', []))}, {n_text} seeds): holds on {len(holds)} of "
             f"{len(compared)} compared cells ({matches} matches, {len(holds) - matches} same direction)")
     if differs:
-        text += "; does not hold on " + "; ".join(describe(c) for c in differs)
+        if numbers:
+            text += "; does not hold on " + "; ".join(describe(c) for c in differs)
+        else:
+            text += "; does not hold on " + ", ".join(f"{c['row']} {c['column']}" for c in differs)
     text += "."
     if one_seed or skipped:
         text += f" Not judged: {len(one_seed)} cells of one seed, {skipped} not run or without a metric."
