@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Tests of the Python tools of sweeps/thesis/tools/ on small generated databases (issue 23).
 
-Each database is made by the armfarm executable ($ARMFARM) from a tiny spec of fake jobs
-(ARMFARM_FAKE_JOBS=1: the real schema and runner, cheap deterministic jobs); the metrics the tools
+Each database is made by the test executable armfarm_fakejobs ($ARMFARM_FAKEJOBS: armfarm's command
+line running the fake job, the real schema and runner, cheap deterministic jobs); the metrics the tools
 read are then set to known values with sqlite3, the way a user's script would write them. The
 expected numbers are computed by hand in the comments.
 
-Run: ARMFARM=build/runner/armfarm python3 tests/sweeps/thesis_tools_test.py (ctest does this).
+Run: ARMFARM=build/runner/armfarm ARMFARM_FAKEJOBS=build/runner/armfarm_fakejobs \
+       python3 tests/sweeps/thesis_tools_test.py (ctest does this).
 """
 import io
 import json
@@ -29,6 +30,7 @@ import holds_sentences  # noqa: E402
 import seed_statistics  # noqa: E402
 
 ARMFARM = os.environ.get("ARMFARM", "")
+ARMFARM_FAKEJOBS = os.environ.get("ARMFARM_FAKEJOBS", "")
 
 
 def run_tool(script, *arguments):
@@ -44,8 +46,7 @@ class GeneratedDatabase:
         spec = os.path.join(directory, name + ".json")
         with open(spec, "w") as out:
             json.dump({"name": name, "base": {"fake": {"sleep_ms": 0}}, "sweep": sweep}, out)
-        environment = dict(os.environ, ARMFARM_FAKE_JOBS="1")
-        done = subprocess.run([ARMFARM, "run", spec, "--db", self.path, "-j1"], capture_output=True, text=True, env=environment)
+        done = subprocess.run([ARMFARM_FAKEJOBS, "run", spec, "--db", self.path, "-j1"], capture_output=True, text=True)
         if done.returncode != 0:
             raise RuntimeError(f"armfarm run {spec}: exit {done.returncode}: {done.stderr}")
         self.connection = sqlite3.connect(self.path)
@@ -118,7 +119,8 @@ class Spearman(unittest.TestCase):
         self.assertEqual((low, high), ff_fb_indicator.bootstrap_interval(generator_pairs, 500, 0))  # seeded
 
 
-@unittest.skipUnless(ARMFARM and os.access(ARMFARM, os.X_OK), "ARMFARM does not name the armfarm executable")
+@unittest.skipUnless(ARMFARM and os.access(ARMFARM, os.X_OK) and ARMFARM_FAKEJOBS and os.access(ARMFARM_FAKEJOBS, os.X_OK),
+                     "ARMFARM and ARMFARM_FAKEJOBS do not name the armfarm and armfarm_fakejobs executables")
 class OnGeneratedDatabases(unittest.TestCase):
     def setUp(self):
         self.directory = tempfile.mkdtemp(prefix="thesis_tools_test_")
