@@ -310,6 +310,7 @@ std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep,
       figures << render_figure_html(store, request, heading, anchor, work_dir, svg_files);
     }
   }
+  const int figure_count = n;
   n = 0;
   for (const TableSpec& spec : make_default_table_specs(data)) {
     const std::string anchor = "table-" + std::to_string(++n);
@@ -337,6 +338,10 @@ std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep,
   }
   page << "</ul></nav>\n";
   page << "<h2 id=\"figures\">Figures</h2>\n" << figures.str();
+  if (figure_count == 0) {
+    page << "<p>No figure: no job records the series a figure draws (F and FF, POS and POS_D, RF), and "
+         << (main_metric ? "no numeric parameter besides seed is swept" : "no main metric is chosen") << ".</p>\n";
+  }
   page << "<h2 id=\"tables\">Tables</h2>\n<p>Click a column header to sort by it; a job's key opens its page.</p>\n"
        << tables.str() << thesis;
   if (search) page << "<h2 id=\"Search\">Search</h2>\n<pre>" << escape_html(format_search_summary(*search)) << "</pre>\n";
@@ -415,7 +420,13 @@ std::string make_job_page(const ResultsStore& store, const SweepData& data, cons
   if (has("F") && has("FF")) kinds.push_back(PlotKind::signals);
   if (has("POS") && has("POS_D")) kinds.push_back(PlotKind::tracking);
   if (has("RF")) kinds.push_back(PlotKind::rf_growth);
-  if (kinds.empty()) page << "<p>No recorded series (recording.series in the spec records them).</p>\n";
+  if (kinds.empty() && names.empty()) page << "<p>No recorded series (recording.series in the spec records them).</p>\n";
+  if (kinds.empty() && !names.empty()) {
+    std::string list;
+    for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+    page << "<p>Recorded series: " << escape_html(list)
+         << ". None is one a figure here draws (signals: F and FF, tracking: POS and POS_D, rf-growth: RF).</p>\n";
+  }
   int svg_files = 0, n = 0;
   for (PlotKind kind : kinds) {
     PlotRequest request;

@@ -216,6 +216,36 @@ TEST(ReportNames, ControlCharactersOfNamesShowAsControlPicturesAndNoneReachesAPa
   EXPECT_NE(sweep.find("<pre>{&quot;name&quot;"), std::string::npos);  // the spec in <pre>, escaped as before
 }
 
+TEST(ReportNoFigures, PagesSayWhichSeriesAreRecordedAndWhyNoFigureIsDrawn) {
+  // Review of 2026-12-03: a job with only heldout_* series and TRIAL read "No recorded series",
+  // and its sweep page had an empty Figures heading.
+  testing::TemporaryDirectory dir;
+  const std::string db = dir.file("results.db");
+  std::vector<testing::TestJob> jobs(2);
+  for (int i = 0; i < 2; ++i) {
+    jobs[i].params = {{"control.mode", i ? "composite" : "feedback"}, {"seed", i}};
+    jobs[i].metrics = {{0, "tracking_nmse", std::nullopt, 0.1 * (i + 1), ""}};
+    for (const char* name : {"heldout_F_c1", "TRIAL"}) {
+      jobs[i].series.push_back(testing::make_series(name, {"t", "q1"}, 5, [](int r, int c) { return r + c; }));
+    }
+  }
+  testing::write_test_sweep(db, "heldout", jobs);
+  const std::string out = dir.file("report");
+  const auto result = testing::run_armfarm("report " + db + " --out " + out);
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const std::string sweep = read_file(fs::path(out) / "sweep_heldout.html");
+  EXPECT_EQ(sweep.find("<svg"), std::string::npos);
+  const std::size_t figures = sweep.find("<h2 id=\"figures\">Figures</h2>\n");
+  ASSERT_NE(figures, std::string::npos) << sweep;
+  EXPECT_EQ(sweep.find("<p>No figure:", figures), figures + std::string("<h2 id=\"figures\">Figures</h2>\n").size()) << sweep;
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  const std::string key = store.find_jobs("heldout").at(0).key;
+  const std::string page = read_file(fs::path(out) / (make_report_file_name("job_", key) + ".html"));
+  EXPECT_EQ(page.find("No recorded series"), std::string::npos) << page;
+  EXPECT_NE(page.find("heldout_F_c1"), std::string::npos) << page;
+  EXPECT_NE(page.find("TRIAL"), std::string::npos) << page;
+}
+
 TEST(ReportAgainst, SweepPageShowsTheThesisValueBesideArmfarms) {
   testing::TemporaryDirectory dir;
   const std::string db = dir.file("results.db");
