@@ -36,6 +36,31 @@ std::vector<PlotKind> all_plot_kinds() {
           PlotKind::search};
 }
 
+namespace {
+
+// A parameter's value in a legend or title: a reference to another sweep's job (a two-stage
+// sweep's {"params":{"seed":0},"sweep":"x.train"}) reads "seed 0 of x.train", not raw JSON
+// wider than the figure; any other value as in the tables.
+std::string format_label_value(const nlohmann::json& value) {
+  if (!value.is_object() || !value.contains("sweep") || !value["sweep"].is_string()) return format_param_value(value);
+  std::string params;
+  if (value.contains("params") && value["params"].is_object()) {
+    for (const auto& item : value["params"].items()) {
+      params += (params.empty() ? "" : ", ") + item.key() + " " + format_param_value(item.value());
+    }
+  }
+  return (params.empty() ? "a job" : params) + " of " + value["sweep"].get<std::string>();
+}
+
+// A value with the seed of a referenced job left out, so that the test job of seed s, which
+// uses the model of seed s, is a repeat of its configuration and not a configuration of its own.
+nlohmann::json without_nested_seed(nlohmann::json value) {
+  if (value.is_object() && value.contains("params") && value["params"].is_object()) value["params"].erase("seed");
+  return value;
+}
+
+}  // namespace
+
 std::string make_job_label(const JobResult& job) {
   std::string label;
   if (job.params.is_object()) {
@@ -43,7 +68,7 @@ std::string make_job_label(const JobResult& job) {
       std::string name = item.key();
       const auto dot = name.rfind('.');
       if (dot != std::string::npos) name = name.substr(dot + 1);
-      label += (label.empty() ? "" : ", ") + name + "=" + format_param_value(item.value());
+      label += (label.empty() ? "" : ", ") + name + "=" + format_label_value(item.value());
     }
   }
   return label.empty() ? job.key.substr(0, 8) : label;
@@ -428,10 +453,12 @@ std::string make_distinguishing_label(const JobResult& job, const std::vector<co
   std::string label;
   for (const auto& item : job.params.items()) {
     if (without_seed && item.key() == "seed") continue;
+    const auto compared = [&](const nlohmann::json& value) { return without_seed ? without_nested_seed(value) : value; };
     const bool differs = std::any_of(jobs.begin(), jobs.end(), [&](const JobResult* other) {
-      return find_param_value(*other, item.key()) != item.value();
+      return compared(find_param_value(*other, item.key())) != compared(item.value());
     });
-    if (differs) label += (label.empty() ? "" : ", ") + last_segment_of(item.key()) + "=" + format_param_value(item.value());
+    const nlohmann::json shown = compared(item.value());
+    if (differs) label += (label.empty() ? "" : ", ") + last_segment_of(item.key()) + "=" + format_label_value(shown);
   }
   return label.empty() && !without_seed ? job.key.substr(0, 8) : label;
 }

@@ -197,6 +197,57 @@ TEST_F(PlotTest, SignalsTrackingAndReceptiveFieldGrowth) {
   EXPECT_NE(growth.find("receptive fields (count)"), std::string::npos);
 }
 
+// Found on fig6_12_13_reaching_model.test (review of 2026-12-03): each test job names the model
+// it starts from, {"params":{"seed":s},"sweep":"….train"}. `tracking` drew no legend at paper
+// style (ten entries of raw JSON did not fit, gnuplot left the key out) and `signals` printed that
+// JSON as a title line wider than the image.
+TEST_F(PlotTest, TwoStageSweepsNameTheirModelReadablyAndTrackingKeepsItsLegend) {
+  std::vector<testing::TestJob> jobs;
+  for (const char* file : {"data/picking_synthetic.csv", "data/sphere_synthetic.csv"}) {
+    for (int seed = 0; seed < 3; ++seed) {
+      testing::TestJob job;
+      job.params = {{"learning.initial_model", {{"params", {{"seed", seed}}}, {"sweep", "two_stage.train"}}},
+                    {"seed", seed},
+                    {"trajectory.recorded.file", file}};
+      const double offset = file[5] == 'p' ? 0.0 : 0.2;
+      for (const char* name : {"POS_D", "POS"}) {
+        job.series.push_back(make_series(name, {"t", "x", "y", "z"}, 50, [&](int r, int c) {
+          return c == 0 ? 0.1 * r : c == 1 ? 0.5 : c == 2 ? 0.4 + offset + 0.002 * r : 0.1 + offset + 0.05 * std::sin(0.1 * r);
+        }));
+      }
+      for (const char* name : {"F", "FF"}) {
+        job.series.push_back(make_series(name, {"t", "j1", "j2"}, 50, [&](int r, int c) { return c == 0 ? 0.1 * r : std::cos(0.1 * r * c); }));
+      }
+      jobs.push_back(job);
+    }
+  }
+  testing::write_test_sweep(db_, "two_stage.test", jobs);
+  const auto inside_the_image = [](const std::string& svg) {
+    double width = 0;
+    EXPECT_EQ(std::sscanf(svg.c_str() + svg.find("viewBox=\"") + 9, "0 0 %lf", &width), 1);
+    std::vector<std::string> outside;
+    for (const auto& box : testing::find_text_boxes(svg)) {
+      if (box.left < 0 || box.right > width) outside.push_back(box.text);
+      EXPECT_EQ(box.text.find('{'), std::string::npos) << box.text;
+    }
+    return outside;
+  };
+  const std::string tracking = render("tracking --sweep two_stage.test --style paper", directory_.file("two_stage_tracking.svg"));
+  std::size_t picking = 0, sphere = 0, desired = 0;
+  for (const auto& box : testing::find_text_boxes(tracking)) {
+    picking += box.text.find("picking_synthetic.csv") != std::string::npos;
+    sphere += box.text.find("sphere_synthetic.csv") != std::string::npos;
+    desired += box.text == "desired";
+  }
+  EXPECT_EQ(picking, 1u);  // one entry per recording: the seeds (and their models' seeds) are repeats
+  EXPECT_EQ(sphere, 1u);
+  EXPECT_EQ(desired, 1u);
+  EXPECT_EQ(inside_the_image(tracking), std::vector<std::string>());
+  const std::string signals = render("signals --sweep two_stage.test --style paper", directory_.file("two_stage_signals.svg"));
+  EXPECT_NE(signals.find("seed 0 of two_stage.train"), std::string::npos);
+  EXPECT_EQ(inside_the_image(signals), std::vector<std::string>());
+}
+
 TEST_F(PlotTest, PngOutputIsAPng) {
   const std::string out = directory_.file("signals.png");
   const auto result = testing::run_armfarm("plot " + db_ + " signals --sweep tracking --out " + out);
