@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "support/scratch_file.hpp"
+#include "support/sqlite_rows.hpp"
 #include <sqlite3.h>
 
 #include <atomic>
@@ -24,26 +25,6 @@ class ResultsStoreTest : public test_support::ScratchFolderTest {
   ResultsStoreTest() : ScratchFolderTest("store") {}
 };
 
-// Runs SQL through the plain sqlite3 API, as a user's script would; returns the first column of
-// every row as text.
-std::vector<std::string> query_as_user(const std::string& db_path, const std::string& sql) {
-  sqlite3* db = nullptr;
-  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
-  sqlite3_stmt* statement = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &statement, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
-  std::vector<std::string> rows;
-  while (sqlite3_step(statement) == SQLITE_ROW) {
-    std::string row;
-    for (int c = 0; c < sqlite3_column_count(statement); ++c) {
-      const auto* text = sqlite3_column_text(statement, c);
-      row += (c ? "|" : "") + std::string(text ? reinterpret_cast<const char*>(text) : "NULL");
-    }
-    rows.push_back(row);
-  }
-  sqlite3_finalize(statement);
-  sqlite3_close(db);
-  return rows;
-}
 
 SweepRegistration make_sweep(const std::string& name, const std::string& hash = "h1") {
   SweepRegistration sweep;
@@ -158,12 +139,12 @@ TEST_F(ResultsStoreTest, SweepViewAnswersNmseOfJointTwoByInitD) {
   const std::string view = make_sweep_view_name("my-sweep");
   EXPECT_EQ(view.substr(0, 15), "sweep_my_sweep_");  // '-' was replaced: a hash keeps it unique
   EXPECT_EQ(view.size(), 21u);
-  const auto rows = query_as_user(
+  const auto rows = test_support::query_rows_read_only(
       path("r.db"), "SELECT \"learning.lwpr.init_D\", tracking_nmse_j2 FROM " + view + " ORDER BY 1");
   ASSERT_EQ(rows.size(), 3u);
   EXPECT_EQ(rows[0], "10.0|0.2");
   EXPECT_EQ(rows[2], "30.0|0.8");
-  const auto long_form = query_as_user(
+  const auto long_form = test_support::query_rows_read_only(
       path("r.db"),
       "SELECT json_extract(params, '$.\"learning.lwpr.init_D\"'), value FROM job_metrics "
       "WHERE sweep = 'my-sweep' AND name = 'tracking_nmse' AND joint = 2 ORDER BY 1");
@@ -255,7 +236,7 @@ TEST_F(ResultsStoreTest, FilesThatAreNotArmfarmDatabasesGiveOneLineErrors) {
 
   // A database written by a newer armfarm.
   { ResultsStore::open(path("new.db"), ResultsStore::Mode::read_write); }
-  query_as_user(path("new.db"), "SELECT 1");
+  test_support::query_rows_read_only(path("new.db"), "SELECT 1");
   {
     sqlite3* db = nullptr;
     sqlite3_open(path("new.db").c_str(), &db);

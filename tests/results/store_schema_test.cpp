@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "support/scratch_file.hpp"
+#include "support/sqlite_rows.hpp"
 #include "support/test_database.hpp"
 #include <sqlite3.h>
 
@@ -28,25 +29,6 @@ void execute_as_user(const std::string& db_path, const std::string& sql) {
   EXPECT_EQ(rc, SQLITE_OK) << (error ? error : "");
   sqlite3_free(error);
   sqlite3_close(db);
-}
-
-std::vector<std::string> query_as_user(const std::string& db_path, const std::string& sql) {
-  sqlite3* db = nullptr;
-  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
-  sqlite3_stmt* statement = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &statement, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
-  std::vector<std::string> rows;
-  while (statement && sqlite3_step(statement) == SQLITE_ROW) {
-    std::string row;
-    for (int c = 0; c < sqlite3_column_count(statement); ++c) {
-      const auto* text = sqlite3_column_text(statement, c);
-      row += (c ? "|" : "") + std::string(text ? reinterpret_cast<const char*>(text) : "NULL");
-    }
-    rows.push_back(row);
-  }
-  sqlite3_finalize(statement);
-  sqlite3_close(db);
-  return rows;
 }
 
 SweepRegistration make_sweep(const std::string& name) {
@@ -79,11 +61,11 @@ void write_database(const std::string& file, const std::string& sweep, double nm
 
 TEST_F(ResultsStoreV2Test, UndefinedValuesAreNullWithTheirReasonAndMetricInfoExplainsNames) {
   write_database(path("r.db"), "s", 0.01, 20.0);
-  EXPECT_EQ(query_as_user(path("r.db"), "SELECT typeof(value), reason FROM metrics WHERE joint = 7"),
+  EXPECT_EQ(test_support::query_rows_read_only(path("r.db"), "SELECT typeof(value), reason FROM metrics WHERE joint = 7"),
             std::vector<std::string>{"null|target std 1e-15 rad is below the nMSE floor"});
-  EXPECT_EQ(query_as_user(path("r.db"), "SELECT unit, direction, kind FROM metric_info WHERE name = 'learner_us_per_update'"),
+  EXPECT_EQ(test_support::query_rows_read_only(path("r.db"), "SELECT unit, direction, kind FROM metric_info WHERE name = 'learner_us_per_update'"),
             std::vector<std::string>{"µs|lower|timing"});
-  EXPECT_EQ(query_as_user(path("r.db"), "SELECT value, reason, unit, kind FROM job_metrics WHERE name = 'tracking_nmse' "
+  EXPECT_EQ(test_support::query_rows_read_only(path("r.db"), "SELECT value, reason, unit, kind FROM job_metrics WHERE name = 'tracking_nmse' "
                                         "AND joint IS NULL"),
             std::vector<std::string>{"0.01|mean over 1 of 2 joints; left out: joint 7|1|result"});
   // Only REAL or NULL values: text smuggled in by hand is refused by the schema.
@@ -125,9 +107,9 @@ TEST_F(ResultsStoreV2Test, SweepsWhoseNamesSanitiseAlikeGetTwoViews) {
     store.insert_job_batch({{"k2"}, {make_result("k2", 0.03, 20.0)}, {}}, "a_b");
     store.update_run_finished(run.run_id, "complete", 1, 0, make_utc_timestamp());
   }
-  EXPECT_EQ(query_as_user(path("r.db"), "SELECT key, tracking_nmse FROM " + make_sweep_view_name("a-b")),
+  EXPECT_EQ(test_support::query_rows_read_only(path("r.db"), "SELECT key, tracking_nmse FROM " + make_sweep_view_name("a-b")),
             std::vector<std::string>{"k1|0.01"});
-  EXPECT_EQ(query_as_user(path("r.db"), "SELECT key, tracking_nmse FROM sweep_a_b"), std::vector<std::string>{"k2|0.03"});
+  EXPECT_EQ(test_support::query_rows_read_only(path("r.db"), "SELECT key, tracking_nmse FROM sweep_a_b"), std::vector<std::string>{"k2|0.03"});
 }
 
 // The version-1 schema as released (migration 1), with a NULL metric and its generated view.
@@ -178,7 +160,7 @@ TEST_F(ResultsStoreV2Test, VersionOneDatabaseOpensReadOnlyAndMigratesWhenWritten
     EXPECT_FALSE(metrics[2].value.has_value());
     EXPECT_NE(metrics[2].reason.find("schema version 1"), std::string::npos);
   }
-  EXPECT_EQ(query_as_user(path("v1.db"), "PRAGMA user_version"), std::vector<std::string>{"1"});  // file untouched
+  EXPECT_EQ(test_support::query_rows_read_only(path("v1.db"), "PRAGMA user_version"), std::vector<std::string>{"1"});  // file untouched
   // Merging from an old file reads a migrated copy.
   {
     ResultsStore out = ResultsStore::open(path("out.db"), ResultsStore::Mode::read_write);
@@ -189,12 +171,12 @@ TEST_F(ResultsStoreV2Test, VersionOneDatabaseOpensReadOnlyAndMigratesWhenWritten
     ResultsStore writer = ResultsStore::open(path("v1.db"), ResultsStore::Mode::read_write);
     EXPECT_EQ(writer.schema_version(), kResultsSchemaVersion);
   }
-  EXPECT_EQ(query_as_user(path("v1.db"), "SELECT value FROM metrics WHERE joint = 1"), std::vector<std::string>{"0.25"});
-  EXPECT_EQ(query_as_user(path("v1.db"), "SELECT count(*) FROM metric_info"), std::vector<std::string>{"0"});
+  EXPECT_EQ(test_support::query_rows_read_only(path("v1.db"), "SELECT value FROM metrics WHERE joint = 1"), std::vector<std::string>{"0.25"});
+  EXPECT_EQ(test_support::query_rows_read_only(path("v1.db"), "SELECT count(*) FROM metric_info"), std::vector<std::string>{"0"});
   // The generated view is regenerated under its version-2 name; the old one is gone.
-  EXPECT_EQ(query_as_user(path("v1.db"), "SELECT tracking_nmse_j1 FROM " + make_sweep_view_name("old-sweep")),
+  EXPECT_EQ(test_support::query_rows_read_only(path("v1.db"), "SELECT tracking_nmse_j1 FROM " + make_sweep_view_name("old-sweep")),
             std::vector<std::string>{"0.25"});
-  EXPECT_TRUE(query_as_user(path("v1.db"), "SELECT name FROM sqlite_master WHERE name = 'sweep_old_sweep'").empty());
+  EXPECT_TRUE(test_support::query_rows_read_only(path("v1.db"), "SELECT name FROM sqlite_master WHERE name = 'sweep_old_sweep'").empty());
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // tests that check what a run or a migration left in the file. Link SQLite (PkgConfig::SQLITE3).
 #pragma once
 
+#include <gtest/gtest.h>
 #include <sqlite3.h>
 
 #include <string>
@@ -31,6 +32,28 @@ inline std::vector<std::string> query_rows(const std::string& db, const std::str
       },
       &rows, nullptr);
   sqlite3_close(handle);
+  return rows;
+}
+
+/// Every row `sql` (one statement) returns on the existing database file `db_path`, opened
+/// read-only as a user's reader would; each row's columns joined by "|", NULL as "NULL". Fails
+/// the test when the file cannot be opened or the statement cannot be prepared.
+inline std::vector<std::string> query_rows_read_only(const std::string& db_path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  sqlite3_stmt* statement = nullptr;
+  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &statement, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
+  std::vector<std::string> rows;
+  while (statement && sqlite3_step(statement) == SQLITE_ROW) {
+    std::string row;
+    for (int c = 0; c < sqlite3_column_count(statement); ++c) {
+      const auto* text = sqlite3_column_text(statement, c);
+      row += (c ? "|" : "") + std::string(text ? reinterpret_cast<const char*>(text) : "NULL");
+    }
+    rows.push_back(row);
+  }
+  sqlite3_finalize(statement);
+  sqlite3_close(db);
   return rows;
 }
 
