@@ -133,7 +133,7 @@ class InputHashCheck : public ::testing::Test {
   // The ConfigError of running `config` ("(ran: STATUS)" when it runs).
   static std::string run_error(const nlohmann::json& config) {
     try {
-      const JobOutcome outcome = make_experiment_executor()(config, JobControl{});
+      const JobOutcome outcome = make_experiment_executor()(config, nullptr, JobControl{});
       return "(ran: " + std::string(outcome.status == JobStatus::done ? "done" : "not done") + ")";
     } catch (const ConfigError& error) {
       return error.what();
