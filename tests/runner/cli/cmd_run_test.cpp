@@ -260,10 +260,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-CommandResult run_armfarm(const std::string& arguments) {
-  const std::string command = std::string(ARMFARM_FAKE_JOBS_BINARY) + " " + arguments;
-  return run_command_line(command);
-}
 
 // The short keys of the jobs a run's output printed as done.
 std::set<std::string> find_printed_done(const std::string& output) {
@@ -291,7 +287,7 @@ TEST_F(CmdRunProgressTest, ALogGetsHeartbeatLinesWithAnEtaAndTheSummaryNamesTheM
   // 12 jobs of 40 ms on 2 threads: about 0.25 s, heartbeats every 30 ms.
   std::ofstream(path("p.json")) << R"({"name": "p", "base": {"fake": {"sleep_ms": 40}},
       "sweep": {"grid": {"learning.lwpr.init_D": [10, 20, 30, 40, 50, 60]}, "repeat": 2}})";
-  const CommandResult result = run_armfarm("run " + path("p.json") + " --db " + path("p.db") + " -j 2 --heartbeat 0.03");
+  const CommandResult result = run_command("run " + path("p.json") + " --db " + path("p.db") + " -j 2 --heartbeat 0.03");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const std::regex heartbeat(R"(progress: (\d+)/12 done, 0 failed, (\d) running, elapsed [0-9.]+ s, ETA ([0-9.]+) s(; running( [0-9a-f]{8})+)?\n)");
   int with_eta = 0;
@@ -305,7 +301,7 @@ TEST_F(CmdRunProgressTest, ALogGetsHeartbeatLinesWithAnEtaAndTheSummaryNamesTheM
             std::string::npos)
       << result.output;
 
-  const CommandResult quiet = run_armfarm("run " + path("p.json") + " --db " + path("q.db") + " -j 2 --quiet --heartbeat 0.01");
+  const CommandResult quiet = run_command("run " + path("p.json") + " --db " + path("q.db") + " -j 2 --quiet --heartbeat 0.01");
   ASSERT_EQ(quiet.exit_code, 0) << quiet.output;
   EXPECT_EQ(quiet.output.find("progress:"), std::string::npos) << quiet.output;
   EXPECT_EQ(quiet.output.find("] done"), std::string::npos) << quiet.output;
@@ -313,10 +309,10 @@ TEST_F(CmdRunProgressTest, ALogGetsHeartbeatLinesWithAnEtaAndTheSummaryNamesTheM
 }
 
 TEST_F(CmdRunProgressTest, VersionExitsZero) {
-  const CommandResult result = run_armfarm("--version");
+  const CommandResult result = run_command("--version");
   EXPECT_EQ(result.exit_code, 0) << result.output;
   EXPECT_EQ(result.output.rfind("armfarm ", 0), 0u) << result.output;
-  EXPECT_EQ(run_armfarm("version").exit_code, 0);
+  EXPECT_EQ(run_command("version").exit_code, 0);
 }
 
 TEST_F(CmdRunProgressTest, AFullDiskPrintsNoDoneThatWasNotCommittedAndTheNextRunRerunsTheUnsavedJobs) {
@@ -334,7 +330,7 @@ TEST_F(CmdRunProgressTest, AFullDiskPrintsNoDoneThatWasNotCommittedAndTheNextRun
   std::ofstream(path("full.json")) << R"({"name": "full", "base": {"fake": {"sleep_ms": 5}, "simulation": {"samples": 2000}},
       "sweep": {"grid": {"learning.lwpr.init_D": [10, 20, 30, 40, 50, 60, 70, 80, 90, 100]}, "repeat": 3}})";
   const std::string db = disk + "/full.db";
-  const CommandResult full = run_armfarm("run " + path("full.json") + " --db " + db + " -j 2 --heartbeat 0");
+  const CommandResult full = run_command("run " + path("full.json") + " --db " + db + " -j 2 --heartbeat 0");
   EXPECT_EQ(full.exit_code, 3) << full.output;  // results lost: not the "some jobs failed" 1
   const std::smatch lost = [&] {
     std::smatch match;
@@ -355,8 +351,8 @@ TEST_F(CmdRunProgressTest, AFullDiskPrintsNoDoneThatWasNotCommittedAndTheNextRun
   ASSERT_EQ(mount("tmpfs", disk.c_str(), "tmpfs", MS_REMOUNT, "size=64m"), 0) << std::strerror(errno);
   // The stopped run's claims could not be released on the full disk: a short lease lets the next
   // run take them over at once instead of after the default minute.
-  ASSERT_EQ(run_armfarm("lease " + db + " 0.5").exit_code, 0);
-  const CommandResult resumed = run_armfarm("run " + path("full.json") + " --db " + db + " -j 2 --heartbeat 0");
+  ASSERT_EQ(run_command("lease " + db + " 0.5").exit_code, 0);
+  const CommandResult resumed = run_command("run " + path("full.json") + " --db " + db + " -j 2 --heartbeat 0");
   EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_NE(resumed.output.find(std::to_string(stored.size()) + " already done (skipped)"), std::string::npos)
       << resumed.output;
