@@ -190,7 +190,7 @@ std::size_t count_label_chars(double value) {
 
 // A linear axis's tick step: the finest 1, 2 or 5 × 10^k whose labels keep apart on the panel,
 // `room` characters across (x: the widest label '%g' and 1.5 characters between neighbours) or
-// lines down (y: 1.7 lines from label to label). On an axis that gnuplot extends (`extend`) the
+// lines down (y: 1.35 lines, 1.7 em, from label to label). On an axis that gnuplot extends (`extend`) the
 // range grows to the next multiple of the step, as gnuplot's autoscale does.
 double choose_linear_step(double low, double high, bool extend, double room, int axis) {
   const double range = high - low;
@@ -202,7 +202,7 @@ double choose_linear_step(double low, double high, bool extend, double room, int
     const double span = extend ? last - first : range;
     if (count > 12 || !(span > 0)) continue;
     const double spacing = room * step / span;
-    double needed = 1.7;
+    double needed = 1.35;
     if (axis == 0) {
       std::size_t widest = 0;
       for (int k = 0; k < count; ++k) {
