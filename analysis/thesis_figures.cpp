@@ -553,7 +553,7 @@ Figure make_figure_6_11(const ResultsStore& store, const ThesisResults& thesis, 
     }
   }
   result.caption.push_back("armfarm: the desired end-effector path (POS_D) of the test jobs of " + files +
-                           ", synthetic stand-ins for the thesis's recordings; left the top view (x-y), right the side view (y-z)");
+                           ", synthetic stand-ins for the thesis's recordings; a row per recording, left its top view (x-y), right its side view (y-z)");
   return result;
 }
 
