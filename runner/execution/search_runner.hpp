@@ -13,6 +13,15 @@
 // committed results only: the same at -j1 and -j8, after kill -9 (the killed round's jobs are
 // pending and run again), and with several runners on one file (claims share the jobs).
 //
+// Settings in the file. The `searches` row holds everything a decision depends on
+// (results/search_store.hpp). Before its first round a runner that finds its search in the file
+// (a resume, or a second runner that started later) compares what the spec decides (method,
+// sampler, seed, η, slots, limits, budget, objective, rungs, space, an explicit tpe_startup) and
+// refuses any difference, one line each, before anything is written (SpecError, exit 2); what
+// the build decides (each rung's estimated cost, TPE's start-up by the budget rule, TPE's γ,
+// good-group cap and candidates) it takes from the row, so runners of different builds continue
+// one search alike. A row of schema version 6 lacks the last ones: the runner's are written.
+//
 // Rungs are short jobs; promotions rerun. A step to rung r below the last is a job that learns
 // exactly to rung r's checkpoint (SpecSearch::length_path: learning.epochs for batch jobs,
 // trajectory.reaching.reaches for online reaching jobs) with learning.heldout_checkpoints cut
