@@ -20,6 +20,11 @@
 // ARMFARM_BENCH_SEARCH_SEEDS=N runs seeds 1 … N only (a stated subset, when time is short);
 // --benchmark_filter=KernelWidth or =Reaching runs one problem. Each seed's line is printed as it
 // finishes. Each search runs in a database of its own, so its measured CPU is its own jobs'.
+// On a problem with checkpoints the grid is followed by the rung measurement (measure_rungs:
+// Spearman's ρ of each rung against the last, in the grid's jobs and as short rung jobs);
+// ARMFARM_BENCH_SEARCH_SEEDS=0 stops after it. ARMFARM_BENCH_SEARCH_FOLDER=DIR keeps the grids'
+// databases and measured CPU in DIR for later runs.
+// BM_SearchCostFactor measures the cost factor of calc_search_cpu_seconds (see there).
 #include "analysis/search_summary.hpp"
 #include "results/results_store.hpp"
 #include "runner/execution/job_kind.hpp"
