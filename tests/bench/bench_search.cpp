@@ -478,7 +478,7 @@ void run_factor_spec(const JobKind& kind, const fs::path& folder, const std::str
     const double start = process_cpu_seconds();
     run_sweep(one, kind.executor, options, no_stop);
     const double cpu = process_cpu_seconds() - start;
-    samples.push_back({kind.estimate_cost(job.config()).cost, cpu});
+    samples.push_back({kind.estimate_cost(job.config(), nullptr).cost, cpu});
   }
   print_factor(relative + " (measured)", samples, "process CPU");
 }
@@ -506,7 +506,7 @@ void BM_SearchCostFactor(benchmark::State& state) {
           for (const JobRecord& job : store.find_jobs(sweep.name)) {
             if (job.status != "done" || !job.wall_seconds) continue;
             try {
-              samples.push_back({kind.estimate_cost(job.config).cost, *job.wall_seconds});
+              samples.push_back({kind.estimate_cost(job.config, nullptr).cost, *job.wall_seconds});
             } catch (const std::exception&) {
               // its model file is not on this machine: left out
             }
