@@ -57,10 +57,15 @@ std::string make_readable_metric_name(const std::string& name) {
   return readable;
 }
 
-std::string make_metric_axis_label(const MetricInfoTable& info, const MetricId& id) {
+std::string make_readable_metric_label(const MetricId& id) {
   std::string label = make_readable_metric_name(id.name);
   if (id.joint) label += ", joint " + std::to_string(*id.joint);
   if (id.checkpoint) label += ", checkpoint " + std::to_string(*id.checkpoint);
+  return label;
+}
+
+std::string make_metric_axis_label(const MetricInfoTable& info, const MetricId& id) {
+  const std::string label = make_readable_metric_label(id);
   const auto found = info.find(id.name);
   if (found == info.end()) return label;
   const std::string& unit = found->second.unit;
@@ -93,7 +98,22 @@ const nlohmann::json* find_config_value(const nlohmann::json& config, const std:
   return node;
 }
 
+// list_config_leaf_paths below `prefix`, into `paths`.
+void add_config_leaf_paths(const nlohmann::json& node, const ConfigPath& prefix, std::vector<ConfigPath>& paths) {
+  if (node.is_object()) {
+    for (const auto& item : node.items()) add_config_leaf_paths(item.value(), prefix.child(item.key()), paths);
+  } else if (!prefix.empty()) {
+    paths.push_back(prefix);
+  }
+}
+
 }  // namespace
+
+std::vector<ConfigPath> list_config_leaf_paths(const nlohmann::json& config) {
+  std::vector<ConfigPath> paths;
+  add_config_leaf_paths(config, ConfigPath(), paths);
+  return paths;
+}
 
 nlohmann::json find_param_value(const JobResult& job, const std::string& path) {
   if (job.params.is_object()) {

@@ -170,7 +170,7 @@ bool is_sweep_registered(const std::string& db_path, const std::string& sweep) {
 }  // namespace
 
 double calc_search_cpu_seconds(const JobKind& kind, const nlohmann::json& config) {
-  const double estimate = kind.estimate_cost(config).cost;
+  const double estimate = kind.estimate_cost(config, nullptr).cost;
   return kind.name == "experiment" ? estimate * kSearchCpuSecondsPerJointSecond : estimate;
 }
 
