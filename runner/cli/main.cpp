@@ -1,8 +1,8 @@
 // armfarm: a batch experiment farm for learning the motor control of simulated robot arms.
 #include "analysis/printable_text.hpp"
 #include "engine/io/message_text.hpp"
-#include "runner/build_info.hpp"
 #include "runner/cli/subcommand.hpp"
+#include "runner/execution/provenance.hpp"
 
 #include <exception>
 #include <iostream>
@@ -16,8 +16,9 @@ int main(int argc, char** argv) {
     return "armfarm: " + armfarm::cap_message_line(e.what()) + " (--help lists the options)\n";
   });
   app.fallthrough(false);
-  app.set_version_flag("--version", std::string("armfarm ") + armfarm::build_info::version + " (" +
-                                        armfarm::build_info::git_commit + (armfarm::build_info::git_dirty ? ", dirty" : "") + ")",
+  const armfarm::Provenance build = armfarm::make_provenance();
+  app.set_version_flag("--version",
+                       "armfarm " + build.armfarm_version + " (" + build.git_commit + (build.git_dirty ? ", dirty" : "") + ")",
                        "Print armfarm's version and git commit and exit (`armfarm version` says more)");
 
   armfarm::cli::RunFunction selected;

@@ -1,5 +1,8 @@
 #include "runner/execution/provenance.hpp"
 
+// The only file that includes the generated build_info.hpp (runner/CMakeLists.txt), which a
+// re-configure after a commit rewrites: this small file recompiles then, not the CLI's units or
+// main.cpp, which print the build's provenance from make_provenance().
 #include "runner/build_info.hpp"
 
 #include <unistd.h>

@@ -274,7 +274,8 @@ TEST(LwprModel, OutputsSharingOneScanMatchSingleOutputModels) {
 // inputs) and for full metrics (n = 2 and 5).
 TEST(LwprModel, Avx2ScanMatchesThePortableScanBitForBit) {
   if (!has_avx2()) GTEST_SKIP() << "this CPU has no AVX2";
-  for (const auto& [n, diagonal] : {std::pair{9, true}, std::pair{2, false}, std::pair{5, false}}) {
+  for (const auto& [size, diagonal] : {std::pair{9, true}, std::pair{2, false}, std::pair{5, false}}) {
+    const int n = size;  // a lambda may capture a variable, not a structured binding (C++17; clang refuses)
     LwprParams params;
     params.diag_only = diagonal;
     params.init_D = Eigen::MatrixXd::Constant(1, 1, 3.0);
