@@ -3,6 +3,7 @@
 #include "analysis/analysis_error.hpp"
 #include "analysis/summary_statistics.hpp"
 #include "analysis/table.hpp"
+#include "base/config_path.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -133,21 +134,21 @@ std::string make_computed_config_text(const JobResult& job) {
   return config.dump();
 }
 
-bool is_recording_path(const std::string& path) {
-  const std::string section = kRecordingSection;
-  return path == section || path.rfind(section + ".", 0) == 0 || path.rfind(section + "[", 0) == 0;
-}
+// Whether `path` lies in the recording section, which changes only what a job records.
+bool is_recording_path(const ConfigPath& path) { return path.is_within(ConfigPath().child(kRecordingSection)); }
 
-// Every dotted path of the leaves of `config` (objects only; arrays are leaves).
-void collect_config_paths(const nlohmann::json& config, const std::string& prefix, std::vector<std::string>& paths) {
-  for (const auto& item : config.items()) {
-    const std::string path = prefix.empty() ? item.key() : prefix + "." + item.key();
-    if (item.value().is_object()) {
-      collect_config_paths(item.value(), path, paths);
-    } else {
-      paths.push_back(path);
+// The leaf paths of the configurations of `jobs` as text, sorted, each once; those of the
+// recording section only `with_recording`.
+std::vector<std::string> list_config_params(const std::vector<const JobResult*>& jobs, bool with_recording) {
+  std::vector<std::string> texts;
+  for (const JobResult* job : jobs) {
+    for (const ConfigPath& path : list_config_leaf_paths(job->config)) {
+      if (with_recording || !is_recording_path(path)) texts.push_back(path.to_string());
     }
   }
+  std::sort(texts.begin(), texts.end());
+  texts.erase(std::unique(texts.begin(), texts.end()), texts.end());
+  return texts;
 }
 
 // The pairing key of a job under `pairing`.
@@ -164,14 +165,8 @@ std::string make_pairing_key(const JobResult& job, const PairingRule& pairing) {
 
 // The parameters (outside recording and the pairing ones) whose values differ between a and b.
 std::vector<std::string> find_differing_params(const JobResult& a, const JobResult& b, const PairingRule& pairing) {
-  std::vector<std::string> paths;
-  collect_config_paths(a.config, "", paths);
-  collect_config_paths(b.config, "", paths);
-  std::sort(paths.begin(), paths.end());
-  paths.erase(std::unique(paths.begin(), paths.end()), paths.end());
   std::vector<std::string> differing;
-  for (const std::string& path : paths) {
-    if (is_recording_path(path)) continue;
+  for (const std::string& path : list_config_params({&a, &b}, false)) {
     if (std::find(pairing.params.begin(), pairing.params.end(), path) != pairing.params.end()) continue;
     if (find_param_value(a, path) != find_param_value(b, path)) differing.push_back(path);
   }
@@ -203,12 +198,17 @@ std::map<std::string, const JobResult*> index_jobs(const std::vector<JobResult>&
 // Checks the pairing parameters against the jobs; throws AnalysisError naming a bad one.
 void check_pairing_params(const PairingRule& pairing, const std::vector<JobResult>& base,
                           const std::vector<JobResult>& next) {
-  std::vector<std::string> known;
-  for (const JobResult& job : base) collect_config_paths(job.config, "", known);
-  std::sort(known.begin(), known.end());
-  known.erase(std::unique(known.begin(), known.end()), known.end());
+  std::vector<const JobResult*> base_jobs;
+  for (const JobResult& job : base) base_jobs.push_back(&job);
+  const std::vector<std::string> known = list_config_params(base_jobs, true);
   for (const std::string& param : pairing.params) {
-    if (is_recording_path(param)) {
+    ConfigPath path;
+    try {
+      path = parse_config_path(param);
+    } catch (const std::invalid_argument& e) {
+      throw AnalysisError("--pair-by " + param + ": not a configuration path (" + e.what() + ")");
+    }
+    if (is_recording_path(path)) {
       throw AnalysisError("--pair-by " + param + ": recording keys only change what is recorded and never pair jobs");
     }
     const auto has = [&](const std::vector<JobResult>& jobs) {

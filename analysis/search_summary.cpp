@@ -4,7 +4,9 @@
 #include "base/number_format.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <map>
 #include <sstream>
 
@@ -200,6 +202,40 @@ Figure make_search_figure(const ResultsStore& store, const std::optional<std::st
   figure.title = "Search: " + describe_objective(first);
   figure.panels.push_back(std::move(panel));
   return figure;
+}
+
+namespace {
+
+// Mid-ranks, 1-based: a run of tied values takes the mean of the ranks it spans.
+std::vector<double> calc_mid_ranks(const std::vector<double>& values) {
+  std::vector<std::size_t> order(values.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
+  std::vector<double> ranks(values.size());
+  for (std::size_t i = 0; i < order.size();) {
+    std::size_t j = i;
+    while (j + 1 < order.size() && values[order[j + 1]] == values[order[i]]) ++j;
+    const double mid = 0.5 * static_cast<double>(i + j) + 1.0;
+    for (std::size_t k = i; k <= j; ++k) ranks[order[k]] = mid;
+    i = j + 1;
+  }
+  return ranks;
+}
+
+}  // namespace
+
+std::optional<double> calc_rank_correlation(const std::vector<double>& x, const std::vector<double>& y) {
+  if (x.size() != y.size() || x.size() < 2) return std::nullopt;
+  const std::vector<double> r = calc_mid_ranks(x), s = calc_mid_ranks(y);
+  const double mean = 0.5 * static_cast<double>(x.size() + 1);  // the mean of any set of mid-ranks of n values
+  double sum_rs = 0.0, sum_rr = 0.0, sum_ss = 0.0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    sum_rs += (r[i] - mean) * (s[i] - mean);
+    sum_rr += (r[i] - mean) * (r[i] - mean);
+    sum_ss += (s[i] - mean) * (s[i] - mean);
+  }
+  if (!(sum_rr > 0.0) || !(sum_ss > 0.0)) return std::nullopt;
+  return sum_rs / std::sqrt(sum_rr * sum_ss);
 }
 
 }  // namespace armfarm

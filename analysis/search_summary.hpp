@@ -70,4 +70,13 @@ std::string format_search_progress(const SearchSummary& summary);
 /// Throws AnalysisError when there is no such search or no search has a last-rung objective.
 Figure make_search_figure(const ResultsStore& store, const std::optional<std::string>& sweep);
 
+/// Spearman's rank correlation ρ of the pairs (x[i], y[i]): Pearson's correlation of their
+/// ranks, where tied values share the mean of the ranks they span (mid-ranks), so
+///   ρ = Σ (r_i − r̄)(s_i − s̄) / √( Σ (r_i − r̄)² · Σ (s_i − s̄)² ).
+/// Without ties this equals 1 − 6 Σ d_i² / (n (n² − 1)), d_i = r_i − s_i. How well a search's
+/// early rung orders trials as its last rung does (tests/bench/bench_search.cpp measures it on
+/// grids). Empty when there are fewer than two pairs, the sizes differ, or either side is
+/// constant (a correlation is undefined then).
+std::optional<double> calc_rank_correlation(const std::vector<double>& x, const std::vector<double>& y);
+
 }  // namespace armfarm

@@ -98,7 +98,22 @@ const nlohmann::json* find_config_value(const nlohmann::json& config, const std:
   return node;
 }
 
+// list_config_leaf_paths below `prefix`, into `paths`.
+void add_config_leaf_paths(const nlohmann::json& node, const ConfigPath& prefix, std::vector<ConfigPath>& paths) {
+  if (node.is_object()) {
+    for (const auto& item : node.items()) add_config_leaf_paths(item.value(), prefix.child(item.key()), paths);
+  } else if (!prefix.empty()) {
+    paths.push_back(prefix);
+  }
+}
+
 }  // namespace
+
+std::vector<ConfigPath> list_config_leaf_paths(const nlohmann::json& config) {
+  std::vector<ConfigPath> paths;
+  add_config_leaf_paths(config, ConfigPath(), paths);
+  return paths;
+}
 
 nlohmann::json find_param_value(const JobResult& job, const std::string& path) {
   if (job.params.is_object()) {

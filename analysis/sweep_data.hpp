@@ -1,6 +1,7 @@
 #pragma once
 // A sweep's jobs and their metrics, read once from a results database into plain values that
 // the tables, comparisons, plots and reports work on (and that tests can build by hand).
+#include "base/config_path.hpp"
 #include "results/results_store.hpp"
 
 #include <nlohmann/json.hpp>
@@ -69,6 +70,10 @@ struct SweepData {
 /// The value of a parameter of a job: from its varying params, else from its configuration
 /// by dotted path ("control.kp[1]"); null when the configuration has no such element.
 nlohmann::json find_param_value(const JobResult& job, const std::string& path);
+
+/// The path of every element of `config` that is not an object (an array is one element: its
+/// items are not listed), in key order; none when `config` is not an object.
+std::vector<ConfigPath> list_config_leaf_paths(const nlohmann::json& config);
 
 /// The name of the sweep to analyse: `requested` if given (it must exist), else the only
 /// sweep of the database. Throws AnalysisError listing the sweeps otherwise.

@@ -56,16 +56,6 @@ NameMatch make_param_name_match(const std::string& word) { return NameMatch{calc
 
 namespace {
 
-// Every path of a job's configuration down to its values (not into arrays), printed, for
-// did-you-mean suggestions.
-void collect_config_paths(const nlohmann::json& node, const ConfigPath& prefix, std::vector<std::string>& paths) {
-  if (node.is_object()) {
-    for (const auto& item : node.items()) collect_config_paths(item.value(), prefix.child(item.key()), paths);
-  } else if (!prefix.empty()) {
-    paths.push_back(prefix.to_string());
-  }
-}
-
 std::string make_suggestion(const std::string& word, const std::vector<std::string>& candidates) {
   const auto nearest = find_closest_name(word, candidates, make_param_name_match(word));
   return nearest ? "; did you mean '" + *nearest + "'?" : "";
@@ -73,7 +63,10 @@ std::string make_suggestion(const std::string& word, const std::vector<std::stri
 
 std::vector<std::string> list_param_candidates(const SweepData& data) {
   std::vector<std::string> candidates = data.varying_params;
-  if (!data.jobs.empty()) collect_config_paths(data.jobs.front().config, ConfigPath(), candidates);
+  // Every path of a job's configuration down to its values (not into arrays), printed.
+  if (!data.jobs.empty()) {
+    for (const ConfigPath& path : list_config_leaf_paths(data.jobs.front().config)) candidates.push_back(path.to_string());
+  }
   return candidates;
 }
 

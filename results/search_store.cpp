@@ -65,6 +65,17 @@ CREATE VIEW search_promotions AS
    WHERE st.kind = 'promotion';
 )sql";
 
+// NULL in a row migrated from version 6: not recorded (the runner fills it in when it resumes).
+const char* const kSettingsMigration = R"sql(
+ALTER TABLE searches ADD COLUMN max_trials INTEGER;
+ALTER TABLE searches ADD COLUMN bracket_size INTEGER;
+ALTER TABLE searches ADD COLUMN tpe_startup INTEGER;
+ALTER TABLE searches ADD COLUMN tpe_gamma REAL;
+ALTER TABLE searches ADD COLUMN tpe_max_good INTEGER;
+ALTER TABLE searches ADD COLUMN tpe_candidates INTEGER;
+ALTER TABLE searches ADD COLUMN space TEXT;
+)sql";
+
 }  // namespace search_store_sql
 
 namespace {
@@ -86,13 +97,33 @@ void ResultsStore::insert_search(const SearchRecord& search) {
   if (!sweep.step()) throw StoreError(path_ + ": no sweep '" + search.sweep + "' to attach a search to");
   const std::int64_t sweep_id = sweep.column_int(0);
   // A search is written once; a resumed run finds it and compares (the runner refuses a change).
+  // A row of schema version 6 lacks the decision settings added by version 7: they are filled in.
   SqliteStatement existing = db_->prepare("SELECT id FROM searches WHERE sweep_id = ?");
   existing.bind(1, sweep_id);
-  if (existing.step()) return;
+  if (existing.step()) {
+    const std::int64_t id = existing.column_int(0);
+    db_->prepare(
+           "UPDATE searches SET max_trials = COALESCE(max_trials, ?1), bracket_size = COALESCE(bracket_size, ?2), "
+           "tpe_startup = COALESCE(tpe_startup, ?3), tpe_gamma = COALESCE(tpe_gamma, ?4), "
+           "tpe_max_good = COALESCE(tpe_max_good, ?5), tpe_candidates = COALESCE(tpe_candidates, ?6), "
+           "space = COALESCE(space, ?7) WHERE id = ?8")
+        .bind(1, search.max_trials)
+        .bind(2, search.bracket_size)
+        .bind(3, search.tpe_startup)
+        .bind(4, search.tpe_gamma)
+        .bind(5, search.tpe_max_good)
+        .bind(6, search.tpe_candidates)
+        .bind(7, search.space)
+        .bind(8, id)
+        .execute();
+    transaction.commit();
+    return;
+  }
   db_->prepare(
          "INSERT INTO searches (sweep_id, method, sampler, seed, eta, slots, budget_unit, budget, resumable, "
-         "objective_metric, objective_direction, objective_joint, objective_checkpoint) "
-         "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)")
+         "objective_metric, objective_direction, objective_joint, objective_checkpoint, max_trials, bracket_size, "
+         "tpe_startup, tpe_gamma, tpe_max_good, tpe_candidates, space) "
+         "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20)")
       .bind(1, sweep_id)
       .bind(2, search.method)
       .bind(3, search.sampler)
@@ -106,6 +137,13 @@ void ResultsStore::insert_search(const SearchRecord& search) {
       .bind(11, search.objective_direction)
       .bind(12, search.objective_joint)
       .bind(13, search.objective_checkpoint)
+      .bind(14, search.max_trials)
+      .bind(15, search.bracket_size)
+      .bind(16, search.tpe_startup)
+      .bind(17, search.tpe_gamma)
+      .bind(18, search.tpe_max_good)
+      .bind(19, search.tpe_candidates)
+      .bind(20, search.space)
       .execute();
   const std::int64_t id = db_->last_insert_rowid();
   SqliteStatement rung = db_->prepare("INSERT INTO search_rungs (search_id, rung, checkpoint, cost) VALUES (?, ?, ?, ?)");
@@ -119,7 +157,8 @@ void ResultsStore::insert_search(const SearchRecord& search) {
 std::optional<SearchRecord> ResultsStore::find_search(const std::string& sweep) const {
   SqliteStatement query = db_->prepare(
       "SELECT se.id, se.method, se.sampler, se.seed, se.eta, se.slots, se.budget_unit, se.budget, se.resumable, "
-      "se.objective_metric, se.objective_direction, se.objective_joint, se.objective_checkpoint "
+      "se.objective_metric, se.objective_direction, se.objective_joint, se.objective_checkpoint, se.max_trials, "
+      "se.bracket_size, se.tpe_startup, se.tpe_gamma, se.tpe_max_good, se.tpe_candidates, se.space "
       "FROM searches se JOIN sweeps s ON s.id = se.sweep_id WHERE s.name = ?");
   query.bind(1, sweep);
   if (!query.step()) return std::nullopt;
@@ -138,6 +177,13 @@ std::optional<SearchRecord> ResultsStore::find_search(const std::string& sweep) 
   r.objective_direction = query.column_text(10);
   if (!query.is_null(11)) r.objective_joint = query.column_int(11);
   if (!query.is_null(12)) r.objective_checkpoint = query.column_int(12);
+  if (!query.is_null(13)) r.max_trials = query.column_int(13);
+  if (!query.is_null(14)) r.bracket_size = query.column_int(14);
+  if (!query.is_null(15)) r.tpe_startup = query.column_int(15);
+  r.tpe_gamma = query.column_optional_double(16);
+  if (!query.is_null(17)) r.tpe_max_good = query.column_int(17);
+  if (!query.is_null(18)) r.tpe_candidates = query.column_int(18);
+  r.space = query.column_optional_text(19);
   SqliteStatement rungs = db_->prepare("SELECT rung, checkpoint, cost FROM search_rungs WHERE search_id = ? ORDER BY rung");
   rungs.bind(1, id);
   while (rungs.step()) {
@@ -250,7 +296,12 @@ namespace {
 // The columns of `searches` a merge compares and copies (all but id and sweep_id).
 constexpr const char* kSearchSettingColumns =
     "method, sampler, seed, eta, slots, budget_unit, budget, resumable, objective_metric, objective_direction, "
-    "objective_joint, objective_checkpoint";
+    "objective_joint, objective_checkpoint, max_trials, bracket_size, tpe_startup, tpe_gamma, tpe_max_good, "
+    "tpe_candidates, space";
+// The columns of version 7: NULL in a row migrated from version 6 (not recorded), so a NULL agrees
+// with any value and is filled in from the other file.
+constexpr const char* kSearchDecisionColumns[] = {"max_trials",   "bracket_size",   "tpe_startup", "tpe_gamma",
+                                                  "tpe_max_good", "tpe_candidates", "space"};
 
 // The part of one search that both files hold, merged; returns the conflict, empty when none.
 std::string merge_one_search(SqliteConnection& db, std::int64_t src_id, std::int64_t main_id,
@@ -337,18 +388,25 @@ void merge_search_tables(SqliteConnection& db, const std::map<std::int64_t, std:
     if (mine.step()) {
       main_id = mine.column_int(0);
       // The same settings, compared column by column with IS (NULL objective joint or checkpoint).
+      std::string agree, fill;
+      for (const char* column : kSearchDecisionColumns) {
+        const std::string c = column;
+        agree += " AND (m." + c + " IS o." + c + " OR m." + c + " IS NULL OR o." + c + " IS NULL)";
+        fill += std::string(fill.empty() ? "" : ", ") + c + " = COALESCE(" + c + ", (SELECT " + c + " FROM src.searches WHERE id = ?2))";
+      }
       SqliteStatement same = db.prepare(
           "SELECT count(*) FROM main.searches m, src.searches o WHERE m.id = ?1 AND o.id = ?2 AND "
           "m.method IS o.method AND m.sampler IS o.sampler AND m.seed IS o.seed AND m.eta IS o.eta AND "
           "m.slots IS o.slots AND m.budget_unit IS o.budget_unit AND m.budget IS o.budget AND "
           "m.resumable IS o.resumable AND m.objective_metric IS o.objective_metric AND "
           "m.objective_direction IS o.objective_direction AND m.objective_joint IS o.objective_joint AND "
-          "m.objective_checkpoint IS o.objective_checkpoint");
+          "m.objective_checkpoint IS o.objective_checkpoint" + agree);
       same.bind(1, main_id).bind(2, src_id);
       if (!same.step() || same.column_int(0) != 1) {
         report.conflicts.push_back("search " + sweep + ": different settings in " + other_path + "; kept this file's");
         continue;
       }
+      db.prepare("UPDATE main.searches SET " + fill + " WHERE id = ?1").bind(1, main_id).bind(2, src_id).execute();
     } else {
       db.prepare(std::string("INSERT INTO main.searches (sweep_id, ") + kSearchSettingColumns + ") SELECT ?, " +
                  kSearchSettingColumns + " FROM src.searches WHERE id = ?")

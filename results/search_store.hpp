@@ -35,6 +35,16 @@ struct SearchRecord {
   std::optional<std::int64_t> objective_joint;       ///< empty: the mean over the joints
   std::optional<std::int64_t> objective_checkpoint;  ///< empty: a metric without checkpoints
   std::vector<SearchRungRecord> rungs;
+  // What else a decision depends on (schema version 7; empty: a search recorded by schema 6,
+  // filled in by the next runner that writes it). A resumed search or a second runner compares
+  // the spec's and adopts the build's (runner/execution/search_runner.hpp).
+  std::optional<std::int64_t> max_trials;      ///< 0: no limit but the budget
+  std::optional<std::int64_t> bracket_size;    ///< 0: η^(rungs − 1)
+  std::optional<std::int64_t> tpe_startup;     ///< the effective start-up: the spec's, or the budget rule's
+  std::optional<double> tpe_gamma;             ///< TPE's good fraction γ
+  std::optional<std::int64_t> tpe_max_good;    ///< TPE's cap on the good group
+  std::optional<std::int64_t> tpe_candidates;  ///< TPE's draws scored per proposal
+  std::optional<std::string> space;            ///< the axes as JSON, in the order that fixes the draws
 };
 
 struct SearchTrialRecord {
@@ -73,6 +83,8 @@ void merge_search_tables(SqliteConnection& db, const std::map<std::int64_t, std:
 namespace search_store_sql {
 /// The migration step that adds the search tables (appended to the store's migration list).
 extern const char* const kMigration;
+/// The migration step that adds the decision settings to `searches` (schema version 7).
+extern const char* const kSettingsMigration;
 }  // namespace search_store_sql
 
 }  // namespace armfarm

@@ -147,12 +147,16 @@ CREATE INDEX models_by_hash ON models(hash);
       // 6: searches, their rungs, trials and steps (new trials and promotions) and the objective
       // each step saw (results/search_store.cpp).
       search_store_sql::kMigration,
+      // 7: the settings a search decision depends on beside those of version 6: the trial and
+      // bracket limits, TPE's effective start-up and constants, the space (results/search_store.cpp).
+      search_store_sql::kSettingsMigration,
   };
   return scripts;
 }
 
 // Applies the migrations after `version` in one transaction. The generated per-sweep views are
-// dropped first (they name columns of the old tables) and written anew afterwards.
+// dropped first (they name columns of the old tables) and written anew afterwards; the fixed
+// views stay (a migration that changes one's tables drops and recreates it itself).
 void migrate(SqliteConnection& db, std::int64_t version) {
   SqliteTransaction transaction(db);
   // Read again under the write lock: another process may have created or migrated the file
@@ -168,7 +172,8 @@ void migrate(SqliteConnection& db, std::int64_t version) {
   if (version >= 1) {
     std::vector<std::string> views;
     SqliteStatement statement = db.prepare(
-        "SELECT name FROM sqlite_master WHERE type = 'view' AND name NOT IN ('job_metrics', 'sweep_job_status')");
+        "SELECT name FROM sqlite_master WHERE type = 'view' AND name NOT IN ('job_metrics', 'sweep_job_status', "
+        "'search_promotions')");
     while (statement.step()) views.push_back(statement.column_text(0));
     for (const std::string& view : views) db.execute("DROP VIEW " + quote_identifier(view));
   }

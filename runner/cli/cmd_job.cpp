@@ -84,8 +84,15 @@ void resolve_initial_model(nlohmann::json& config, const nlohmann::json& recorde
 // `end_effector` (from --ee) replaces the file's end_effector block. A stored-model reference is
 // resolved by schema.resolve_references; a configuration recorded with a resolved one
 // ("stored:<hash>" and its inputs entry) is resolved again from the reference it records.
-nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& schema,
-                               const std::optional<EndEffectorConfig>& end_effector) {
+// The configuration as the job records it, and what the schema's check made of it (the job runs
+// from that: it is validated once).
+struct LoadedJob {
+  nlohmann::json config;
+  std::shared_ptr<const CheckedConfig> checked;
+};
+
+LoadedJob load_job_config(const std::string& path, const JobConfigSchema& schema,
+                          const std::optional<EndEffectorConfig>& end_effector) {
   const std::string text = read_input_file(path, InputFileKind::json);
   JsonDocument document;
   try {
@@ -153,11 +160,11 @@ nlohmann::json load_job_config(const std::string& path, const JobConfigSchema& s
     }
   }
   try {
-    schema.validate(config);
+    std::shared_ptr<const CheckedConfig> checked = schema.validate(config);
+    return {std::move(config), std::move(checked)};
   } catch (const ConfigError& error) {
     throw std::runtime_error(path + ": " + error.what());
   }
-  return config;
 }
 
 nlohmann::json number_or_null(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
@@ -188,7 +195,8 @@ RunFunction setup_job(CLI::App& parent) {
     const JobConfigSchema schema = make_experiment_config_schema(stored);
     std::optional<EndEffectorConfig> end_effector;
     if (!ee->empty()) end_effector = parse_end_effector_text(*ee);
-    const nlohmann::json config = load_job_config(*path, schema, end_effector);
+    const LoadedJob job = load_job_config(*path, schema, end_effector);
+    const nlohmann::json& config = job.config;
     {
       const ArmModel model = load_arm_model_file(calc_config_with_resolved_inputs(config).at("model").get<std::string>());
       if (*strict) check_strict_model(model);
@@ -206,7 +214,7 @@ RunFunction setup_job(CLI::App& parent) {
       return timed_out || interrupted.load();
     };
     try {
-      outcome = make_experiment_executor(stored)(config, control);
+      outcome = make_experiment_executor(stored)(config, job.checked.get(), control);
     } catch (const ConfigError& error) {
       throw std::runtime_error(*path + ": " + error.what());
     }

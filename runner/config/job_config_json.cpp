@@ -3,7 +3,7 @@
 #include "engine/experiment/job_config_validation.hpp"
 #include "base/config_path.hpp"
 #include "engine/io/input_file.hpp"
-#include "runner/config/config_error.hpp"
+#include "runner/spec/config_error.hpp"
 #include "runner/config/config_value_json.hpp"
 #include "runner/io/csv_reader.hpp"
 #include "runner/spec/canonical_json.hpp"

@@ -34,7 +34,7 @@ nlohmann::json make_job_config_types();
 
 /// Parses a resolved configuration (defaults merged) for an arm with `movable_joints` movable
 /// joints and validates it: the one validation at the edge, whose proof (ValidJobConfig,
-/// job_config_validation.hpp) the engine's run_experiment takes without validating again. Throws ConfigError (runner/config/config_error.hpp) naming the
+/// job_config_validation.hpp) the engine's run_experiment takes without validating again. Throws ConfigError (runner/spec/config_error.hpp) naming the
 /// JSON path of the first problem; its message lists every problem ("path: what; path: what").
 /// `null` at a key means its default (configurations stored before the defaults were written out).
 ///

@@ -1,5 +1,7 @@
-// The experiment job as the runner sees it: JSON configuration → engine JobConfig → one
-// run_experiment() call. Arm models are loaded once per file and shared (read-only) by the
+// The experiment job as the runner sees it: JSON configuration → engine JobConfig, validated
+// once where the JSON enters (the schema's check at the expansion, whose CheckedExperimentJob the
+// job carries to the executor; or the executor itself for a configuration that comes without
+// one) → one run_experiment() call. Arm models are loaded once per file and shared (read-only) by the
 // jobs of a sweep. The files a job reads (model and meshes, recorded trajectory) are its input
 // fields: the spec layer resolves and hashes them, and the job loads them from the resolved
 // paths recorded under "inputs". The arm a job runs on is make_job_model's (job_models.hpp). Trajectories are built once per distinct trajectory key and
@@ -8,6 +10,7 @@
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/model/model_loading.hpp"
 #include "runner/config/job_config_json.hpp"
+#include "runner/execution/checked_experiment_job.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/execution/job_models.hpp"
 #include "runner/execution/stored_models.hpp"
@@ -20,6 +23,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 
 namespace armfarm {
@@ -89,12 +93,13 @@ std::string find_model_path(const nlohmann::json& recorded) {
 
 // The check of a configuration with its inputs recorded: parsed and validated against its model,
 // the job's model made (end effector, start posture). ConfigError naming the path of the first problem.
-void check_config(const nlohmann::json& recorded, JobModels& models, const std::shared_ptr<StoredModels>& stored,
-                  JobFileContents* contents) {
-  const std::string path = find_model_path(recorded);
-  const ValidJobConfig job = parse_recorded_job_config(recorded, *models.get_facts(path),
-                                                  make_stored_model_reader(stored), contents);
+std::shared_ptr<const CheckedExperimentJob> check_config(const nlohmann::json& recorded, JobModels& models,
+                                                         const std::shared_ptr<StoredModels>& stored,
+                                                         JobFileContents* contents) {
+  std::string path = find_model_path(recorded);
+  ValidJobConfig job = parse_recorded_job_config(recorded, *models.get_facts(path), make_stored_model_reader(stored), contents);
   models.get(path, job);
+  return std::make_shared<const CheckedExperimentJob>(std::move(job), std::move(path));
 }
 
 }  // namespace
@@ -104,11 +109,13 @@ JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stor
   JobConfigSchema schema;
   schema.defaults = make_job_config_defaults();
   schema.types = make_job_config_types();
-  schema.validate = [models, stored](const nlohmann::json& recorded) { check_config(recorded, *models, stored, nullptr); };
+  schema.validate = [models, stored](const nlohmann::json& recorded) -> std::shared_ptr<const CheckedConfig> {
+    return check_config(recorded, *models, stored, nullptr);
+  };
   schema.make_sweep_validate = [models, stored] {
     auto contents = std::make_shared<JobFileContents>();  // the sweep's recorded trajectory and initial model, read once
-    return std::function<void(const nlohmann::json&)>([models, stored, contents](const nlohmann::json& recorded) {
-      check_config(recorded, *models, stored, contents.get());
+    return ConfigCheck([models, stored, contents](const nlohmann::json& recorded) -> std::shared_ptr<const CheckedConfig> {
+      return check_config(recorded, *models, stored, contents.get());
     });
   };
   schema.find_key_range = [](const std::string& path) -> std::optional<Range> {
@@ -150,13 +157,23 @@ JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored) {
   auto models = std::make_shared<JobModels>();
   auto trajectories = std::make_shared<TrajectoryCache>();
   auto model_hashes = std::make_shared<ModelHashCheck>(models);
-  return [models, trajectories, stored, model_hashes](const nlohmann::json& recorded, const JobControl& control) -> JobOutcome {
-    // Every file the job reads is checked against the hash its key recorded (the recorded
-    // trajectory and the initial model by parse_recorded_job_config, the model here).
-    const std::string path = find_model_path(recorded);
-    const std::shared_ptr<const ModelFacts> facts = models->get_facts(path);
-    model_hashes->check(recorded, path);
-    const ValidJobConfig job = parse_recorded_job_config(recorded, *facts, make_stored_model_reader(stored));
+  return [models, trajectories, stored, model_hashes](const nlohmann::json& recorded, const CheckedConfig* checked,
+                                                      const JobControl& control) -> JobOutcome {
+    // Every file the job reads is the one its key names: the model is loaded now and checked
+    // against the hash its key recorded; the recorded trajectory and the initial model are the
+    // bytes the check read and compared with those hashes (at the expansion when the job comes
+    // checked, else now, by parse_recorded_job_config).
+    const CheckedExperimentJob* carried = find_checked_experiment_job(checked);
+    const std::string path = carried != nullptr ? carried->model_path : find_model_path(recorded);
+    std::optional<ValidJobConfig> parsed;
+    if (carried == nullptr) {
+      const std::shared_ptr<const ModelFacts> facts = models->get_facts(path);
+      model_hashes->check(recorded, path);
+      parsed.emplace(parse_recorded_job_config(recorded, *facts, make_stored_model_reader(stored)));
+    } else {
+      model_hashes->check(recorded, path);
+    }
+    const ValidJobConfig& job = carried != nullptr ? carried->job : *parsed;
     const auto model = models->get(path, job);
     JobOutcome outcome;
     try {

@@ -40,7 +40,8 @@ JobConfigSchema make_fake_job_config_schema() {
   // The LWPR defaults are the experiment job's (engine/learning/learning_config.hpp), not a copy.
   const lwpr::LwprParams lwpr_defaults = make_job_lwpr_defaults();
   schema.defaults["learning"]["lwpr"] = {{"init_D", lwpr_defaults.init_D(0, 0)}, {"init_alpha", lwpr_defaults.init_alpha}};
-  schema.validate = [](const nlohmann::json& config) {
+  // Checks the JSON and keeps nothing (its executor reads the JSON).
+  schema.validate = [](const nlohmann::json& config) -> std::shared_ptr<const CheckedConfig> {
     const auto& control = config.at("control");
     if (control.at("kp").empty()) throw ConfigError("control.kp", "needs one gain per active joint");
     if (control.at("kd").size() != control.at("kp").size()) {
@@ -67,12 +68,13 @@ JobConfigSchema make_fake_job_config_schema() {
     }
     if (config.at("fake").at("sleep_ms").get<double>() < 0.0) throw ConfigError("fake.sleep_ms", "must not be negative");
     if (config.at("fake").at("work").get<std::int64_t>() < 0) throw ConfigError("fake.work", "must not be negative");
+    return nullptr;
   };
   return schema;
 }
 
 JobExecutor make_fake_job_executor() {
-  return [](const nlohmann::json& config, const JobControl& control) {
+  return [](const nlohmann::json& config, const CheckedConfig*, const JobControl& control) {
     const auto& fake = config.at("fake");
     const auto& kp = config.at("control").at("kp");
     const double gain_scale = config.at("control").at("gain_scale").get<double>();
@@ -152,7 +154,7 @@ JobExecutor make_fake_job_executor() {
 }
 
 JobCostFunction make_fake_job_cost_function() {
-  return [](const nlohmann::json& config) {
+  return [](const nlohmann::json& config, const CheckedConfig*) {
     const std::size_t n = config.at("control").at("kp").size();
     JobCostEstimate estimate;
     estimate.cost = config.at("simulation").at("duration").get<double>() * static_cast<double>(std::max<std::size_t>(1, n)) +

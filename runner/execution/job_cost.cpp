@@ -2,28 +2,40 @@
 
 #include "engine/experiment/job_config_validation.hpp"
 #include "runner/config/job_config_json.hpp"
+#include "runner/execution/checked_experiment_job.hpp"
 #include "runner/execution/job_models.hpp"
 #include "runner/spec/input_files.hpp"
 
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 
 namespace armfarm {
 
 JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
   auto models = std::make_shared<JobModels>();
-  return [model, models](const nlohmann::json& recorded) {
-    const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
-    const std::string path = config.at("model").get<std::string>();
+  return [model, models](const nlohmann::json& recorded, const CheckedConfig* checked) {
+    // An expanded job comes with its validated configuration; another (a finished job of a
+    // reference database) is read here.
+    const CheckedExperimentJob* carried = find_checked_experiment_job(checked);
+    std::optional<ValidJobConfig> parsed;
+    std::string path;
+    if (carried != nullptr) {
+      path = carried->model_path;
+    } else {
+      const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
+      path = config.at("model").get<std::string>();
+      const int movable = static_cast<int>(models->get_file(path)->movable_joints().size());
+      // The model a job starts from does not change its cost: a stored one is not fetched here.
+      parsed.emplace(parse_job_config(config, movable, [](const std::string&) { return std::string(); }));
+      // The arm as the job runs it: its end effector and start posture chosen by the job's own
+      // configuration, as at expansion and in the executor (a choice those accept works here).
+      models->get(path, *parsed);
+    }
+    const JobConfig& job = carried != nullptr ? carried->job.get() : parsed->get();
     const int movable = static_cast<int>(models->get_file(path)->movable_joints().size());
-    // The model a job starts from does not change its cost: a stored one is not fetched here.
-    const ValidJobConfig parsed = parse_job_config(config, movable, [](const std::string&) { return std::string(); });
-    const JobConfig& job = parsed.get();
-    // The arm as the job runs it: its end effector and start posture chosen by the job's own
-    // configuration, as at expansion and in the executor (a choice those accept works here).
-    models->get(path, job);
     const int n = job.active_joints.empty() ? movable : static_cast<int>(job.active_joints.size());
     const LearningConfig& learning = job.learning;
     // Passes as the validation counts them (job_config_validation.cpp: check_cost).
@@ -55,7 +67,7 @@ std::vector<double> calc_calibrated(const ExpandedSweep& sweep, const JobCostFun
                                     const ResultsStore* reference, double JobCostEstimate::*unit) {
   std::vector<JobCostEstimate> estimates;
   estimates.reserve(sweep.jobs.size());
-  for (const ExpandedJob& job : sweep.jobs) estimates.push_back(estimate(job.config()));
+  for (const ExpandedJob& job : sweep.jobs) estimates.push_back(estimate(job.config(), job.checked.get()));
   std::vector<double> costs;
   for (const JobCostEstimate& e : estimates) costs.push_back(e.*unit);
   if (reference == nullptr) return costs;
@@ -77,7 +89,7 @@ std::vector<double> calc_calibrated(const ExpandedSweep& sweep, const JobCostFun
       measured_by_key[job.key] = *job.wall_seconds;
       JobCostEstimate e;
       try {
-        e = estimate(job.config);
+        e = estimate(job.config, nullptr);
       } catch (const std::exception&) {
         continue;  // e.g. its model file is not on this machine: its time still counts for its own key
       }

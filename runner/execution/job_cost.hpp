@@ -23,8 +23,10 @@ struct JobCostEstimate {
   double seconds = 1.0;  ///< estimated wall time on one core, s (> 0): what the stop grace and Slurm's warning time go by
 };
 
-/// Estimates one resolved job configuration. Throws std::exception when it cannot.
-using JobCostFunction = std::function<JobCostEstimate(const nlohmann::json& config)>;
+/// Estimates one resolved job configuration; `checked` as for JobExecutor (null: the estimate
+/// reads `config` itself, e.g. a finished job of a reference database). Throws std::exception
+/// when it cannot.
+using JobCostFunction = std::function<JobCostEstimate(const nlohmann::json& config, const CheckedConfig* checked)>;
 
 /// Learning-mode factors of the experiment job's estimate: wall time per simulated second and
 /// active joint relative to a job without learner. Measured with `armfarm job` on the default

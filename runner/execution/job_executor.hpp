@@ -1,10 +1,11 @@
 #pragma once
 // The seam between the runner and the experiment job. The runner (expansion, scheduling,
-// storage) only sees job configurations as JSON and JobOutcome values; the experiment side
-// provides the schema of a configuration and the function that runs one.
+// storage) only sees job configurations as JSON, what the schema's check made of them (opaque:
+// CheckedConfig) and JobOutcome values; the experiment side provides the schema of a
+// configuration and the function that runs one.
 #include "engine/experiment/job_outcome.hpp"
-#include "runner/config/config_error.hpp"   // ConfigError, which an executor may throw
-#include "runner/config/config_schema.hpp"  // JobConfigSchema
+#include "runner/spec/config_error.hpp"   // ConfigError, which an executor may throw
+#include "runner/spec/config_schema.hpp"  // JobConfigSchema
 
 #include <nlohmann/json.hpp>
 
@@ -20,10 +21,14 @@ struct JobControl {
   std::function<bool()> should_stop = [] { return false; };
 };
 
-/// Runs one fully resolved configuration. Must not throw for failures of the job itself
+/// Runs one fully resolved configuration. `checked`: what the schema's check made of `config`
+/// when the job came through one (an expanded job: ExpandedJob::checked), which the executor
+/// then neither parses nor validates again; null: the executor checks `config` itself, once (a
+/// configuration read from a file or a database). Must not throw for failures of the job itself
 /// (those become JobOutcome::status failed/diverged with a message); may throw ConfigError
 /// for an invalid configuration.
-using JobExecutor = std::function<JobOutcome(const nlohmann::json& config, const JobControl& control)>;
+using JobExecutor =
+    std::function<JobOutcome(const nlohmann::json& config, const CheckedConfig* checked, const JobControl& control)>;
 
 class StoredModels;
 

@@ -3,7 +3,7 @@
 #include "engine/experiment/job_config_validation.hpp"
 #include "engine/experiment/job_model.hpp"
 #include "engine/model/model_loading.hpp"
-#include "runner/config/config_error.hpp"
+#include "runner/spec/config_error.hpp"
 #include "runner/spec/canonical_json.hpp"
 
 #include <nlohmann/json.hpp>

@@ -4,7 +4,9 @@
 #include <limits>
 #include <map>
 
+#include "base/number_format.hpp"
 #include "runner/search/search_sequence.hpp"
+#include "runner/spec/spec_error.hpp"
 
 namespace armfarm {
 namespace {
@@ -100,11 +102,25 @@ Replay replay(const SweepSpec& spec, const search::SearchSettings& settings, con
   }
 }
 
-// Writes what the store lacks of the replayed search: the search row, new steps, objectives.
-void record_search(const SweepSpec& spec, const search::SearchSettings& settings, const Replay& r,
-                   const std::string& db_path) {
-  ResultsStore store = ResultsStore::open(db_path, ResultsStore::Mode::read_write);
-  if (!store.find_sweep(spec.name)) return;
+// The space as stored (searches.space): per axis in order, its path, kind, bounds or choices.
+std::string make_space_text(const SpecSearch& search) {
+  nlohmann::json axes = nlohmann::json::array();
+  for (std::size_t d = 0; d < search.settings.space.axes.size(); ++d) {
+    const search::SearchAxis& axis = search.settings.space.axes[d];
+    nlohmann::json entry = {{"path", axis.path}, {"kind", search::to_string(axis.kind)}};
+    if (axis.kind == search::AxisKind::categorical) {
+      entry["choices"] = search.axes[d].choices;
+    } else {
+      entry["low"] = axis.low;
+      entry["high"] = axis.high;
+    }
+    axes.push_back(std::move(entry));
+  }
+  return axes.dump();
+}
+
+// The search's row as this runner takes its decisions.
+SearchRecord make_search_record(const SweepSpec& spec, const search::SearchSettings& settings) {
   const SpecSearch& search = *spec.search;
   SearchRecord record;
   record.sweep = spec.name;
@@ -127,7 +143,76 @@ void record_search(const SweepSpec& spec, const search::SearchSettings& settings
     rung.cost = settings.rung_cost[k];
     record.rungs.push_back(rung);
   }
-  store.insert_search(record);
+  record.max_trials = static_cast<std::int64_t>(settings.max_trials);
+  record.bracket_size = static_cast<std::int64_t>(settings.bracket_size);
+  record.tpe_startup = static_cast<std::int64_t>(settings.tpe.startup);
+  record.tpe_gamma = settings.tpe.gamma;
+  record.tpe_max_good = static_cast<std::int64_t>(settings.tpe.max_good);
+  record.tpe_candidates = static_cast<std::int64_t>(settings.tpe.candidates);
+  record.space = make_space_text(search);
+  return record;
+}
+
+// A search the file holds already under this sweep's name (a resume, or another runner that
+// started first): what the spec decides must be the same, or the steps replayed would be
+// another search's (refused, one line per difference, before anything is written); what the
+// build decides (each rung's estimated cost, TPE's start-up by the budget rule and its
+// constants) is taken from the file, so a runner of another build continues the same search.
+// A row of schema version 6 lacks some of them (empty): this runner's are used and written.
+void adopt_stored_search(const SweepSpec& spec, const std::string& db_path, search::SearchSettings& settings) {
+  if (!std::filesystem::exists(db_path)) return;
+  const std::optional<SearchRecord> stored = ResultsStore::open(db_path, ResultsStore::Mode::read_write).find_search(spec.name);
+  if (!stored) return;
+  const SearchRecord wanted = make_search_record(spec, settings);
+  std::vector<std::string> lines;
+  const auto differs = [&](const std::string& key, const std::string& in_file, const std::string& in_spec) {
+    if (in_file == in_spec) return;
+    lines.push_back(spec.file + ": sweep.search" + (key.empty() ? "" : "." + key) + ": " + db_path + " holds search '" +
+                    spec.name + "' with " + (key.empty() ? "this" : key) + " " + in_file + ", the spec gives " + in_spec +
+                    "; a search cannot change under its name (give the sweep another name, or use another database)");
+  };
+  const auto optional_text = [](const std::optional<std::int64_t>& v) { return v ? std::to_string(*v) : std::string("none"); };
+  differs("method", stored->method, wanted.method);
+  differs("sampler", stored->sampler, wanted.sampler);
+  differs("seed", std::to_string(stored->seed), std::to_string(wanted.seed));
+  differs("eta", std::to_string(stored->eta), std::to_string(wanted.eta));
+  differs("slots", std::to_string(stored->slots), std::to_string(wanted.slots));
+  differs("budget", format_number(stored->budget, 17) + " " + stored->budget_unit,
+          format_number(wanted.budget, 17) + " " + wanted.budget_unit);
+  differs("objective.metric", stored->objective_metric, wanted.objective_metric);
+  differs("objective.joint", stored->objective_joint ? std::to_string(*stored->objective_joint) : "mean",
+          wanted.objective_joint ? std::to_string(*wanted.objective_joint) : "mean");
+  differs("objective.checkpoint", optional_text(stored->objective_checkpoint), optional_text(wanted.objective_checkpoint));
+  std::string stored_rungs, wanted_rungs;
+  for (const SearchRungRecord& r : stored->rungs) stored_rungs += (stored_rungs.empty() ? "" : ",") + optional_text(r.checkpoint);
+  for (const SearchRungRecord& r : wanted.rungs) wanted_rungs += (wanted_rungs.empty() ? "" : ",") + optional_text(r.checkpoint);
+  differs("rungs", "[" + stored_rungs + "]", "[" + wanted_rungs + "]");
+  if (stored->max_trials) differs("max_trials", std::to_string(*stored->max_trials), std::to_string(*wanted.max_trials));
+  if (stored->bracket_size) differs("bracket_size", std::to_string(*stored->bracket_size), std::to_string(*wanted.bracket_size));
+  if (stored->space) differs("space", *stored->space, *wanted.space);
+  if (stored->tpe_startup && spec.search->tpe_startup != 0) {
+    differs("tpe_startup", std::to_string(*stored->tpe_startup), std::to_string(spec.search->tpe_startup));
+  }
+  if (stored->resumable != wanted.resumable) differs("", stored->resumable ? "resumable promotions" : "rerun promotions",
+                                                     wanted.resumable ? "resumable promotions" : "rerun promotions");
+  if (!lines.empty()) throw SpecError(lines);
+  // The build's part, from the file.
+  if (stored->rungs.size() == settings.rung_cost.size()) {
+    for (std::size_t k = 0; k < stored->rungs.size(); ++k) settings.rung_cost[k] = stored->rungs[k].cost;
+  }
+  if (stored->tpe_startup) settings.tpe.startup = static_cast<std::size_t>(*stored->tpe_startup);
+  if (stored->tpe_gamma) settings.tpe.gamma = *stored->tpe_gamma;
+  if (stored->tpe_max_good) settings.tpe.max_good = static_cast<std::size_t>(*stored->tpe_max_good);
+  if (stored->tpe_candidates) settings.tpe.candidates = static_cast<std::size_t>(*stored->tpe_candidates);
+}
+
+// Writes what the store lacks of the replayed search: the search row, new steps, objectives.
+void record_search(const SweepSpec& spec, const search::SearchSettings& settings, const Replay& r,
+                   const std::string& db_path) {
+  ResultsStore store = ResultsStore::open(db_path, ResultsStore::Mode::read_write);
+  if (!store.find_sweep(spec.name)) return;
+  const SpecSearch& search = *spec.search;
+  store.insert_search(make_search_record(spec, settings));
   const std::vector<SearchStepRecord> stored = store.find_search_steps(spec.name);
   // A step is its trial's first ("new") by the history, never by what the file holds yet: another
   // runner may be writing the same steps (insert_search_step keeps the first writer's agreeing row).
@@ -170,7 +255,7 @@ bool is_sweep_registered(const std::string& db_path, const std::string& sweep) {
 }  // namespace
 
 double calc_search_cpu_seconds(const JobKind& kind, const nlohmann::json& config) {
-  const double estimate = kind.estimate_cost(config).cost;
+  const double estimate = kind.estimate_cost(config, nullptr).cost;
   return kind.name == "experiment" ? estimate * kSearchCpuSecondsPerJointSecond : estimate;
 }
 
@@ -193,6 +278,7 @@ SearchRunSummary run_search(const SweepSpec& spec, const JobKind& kind, const Ru
   // TPE's start-up: the spec's, or a quarter of the jobs to the last rung the budget buys.
   settings.tpe.startup =
       search.tpe_startup != 0 ? search.tpe_startup : search::calc_tpe_startup(settings.budget / settings.rung_cost.back());
+  adopt_stored_search(spec, options.db_path, settings);
   RunOptions round = options;
   round.rerun_unsuccessful = false;  // a failed or diverged trial is an outcome (+∞), not retried every round
   std::map<std::pair<std::size_t, std::size_t>, std::string> key_cache;

@@ -13,6 +13,15 @@
 // committed results only: the same at -j1 and -j8, after kill -9 (the killed round's jobs are
 // pending and run again), and with several runners on one file (claims share the jobs).
 //
+// Settings in the file. The `searches` row holds everything a decision depends on
+// (results/search_store.hpp). Before its first round a runner that finds its search in the file
+// (a resume, or a second runner that started later) compares what the spec decides (method,
+// sampler, seed, η, slots, limits, budget, objective, rungs, space, an explicit tpe_startup) and
+// refuses any difference, one line each, before anything is written (SpecError, exit 2); what
+// the build decides (each rung's estimated cost, TPE's start-up by the budget rule, TPE's γ,
+// good-group cap and candidates) it takes from the row, so runners of different builds continue
+// one search alike. A row of schema version 6 lacks the last ones: the runner's are written.
+//
 // Rungs are short jobs; promotions rerun. A step to rung r below the last is a job that learns
 // exactly to rung r's checkpoint (SpecSearch::length_path: learning.epochs for batch jobs,
 // trajectory.reaching.reaches for online reaching jobs) with learning.heldout_checkpoints cut
@@ -63,12 +72,17 @@ inline constexpr const char* kSearchNotShardedReason =
     "files would hold, so no shard could take the decisions of the one search; run several runners on one database "
     "(one machine), or on N machines N searches with their own names and seeds, then merge the files";
 
-/// CPU-seconds per joint-second of the experiment job's cost estimate, measured by
-/// tests/bench/bench_search.cpp (process CPU of its -j1 grids over their estimated joint-seconds,
-/// 2-core machine shared at load ≈ 12-14): fig6_1_kernel_width reduced (batch sine, 2 joints)
-/// 3.77 and 5.05 CPU-s for 1260 in two runs (0.0030, 0.0040); the reaching task reduced (online,
-/// 3 joints) 28.34 CPU-s for 7899 (0.0036). 0.0038 lies inside that spread (±15 % run to run).
-inline constexpr double kSearchCpuSecondsPerJointSecond = 0.0038;
+/// CPU-seconds per joint-second of the experiment job's cost estimate. Measured on 2026-12-03 by
+/// BM_SearchCostFactor of tests/bench/bench_search.cpp: each job of a shipped spec (its first
+/// seed) run alone at -j1, its process CPU over its estimated joint-seconds (2-core machine,
+/// load 5-9): sweeps/quickstart.json 14.25 CPU-s for 4208 (0.0034; per job 0.0015-0.0087),
+/// sweeps/thesis/fig6_1_kernel_width.json 49.94 for 10080 (0.0050), table6_5_7_heldout_reaching
+/// 14.90 for 3574 (0.0042); together 79.09 for 17863, 0.0044. (The previous 0.0038 came from
+/// the reduced benchmark problems, which have shorter jobs.) Stored wall times of the 5-seed
+/// thesis run (-j2, load 2-4) give 0.0029-0.0060 per spec, except the figure-eight tables
+/// 6.1-6.3 (0.012-0.018), whose cost the model underestimates about 3-4 times. The factor
+/// enters no job key or metric: it only converts a cpu_seconds budget into joint-seconds.
+inline constexpr double kSearchCpuSecondsPerJointSecond = 0.0044;
 
 /// The CPU-seconds a cpu_seconds budget counts for one job configuration: the experiment job's
 /// estimate times kSearchCpuSecondsPerJointSecond; another job kind's (the fake job) estimate as it is.

@@ -1,6 +1,6 @@
 #include "runner/execution/stored_models.hpp"
 
-#include "runner/config/config_error.hpp"
+#include "runner/spec/config_error.hpp"
 
 #include "results/results_store.hpp"
 #include "runner/execution/outcome_record.hpp"

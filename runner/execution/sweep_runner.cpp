@@ -112,7 +112,7 @@ std::vector<ProgressJob> make_progress_jobs(const ExpandedSweep& sweep, const st
 /// Runs the executor on one configuration; an exception is the job's failure.
 JobOutcome run_executor(const JobExecutor& executor, const ExpandedJob& job, const JobControl& control) {
   try {
-    return executor(job.config(), control);
+    return executor(job.config(), job.checked.get(), control);
   } catch (const std::exception& e) {
     JobOutcome outcome;
     outcome.status = JobStatus::failed;

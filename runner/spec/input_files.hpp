@@ -11,7 +11,7 @@
 //
 // The key hashes the configuration with each recorded path replaced by its content hash, so it
 // changes when a file's bytes change and not when the checkout moves.
-#include "runner/config/config_schema.hpp"
+#include "runner/spec/config_schema.hpp"
 
 #include <nlohmann/json.hpp>
 

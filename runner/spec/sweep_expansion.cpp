@@ -14,6 +14,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string_view>
 #include <unordered_set>
@@ -378,8 +379,9 @@ class SweepExpansion {
     const ReferenceOutcome references = resolve_references(work, slots);
     record_includes(work);
     const CheckTarget target = record_inputs(work, slots, references.unresolved);
-    const bool valid = target.checkable && validate_job(target.config(work), target.note, slots);
-    if (valid && target.inputs_read) keep_job(work, slots, references.changed);
+    const std::optional<std::shared_ptr<const CheckedConfig>> checked =
+        target.checkable ? validate_job(target.config(work), target.note, slots) : std::nullopt;
+    if (checked && target.inputs_read) keep_job(work, slots, references.changed, *checked);
     assembly_.finish(references.changed || references.unresolved);
   }
 
@@ -468,25 +470,26 @@ class SweepExpansion {
     return target;
   }
 
-  // The schema's check (true: passed); a problem is reported at the spec location that set its
-  // path.
-  bool validate_job(const nlohmann::json& config, const std::string& note, const JobSlots& slots) {
-    if (!validate_) return true;
+  // The schema's check: what it made of the job (null: nothing), empty when it found a problem,
+  // which is reported at the spec location that set its path.
+  std::optional<std::shared_ptr<const CheckedConfig>> validate_job(const nlohmann::json& config, const std::string& note,
+                                                                   const JobSlots& slots) {
+    if (!validate_) return std::shared_ptr<const CheckedConfig>();
     try {
-      validate_(config);
-      return true;
+      return validate_(config);
     } catch (const ConfigError& e) {
       const std::string where = locate_error(e.json_path(), locate(slots));
       const bool on_axis = where.rfind("base", 0) != 0;
       errors_.add(spec_.file + ": " + where + ": " + (on_axis && !e.json_path().empty() ? e.json_path() + ": " : "") +
                   e.message() + note);
-      return false;
+      return std::nullopt;
     }
   }
 
-  // The checked job, unless an earlier job had its key: its values, shared base and inputs, key
-  // and seed.
-  void keep_job(const nlohmann::json& work, const JobSlots& slots, bool resolved_changed) {
+  // The checked job, unless an earlier job had its key: its values, shared base and inputs, key,
+  // seed and what the check made of it.
+  void keep_job(const nlohmann::json& work, const JobSlots& slots, bool resolved_changed,
+                std::shared_ptr<const CheckedConfig> checked) {
     ExpandedJob compact;
     const auto inputs = work.find("inputs");
     if (inputs != work.end()) {
@@ -506,6 +509,7 @@ class SweepExpansion {
     for (const Assignment* a : slots) compact.params[a->path] = a->value;
     compact.base = shared_base_;
     if (resolved_changed) compact.full = std::make_shared<const nlohmann::json>(work);
+    compact.checked = std::move(checked);
     jobs_.push_back(std::move(compact));
     seen_keys_.insert(jobs_.back().key);  // jobs_ holds its reserved places, so the view stays put
   }
@@ -515,7 +519,7 @@ class SweepExpansion {
   JobAssembly& assembly_;
   const std::shared_ptr<const nlohmann::json> shared_base_;
   const nlohmann::json include_inputs_;
-  const std::function<void(const nlohmann::json&)> validate_;
+  const ConfigCheck validate_;
   InputFileReader reader_;
   ExpansionErrors errors_;
   std::map<std::string, std::shared_ptr<const nlohmann::json>> shared_inputs_;

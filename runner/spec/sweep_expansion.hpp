@@ -3,7 +3,7 @@
 // group, the random samples and the repeat seeds (the first axis varies slowest). Each job is
 // the base configuration with the axes' values set, checked by the schema, keyed by the hash of
 // its canonical text.
-#include "runner/config/config_schema.hpp"
+#include "runner/spec/config_schema.hpp"
 #include "runner/spec/sweep_spec.hpp"
 
 #include <nlohmann/json.hpp>
@@ -27,10 +27,15 @@ struct ExpandedJob {
   /// The whole configuration, kept only when base + params + inputs cannot rebuild it (a
   /// reference resolved at expansion, e.g. learning.initial_model → "stored:<hash>"); null otherwise.
   std::shared_ptr<const nlohmann::json> full;
+  /// What the schema's check made of config() at the expansion (JobConfigSchema::validate; the
+  /// experiment job: its ValidJobConfig), handed to the executor and the cost estimate so that
+  /// they do not parse and validate the configuration again; null when the schema keeps nothing.
+  std::shared_ptr<const CheckedConfig> checked;
 
   /// The full resolved configuration: `base` with every `params` value set and `inputs`.
   nlohmann::json config() const;
-  /// A job whose configuration is `config` as it is (no axes): for callers that build one.
+  /// A job whose configuration is `config` as it is (no axes, not checked): for callers that
+  /// build one.
   static ExpandedJob from_config(const nlohmann::json& config);
 };
 

@@ -3,7 +3,7 @@
 // ← include files ← `base`) and the axes that vary it: grid, zip groups, random samples, repeat
 // seeds. Parsing checks everything that can be checked without running a job; errors name the
 // file and the JSON path.
-#include "runner/config/config_schema.hpp"
+#include "runner/spec/config_schema.hpp"
 #include "runner/search/search_schedule.hpp"
 #include "runner/spec/config_path.hpp"
 

@@ -12,7 +12,7 @@
 // top-level include and description. A {"stage": S, "params": P} reference becomes the stored-model
 // reference {"sweep": "<name>.S", "params": P} (runner/execution/stored_models.hpp); S must be an
 // earlier stage.
-#include "runner/config/config_schema.hpp"
+#include "runner/spec/config_schema.hpp"
 #include "runner/spec/sweep_spec.hpp"
 
 #include <string>

@@ -254,6 +254,24 @@ TEST(ComparisonPairing, RecordingKeysAndUnknownParametersAreRefused) {
   }
 }
 
+TEST(ComparisonPairing, ParametersAreReadAsConfigurationPaths) {
+  const std::vector<JobResult> jobs = {make_job("a1", 0.2, "online", 0, 0.010)};
+  // An element of the recording section is a recording key too; a key that only starts with
+  // the section's name is not (it is an unknown parameter here).
+  const auto refusal = [&](const std::string& param) -> std::string {
+    try {
+      compare_results(jobs, jobs, {}, {}, make_info(), false, PairingRule{{param}});
+    } catch (const AnalysisError& e) {
+      return e.what();
+    }
+    return "(accepted)";
+  };
+  EXPECT_NE(refusal("recording.series[0]").find("recording keys only change what is recorded"), std::string::npos);
+  EXPECT_EQ(refusal("recordings").rfind("--pair-by recordings: no job has this parameter", 0), 0u) << refusal("recordings");
+  EXPECT_EQ(refusal("control..gain_scale"), "--pair-by control..gain_scale: not a configuration path (empty key)");
+  EXPECT_EQ(refusal("learning.mode"), "(accepted)");
+}
+
 TEST(CompareCommand, PairByPairsJobsOfDifferentConfigurations) {
   testing::TemporaryDirectory directory;
   auto make_jobs = [](const std::string& mode, double nmse) {

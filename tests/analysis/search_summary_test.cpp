@@ -13,6 +13,7 @@
 #include "support/text_file.hpp"
 #include "svg_text_boxes.hpp"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -166,6 +167,24 @@ TEST_F(SearchSummaryTest, PlotSearchAtPaperStyleKeepsItsYLabelOnOneLine) {
   EXPECT_NE(svg.find(">best heldout_test_nmse (joint 2)</text>"), std::string::npos) << svg;
   EXPECT_TRUE(testing::find_overlapping_text(svg).empty());
   EXPECT_TRUE(testing::find_crowded_y_labels(testing::find_text_boxes(svg), 0.3).empty());
+}
+
+// Spearman's ρ, worked by hand. Without ties, from 1 − 6 Σd²/(n(n²−1)), a different formula
+// from the code's Pearson-of-ranks: x ranks 1…5, y = (0.3, 0.1, 0.2, 0.5, 0.4) ranks (3, 1, 2, 5, 4),
+// d = (−2, 1, 1, −1, 1), Σd² = 8, ρ = 1 − 48/120 = 0.6. With a tie: x = (1, 2, 2, 3) has mid-ranks
+// (1, 2.5, 2.5, 4), y ranks (1, 2, 3, 4); about the mean 2.5, Σrs = 4.5, Σr² = 4.5, Σs² = 5, so
+// ρ = 4.5/√22.5 = √0.9.
+TEST(RankCorrelation, MatchesHandWorkedValuesWithAndWithoutTies) {
+  EXPECT_NEAR(*calc_rank_correlation({10, 20, 30, 40, 50}, {0.3, 0.1, 0.2, 0.5, 0.4}), 0.6, 1e-12);
+  EXPECT_NEAR(*calc_rank_correlation({1, 2, 2, 3}, {1, 2, 3, 4}), std::sqrt(0.9), 1e-12);
+  EXPECT_NEAR(*calc_rank_correlation({1, 2, 3}, {30, 20, 10}), -1.0, 1e-12);
+  EXPECT_NEAR(*calc_rank_correlation({1, 5, 100}, {0.01, 0.02, 7}), 1.0, 1e-12);  // ranks only, not values
+}
+
+TEST(RankCorrelation, IsUndefinedForAConstantSideTooFewPairsOrUnequalSizes) {
+  EXPECT_FALSE(calc_rank_correlation({1, 1, 1}, {1, 2, 3}).has_value());
+  EXPECT_FALSE(calc_rank_correlation({4}, {2}).has_value());
+  EXPECT_FALSE(calc_rank_correlation({1, 2, 3}, {1, 2}).has_value());
 }
 
 }  // namespace

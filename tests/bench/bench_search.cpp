@@ -20,6 +20,12 @@
 // ARMFARM_BENCH_SEARCH_SEEDS=N runs seeds 1 … N only (a stated subset, when time is short);
 // --benchmark_filter=KernelWidth or =Reaching runs one problem. Each seed's line is printed as it
 // finishes. Each search runs in a database of its own, so its measured CPU is its own jobs'.
+// On a problem with checkpoints the grid is followed by the rung measurement (measure_rungs:
+// Spearman's ρ of each rung against the last, in the grid's jobs and as short rung jobs);
+// ARMFARM_BENCH_SEARCH_SEEDS=0 stops after it. ARMFARM_BENCH_SEARCH_FOLDER=DIR keeps the grids'
+// databases and measured CPU in DIR for later runs.
+// BM_SearchCostFactor measures the cost factor of calc_search_cpu_seconds (see there).
+#include "analysis/search_summary.hpp"
 #include "results/results_store.hpp"
 #include "runner/execution/job_kind.hpp"
 #include "runner/execution/search_runner.hpp"
@@ -38,8 +44,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
+#include <map>
 #include <optional>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -56,8 +65,10 @@ bool is_reduced() {
   return text != nullptr && std::string(text) == "1";
 }
 
+// ARMFARM_BENCH_SEARCH_SEEDS=0 runs the grids and the rung measurement only.
 int seed_count() {
   const char* text = std::getenv("ARMFARM_BENCH_SEARCH_SEEDS");
+  if (text != nullptr && std::string(text) == "0") return 0;
   const int n = text != nullptr ? std::atoi(text) : kDefaultSeeds;
   return n > 0 ? n : kDefaultSeeds;
 }
@@ -83,10 +94,39 @@ double process_cpu_seconds() {
   return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
+// ARMFARM_BENCH_SEARCH_FOLDER=DIR keeps the grids' databases (and their measured CPU) in DIR, so
+// a later run with other seeds or another method reuses them instead of running the grid again.
+std::optional<fs::path> kept_folder() {
+  const char* text = std::getenv("ARMFARM_BENCH_SEARCH_FOLDER");
+  if (text == nullptr || *text == '\0') return std::nullopt;
+  return fs::path(text);
+}
+
 fs::path scratch_folder() {
-  const fs::path folder = fs::temp_directory_path() / ("armfarm_bench_search_" + std::to_string(::getpid()));
+  const fs::path folder = kept_folder().value_or(fs::temp_directory_path() / ("armfarm_bench_search_" + std::to_string(::getpid())));
   fs::create_directories(folder);
   return folder;
+}
+
+void remove_scratch(const fs::path& folder) {
+  if (!kept_folder()) fs::remove_all(folder);
+}
+
+// A grid's measured CPU, kept beside its database: runs that reuse the database report it.
+double run_grid_once(const fs::path& folder, const std::string& name, const std::function<void()>& run) {
+  const fs::path file = folder / (name + "_cpu.txt");
+  if (fs::exists(file)) {
+    std::ifstream in(file);
+    double cpu = 0.0;
+    in >> cpu;
+    run();  // nothing left to run: every job is done in the kept database
+    return cpu;
+  }
+  const double start = process_cpu_seconds();
+  run();
+  const double cpu = process_cpu_seconds() - start;
+  std::ofstream(file) << cpu << "\n";
+  return cpu;
 }
 
 nlohmann::json read_json(const fs::path& file) {
@@ -101,6 +141,8 @@ struct Problem {
   nlohmann::json search;     ///< sweep.search without seed and budget
   std::string metric;
   std::optional<int> joint;  ///< empty: the mean row
+  std::vector<std::int64_t> checkpoints;  ///< the rungs' checkpoints (empty: one rung)
+  std::string length_path;                ///< the key a short rung job sets to its checkpoint
 };
 
 // The objective of a done job: the metric row of `joint` at its highest checkpoint.
@@ -115,6 +157,15 @@ std::optional<double> find_objective(const ResultsStore& store, const JobRecord&
     }
   }
   return value;
+}
+
+// The objective of a done job at `checkpoint`.
+std::optional<double> find_objective_at(const ResultsStore& store, const JobRecord& job, const Problem& problem,
+                                        std::int64_t checkpoint) {
+  for (const MetricRecord& m : store.find_metrics(job.id)) {
+    if (m.name == problem.metric && m.joint == problem.joint && m.checkpoint == checkpoint) return m.value;
+  }
+  return std::nullopt;
 }
 
 std::string write_spec(const fs::path& folder, const std::string& name, const nlohmann::json& spec) {
@@ -140,6 +191,92 @@ Summary summarise(std::vector<double> values) {
   return {n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]), values.front(), values.back()};
 }
 
+// The best `count` of `values` (lower is better), as indices.
+std::vector<std::size_t> best_indices(const std::vector<double>& values, std::size_t count) {
+  std::vector<std::size_t> order(values.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return values[a] < values[b]; });
+  order.resize(std::min(count, order.size()));
+  return order;
+}
+
+// How well each rung orders the grid's points as the last rung does: Spearman's ρ
+// (calc_rank_correlation) between the objective at the rung and at the last checkpoint, over the
+// grid's points, (a) at checkpoint c of the grid's own jobs, which run to the end, and (b) of the
+// short job that a search step to that rung runs (length_path = c, the checkpoints up to c): a
+// job of its own, which for online reaching normalises its inputs by its shorter trajectory.
+// Also, of the last rung's best 1/η (η = 3) of the points, how many are among the rung's best
+// 1/η (what a promotion keeps), and the rung rank of the last rung's best point. Prints the short
+// jobs' estimated and measured CPU, what the budget counts for a rung.
+void measure_rungs(const Problem& problem, const fs::path& folder, const JobKind& kind, const RunOptions& options,
+                   const std::string& grid_db, const std::string& grid_name, const std::atomic<bool>& no_stop) {
+  if (problem.checkpoints.size() < 2) return;
+  const std::int64_t last = problem.checkpoints.back();
+  std::map<std::string, std::size_t> index;  // params → point
+  std::vector<double> final_values;
+  std::vector<std::vector<double>> in_job(problem.checkpoints.size() - 1);
+  {
+    const ResultsStore store = ResultsStore::open(grid_db, ResultsStore::Mode::read_only);
+    for (const JobRecord& job : store.find_jobs(grid_name)) {
+      const std::optional<double> at_last = job.status == "done" ? find_objective_at(store, job, problem, last) : std::nullopt;
+      if (!at_last) continue;
+      std::vector<double> early;
+      for (std::size_t k = 0; k + 1 < problem.checkpoints.size(); ++k) {
+        const std::optional<double> v = find_objective_at(store, job, problem, problem.checkpoints[k]);
+        early.push_back(v.value_or(std::numeric_limits<double>::infinity()));
+      }
+      index[job.params.dump()] = final_values.size();
+      final_values.push_back(*at_last);
+      for (std::size_t k = 0; k < early.size(); ++k) in_job[k].push_back(early[k]);
+    }
+  }
+  const std::size_t n = final_values.size();
+  const std::size_t third = n / 3;
+  const std::vector<std::size_t> best_final = best_indices(final_values, third);
+  const auto describe = [&](const std::vector<double>& rung_values) {
+    const std::vector<std::size_t> best_rung = best_indices(rung_values, third);
+    std::size_t kept = 0;
+    for (std::size_t i : best_final) kept += std::count(best_rung.begin(), best_rung.end(), i) != 0 ? 1 : 0;
+    const std::vector<std::size_t> order = best_indices(rung_values, n);
+    const std::size_t best_rank = static_cast<std::size_t>(std::find(order.begin(), order.end(), best_final.front()) - order.begin()) + 1;
+    const std::optional<double> rho = calc_rank_correlation(rung_values, final_values);
+    char text[160];
+    std::snprintf(text, sizeof text, "rho %+.3f, best third kept %zu of %zu, the grid's best ranks %zu of %zu", rho.value_or(NAN), kept,
+                  third, best_rank, n);
+    return std::string(text);
+  };
+  for (std::size_t k = 0; k + 1 < problem.checkpoints.size(); ++k) {
+    const std::int64_t c = problem.checkpoints[k];
+    // The short jobs of rung k: the grid again with the rung's length and checkpoints.
+    nlohmann::json base = problem.base;
+    base[nlohmann::json::json_pointer("/" + std::regex_replace(problem.length_path, std::regex("\\."), "/"))] = c;
+    base["learning"]["heldout_checkpoints"] =
+        std::vector<std::int64_t>(problem.checkpoints.begin(), problem.checkpoints.begin() + static_cast<std::ptrdiff_t>(k) + 1);
+    const std::string name = problem.name + " rung " + std::to_string(k);
+    const std::vector<SweepSpec> spec = load_sweep_stages(
+        write_spec(folder, problem.name + "_rung", {{"name", name}, {"base", base}, {"sweep", {{"grid", problem.grid}}}}), kind.schema);
+    const ExpandedSweep sweep = expand_sweep(spec.front(), kind.schema);
+    double estimated = 0.0;
+    for (const ExpandedJob& job : sweep.jobs) estimated += calc_search_cpu_seconds(kind, job.config());
+    RunOptions one = options;
+    one.db_path = (folder / (problem.name + "_rung" + std::to_string(k) + ".db")).string();
+    const double cpu =
+        run_grid_once(folder, problem.name + "_rung" + std::to_string(k), [&] { run_sweep(sweep, kind.executor, one, no_stop); });
+    std::vector<double> short_values(n, std::numeric_limits<double>::infinity());
+    const ResultsStore store = ResultsStore::open(one.db_path, ResultsStore::Mode::read_only);
+    for (const JobRecord& job : store.find_jobs(name)) {
+      const auto found = index.find(job.params.dump());
+      const std::optional<double> v = job.status == "done" ? find_objective_at(store, job, problem, c) : std::nullopt;
+      if (found != index.end() && v) short_values[found->second] = *v;
+    }
+    std::printf("%s rung %zu (checkpoint %lld) against checkpoint %lld, %zu points: in the grid's jobs %s; as short jobs %s "
+                "(%zu short jobs: estimated %.4g, measured %.2f CPU s)\n",
+                problem.name.c_str(), k, static_cast<long long>(c), static_cast<long long>(last), n, describe(in_job[k]).c_str(),
+                describe(short_values).c_str(), sweep.jobs.size(), estimated, cpu);
+    std::fflush(stdout);
+  }
+}
+
 void run_problem(benchmark::State& state, const Problem& problem) {
   const JobKind kind = make_experiment_job_kind();
   const fs::path folder = scratch_folder();
@@ -157,9 +294,7 @@ void run_problem(benchmark::State& state, const Problem& problem) {
   double grid_cost = 0.0;
   for (const ExpandedJob& job : grid.jobs) grid_cost += calc_search_cpu_seconds(kind, job.config());
   options.db_path = grid_db;
-  double cpu = process_cpu_seconds();
-  run_sweep(grid, kind.executor, options, no_stop);
-  const double grid_cpu = process_cpu_seconds() - cpu;
+  const double grid_cpu = run_grid_once(folder, problem.name + "_grid", [&] { run_sweep(grid, kind.executor, options, no_stop); });
   double grid_best = std::numeric_limits<double>::infinity();
   {
     const ResultsStore store = ResultsStore::open(grid_db, ResultsStore::Mode::read_only);
@@ -168,6 +303,8 @@ void run_problem(benchmark::State& state, const Problem& problem) {
       if (objective) grid_best = std::min(grid_best, *objective);
     }
   }
+
+  measure_rungs(problem, folder, kind, options, grid_db, grid_name, no_stop);
 
   // The searches: the method and random, 25 % of the grid's estimated cost each.
   const double budget = kBudgetFraction * grid_cost;
@@ -201,6 +338,10 @@ void run_problem(benchmark::State& state, const Problem& problem) {
   std::printf("%s%s: grid %zu jobs, best %.6g, estimated %.4g CPU s, measured %.2f CPU s; budget %.4g (%.0f %%); %d seeds\n",
               problem.name.c_str(), is_reduced() ? " (REDUCED)" : "", grid.jobs.size(), grid_best, grid_cost, grid_cpu, budget, 100.0 * kBudgetFraction, seeds);
   std::fflush(stdout);
+  if (seeds == 0) {
+    remove_scratch(folder);
+    return;
+  }
   for (std::uint64_t seed = 1; seed <= static_cast<std::uint64_t>(seeds); ++seed) {
     const SearchOutcome m = run_one(method, seed);
     const SearchOutcome r = run_one(random, seed);
@@ -242,7 +383,7 @@ void run_problem(benchmark::State& state, const Problem& problem) {
   state.counters["method_median"] = mb.median;
   state.counters["random_median"] = rb.median;
   state.counters["wins"] = wins;
-  fs::remove_all(folder);
+  remove_scratch(folder);
 }
 
 Problem make_kernel_width_problem() {
@@ -287,8 +428,99 @@ Problem make_reaching_problem() {
                 {"control.gain_scale", {{"uniform", {0.2, 1.0}}}}}},
               {"method_settings", {{"method", "asha"}, {"sampler", "tpe"}, {"eta", 3}}}};
   p.metric = "heldout_test_nmse";
+  p.checkpoints = {10, 50, 200};
+  p.length_path = "trajectory.reaching.reaches";
   return p;
 }
+
+// The cost factor (kSearchCpuSecondsPerJointSecond): each job of a shipped spec run alone at
+// -j1, its process CPU-seconds against the job-cost model's joint-seconds. `seeds` keeps the
+// jobs of the spec's first seeds (a repeat axis multiplies the same configurations). Also, from
+// the 5-seed thesis databases in ARMFARM_BENCH_SEARCH_RUNS (a folder of *.db, read only), the
+// stored wall seconds of their done jobs against the same estimate: wall time, an upper bound
+// of CPU time for jobs that ran at -j2 on two cores.
+struct FactorSample {
+  double joint_seconds = 0.0, cpu = 0.0;
+};
+
+void print_factor(const std::string& what, const std::vector<FactorSample>& samples, const char* measured) {
+  if (samples.empty()) return;
+  double joint_seconds = 0.0, cpu = 0.0;
+  std::vector<double> ratios;
+  for (const FactorSample& f : samples) {
+    joint_seconds += f.joint_seconds;
+    cpu += f.cpu;
+    ratios.push_back(f.cpu / f.joint_seconds);
+  }
+  const Summary r = summarise(ratios);
+  std::printf("factor %s: %zu jobs, estimated %.5g joint-s, %s %.2f s: %.5f s per joint-s overall; per job median %.5f [%.5f, %.5f]\n",
+              what.c_str(), samples.size(), joint_seconds, measured, cpu, cpu / joint_seconds, r.median, r.low, r.high);
+  std::fflush(stdout);
+}
+
+void run_factor_spec(const JobKind& kind, const fs::path& folder, const std::string& relative, std::size_t seeds) {
+  const std::vector<SweepSpec> stages = load_sweep_stages((fs::path(ARMFARM_SOURCE_DIR) / relative).string(), kind.schema);
+  const ExpandedSweep sweep = expand_sweep(stages.front(), kind.schema);
+  std::vector<std::int64_t> kept_seeds;
+  const std::atomic<bool> no_stop{false};
+  std::vector<FactorSample> samples;
+  for (const ExpandedJob& job : sweep.jobs) {
+    if (std::find(kept_seeds.begin(), kept_seeds.end(), job.seed) == kept_seeds.end()) {
+      if (kept_seeds.size() >= seeds) continue;
+      kept_seeds.push_back(job.seed);
+    }
+    ExpandedSweep one = sweep;
+    one.jobs = {job};
+    RunOptions options;
+    options.threads = 1;
+    options.db_path = (folder / "factor.db").string();
+    for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(options.db_path + suffix);
+    const double start = process_cpu_seconds();
+    run_sweep(one, kind.executor, options, no_stop);
+    const double cpu = process_cpu_seconds() - start;
+    samples.push_back({kind.estimate_cost(job.config()).cost, cpu});
+  }
+  print_factor(relative + " (measured)", samples, "process CPU");
+}
+
+void BM_SearchCostFactor(benchmark::State& state) {
+  for (auto _ : state) {
+    const JobKind kind = make_experiment_job_kind();
+    const fs::path folder = fs::temp_directory_path() / ("armfarm_bench_factor_" + std::to_string(::getpid()));
+    fs::create_directories(folder);
+    run_factor_spec(kind, folder, "sweeps/quickstart.json", 1);
+    run_factor_spec(kind, folder, "sweeps/thesis/fig6_1_kernel_width.json", 1);
+    run_factor_spec(kind, folder, "sweeps/thesis/table6_5_7_heldout_reaching.json", 1);
+    const char* runs = std::getenv("ARMFARM_BENCH_SEARCH_RUNS");
+    if (runs != nullptr) {
+      std::vector<fs::path> files;
+      for (const fs::directory_entry& entry : fs::directory_iterator(runs)) {
+        if (entry.path().extension() == ".db") files.push_back(entry.path());
+      }
+      std::sort(files.begin(), files.end());
+      std::vector<FactorSample> all;
+      for (const fs::path& file : files) {
+        const ResultsStore store = ResultsStore::open(file.string(), ResultsStore::Mode::read_only);
+        std::vector<FactorSample> samples;
+        for (const SweepRecord& sweep : store.find_sweeps()) {
+          for (const JobRecord& job : store.find_jobs(sweep.name)) {
+            if (job.status != "done" || !job.wall_seconds) continue;
+            try {
+              samples.push_back({kind.estimate_cost(job.config).cost, *job.wall_seconds});
+            } catch (const std::exception&) {
+              // its model file is not on this machine: left out
+            }
+          }
+        }
+        print_factor(file.filename().string() + " (stored wall)", samples, "wall");
+        all.insert(all.end(), samples.begin(), samples.end());
+      }
+      print_factor("all of " + std::string(runs) + " (stored wall)", all, "wall");
+    }
+    fs::remove_all(folder);
+  }
+}
+BENCHMARK(BM_SearchCostFactor)->Unit(benchmark::kSecond)->Iterations(1);
 
 void BM_SearchKernelWidth(benchmark::State& state) {
   for (auto _ : state) run_problem(state, make_kernel_width_problem());

@@ -1,5 +1,6 @@
-// The search tables: a database of the previous schema (version 5, before searches) migrates
-// with its jobs kept; a search, its rungs, trials and steps round-trip and are what a plain SQL
+// The search tables: a database of schema version 5 (before searches) migrates with its jobs
+// kept; one of version 6 keeps its search, whose version-7 settings are empty until a writer
+// fills them in (and then stay); a search, its rungs, trials and steps round-trip and are what a plain SQL
 // reader sees (the search_promotions view); a step naming no job is refused; merge copies a
 // search whole, extends one the file already has and refuses a disagreeing one.
 #include "results/results_store.hpp"
@@ -83,6 +84,50 @@ TEST_F(SearchStoreTest, AVersionFiveDatabaseMigratesKeepingItsJobs) {
   EXPECT_EQ(query_rows(path("v5.db"), "PRAGMA user_version"), std::vector<std::string>{std::to_string(kResultsSchemaVersion)});
   EXPECT_EQ(query_rows(path("v5.db"), "SELECT method, objective_metric FROM searches"), std::vector<std::string>{"asha|heldout_test_nmse"});
   EXPECT_TRUE(ResultsStore::open(path("v5.db"), ResultsStore::Mode::read_only).check_contents(true).empty());
+}
+
+TEST_F(SearchStoreTest, AVersionSixSearchMigratesWithItsNewSettingsEmptyAndTheNextWriterFillsThemIn) {
+  // A file of schema version 6: a search row without the columns migration 7 adds.
+  {
+    ResultsStore store = ResultsStore::open(path("v6.db"), ResultsStore::Mode::read_write);
+    store.insert_sweep_run(testing::make_sweep_registration("old"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}});
+    store.insert_search(make_search("old"));
+  }
+  query_rows(path("v6.db"), "ALTER TABLE searches DROP COLUMN max_trials; ALTER TABLE searches DROP COLUMN bracket_size; "
+                            "ALTER TABLE searches DROP COLUMN tpe_startup; ALTER TABLE searches DROP COLUMN tpe_gamma; "
+                            "ALTER TABLE searches DROP COLUMN tpe_max_good; ALTER TABLE searches DROP COLUMN tpe_candidates; "
+                            "ALTER TABLE searches DROP COLUMN space; PRAGMA user_version = 6;");
+  ASSERT_EQ(query_rows(path("v6.db"), "SELECT count(*) FROM pragma_table_info('searches')"), std::vector<std::string>{"14"});
+  {
+    const ResultsStore reader = ResultsStore::open(path("v6.db"), ResultsStore::Mode::read_only);
+    const std::optional<SearchRecord> old = reader.find_search("old");
+    ASSERT_TRUE(old.has_value());
+    EXPECT_EQ(old->method, "asha");
+    EXPECT_EQ(old->rungs.size(), 3u);
+    EXPECT_FALSE(old->tpe_startup.has_value());  // not recorded by version 6
+    EXPECT_FALSE(old->space.has_value());
+  }
+  EXPECT_EQ(query_rows(path("v6.db"), "PRAGMA user_version"), std::vector<std::string>{"6"});
+  SearchRecord now = make_search("old");
+  now.max_trials = 0;
+  now.bracket_size = 0;
+  now.tpe_startup = 4;
+  now.tpe_gamma = 0.25;
+  now.tpe_max_good = 25;
+  now.tpe_candidates = 24;
+  now.space = R"([{"path":"x"}])";
+  {
+    ResultsStore writer = ResultsStore::open(path("v6.db"), ResultsStore::Mode::read_write);
+    writer.insert_search(now);  // the resumed runner: fills in what version 6 lacked
+    SearchRecord later = now;
+    later.tpe_startup = 9;
+    writer.insert_search(later);  // a recorded value stays
+  }
+  EXPECT_EQ(query_rows(path("v6.db"), "PRAGMA user_version"), std::vector<std::string>{std::to_string(kResultsSchemaVersion)});
+  EXPECT_EQ(query_rows(path("v6.db"), "SELECT count(*), method, seed, tpe_startup, tpe_gamma, tpe_max_good, tpe_candidates, "
+                                      "max_trials, bracket_size, space FROM searches"),
+            std::vector<std::string>{R"(1|asha|7|4|0.25|25|24|0|0|[{"path":"x"}])"});
+  EXPECT_TRUE(ResultsStore::open(path("v6.db"), ResultsStore::Mode::read_only).check_contents(true).empty());
 }
 
 TEST_F(SearchStoreTest, ASearchRoundTripsAndPlainSqlSeesItsPromotions) {

@@ -8,11 +8,13 @@
 //              table fails); only engine/physics/simbody_* include Simbody;
 //   results/   base/ only;
 //   analysis/  results/ and base/ only;
-//   runner/    anything below; inside it runner/spec and runner/config not on runner/execution or
-//              runner/cli, runner/search (the samplers) on none of the runner's other folders,
-//              the store, JSON, SQLite or TBB.
+//   runner/    anything below; inside it runner/spec (sweep specs, expansion, job keys, and the
+//              schema interface a job kind fills in) on none of runner/config, runner/execution
+//              or runner/cli, runner/config (the experiment job's configuration as JSON) on
+//              runner/spec but not on runner/execution or runner/cli, runner/search (the
+//              samplers) on none of the runner's other folders, the store, JSON, SQLite or TBB.
 // A fixture tree with deliberately wrong includes proves the check fails (and its includes of
-// base/ from results/ and analysis/ that it passes).
+// base/ from results/ and analysis/, and of runner/spec from runner/config, that it passes).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -39,6 +41,8 @@ const std::vector<Rule>& layering_rules() {
       {"results/", {"engine/", "runner/", "analysis/"}, "results/ depends on base/ only"},
       {"analysis/", {"engine/", "runner/"}, "analysis/ depends on results/ and base/ only"},
       {"runner/spec/", {"runner/execution/", "runner/cli/"}, "spec expansion does not know how jobs run"},
+      {"runner/spec/", {"runner/config/"},
+       "spec expansion sees a job's configuration only through its schema (runner/spec/config_schema.hpp)"},
       {"runner/config/", {"runner/execution/", "runner/cli/"}, "configuration does not know how jobs run"},
       {"runner/search/", {"runner/execution/", "runner/cli/", "runner/spec/", "runner/config/", "results/", "analysis/", "nlohmann/", "sqlite3.h", "tbb/"},
        "the samplers are pure: no spec, store, JSON, SQLite or threads"},
@@ -168,8 +172,10 @@ TEST(LayeringTest, FixtureWithWrongIncludesFails) {
       "engine/plugins/extra.cpp:2: includes engine/model/arm_model.hpp: engine/plugins/ is not in the engine's layering table",
       "engine/ssgpr/ssgpr_model.hpp:3: includes engine/lwpr/lwpr_params.hpp: engine/ssgpr/ includes only engine/{learner, random}/ (the engine's inner arrows)",
       "results/store.cpp:2: includes engine/model/arm_model.hpp: results/ depends on base/ only",
+      "runner/config/reader.cpp:3: includes runner/execution/job_kind.hpp: configuration does not know how jobs run",
       "runner/search/sampler.cpp:3: includes nlohmann/json.hpp: the samplers are pure: no spec, store, JSON, SQLite or threads",
       "runner/spec/expand.cpp:2: includes runner/execution/job_executor.hpp: spec expansion does not know how jobs run",
+      "runner/spec/expand.cpp:4: includes runner/config/job_config_json.hpp: spec expansion sees a job's configuration only through its schema (runner/spec/config_schema.hpp)",
   };
   EXPECT_EQ(violations, expected);
 }

@@ -8,6 +8,7 @@
 #include "runner/config/job_config_json.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/spec/sweep_expansion.hpp"
+#include "support/recorded_arm.hpp"
 #include "support/scratch_file.hpp"
 
 #include <gtest/gtest.h>
@@ -113,10 +114,7 @@ class InputHashCheck : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = test_support::make_scratch_folder("input_hash");
-    fs::copy_file(fs::path(ARMFARM_SOURCE_DIR) / "models" / "planar2.urdf", dir_ / "arm.urdf");
-    std::ofstream csv(dir_ / "motion.csv");
-    csv << "q1,q2\n";  // 1 s at 100 Hz, a slow swing of both joints
-    for (int row = 0; row < 100; ++row) csv << 0.2 * std::sin(0.05 * row) << "," << 0.1 * std::sin(0.03 * row) << "\n";
+    test_support::write_recorded_planar_arm(dir_);
     std::ofstream(dir_ / "spec.json") << R"({"name": "hashes", "base": {"model": "arm.urdf",
         "trajectory": {"kind": "recorded", "recorded": {"file": "motion.csv", "task_space": false}}}})";
   }
@@ -133,7 +131,7 @@ class InputHashCheck : public ::testing::Test {
   // The ConfigError of running `config` ("(ran: STATUS)" when it runs).
   static std::string run_error(const nlohmann::json& config) {
     try {
-      const JobOutcome outcome = make_experiment_executor()(config, JobControl{});
+      const JobOutcome outcome = make_experiment_executor()(config, nullptr, JobControl{});
       return "(ran: " + std::string(outcome.status == JobStatus::done ? "done" : "not done") + ")";
     } catch (const ConfigError& error) {
       return error.what();

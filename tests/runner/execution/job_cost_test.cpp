@@ -3,7 +3,7 @@
 // active joints and the simulated time.
 #include "runner/execution/job_cost.hpp"
 
-#include "runner/config/config_error.hpp"
+#include "runner/spec/config_error.hpp"
 #include "runner/config/job_config_json.hpp"
 
 #include <gtest/gtest.h>
@@ -26,15 +26,15 @@ nlohmann::json make_two_leaf_job(const std::string& link) {
 
 TEST(JobCost, ATwoLeafArmCostsWithTheJobsOwnEndEffector) {
   const JobCostFunction estimate = make_experiment_cost_function();
-  const JobCostEstimate all = estimate(make_two_leaf_job("tool_tcp"));
+  const JobCostEstimate all = estimate(make_two_leaf_job("tool_tcp"), nullptr);
   // No learning, one pass: simulated seconds × active joints.
   EXPECT_NEAR(all.cost, 2.0 * 7, 1e-9);
   EXPECT_EQ(all.kind, "none sine 7 joints");
   nlohmann::json three = make_two_leaf_job("iiwa_link_ee");
   three["active_joints"] = {1, 2, 4};
-  EXPECT_NEAR(estimate(three).cost, 2.0 * 3, 1e-9);
+  EXPECT_NEAR(estimate(three, nullptr).cost, 2.0 * 3, 1e-9);
   // Without a choice the job's arm cannot be made, as at expansion.
-  EXPECT_THROW(estimate(make_two_leaf_job("")), ConfigError);
+  EXPECT_THROW(estimate(make_two_leaf_job(""), nullptr), ConfigError);
 }
 
 }  // namespace

@@ -144,6 +144,49 @@ TEST_F(CmdRunSearchTest, ARandomSearchOfJobsAnotherSweepRanIsStillRecorded) {
             (std::vector<std::string>{"random six|6|6|6", "tpe six|6|6|6"}));
 }
 
+TEST_F(CmdRunSearchTest, TheFileKeepsWhatDecisionsDependOnAdoptsTheBuildsPartAndRefusesAChangedSpec) {
+  // Six TPE jobs whose start-up the spec sets to 6: every trial a prior draw.
+  const auto write = [&](const std::string& file, const std::string& startup, int budget) {
+    std::ofstream(path(file)) << R"({"name": "kept", "base": {"fake": {"sleep_ms": 1}},
+      "sweep": {"search": {"method": "tpe", "seed": 4, "slots": 2, )" + startup + R"("objective": {"metric": "tracking_nmse", "joint": 1},
+        "space": {"control.gain_scale": {"uniform": [0.5, 50]}, "learning.lwpr.init_D": {"log_uniform": [0.01, 100]}},
+        "budget": {"jobs": )" + std::to_string(budget) + "}}}}";
+  };
+  write("six.json", R"("tpe_startup": 6, )", 6);
+  const std::string db = path("kept.db");
+  const auto run_spec = [&](const std::string& file) {
+    return test_support::run_armfarm_with_fake_jobs("run " + path(file) + " --db " + db + " -j 1 -q");
+  };
+  ASSERT_EQ(run_spec("six.json").exit_code, 0);
+  EXPECT_EQ(query_rows(db, "SELECT tpe_startup, tpe_gamma, tpe_max_good, tpe_candidates, max_trials, bracket_size, space FROM searches"),
+            std::vector<std::string>{R"(6|0.25|25|24|0|0|[{"high":50.0,"kind":"uniform","low":0.5,"path":"control.gain_scale"},)"
+                                     R"({"high":100.0,"kind":"log_uniform","low":0.01,"path":"learning.lwpr.init_D"}])"});
+  const std::vector<std::string> steps = query_rows(db, kSteps);
+  ASSERT_EQ(steps.size(), 6u);
+
+  // The same spec without tpe_startup: the budget rule would give 2 (trials 2 … 5 from TPE, new
+  // jobs); the runner takes the file's effective 6 and replays the same six steps, running nothing.
+  write("rule.json", "", 6);
+  const test_support::CommandResult adopted = run_spec("rule.json");
+  EXPECT_EQ(adopted.exit_code, 0) << adopted.output;
+  EXPECT_EQ(query_rows(db, kSteps), steps);
+  EXPECT_EQ(query_rows(db, "SELECT count(*), sum(attempts) FROM jobs"), std::vector<std::string>{"6|6"});
+
+  // What the spec decides must not change: refused before anything is written, one line each.
+  write("other.json", R"("tpe_startup": 3, )", 8);
+  const test_support::CommandResult refused = run_spec("other.json");
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("armfarm: " + path("other.json") + ": sweep.search.budget: " + db +
+                                " holds search 'kept' with budget 6 jobs, the spec gives 8 jobs; a search cannot change under its name"),
+            std::string::npos)
+      << refused.output;
+  EXPECT_NE(refused.output.find("sweep.search.tpe_startup: " + db + " holds search 'kept' with tpe_startup 6, the spec gives 3;"),
+            std::string::npos)
+      << refused.output;
+  EXPECT_EQ(query_rows(db, kSteps), steps);
+  EXPECT_EQ(query_rows(db, "SELECT budget FROM searches"), std::vector<std::string>{"6.0"});
+}
+
 TEST_F(CmdRunSearchTest, AHeldOutObjectiveWithoutCheckpointsIsReadAtTheDefaultOne) {
   // A short batch-learning job (two collection passes of a 2 s sine on joints 1-2); the spec
   // sets no learning.heldout_checkpoints, as sweeps/search/fig6_1_kernel_width_tpe.json.

@@ -101,9 +101,14 @@ TEST_F(ExperimentShardTest, TheEstimateIsDurationTimesJointsTimesTheModeFactor) 
     const double expected = mode == "none"     ? 10.0 * joints * model.none_factor
                             : mode == "online" ? 10.0 * joints * model.online_factor
                                                : 3.0 * 10.0 * joints * model.batch_factor;
-    const JobCostEstimate e = estimate(job.config());
+    const JobCostEstimate e = estimate(job.config(), job.checked.get());
     EXPECT_NEAR(e.cost, expected, 1e-9 * expected) << job.params.dump();
     EXPECT_EQ(e.kind, mode + " sine " + std::to_string(static_cast<int>(joints)) + " joints");
+    // The estimate from the configuration the expansion checked is the one from the JSON read again.
+    const JobCostEstimate read = estimate(job.config(), nullptr);
+    EXPECT_EQ(read.cost, e.cost) << job.params.dump();
+    EXPECT_EQ(read.seconds, e.seconds) << job.params.dump();
+    EXPECT_EQ(read.kind, e.kind) << job.params.dump();
   }
 }
 
@@ -172,12 +177,12 @@ TEST(JobCosts, AReferenceDatabaseCalibratesTheEstimatesByKind) {
     const double measured = two ? 3.0 : 0.5;
     // Done there: its own wall time. Otherwise: its estimate × (wall / estimate) of its kind's done job.
     const double expected =
-        duration == 1.0 ? measured : estimate(job.config()).cost * measured / estimate(sweep.jobs[two ? 0 : 1].config()).cost;
+        duration == 1.0 ? measured : estimate(job.config(), nullptr).cost * measured / estimate(sweep.jobs[two ? 0 : 1].config(), nullptr).cost;
     EXPECT_NEAR(costs[i], expected, 1e-12) << job.params.dump();
   }
   // Without the reference: the estimates themselves.
   const std::vector<double> raw = calc_job_costs(sweep, estimate);
-  for (std::size_t i = 0; i < sweep.jobs.size(); ++i) EXPECT_EQ(raw[i], estimate(sweep.jobs[i].config()).cost);
+  for (std::size_t i = 0; i < sweep.jobs.size(); ++i) EXPECT_EQ(raw[i], estimate(sweep.jobs[i].config(), nullptr).cost);
   fs::remove_all(folder);
 }
 

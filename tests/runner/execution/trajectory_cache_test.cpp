@@ -64,8 +64,10 @@ TEST(TrajectoryCache, SweepOnSharedTrajectoriesMatchesFreshExecutorsBitForBit) {
   const JobExecutor shared = make_experiment_executor();  // one for the sweep: shares builds
   for (std::size_t i = 0; i < 4; ++i) {
     const ExpandedJob& job = sweep.jobs[i];
-    const JobOutcome a = shared(job.config(), JobControl{});
-    const JobOutcome b = make_experiment_executor()(job.config(), JobControl{});  // builds its own
+    // a: the configuration the expansion checked; b: the JSON read again, by an executor that
+    // builds its own trajectories.
+    const JobOutcome a = shared(job.config(), job.checked.get(), JobControl{});
+    const JobOutcome b = make_experiment_executor()(job.config(), nullptr, JobControl{});
     ASSERT_EQ(a.status, JobStatus::done) << a.message;
     ASSERT_EQ(a.metrics.size(), b.metrics.size());
     for (std::size_t m = 0; m < a.metrics.size(); ++m) {

@@ -2,11 +2,12 @@
 // The shape of a job configuration as the runner's spec layer sees it: defaults (and so types),
 // the check of a resolved configuration, and which values name files the job reads.
 #include "engine/config/config_key.hpp"
-#include "runner/config/config_error.hpp"
+#include "runner/spec/config_error.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,10 +27,23 @@ struct InputFileField {
   std::function<std::vector<std::string>(const std::string& resolved_path)> list_files;
 };
 
+/// What a schema's check made of one configuration (the experiment job: its ValidJobConfig,
+/// runner/execution/experiment_executor.cpp). The runner never looks inside: it carries it with
+/// the job from the expansion to the kind's executor and cost estimate, so that a configuration
+/// is parsed and validated once, where its JSON enters.
+class CheckedConfig {
+ public:
+  virtual ~CheckedConfig() = default;
+};
+
+/// A schema's check of one resolved configuration: what it made of it (null: a kind that keeps
+/// nothing), or ConfigError with the path of the first problem.
+using ConfigCheck = std::function<std::shared_ptr<const CheckedConfig>(const nlohmann::json& config)>;
+
 /// `defaults` holds every key with its default value (the JSON types are the expected types;
 /// an empty array means "array of numbers"); `validate` checks ranges and cross-field rules of
 /// a fully resolved configuration (its input paths resolved, see runner/spec/input_files.hpp),
-/// throwing ConfigError with the path.
+/// throwing ConfigError with the path, and returns what it made of it (ConfigCheck).
 struct JobConfigSchema {
   nlohmann::json defaults;
   /// The tree the structural check of specs compares values with: `defaults`, except that keys
@@ -37,11 +51,11 @@ struct JobConfigSchema {
   /// i.e. free-form there and checked by `validate`. Null: use `defaults`.
   nlohmann::json types;
   const nlohmann::json& type_reference() const { return types.is_null() ? defaults : types; }
-  std::function<void(const nlohmann::json& config)> validate;
+  ConfigCheck validate;
   /// A `validate` for many configurations in a row (one sweep's expansion), made once for it and
   /// dropped after: it may keep what the configurations share (files they read) between calls.
   /// Unset: `validate`.
-  std::function<std::function<void(const nlohmann::json& config)>()> make_sweep_validate;
+  std::function<ConfigCheck()> make_sweep_validate;
   std::vector<InputFileField> input_files;
   /// Resolves values that name stored results (learning.initial_model's stored-model references,
   /// runner/execution/stored_models.hpp) in a job's configuration when the sweep expands, before
