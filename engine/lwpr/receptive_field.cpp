@@ -235,10 +235,14 @@ __attribute__((always_inline)) inline double predict_field(const ReceptiveField&
   }
   double part[kLanes];
   for (int k = 0; k < kLanes; ++k) part[k] = lanes[k / kWidth][k % kWidth];
-  for (int k = 0; i < n; ++i, ++k) {
-    z[i] = xp[i] - mean_x[i];
-    part[k] += u[i] * z[i];
-  }
+  // At most kLanes − 1 elements are left, element i + k in lane k (written out, as in update_statistics).
+  auto first_tail = [&](int k) __attribute__((always_inline)) {
+    z[i + k] = xp[i + k] - mean_x[i + k];
+    part[k] += u[i + k] * z[i + k];
+  };
+  if (i < n) first_tail(0);
+  if (i + 1 < n) first_tail(1);
+  if (i + 2 < n) first_tail(2);
   double s = sum_lanes(part);
   double y = rf.beta0;
   leverage = 0.0;
@@ -263,10 +267,13 @@ __attribute__((always_inline)) inline double predict_field(const ReceptiveField&
     }
     double next[kLanes];
     for (int k = 0; k < kLanes; ++k) next[k] = next_lanes[k / kWidth][k % kWidth];
-    for (int k = 0; i < n; ++i, ++k) {
-      z[i] -= s * p[i];
-      next[k] += u_next[i] * z[i];
-    }
+    auto next_tail = [&](int k) __attribute__((always_inline)) {
+      z[i + k] -= s * p[i + k];
+      next[k] += u_next[i + k] * z[i + k];
+    };
+    if (i < n) next_tail(0);
+    if (i + 1 < n) next_tail(1);
+    if (i + 2 < n) next_tail(2);
     s = sum_lanes(next);
   }
   return y;
@@ -295,6 +302,36 @@ double calc_field_noise_variance(const ReceptiveField& rf) {
 }
 
 namespace {
+
+// Pass (2) of update_statistics() for one projection: the normalised direction u = sxy/|sxy|, the
+// input loadings' statistics sxs and p = sxs/Σλws², and, if Deflate, the deflated input z − s·p.
+// Element-wise, so any vector width gives the same bits; n is update_statistics()'s.
+template <bool Deflate, class V>
+__attribute__((always_inline)) inline void update_directions(int n, double inv_norm, double ws, double inv_ss2,
+                                                             double s, double lambda, const double* sxy, double* sxs,
+                                                             double* u, double* p, double* z) {
+  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
+  int i = 0;
+  for (; i + kWidth <= n; i += kWidth) {
+    V zv, yv, sv;
+    load_vector(zv, z + i);
+    load_vector(yv, sxy + i);
+    load_vector(sv, sxs + i);
+    store_vector(u + i, yv * inv_norm);
+    const V v = lambda * sv + ws * zv;
+    store_vector(sxs + i, v);
+    const V pv = v * inv_ss2;
+    store_vector(p + i, pv);
+    if (Deflate) store_vector(z + i, zv - s * pv);
+  }
+  for (int t = 0; t < kWidth - 1 && i < n; ++t, ++i) {  // at most kWidth − 1 left: unrolled
+    u[i] = sxy[i] * inv_norm;
+    const double v = lambda * sxs[i] + ws * z[i];
+    sxs[i] = v;
+    p[i] = v * inv_ss2;
+    if (Deflate) z[i] -= s * p[i];
+  }
+}
 
 // The forgetting-weighted sums, means and PLS statistics of update_receptive_field() for one
 // sample; leaves s_r, the residuals, 1 − h_r and e_cv,r in `scratch`. N > 0 fixes the input
@@ -337,7 +374,7 @@ __attribute__((always_inline)) inline void update_statistics(const Eigen::Vector
     store_vector(mean_x + i, m);
     store_vector(z + i, xv - m);
   }
-  for (; i < n; ++i) {
+  for (int t = 0; t < kWidth - 1 && i < n; ++t, ++i) {  // at most kWidth − 1 left: unrolled
     const double m = (w_old * mean_x[i] + w * xp[i]) * inv_w_new;
     mean_x[i] = m;
     z[i] = xp[i] - m;
@@ -374,12 +411,17 @@ __attribute__((always_inline)) inline void update_statistics(const Eigen::Vector
       norm2_part[k] = norm2_lanes[k / kWidth][k % kWidth];
       dot_part[k] = dot_lanes[k / kWidth][k % kWidth];
     }
-    for (int k = 0; i < n; ++i, ++k) {
-      const double v = lambda_slow * sxy[i] + w_res * z[i];
-      sxy[i] = v;
+    // At most kLanes − 1 elements are left, element i + k in lane k: written out, so that the
+    // partial sums stay in registers.
+    auto tail = [&](int k) __attribute__((always_inline)) {
+      const double v = lambda_slow * sxy[i + k] + w_res * z[i + k];
+      sxy[i + k] = v;
       norm2_part[k] += v * v;
-      dot_part[k] += v * z[i];
-    }
+      dot_part[k] += v * z[i + k];
+    };
+    if (i < n) tail(0);
+    if (i + 1 < n) tail(1);
+    if (i + 2 < n) tail(2);
     const double norm2 = sum_lanes(norm2_part), dot = sum_lanes(dot_part);
     const double inv_norm = norm2 > 0.0 ? 1.0 / std::sqrt(norm2) : 0.0;  // u_r = 0 while sxy_r = 0
     const double s = dot * inv_norm;
@@ -388,24 +430,10 @@ __attribute__((always_inline)) inline void update_statistics(const Eigen::Vector
     rf.sys(r) = lambda * rf.sys(r) + ws * res;
     const double inv_ss2 = 1.0 / rf.ss2(r);
     rf.beta(r) = rf.sys(r) * inv_ss2;
-    for (i = 0; i + kWidth <= n; i += kWidth) {
-      V zv, yv, sv;
-      load_vector(zv, z + i);
-      load_vector(yv, sxy + i);
-      load_vector(sv, sxs + i);
-      store_vector(u + i, yv * inv_norm);
-      const V v = lambda * sv + ws * zv;
-      store_vector(sxs + i, v);
-      const V pv = v * inv_ss2;
-      store_vector(p + i, pv);
-      store_vector(z + i, zv - s * pv);
-    }
-    for (; i < n; ++i) {
-      u[i] = sxy[i] * inv_norm;
-      const double v = lambda * sxs[i] + ws * z[i];
-      sxs[i] = v;
-      p[i] = v * inv_ss2;
-      z[i] -= s * p[i];  // the deflated input after the last projection is not used
+    if (r + 1 < n_reg) {
+      update_directions<true, V>(n, inv_norm, ws, inv_ss2, s, lambda, sxy, sxs, u, p, z);
+    } else {  // the deflated input after the last projection is not used
+      update_directions<false, V>(n, inv_norm, ws, inv_ss2, s, lambda, sxy, sxs, u, p, z);
     }
     res -= rf.beta(r) * s;
     scratch.s(r) = s;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace armfarm::lwpr {
@@ -257,6 +258,119 @@ TEST(ReceptiveField, Avx2FieldUpdateMatchesSse2BitForBit) {
       ASSERT_EQ(sse2.size(), avx2.size()) << "n = " << n;
       EXPECT_EQ(std::memcmp(sse2.data(), avx2.data(), sse2.size() * sizeof(double)), 0)
           << "n = " << n << ", update_D " << update_d;
+    }
+  }
+}
+
+// The field update's PLS statistics, means and cached directions against a plain scalar loop written
+// here from the algorithm (Vijayakumar et al. 2005, table 2) with the summation order the field update
+// documents (element i in partial sum i mod 4, added as (p0 + p1) + (p2 + p3)): the same bits at every
+// remainder n mod 4, on both copies (SSE2 pairs, AVX2) and at the fixed sizes 2 and 3.
+TEST(ReceptiveField, FieldUpdateMatchesAPlainScalarLoopBitForBit) {
+  struct Plain {  // the reference state: n inputs, R projections
+    std::vector<double> mean_x, sxy, sxs, u, p, sum_w, ss2, sys, beta;
+    double beta0 = 0.0, lambda = 0.0;
+  };
+  for (const int n : {2, 3, 4, 5, 6, 7, 9, 10, 11, 21}) {
+    for (const bool avx2 : {false, true}) {
+      if (avx2 && !has_avx2()) continue;
+      LwprParams params;
+      params.update_D = false;
+      params.add_proj = false;
+      params.init_lambda = 0.99;
+      const int R = params.init_n_reg;
+      ReceptiveField rf = make_receptive_field(params, Eigen::VectorXd::Zero(n), Eigen::MatrixXd::Identity(n, n));
+      FieldScratch scratch;
+      scratch.resize(n, true);
+      scratch.use_avx2 = avx2;
+      Plain ref;
+      ref.mean_x.assign(n, 0.0);
+      ref.sxy.assign(n * R, 0.0);
+      ref.sxs.assign(n * R, 0.0);
+      ref.u.assign(n * R, 0.0);
+      ref.p.assign(n * R, 0.0);
+      ref.sum_w.assign(R, 1e-10);
+      ref.ss2.assign(R, params.init_S2);
+      ref.sys.assign(R, 0.0);
+      ref.beta.assign(R, 0.0);
+      ref.lambda = params.init_lambda;
+      std::mt19937_64 rng(static_cast<unsigned>(5 * n + avx2));
+      std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+      for (int t = 0; t < 300; ++t) {
+        const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(n, [&] { return uniform(rng); });
+        const double y = std::cos(2.0 * x(0)) + x(n - 1) * x(n / 2) + 0.05 * uniform(rng);
+        const double w = 0.1 + 0.9 * std::abs(uniform(rng));
+        update_receptive_field(params, 2.0 * n, x, y, w, rf, scratch);
+
+        const double lambda = ref.lambda;
+        const double lambda_slow = 1.0 - (1.0 - lambda) / 10.0;
+        const double w_old = lambda * ref.sum_w[0];
+        for (int r = 0; r < R; ++r) ref.sum_w[r] = lambda * ref.sum_w[r] + w;
+        const double inv_w = 1.0 / ref.sum_w[0];
+        std::vector<double> z(n);
+        for (int i = 0; i < n; ++i) {
+          ref.mean_x[i] = (w_old * ref.mean_x[i] + w * x(i)) * inv_w;
+          z[i] = x(i) - ref.mean_x[i];
+        }
+        ref.beta0 = (w_old * ref.beta0 + w * y) * inv_w;
+        double res = y - ref.beta0;
+        for (int r = 0; r < R; ++r) {
+          double norm2[4] = {0.0, 0.0, 0.0, 0.0}, dot[4] = {0.0, 0.0, 0.0, 0.0};
+          for (int i = 0; i < n; ++i) {
+            double& v = ref.sxy[r * n + i];
+            v = lambda_slow * v + (w * res) * z[i];
+            norm2[i % 4] += v * v;
+            dot[i % 4] += v * z[i];
+          }
+          const double nn = (norm2[0] + norm2[1]) + (norm2[2] + norm2[3]);
+          const double inv_norm = nn > 0.0 ? 1.0 / std::sqrt(nn) : 0.0;
+          const double s = ((dot[0] + dot[1]) + (dot[2] + dot[3])) * inv_norm;
+          ref.ss2[r] = lambda * ref.ss2[r] + (w * s) * s;
+          ref.sys[r] = lambda * ref.sys[r] + (w * s) * res;
+          const double inv_ss2 = 1.0 / ref.ss2[r];
+          ref.beta[r] = ref.sys[r] * inv_ss2;
+          for (int i = 0; i < n; ++i) {
+            ref.u[r * n + i] = ref.sxy[r * n + i] * inv_norm;
+            ref.sxs[r * n + i] = lambda * ref.sxs[r * n + i] + (w * s) * z[i];
+            ref.p[r * n + i] = ref.sxs[r * n + i] * inv_ss2;
+            z[i] -= s * ref.p[r * n + i];
+          }
+          res -= ref.beta[r] * s;
+        }
+        ref.lambda = params.tau_lambda * lambda + (1.0 - params.tau_lambda) * params.final_lambda;
+      }
+      auto same = [](const double* a, const std::vector<double>& b) {
+        return std::memcmp(a, b.data(), b.size() * sizeof(double)) == 0;
+      };
+      const std::string where = "n = " + std::to_string(n) + (avx2 ? ", AVX2" : ", SSE2");
+      ASSERT_EQ(rf.n_reg(), R) << where;
+      EXPECT_TRUE(same(rf.mean_x.data(), ref.mean_x)) << where;
+      EXPECT_TRUE(same(rf.sxy.data(), ref.sxy)) << where;
+      EXPECT_TRUE(same(rf.sxs.data(), ref.sxs)) << where;
+      EXPECT_TRUE(same(rf.directions.data(), ref.u)) << where;
+      EXPECT_TRUE(same(rf.loadings.data(), ref.p)) << where;
+      EXPECT_TRUE(same(rf.sum_w.data(), ref.sum_w)) << where;
+      EXPECT_TRUE(same(rf.ss2.data(), ref.ss2)) << where;
+      EXPECT_TRUE(same(rf.sys.data(), ref.sys)) << where;
+      EXPECT_TRUE(same(rf.beta.data(), ref.beta)) << where;
+      EXPECT_EQ(std::memcmp(&rf.beta0, &ref.beta0, sizeof(double)), 0) << where;
+      // The field's prediction at a sample against the same plain loop over the cached directions.
+      const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(n, [&] { return uniform(rng); });
+      double leverage = 0.0;
+      const double y_hat = predict_receptive_field(rf, x, leverage, scratch);
+      std::vector<double> z(n);
+      for (int i = 0; i < n; ++i) z[i] = x(i) - ref.mean_x[i];
+      double y_ref = ref.beta0, leverage_ref = 0.0;
+      for (int r = 0; r < R; ++r) {
+        double part[4] = {0.0, 0.0, 0.0, 0.0};
+        for (int i = 0; i < n; ++i) part[i % 4] += ref.u[r * n + i] * z[i];
+        const double s = (part[0] + part[1]) + (part[2] + part[3]);
+        y_ref += ref.beta[r] * s;
+        leverage_ref += s * s / ref.ss2[r];
+        for (int i = 0; i < n; ++i) z[i] -= s * ref.p[r * n + i];
+      }
+      EXPECT_EQ(std::memcmp(&y_hat, &y_ref, sizeof(double)), 0) << where << ": " << y_hat << " vs " << y_ref;
+      EXPECT_EQ(std::memcmp(&leverage, &leverage_ref, sizeof(double)), 0) << where;
     }
   }
 }
