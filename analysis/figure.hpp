@@ -28,6 +28,7 @@ struct Panel {
   bool equal_axes = false;  ///< same scale on x and y (paths in a plane), the panel square around the data
   bool tight_x = false;     ///< x axis ends at the data (time series), not at the next tick
   std::optional<double> y_min;  ///< the y axis starts here (a bar clipped at the axis ends on it); empty = automatic
+  std::optional<double> x_min;  ///< the x axis starts here (0 reaches); empty = at the data (tight) or padded
   std::vector<Curve> curves;
   /// x positions of marks drawn on the top edge of the panel (jobs without a value there, e.g.
   /// diverged ones), with one legend entry `edge_mark_title`.
@@ -35,9 +36,20 @@ struct Panel {
   std::string edge_mark_title;
 };
 
+/// A small table set under the figure (below the legend): the numbers a panel title cannot hold
+/// at paper width (the thesis's value beside armfarm's per joint). Columns are left-aligned at
+/// widths from their longest cell; a table wider than the page is set as one wrapped line per row.
+struct FigureTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
 struct Figure {
-  std::string title;
-  std::vector<Panel> panels;  ///< laid out in a grid
+  std::string title;              ///< short: what is drawn (the notes go into the caption)
+  std::vector<Panel> panels;      ///< laid out in a grid
+  std::size_t columns = 0;        ///< the grid's columns; 0: 1 panel in 1, up to 4 in 2, else 3
+  FigureTable table;              ///< under the legend; empty header: none
+  std::vector<std::string> caption;  ///< paragraphs under the table, each wrapped to the page (sources, error bars, jobs not shown)
 };
 
 /// How a figure is sized and lettered. paper: 3.5 in wide (the single column of a two-column

@@ -27,9 +27,9 @@ struct PlotRequest {
   PlotKind kind = PlotKind::metric_vs_param;
   std::optional<std::string> sweep;
   std::vector<std::string> job_keys;  ///< full keys or unique prefixes; empty = chosen from the sweep
-  std::string metric;                 ///< metric-vs-param
+  std::string metric;                 ///< metric-vs-param; nmse-vs-kernel: same_run_test_nmse or heldout_test_nmse (empty: held-out where recorded)
   std::optional<int> joint;           ///< metric-vs-param: a per-joint metric's joint
-  std::optional<std::int64_t> checkpoint;  ///< metric-vs-param: a held-out metric's checkpoint
+  std::optional<std::int64_t> checkpoint;  ///< metric-vs-param, nmse-vs-kernel: a held-out metric's checkpoint (nmse-vs-kernel: default the last)
   std::string param;                  ///< metric-vs-param: x axis
   std::string group;                  ///< metric-vs-param: one curve per value (optional)
   std::string kernel_param = "learning.lwpr.init_D";
@@ -49,6 +49,11 @@ Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request);
 
 /// Which plot kinds a sweep has data for (used by the report).
 std::vector<PlotKind> find_available_plot_kinds(const ResultsStore& store, const SweepData& data);
+
+/// A parameter's name in a legend or title: its path from the last key on ("learning.lwpr.init_D"
+/// → "init_D", "control.kp[1]" → "kp[1]"), parsed by base/config_path.hpp; the text itself when
+/// it is not a path.
+std::string make_short_param_name(const std::string& path);
 
 /// A short label of a job from its varying parameters ("init_D=25, gain_scale=0.2").
 std::string make_job_label(const JobResult& job);

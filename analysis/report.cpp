@@ -180,8 +180,18 @@ std::string render_figure_html(const ResultsStore& store, const PlotRequest& req
   html << "<h3 id=\"" << anchor << "\">" << escape_html(heading) << "</h3>\n";
   const fs::path svg_path = work_dir / ("figure_" + std::to_string(++counter) + ".svg");
   try {
-    write_figure(make_plot_figure(store, request), svg_path.string());
+    // The caption (what is drawn from which metric, error bars, jobs not shown) as the page's
+    // text under the figure, where it wraps with the page, not inside the drawing.
+    Figure figure = make_plot_figure(store, request);
+    const std::vector<std::string> caption = std::move(figure.caption);
+    figure.caption.clear();
+    write_figure(figure, svg_path.string());
     html << make_inline_svg(read_whole_file(svg_path)) << "\n";
+    if (!caption.empty()) {
+      html << "<p class=\"caption\">";
+      for (std::size_t i = 0; i < caption.size(); ++i) html << (i ? "<br>" : "") << escape_html(caption[i]);
+      html << "</p>\n";
+    }
   } catch (const AnalysisError& e) {
     html << "<p class=\"bad\">" << escape_html(heading + ": " + e.what()) << "</p>\n";
   }
@@ -228,16 +238,14 @@ std::string make_thesis_section(const ResultsStore& store, const SweepRecord& sw
     for (const ComparedCell& cell : table.cells) {
       const bool compared = cell.state == CellState::compared;
       std::string armfarm = cell.reason.empty() ? "–" : cell.reason;
-      if (compared) {
-        armfarm = options.aggregate == Aggregate::mean ? format_mean_ci(cell.armfarm) : format_number(cell.armfarm_value);
-      }
+      if (compared) armfarm = format_compared_value(cell, options.aggregate);  // as `table --against` prints it
       std::string verdict = cell.verdict == Verdict::none ? "" : to_string(cell.verdict);
       if (!cell.verdict_note.empty()) verdict += " (" + cell.verdict_note + ")";
       html << "<tr><td>" << escape_html(cell.thesis->row) << "</td><td>" << escape_html(cell.thesis->column)
            << "</td><td class=\"num\" data-sort=\"" << format_sort_key(cell.thesis->value) << "\">" << escape_html(cell.thesis->printed)
            << "</td><td" << (compared ? " class=\"num\" data-sort=\"" + format_sort_key(cell.armfarm_value) + "\"" : std::string())
            << ">" << escape_html(armfarm) << "</td><td class=\"num\"" << (cell.ratio ? " data-sort=\"" + format_sort_key(*cell.ratio) + "\"" : std::string())
-           << ">" << (cell.ratio ? escape_html(format_number(*cell.ratio)) : "–") << "</td><td class=\"num\">" << cell.armfarm.count
+           << ">" << escape_html(format_compared_ratio(cell)) << "</td><td class=\"num\">" << cell.armfarm.count
            << "</td><td>" << escape_html(verdict) << "</td></tr>\n";
     }
     html << "</table></div>\n";

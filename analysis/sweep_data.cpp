@@ -57,10 +57,15 @@ std::string make_readable_metric_name(const std::string& name) {
   return readable;
 }
 
-std::string make_metric_axis_label(const MetricInfoTable& info, const MetricId& id) {
+std::string make_readable_metric_label(const MetricId& id) {
   std::string label = make_readable_metric_name(id.name);
   if (id.joint) label += ", joint " + std::to_string(*id.joint);
   if (id.checkpoint) label += ", checkpoint " + std::to_string(*id.checkpoint);
+  return label;
+}
+
+std::string make_metric_axis_label(const MetricInfoTable& info, const MetricId& id) {
+  const std::string label = make_readable_metric_label(id);
   const auto found = info.find(id.name);
   if (found == info.end()) return label;
   const std::string& unit = found->second.unit;

@@ -50,6 +50,10 @@ MetricInfoTable load_metric_info(const ResultsStore& store);
 /// "n_receptive_fields" → "receptive fields" (acronyms capitalised, "_" as spaces, a count's "n" dropped).
 std::string make_readable_metric_name(const std::string& name);
 
+/// A metric as a reader says it, with its joint and checkpoint: "held-out test nMSE, joint 2,
+/// checkpoint 5" (titles and legends; make_metric_axis_label adds the unit).
+std::string make_readable_metric_label(const MetricId& id);
+
 /// The axis label of a metric: its readable name, the joint and checkpoint, and the unit from
 /// the catalog ("feedback absolute mean, joint 2 (N·m)", "receptive fields (count)"); no unit for "1"
 /// (dimensionless) or when the catalog lacks the metric.

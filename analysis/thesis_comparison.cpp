@@ -329,10 +329,7 @@ std::string table_title(const ThesisTable& table) {
 }
 
 std::string format_armfarm(const ComparedCell& cell, Aggregate aggregate) {
-  if (cell.state == CellState::compared) {
-    const std::string text = aggregate == Aggregate::mean ? format_mean_ci(cell.armfarm) : format_table_number(cell.armfarm_value);
-    return text + " (" + std::to_string(cell.armfarm.count) + ")";
-  }
+  if (cell.state == CellState::compared) return format_compared_value(cell, aggregate) + " (" + std::to_string(cell.armfarm.count) + ")";
   if (cell.state == CellState::not_run) return "not run (" + cell.reason + ")";
   if (cell.state == CellState::no_metric) return "no metric";
   return "not mapped (" + cell.reason + ")";
@@ -624,6 +621,13 @@ ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const Resul
   return make_thesis_comparison(thesis, sweeps, aggregate, only_sweep, known);
 }
 
+std::string format_compared_value(const ComparedCell& cell, Aggregate aggregate) {
+  if (cell.state != CellState::compared) return "";
+  return aggregate == Aggregate::mean ? format_mean_ci(cell.armfarm) : format_table_number(cell.armfarm_value);
+}
+
+std::string format_compared_ratio(const ComparedCell& cell) { return cell.ratio ? format_table_number(*cell.ratio) : "—"; }
+
 std::string format_thesis_comparison(const ThesisComparison& comparison, TableFormat format, Aggregate aggregate) {
   std::ostringstream out;
   if (format == TableFormat::latex) throw AnalysisError("--against prints md, csv or json, not latex");
@@ -671,7 +675,7 @@ std::string format_thesis_comparison(const ThesisComparison& comparison, TableFo
           << "| row | column | thesis | armfarm | armfarm/thesis | verdict |\n|---|---|---|---|---|---|\n";
     }
     for (const ComparedCell& cell : table.cells) {
-      const std::string ratio = cell.ratio ? format_table_number(*cell.ratio) : "—";
+      const std::string ratio = format_compared_ratio(cell);
       if (format == TableFormat::markdown) {
         out << "| " << cell.thesis->row << " | " << cell.thesis->column << " | " << cell.thesis->printed << " | "
             << format_armfarm(cell, aggregate) << " | " << ratio << " | " << format_verdict(cell) << " |\n";

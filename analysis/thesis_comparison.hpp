@@ -172,6 +172,14 @@ ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const std::
 ThesisComparison make_thesis_comparison(const ThesisResults& thesis, const ResultsStore& store, Aggregate aggregate,
                                         const std::optional<std::string>& only_sweep = std::nullopt);
 
+/// A compared cell's armfarm value as every comparison prints it (`table --against`, the report's
+/// Thesis section, the figures' tables): the mean and its 95 % interval, or the median, with 4
+/// significant digits (format_table_number); "" when the cell was not compared.
+std::string format_compared_value(const ComparedCell& cell, Aggregate aggregate);
+
+/// The cell's armfarm/thesis ratio with 4 significant digits; "—" when it has none.
+std::string format_compared_ratio(const ComparedCell& cell);
+
 /// One table per thesis table: row, column, thesis value (as printed), armfarm value, ratio, n.
 /// md, csv or json; throws AnalysisError for latex.
 std::string format_thesis_comparison(const ThesisComparison& comparison, TableFormat format, Aggregate aggregate);

@@ -75,15 +75,6 @@ std::string require_sweep(const ResultsStore& store, const ThesisResults& thesis
   return choose_sweep(store, requested ? requested : mapped);
 }
 
-// "thesis 0.58 · armfarm 0.86 [0.80, 0.92] (5) · matches" for one compared cell.
-std::string describe_cell(const ComparedCell& cell) {
-  std::string text = "thesis " + format_table_number(cell.thesis->value) + ", armfarm ";
-  if (cell.state != CellState::compared) return text + "not run";
-  text += format_mean_ci(cell.armfarm, 3) + " (" + std::to_string(cell.armfarm.count) + ")";
-  if (cell.verdict != Verdict::none && cell.verdict != Verdict::one_seed) text += ", " + std::string(to_string(cell.verdict));
-  return text;
-}
-
 const ComparedCell* find_compared(const ThesisComparison& comparison, const std::string& table, const std::string& row,
                                   const std::string& column) {
   for (const ComparedTable& compared : comparison.tables) {
@@ -123,15 +114,30 @@ PlotRequest make_kernel_request(const std::string& sweep, const std::string& met
   return plot;
 }
 
-// The figure title's lines after the first (error bars, jobs not shown), for a composed figure.
-std::string take_notes(const std::string& title) {
-  const auto newline = title.find('\n');
-  return newline == std::string::npos ? "" : title.substr(newline);
+// The kernel figures' x label: the key's last segment and its unit ("learning.lwpr.init_D" ran
+// past the right edge under a narrow right-hand panel).
+std::string make_kernel_axis_label(const ThesisFigureRequest& request) {
+  const std::string unit = request.param_unit ? request.param_unit(kKernelParam) : std::string();
+  return make_short_param_name(kKernelParam) + (unit.empty() ? "" : " (" + unit + ")");
 }
 
 std::string describe_finding(const ThesisFigure& figure) {
   const json* finding = figure.facts.is_object() && figure.facts.contains("finding") ? &figure.facts["finding"] : nullptr;
-  return finding && finding->is_string() ? "\nthesis (no numbers printed): " + finding->get<std::string>() : "";
+  return finding && finding->is_string() ? "thesis's finding (it prints no numbers): " + finding->get<std::string>() : "";
+}
+
+// "Figure 6.1 (thesis): nMSE on a test set …" as the first caption paragraph: the thesis's own
+// caption, under the figure as in a paper, not in the title over the panels.
+std::string make_thesis_caption(const ThesisFigure& figure) { return make_heading(figure); }
+
+// The caption of a composed figure: the thesis's caption, armfarm's source, then the notes of
+// its parts (error bars, jobs not shown; each once) and the thesis's finding.
+void add_caption(Figure& result, const std::vector<std::string>& notes, const ThesisFigure& figure) {
+  for (const std::string& note : notes) {
+    if (std::find(result.caption.begin(), result.caption.end(), note) == result.caption.end()) result.caption.push_back(note);
+  }
+  const std::string finding = describe_finding(figure);
+  if (!finding.empty()) result.caption.push_back(finding);
 }
 
 Figure make_figure_6_1(const ResultsStore& store, const ThesisResults& thesis, const ThesisFigure& figure,
@@ -142,8 +148,10 @@ Figure make_figure_6_1(const ResultsStore& store, const ThesisResults& thesis, c
   const std::vector<int> joints = find_active_joints(data.jobs.front(), 2);
   const std::string metric = "heldout_test_nmse";
   Figure result;
-  result.title = make_heading(figure) + "\narmfarm: sweep " + sweep + ", " + metric + " at the last checkpoint";
-  std::string notes, missing;
+  result.title = "Figure " + figure.number + ": held-out test nMSE against the initial kernel width";
+  result.caption.push_back(make_thesis_caption(figure));
+  std::vector<std::string> notes;
+  std::string missing, checkpoints;
   for (std::size_t k = 0; k < 2 && k < joints.size(); ++k) {
     const int joint = joints[k];
     std::optional<std::int64_t> last;
@@ -162,15 +170,22 @@ Figure make_figure_6_1(const ResultsStore& store, const ThesisResults& thesis, c
     plot.checkpoint = last;
     plot.log_y = true;  // nMSE spans decades across kernel widths
     Figure part = make_plot_figure(store, plot);
-    if (notes.empty()) notes = take_notes(part.title);
+    for (const std::string& note : part.caption) {
+      if (note.rfind("column: ", 0) != 0) notes.push_back(note);
+    }
+    const std::string at = std::to_string(*last);
+    if (checkpoints.find(at) == std::string::npos) checkpoints += (checkpoints.empty() ? "" : ", ") + at;
     for (Panel& panel : part.panels) {
       panel.title = name;
+      panel.y_label = "held-out test nMSE";  // the checkpoint is the caption's, the joint the title's
+      panel.x_label = make_kernel_axis_label(request);
       result.panels.push_back(std::move(panel));
     }
   }
   if (result.panels.empty()) throw AnalysisError("sweep '" + sweep + "': no done job has a defined " + metric + " on its first two joints");
-  if (!missing.empty()) result.title += "\nnot drawn, " + metric + " undefined in every job: " + missing;
-  result.title += notes + describe_finding(figure);
+  result.caption.push_back("armfarm: sweep " + sweep + ", " + metric + " at the last checkpoint (" + checkpoints + ")" +
+                           (missing.empty() ? std::string() : "; not drawn, undefined in every job: " + missing));
+  add_caption(result, notes, figure);
   return result;
 }
 
@@ -179,9 +194,16 @@ Figure make_figure_6_2(const ResultsStore& store, const ThesisResults& thesis, c
   const std::string sweep = require_sweep(store, thesis, figure.number, request.sweep, figure.mapping.sweep);
   Figure part = make_plot_figure(store, make_kernel_request(sweep, "n_receptive_fields_per_output", request));
   Figure result;
-  result.title = make_heading(figure) + "\narmfarm: sweep " + sweep + ", receptive fields per output after training" +
-                 take_notes(part.title) + describe_finding(figure);
+  result.title = "Figure " + figure.number + ": receptive fields per output against the initial kernel width";
+  result.caption.push_back(make_thesis_caption(figure));
+  result.caption.push_back("armfarm: sweep " + sweep + ", receptive fields per output after training");
+  std::vector<std::string> notes;
+  for (const std::string& note : part.caption) {
+    if (note.rfind("column: ", 0) != 0) notes.push_back(note);
+  }
+  add_caption(result, notes, figure);
   result.panels = std::move(part.panels);
+  for (Panel& panel : result.panels) panel.x_label = make_kernel_axis_label(request);
   return result;
 }
 
@@ -242,9 +264,7 @@ Figure make_figure_6_7(const ResultsStore& store, const ThesisResults& thesis, c
     std::string title;
     for (const std::string& path : data.varying_params) {
       if (path == "seed") continue;
-      const auto dot = path.rfind('.');
-      title += (title.empty() ? "" : ", ") + (dot == std::string::npos ? path : path.substr(dot + 1)) + "=" +
-               format_param_value(find_param_value(job, path));
+      title += (title.empty() ? "" : ", ") + make_short_param_name(path) + "=" + format_param_value(find_param_value(job, path));
     }
     if (title.empty()) title = "armfarm";
     auto group = std::find_if(groups.begin(), groups.end(), [&](const Group& g) { return g.title == title; });
@@ -291,14 +311,15 @@ Figure make_figure_6_7(const ResultsStore& store, const ThesisResults& thesis, c
     if (group.chosen && !group.by_reach.empty()) {
       const auto& [reach, values] = *group.by_reach.rbegin();
       const SummaryStatistics summary = calc_summary_statistics(values);
-      chosen_note = "\narmfarm" + (group.title == "armfarm" ? std::string() : " at " + group.title) + " after " + format_count(reach) + " reaches: " + format_mean_ci(summary, 3) +
-                    " (" + std::to_string(summary.count) + ") per output";
+      chosen_note = "armfarm" + (group.title == "armfarm" ? std::string() : " at " + group.title) + " (the comparison's setting) after " +
+                    format_count(reach) + " reaches: " + format_mean_ci(summary, 3) + " (" + std::to_string(summary.count) + ") per output";
     }
     panel.curves.push_back(std::move(mean));
     if (seeds >= 2) panel.curves.push_back(std::move(band));
     most_seeds = std::max(most_seeds, seeds);
   }
   const auto marks = read_fields_after_reaches(figure);
+  std::string thesis_note;
   if (!marks.empty()) {
     Curve thesis_marks;  // black, dashed, on top: points joined so that three marks stand out
     thesis_marks.style = Curve::Style::lines_points;
@@ -312,7 +333,8 @@ Figure make_figure_6_7(const ResultsStore& store, const ThesisResults& thesis, c
     }
     low = std::min(low, marks.back().second);
     high = std::max(high, marks.back().second);
-    thesis_marks.title = "thesis: " + counts + " after " + reaches + " reaches";
+    thesis_marks.title = "thesis: " + counts;  // short: a long entry ran past the page's edge
+    thesis_note = "thesis (black marks, dashed): " + counts + " receptive fields after " + reaches + " reaches";
     panel.curves.push_back(std::move(thesis_marks));
   }
   panel.log_y = low > 0.0 && high / low >= 20.0;
@@ -324,10 +346,16 @@ Figure make_figure_6_7(const ResultsStore& store, const ThesisResults& thesis, c
       for (double& end : curve.y_low) end = std::max(end, axis);
     }
   }
+  panel.x_min = 0.0;  // 0 reaches: the axis starts before the first
   Figure result;
-  result.title = make_heading(figure) + "\narmfarm: sweep " + sweep + ", the TRIAL series' count per reach ÷ outputs; " +
-                 (most_seeds >= 2 ? "mean and 95 % band over the seeds" : "one seed, no band") + chosen_note;
-  if (without_series > 0) result.title += "\njobs not shown: " + std::to_string(without_series) + " done without the TRIAL series";
+  result.title = "Figure " + figure.number + ": receptive fields per output against reaches";
+  result.caption.push_back(make_thesis_caption(figure));
+  result.caption.push_back("armfarm: sweep " + sweep + ", the TRIAL series' count per reach ÷ the outputs; " +
+                           (most_seeds >= 2 ? "mean and 95 % band over the seeds" : "one seed, no band") +
+                           (panel.log_y ? "; log y: the counts span more than a factor 20" : ""));
+  if (!chosen_note.empty()) result.caption.push_back(chosen_note);
+  if (!thesis_note.empty()) result.caption.push_back(thesis_note);
+  if (without_series > 0) result.caption.push_back("jobs not shown: " + std::to_string(without_series) + " done without the TRIAL series");
   result.panels.push_back(std::move(panel));
   return result;
 }
@@ -405,27 +433,50 @@ Figure make_signal_figure(const ResultsStore& store, const ThesisResults& thesis
   const ThesisComparison comparison = make_thesis_comparison(thesis, store, Aggregate::mean, mapping.sweep);
   const std::vector<int> joints = find_active_joints(*source.job, static_cast<int>(source.feedback.rows.cols()) - 1);
   Figure result;
-  result.title = make_heading(figure, false) + ": feedback, feed-forward" + (with_composite ? ", composite" : "") + " torque\narmfarm: " +
-                 sweep + ", job " + source.job->key.substr(0, 8) + " (seed " + std::to_string(source.job->seed) + ")";
+  // The title says what is drawn; the source, the model's size and the comparison go under the
+  // figure (a caption and a table), so the panels keep their room at paper width. Stacked in one
+  // column, full width: the torques are time series.
+  result.title = make_heading(figure, false) + (with_composite ? ": feedback, feed-forward and composite torque" : ": feedback and feed-forward torque");
+  result.columns = 1;
+  if (!figure.caption.empty()) result.caption.push_back(make_thesis_caption(figure));
+  std::string source_line = "armfarm: sweep " + sweep + ", job " + source.job->key.substr(0, 8) + " (seed " + std::to_string(source.job->seed) + ")";
+  std::optional<std::int64_t> checkpoint;
   if (mapping.checkpoint) {
-    const std::int64_t checkpoint = std::llround(*mapping.checkpoint);
-    result.title += ", held-out pass after " + std::to_string(checkpoint) + " reaches";
-    const auto fields = source.job->metrics.find(MetricId{"heldout_n_receptive_fields_per_output", std::nullopt, checkpoint});
-    if (fields != source.job->metrics.end()) result.title += ", " + format_count(fields->second) + " fields per output";
+    checkpoint = std::llround(*mapping.checkpoint);
+    source_line += ", the held-out pass after " + std::to_string(*checkpoint) + (*checkpoint == 1 ? " reach" : " reaches");
+  } else {
+    source_line += ", the test pass over the recording";
+  }
+  result.caption.push_back(source_line);
+  // The model's receptive fields beside the thesis's count (which it does not say is per output or summed).
+  const std::string prefix = checkpoint ? "heldout_" : "";
+  const auto per_output = source.job->metrics.find(MetricId{prefix + "n_receptive_fields_per_output", std::nullopt, checkpoint});
+  const auto summed = source.job->metrics.find(MetricId{prefix + "n_receptive_fields", std::nullopt, checkpoint});
+  std::string fields;
+  if (per_output != source.job->metrics.end() && std::isfinite(per_output->second)) fields = format_count(per_output->second) + " per output";
+  if (summed != source.job->metrics.end() && std::isfinite(summed->second)) {
+    fields += (fields.empty() ? "" : ", ") + format_count(summed->second) + " summed over the outputs";
   }
   const json* thesis_fields = figure.facts.is_object() ? (figure.facts.contains("receptive_fields") ? &figure.facts["receptive_fields"]
                                                           : figure.facts.contains("model_receptive_fields") ? &figure.facts["model_receptive_fields"]
                                                                                                              : nullptr)
                                                         : nullptr;
-  if (thesis_fields && thesis_fields->is_number()) result.title += " (thesis: " + format_count(thesis_fields->get<double>()) + ")";
-  result.title += "\npanels: avg(ff/fb) of table " + (table.number ? *table.number : table.id) + "; armfarm mean [95 % CI] (seeds)";
+  if (!fields.empty() || (thesis_fields && thesis_fields->is_number())) {
+    result.caption.push_back("receptive fields of the model: armfarm " + (fields.empty() ? std::string("not recorded") : fields) +
+                             (thesis_fields && thesis_fields->is_number() ? "; thesis " + format_count(thesis_fields->get<double>()) : std::string()));
+  }
+  const std::string table_name = table.number ? "table " + *table.number : table.id;
+  result.table.header = {"joint", "thesis", "armfarm [95 % CI]", "n", "verdict"};
   for (Eigen::Index c = 1; c < source.feedback.rows.cols(); ++c) {
     const int k = static_cast<int>(c);  // the thesis's "Joint k"
     Panel panel;
     panel.title = "joint " + std::to_string(k);
     if (static_cast<std::size_t>(k) <= joints.size()) panel.title += " (arm " + std::to_string(joints[static_cast<std::size_t>(k - 1)]) + ")";
     if (const ComparedCell* cell = find_compared(comparison, table.id, "Joint " + std::to_string(k), "avg(ff/fb)")) {
-      panel.title += ": ff/fb " + describe_cell(*cell);
+      const bool compared = cell->state == CellState::compared;
+      const bool judged = cell->verdict != Verdict::none && cell->verdict != Verdict::one_seed;
+      result.table.rows.push_back({std::to_string(k), format_table_number(cell->thesis->value), compared ? format_mean_ci(cell->armfarm, 3) : "not run",
+                                   compared ? std::to_string(cell->armfarm.count) : "", judged ? to_string(cell->verdict) : "–"});
     }
     panel.x_label = "time (s)";
     panel.y_label = "torque (N·m)";
@@ -437,6 +488,12 @@ Figure make_signal_figure(const ResultsStore& store, const ThesisResults& thesis
     }
     result.panels.push_back(std::move(panel));
   }
+  if (result.table.rows.empty()) {
+    result.table = {};
+  } else {
+    result.caption.push_back("table: avg(ff/fb) per joint, the thesis's (" + table_name + ") and armfarm's mean [95 % CI] over n seeds; "
+                             "verdicts by sweeps/thesis/README.md");
+  }
   return result;
 }
 
@@ -445,7 +502,9 @@ Figure make_signal_figure(const ResultsStore& store, const ThesisResults& thesis
 Figure make_figure_6_11(const ResultsStore& store, const ThesisResults& thesis, const ThesisFigure& figure,
                         const ThesisFigureRequest& request) {
   Figure result;
-  result.title = make_heading(figure) + "\narmfarm: the desired end-effector path (POS_D) of the test jobs of figures 6.12 and 6.13";
+  result.title = "Figure " + figure.number + ": the two recordings' desired paths";
+  result.caption.push_back(make_thesis_caption(figure));
+  std::string files;
   for (const char* number : {"6.12", "6.13"}) {
     const ThesisFigure& task = find_figure(thesis, number);
     const ThesisMapping mapping = find_table_mapping(thesis, find_figure_table(thesis, task));
@@ -472,11 +531,14 @@ Figure make_figure_6_11(const ResultsStore& store, const ThesisResults& thesis, 
     }
     const auto slash = name.rfind('/');
     if (slash != std::string::npos) name = name.substr(slash + 1);
-    static const std::tuple<int, int, const char*> kViews[] = {{1, 2, "top view"}, {2, 3, "side view"}};
+    files += (files.empty() ? "" : " and ") + name + " (figure " + number + ")";
+    // The panel titles name the task alone: a file name over a narrow panel ran past the page.
+    const std::string task_name = number == std::string("6.12") ? "picking" : "sphere";
+    static const std::tuple<int, int, const char*> kViews[] = {{1, 2, "(x-y)"}, {2, 3, "(y-z)"}};
     for (const auto& [first, second, view] : kViews) {
       Panel panel;
       static const char* const axes[] = {"t", "x", "y", "z"};
-      panel.title = name + ", " + view;
+      panel.title = task_name + " " + view;
       panel.x_label = std::string(axes[first]) + " (m)";
       panel.y_label = std::string(axes[second]) + " (m)";
       panel.equal_axes = true;
@@ -490,6 +552,8 @@ Figure make_figure_6_11(const ResultsStore& store, const ThesisResults& thesis, 
       result.panels.push_back(std::move(panel));
     }
   }
+  result.caption.push_back("armfarm: the desired end-effector path (POS_D) of the test jobs of " + files +
+                           ", synthetic stand-ins for the thesis's recordings; a row per recording, left its top view (x-y), right its side view (y-z)");
   return result;
 }
 

@@ -180,8 +180,90 @@ TEST_F(PlotTest, MetricAgainstParamWithErrorBars) {
   const std::string svg = render("metric-vs-param --sweep kernel --metric same_run_test_nmse --joint 1 --param learning.lwpr.init_D "
                                  "--group learning.lwpr.update_D",
                                  directory_.file("metric.svg"));
-  EXPECT_NE(svg.find("same_run_test_nmse_j1"), std::string::npos);
+  EXPECT_NE(svg.find("same_run_test_nmse_j1"), std::string::npos);  // the caption names the column
   EXPECT_NE(svg.find("update_D=true"), std::string::npos);
+  // The title in the catalog's words, not the column's spelling (review of 2026-12-03, section 2).
+  const auto boxes = testing::find_text_boxes(svg);
+  ASSERT_FALSE(boxes.empty());
+  EXPECT_EQ(boxes.front().text, "same-run test nMSE, joint 1 against init_D (sweep kernel)");
+}
+
+TEST(ShortParamNames, ReadTheLastKeyOfTheParsedPath) {
+  EXPECT_EQ(make_short_param_name("learning.lwpr.init_D"), "init_D");
+  EXPECT_EQ(make_short_param_name("control.kp[1]"), "kp[1]");  // an index stays with its key
+  EXPECT_EQ(make_short_param_name("trajectory.waypoints[2][0]"), "waypoints[2][0]");
+  EXPECT_EQ(make_short_param_name("seed"), "seed");
+  EXPECT_EQ(make_short_param_name("a..b"), "a..b");  // not a path: shown as it is
+}
+
+// The report's and the plot's nmse-vs-kernel draw the held-out nMSE where the sweep recorded it
+// (the metric thesis-figure 6.1 draws), and say so; --metric same_run_test_nmse the same-run one.
+TEST_F(PlotTest, NmseAgainstKernelWidthDrawsTheHeldOutMetricWhereRecorded) {
+  const ResultsStore store = ResultsStore::open(db_, ResultsStore::Mode::read_only);
+  PlotRequest request;
+  request.kind = PlotKind::nmse_vs_kernel;
+  request.sweep = "fixed";
+  const Figure heldout = make_plot_figure(store, request);
+  ASSERT_EQ(heldout.panels.size(), 2u);  // joint 1, receptive fields
+  EXPECT_EQ(heldout.panels[0].y_label, "held-out test nMSE");
+  ASSERT_FALSE(heldout.panels[0].curves.empty());
+  // init_D 1 over seeds 1, 2: (0.1 + 0.001·seed) / 2, the held-out values, not the same-run ones.
+  EXPECT_NEAR(heldout.panels[0].curves[0].y[0], (0.1 + 0.0015) / 2, 1e-12);
+  ASSERT_FALSE(heldout.caption.empty());
+  EXPECT_EQ(heldout.caption[0].rfind("nMSE: held-out test nMSE (heldout_test_nmse) at checkpoint 1, the last", 0), 0u) << heldout.caption[0];
+  request.metric = "same_run_test_nmse";
+  const Figure same_run = make_plot_figure(store, request);
+  EXPECT_NEAR(same_run.panels[0].curves[0].y[0], 0.1 + 0.0015, 1e-12);
+  request.metric.clear();
+  request.checkpoint = 3;
+  EXPECT_THROW(make_plot_figure(store, request), AnalysisError);  // recorded at checkpoint 1 only
+  // The report's figure is the held-out one, its caption under it in the page.
+  const std::string out = directory_.file("report_fixed");
+  ASSERT_EQ(testing::run_armfarm("report " + db_ + " --sweep fixed --out " + out).exit_code, 0);
+  const std::string page = test_support::read_text_file(out + "/sweep_fixed.html");
+  EXPECT_NE(page.find("<p class=\"caption\">nMSE: held-out test nMSE (heldout_test_nmse) at checkpoint 1"), std::string::npos);
+}
+
+// rf-growth against reaches where the jobs recorded the TRIAL series (as figure 6.7), on a log
+// axis when the curves end decades apart (the small ones were squashed onto the x axis).
+TEST_F(PlotTest, ReceptiveFieldGrowthIsPerReachAndLogWhereTheCurvesSpanDecades) {
+  const std::string db = directory_.file("growth.db");
+  std::vector<testing::TestJob> jobs;
+  for (double init_d : {0.05, 2.0}) {
+    testing::TestJob job;
+    job.params = {{"learning.lwpr.init_D", init_d}};
+    const double scale = init_d == 2.0 ? 4000.0 : 4.0;
+    job.series.push_back(make_series("TRIAL", {"segment", "t", "n_receptive_fields"}, 50, [&](int r, int c) {
+      return c == 0 ? r + 1.0 : c == 1 ? 2.0 * r : std::ceil(scale * std::sqrt((r + 1) / 50.0));
+    }));
+    job.series.push_back(make_series("RF", {"t", "n_receptive_fields"}, 50, [&](int r, int c) { return c == 0 ? 2.0 * r : scale; }));
+    jobs.push_back(job);
+  }
+  testing::write_test_sweep(db, "growth", jobs);
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  PlotRequest request;
+  request.kind = PlotKind::rf_growth;
+  const Figure figure = make_plot_figure(store, request);
+  ASSERT_EQ(figure.panels.size(), 1u);
+  const Panel& panel = figure.panels[0];
+  EXPECT_EQ(panel.x_label, "reaches");
+  EXPECT_TRUE(panel.log_y);
+  ASSERT_EQ(panel.curves.size(), 2u);
+  EXPECT_EQ(panel.curves[1].x.front(), 1.0);
+  EXPECT_EQ(panel.curves[1].y.back(), 4000.0);
+  ASSERT_FALSE(figure.caption.empty());
+  EXPECT_NE(figure.caption.back().find("log y: the final counts span more than a factor 20"), std::string::npos) << figure.caption.back();
+  request.log_y = false;
+  const Figure linear = make_plot_figure(store, request);
+  EXPECT_FALSE(linear.panels[0].log_y);
+  EXPECT_NE(linear.caption.back().find("linear y (--liny)"), std::string::npos) << linear.caption.back();
+  // Without the TRIAL series: the RF series against its own x column, here "trial".
+  const ResultsStore tracking = ResultsStore::open(db_, ResultsStore::Mode::read_only);
+  request.sweep = "tracking";
+  request.log_y.reset();
+  const Figure by_trial = make_plot_figure(tracking, request);
+  EXPECT_EQ(by_trial.panels[0].x_label, "trial");
+  EXPECT_FALSE(by_trial.panels[0].log_y);  // both end at the same count
 }
 
 TEST_F(PlotTest, SignalsTrackingAndReceptiveFieldGrowth) {
@@ -320,6 +402,7 @@ TEST_F(PlotTest, HeldOutMetricNeedsAndTakesACheckpoint) {
   const std::string svg = render("metric-vs-param --sweep fixed --metric heldout_test_nmse --joint 1 --param learning.lwpr.init_D --checkpoint 1",
                                  directory_.file("heldout.svg"));
   EXPECT_NE(svg.find("heldout_test_nmse_j1_c1"), std::string::npos);
+  EXPECT_NE(svg.find("held-out test nMSE, joint 1, checkpoint 1 against init_D (sweep fixed)"), std::string::npos);
 }
 
 TEST_F(PlotTest, MissingSeriesSaysWhatToSet) {

@@ -251,7 +251,7 @@ TEST(ReportAgainst, SweepPageShowsTheThesisValueBesideArmfarms) {
   const std::string db = dir.file("results.db");
   std::vector<testing::TestJob> jobs(1);
   jobs[0].params = {{"control.mode", "composite"}, {"control.feed_forward", "learner"}, {"active_joints", {1, 2, 3, 4, 5, 6}}};
-  jobs[0].metrics = {{0, "ff_fb_ratio_avg", 1, 0.456195, ""}, {0, "fb_abs_avg", 6, 0.001557, ""}};
+  jobs[0].metrics = {{0, "ff_fb_ratio_avg", 1, 0.456195, ""}, {0, "fb_abs_avg", 6, 0.001557, ""}, {0, "ff_fb_ratio_avg", 6, 0.7, ""}};
   testing::write_test_sweep(db, "table6_4_sine", jobs);
   const std::string thesis = std::string(ARMFARM_SOURCE_DIR) + "/sweeps/thesis/thesis_results.json";
   const std::string out = dir.file("report");
@@ -271,6 +271,14 @@ TEST(ReportAgainst, SweepPageShowsTheThesisValueBesideArmfarms) {
     EXPECT_NE(at, std::string::npos) << cell << " in " << cells;
   }
   EXPECT_NE(page.find("<td>one seed</td>"), std::string::npos);
+  // The digits of `table --against` (4 significant): 0.7 / 0.803066 is 0.8717, not 0.871659.
+  const std::size_t joint6 = page.find("<td>Joint 6</td><td>avg(ff/fb)</td>");
+  ASSERT_NE(joint6, std::string::npos);
+  const std::string ratio_row = page.substr(joint6, page.find("</tr>", joint6) - joint6);
+  EXPECT_NE(ratio_row.find(">0.8717</td>"), std::string::npos) << ratio_row;
+  EXPECT_EQ(ratio_row.find(">0.871659"), std::string::npos) << ratio_row;  // (its sort key keeps every digit)
+  const auto table = testing::run_armfarm("table " + db + " --against " + thesis);
+  EXPECT_NE(table.output.find("| Joint 6 | avg(ff/fb) | 0.803066 | 0.7 (1) | 0.8717 |"), std::string::npos) << table.output;
   // Without --against the section is absent.
   ASSERT_EQ(testing::run_armfarm("report " + db + " --out " + dir.file("plain")).exit_code, 0);
   EXPECT_EQ(read_file(fs::path(dir.file("plain")) / "sweep_table6_4_sine.html").find("id=\"thesis\""), std::string::npos);

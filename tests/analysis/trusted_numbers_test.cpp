@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <filesystem>
 
 namespace armfarm {
@@ -253,7 +254,7 @@ TEST(TrustedFigures, LogSpacedValuesGetALogAxisAndUnfinishedJobsAMark) {
   const Figure log = make_plot_figure(store, request);
   EXPECT_TRUE(log.panels[0].log_x);
   EXPECT_EQ(log.panels[0].edge_marks_x, std::vector<double>{0.5});
-  EXPECT_NE(log.title.find("marked on the top edge: 1 diverged"), std::string::npos) << log.title;
+  EXPECT_NE(std::find(log.caption.begin(), log.caption.end(), "marked on the top edge: 1 diverged"), log.caption.end());
   request.sweep = "even";
   const Figure even = make_plot_figure(store, request);
   EXPECT_FALSE(even.panels[0].log_x);
