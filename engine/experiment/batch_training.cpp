@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <string>
 
 namespace armfarm {
 namespace {
@@ -14,11 +15,18 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// The result of a stop during training: `where` says how far it got.
+PassResult make_stopped(BatchTrainingResult& result, const std::string& where) {
+  result.stopped = true;
+  return PassResult{JobStatus::timeout, 0.0, "stopped during batch training (" + where + ")"};
+}
+
 }  // namespace
 
 PassResult train_in_batch(Learner& learner, const std::vector<Sample>& samples, const LearningConfig& config,
                           std::uint64_t seed, LearnerClock* clock, const std::function<PassResult(int epoch)>& after_epoch,
-                          BatchTrainingResult& result) {
+                          const std::function<bool()>& should_stop, BatchTrainingResult& result) {
+  const auto stop_requested = [&should_stop] { return should_stop && should_stop(); };
   RandomStream generator(seed, "learning.batch.shuffle");
   std::vector<std::size_t> order(samples.size());
   std::iota(order.begin(), order.end(), 0);
@@ -33,7 +41,12 @@ PassResult train_in_batch(Learner& learner, const std::vector<Sample>& samples, 
   }
   for (int epoch = 1; epoch <= config.epochs; ++epoch) {
     if (epoch > 1) generator.shuffle(train.begin(), train.end());
-    for (std::size_t index : train) {
+    for (std::size_t i = 0; i < train.size(); ++i) {
+      if (stop_requested()) {
+        return make_stopped(result, "epoch " + std::to_string(epoch) + " of " + std::to_string(config.epochs) + ", " +
+                                        std::to_string(i) + " of " + std::to_string(train.size()) + " training samples learnt");
+      }
+      const std::size_t index = train[i];
       const auto start = std::chrono::steady_clock::now();
       learner.update(samples[index].x, samples[index].y);
       if (clock) clock->update_seconds += seconds_since(start), ++clock->updates;
@@ -47,7 +60,11 @@ PassResult train_in_batch(Learner& learner, const std::vector<Sample>& samples, 
   const int n_out = learner.output_dim();
   NmseAccumulator accuracy(n_out);
   const std::unique_ptr<PredictionWorkspace> workspace = learner.make_workspace();
-  for (std::size_t index : test) {
+  for (std::size_t i = 0; i < test.size(); ++i) {
+    if (stop_requested()) {
+      return make_stopped(result, "scoring, " + std::to_string(i) + " of " + std::to_string(test.size()) + " test samples predicted");
+    }
+    const std::size_t index = test[i];
     const auto start = std::chrono::steady_clock::now();
     const Prediction prediction = learner.predict(samples[index].x, *workspace);
     if (clock) clock->predict_seconds += seconds_since(start), ++clock->predictions;

@@ -21,12 +21,18 @@ struct BatchTrainingResult {
   NmseAccumulator same_run_test;  ///< prediction against torque on the withheld samples (count 0: none)
   long training_samples = 0;
   std::vector<std::size_t> test_indices;  ///< the withheld samples: indices into the collected samples, as scored
+  bool stopped = false;  ///< should_stop fired during an epoch or the scoring (the result is then timeout)
 };
 
 /// Trains `learner` as above. `after_epoch(e)` runs after epoch e (1-based) and after the split
 /// with e = 0 (before any training); a result that is not ok stops training and is returned.
+/// `should_stop` (may be empty) is polled before every update and every scoring prediction, as a
+/// control pass polls it every tick: when it returns true, training ends at once with status
+/// timeout, result.stopped set and end_time 0 (training advances no plant time); the learner is
+/// then part-trained and the result unscored. Training is a pure function of the samples, the
+/// configuration and the seed, so a job run again from its configuration trains to the same model.
 PassResult train_in_batch(Learner& learner, const std::vector<Sample>& samples, const LearningConfig& config,
                           std::uint64_t seed, LearnerClock* clock, const std::function<PassResult(int epoch)>& after_epoch,
-                          BatchTrainingResult& result);
+                          const std::function<bool()>& should_stop, BatchTrainingResult& result);
 
 }  // namespace armfarm

@@ -152,7 +152,9 @@ JobOutcome run_job(const ArmModel& model, const JobConfig& config, const JobTraj
         collect_samples(setup, plant, CollectionPlan{&training, config.learning.collect_repeats, "collection"}, samples, should_stop);
     simulated_seconds += collected.simulated_seconds;
     if (!collected.ok()) return finish(collected);
-    const PassResult trained = train_in_batch(*learner, samples, config.learning, config.seed, &learner_clock, evaluate_heldout_at, batch);
+    PassResult trained =
+        train_in_batch(*learner, samples, config.learning, config.seed, &learner_clock, evaluate_heldout_at, should_stop, batch);
+    if (batch.stopped) trained.end_time = collected.end_time;  // training itself advances no plant time
     if (!trained.ok()) return finish(trained);
   }
 

@@ -27,7 +27,8 @@ namespace armfarm {
 /// Runs one job. Never throws for the job's own failures: a NaN/Inf state, a tracking error
 /// above the bound for too long, a velocity above the limit or an integrator failure end the job
 /// with status diverged, the time and the reason; `should_stop` returning true (polled every
-/// tick) ends it with status timeout. Throws std::invalid_argument naming the configuration field
+/// tick, and before every update and scoring prediction of batch training) ends it with status
+/// timeout. Throws std::invalid_argument naming the configuration field
 /// for an unusable configuration. Deterministic: the same model, config and seed give the same
 /// metrics (timing metrics learner_us_* and sim_seconds_per_wall_second excepted).
 /// A plain JobConfig is validated once here (validate() against make_model_facts(model)); a

@@ -93,7 +93,7 @@ Diagnosis diagnose(const JobConfig& config) {
   EXPECT_TRUE(collected.ok()) << collected.message;
   EXPECT_EQ(static_cast<int>(samples.size()), config.learning.collect_repeats * ticks);
   BatchTrainingResult batch;
-  EXPECT_TRUE(train_in_batch(*learner, samples, config.learning, config.seed, nullptr, {}, batch).ok());
+  EXPECT_TRUE(train_in_batch(*learner, samples, config.learning, config.seed, nullptr, {}, {}, batch).ok());
 
   Diagnosis result;
   result.same_run = batch.same_run_test;
