@@ -16,7 +16,8 @@
 namespace armfarm {
 
 /// Polled by a running job (about once per control tick, and before every update and scoring
-/// prediction of batch training); when it returns true the job stops and returns with status `timeout` (or is discarded by the runner on Ctrl-C).
+/// prediction of batch training); when it returns true the job stops and returns with status
+/// `timeout` (or is discarded by the runner on Ctrl-C).
 struct JobControl {
   std::function<bool()> should_stop = [] { return false; };
 };
