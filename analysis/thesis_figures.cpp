@@ -438,7 +438,11 @@ Figure make_signal_figure(const ResultsStore& store, const ThesisResults& thesis
   // column, full width: the torques are time series.
   result.title = make_heading(figure, false) + (with_composite ? ": feedback, feed-forward and composite torque" : ": feedback and feed-forward torque");
   result.columns = 1;
-  if (!figure.caption.empty()) result.caption.push_back(make_thesis_caption(figure));
+  if (!figure.caption.empty()) {
+    result.caption.push_back(make_thesis_caption(figure));
+    // The thesis's caption names its own colours; armfarm's are the legend's.
+    result.caption.push_back("the colours the thesis's caption names are its own; armfarm's are in the legend");
+  }
   std::string source_line = "armfarm: sweep " + sweep + ", job " + source.job->key.substr(0, 8) + " (seed " + std::to_string(source.job->seed) + ")";
   std::optional<std::int64_t> checkpoint;
   if (mapping.checkpoint) {

@@ -183,6 +183,7 @@ TEST_F(ThesisFigureTest, Figure69DrawsTheHeldOutTorquesOfItsCheckpointBesideTabl
   const std::string caption = join_caption(figure);
   EXPECT_NE(caption.find("the held-out pass after 200 reaches"), std::string::npos) << caption;
   EXPECT_NE(caption.find("receptive fields of the model: armfarm 1400 per output; thesis 173"), std::string::npos) << caption;
+  EXPECT_NE(caption.find("the colours the thesis's caption names are its own; armfarm's are in the legend"), std::string::npos) << caption;
   // Figure 6.10 (checkpoint 1000) was not recorded: the error says what to record.
   try {
     draw("6.10");
