@@ -363,26 +363,57 @@ std::string list_checkpoints(const std::set<std::int64_t>& checkpoints) {
   return list;
 }
 
+// The nMSE that nmse-vs-kernel draws and at which checkpoint (none for the same-run split).
+struct KernelMetric {
+  std::string name;
+  std::optional<std::int64_t> checkpoint;
+  bool last = false;  ///< the checkpoint is the last the sweep recorded
+};
+
+KernelMetric choose_kernel_metric(const SweepData& data, const PlotRequest& request) {
+  const std::set<std::int64_t> heldout = find_checkpoints(data, "heldout_test_nmse", std::nullopt);
+  KernelMetric metric{request.metric, std::nullopt, false};
+  if (metric.name.empty()) metric.name = heldout.empty() ? "same_run_test_nmse" : "heldout_test_nmse";
+  if (metric.name != "same_run_test_nmse" && metric.name != "heldout_test_nmse") {
+    throw AnalysisError("nmse-vs-kernel draws same_run_test_nmse or heldout_test_nmse, not '" + metric.name + "' (metric-vs-param draws any)");
+  }
+  if (metric.name != "heldout_test_nmse") return metric;
+  if (heldout.empty()) throw AnalysisError("sweep '" + data.name + "' has no heldout_test_nmse metric (held-out evaluations)");
+  if (request.checkpoint && !heldout.count(*request.checkpoint)) {
+    throw AnalysisError("sweep '" + data.name + "': heldout_test_nmse is recorded at checkpoints " + list_checkpoints(heldout) + ", not " +
+                        std::to_string(*request.checkpoint) + "; choose one with --checkpoint N");
+  }
+  metric.checkpoint = request.checkpoint ? *request.checkpoint : *heldout.rbegin();
+  metric.last = *metric.checkpoint == *heldout.rbegin();
+  return metric;
+}
+
+// nmse-vs-kernel's last panel: the receptive fields after training against the kernel width,
+// log y where they span decades (unless forced). `log_y` tells the caller which.
+Panel make_kernel_fields_panel(const SweepData& data, const PlotRequest& request, const std::string& kernel_label, bool log_x,
+                               bool& log_y) {
+  Panel fields;
+  fields.title = "receptive fields";
+  fields.x_label = kernel_label;
+  const MetricId metric{"n_receptive_fields", std::nullopt, std::nullopt};
+  const auto points = collect_points(data, request.kernel_param, request.adaptation_param, metric);
+  log_y = request.log_y.value_or(spans_decades(all_values(points, false)));
+  fields.y_label = make_metric_axis_label(data.metric_info, metric);
+  fields.log_x = log_x;
+  fields.log_y = log_y;
+  fields.curves = make_error_bar_curves(points, log_y, "n_receptive_fields", fields);
+  add_unfinished_marks(data, request.kernel_param, fields);
+  return fields;
+}
+
 // Figures 6.1-6.2: the nMSE per joint and the receptive fields against the kernel width. The
 // nMSE is the held-out one (heldout_test_nmse, at --checkpoint or the last) where the sweep
 // recorded it, the metric `thesis-figure 6.1` draws and issue 23's verdicts use; else the
 // training run's same-run split (same_run_test_nmse); --metric chooses.
 Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
-  const std::set<std::int64_t> heldout = find_checkpoints(data, "heldout_test_nmse", std::nullopt);
-  std::string metric = request.metric;
-  if (metric.empty()) metric = heldout.empty() ? "same_run_test_nmse" : "heldout_test_nmse";
-  if (metric != "same_run_test_nmse" && metric != "heldout_test_nmse") {
-    throw AnalysisError("nmse-vs-kernel draws same_run_test_nmse or heldout_test_nmse, not '" + metric + "' (metric-vs-param draws any)");
-  }
-  std::optional<std::int64_t> checkpoint;
-  if (metric == "heldout_test_nmse") {
-    if (heldout.empty()) throw AnalysisError("sweep '" + data.name + "' has no heldout_test_nmse metric (held-out evaluations)");
-    if (request.checkpoint && !heldout.count(*request.checkpoint)) {
-      throw AnalysisError("sweep '" + data.name + "': heldout_test_nmse is recorded at checkpoints " + list_checkpoints(heldout) + ", not " +
-                          std::to_string(*request.checkpoint) + "; choose one with --checkpoint N");
-    }
-    checkpoint = request.checkpoint ? *request.checkpoint : *heldout.rbegin();
-  }
+  const KernelMetric chosen = choose_kernel_metric(data, request);
+  const std::string& metric = chosen.name;
+  const std::optional<std::int64_t> checkpoint = chosen.checkpoint;
   std::set<int> joints;
   for (const JobResult& job : data.jobs) {
     for (const auto& [id, value] : job.metrics) {
@@ -394,7 +425,7 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   figure.title = "Test nMSE and receptive fields against kernel width (sweep " + data.name + ")";
   figure.caption.push_back(metric == "heldout_test_nmse"
                                ? "nMSE: held-out test nMSE (heldout_test_nmse) at checkpoint " + std::to_string(*checkpoint) +
-                                     (*checkpoint == *heldout.rbegin() ? ", the last" : "") + "; receptive fields after training"
+                                     (chosen.last ? ", the last" : "") + "; receptive fields after training"
                                : "nMSE: same-run test nMSE (same_run_test_nmse, the training run's own test split); receptive fields "
                                  "after training");
   const bool log_x = request.log_x.value_or(true);
@@ -428,17 +459,8 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   if (!marked.empty()) figure.caption.push_back(marked);
   if (!dropped.empty()) figure.caption.push_back(dropped);
   if (!undefined.empty()) figure.caption.push_back("joint " + undefined + " not shown: test nMSE undefined in every job (the torque hardly varies)");
-  Panel fields;
-  fields.title = "receptive fields";
-  fields.x_label = kernel_label;
-  const auto field_points = collect_points(data, request.kernel_param, request.adaptation_param,
-                                           MetricId{"n_receptive_fields", std::nullopt, std::nullopt});
-  const bool fields_log = request.log_y.value_or(spans_decades(all_values(field_points, false)));
-  fields.y_label = make_metric_axis_label(data.metric_info, MetricId{"n_receptive_fields", std::nullopt, std::nullopt});
-  fields.log_x = log_x;
-  fields.log_y = fields_log;
-  fields.curves = make_error_bar_curves(field_points, fields_log, "n_receptive_fields", fields);
-  add_unfinished_marks(data, request.kernel_param, fields);
+  bool fields_log = false;
+  Panel fields = make_kernel_fields_panel(data, request, kernel_label, log_x, fields_log);
   bool bars = has_bars(fields.curves);
   for (const Panel& panel : figure.panels) bars = bars || has_bars(panel.curves);
   if (bars) {
@@ -662,7 +684,9 @@ Figure make_signals(const ResultsStore& store, const SweepData& data, const Plot
         panel.curves.push_back(make_series_curve(feedforward, 0, static_cast<int>(c), prefix + "feed-forward"));
       }
       if (composite && c < composite->rows.cols()) {
+        // Under the others, wider: it equals the feedback where the feed-forward is near zero.
         panel.curves.push_back(make_series_curve(*composite, 0, static_cast<int>(c), prefix + "composite"));
+        panel.curves.back().underneath = true;
       }
     }
   }
