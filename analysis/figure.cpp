@@ -521,7 +521,7 @@ void set_vertical_margins(GridLayout& grid, const Figure& figure, const Terminal
   // (2.6 lines hold a panel title's gaps; without one, 1.4 leave the top tick label its half line.)
   const double top_lines = (title_lines_panel > 0 ? 2.6 + title_lines_panel : 1.4) + 1.1 * static_cast<double>(title_lines);
   grid.top = std::max(std::min(0.95, grid.bottom + 0.15), 1 - top_lines * units.char_h);
-  grid.row_spacing = std::min(0.3, (4.8 + x_label_lines + title_lines_panel) * units.char_h);
+  grid.row_spacing = std::min(0.3, (3.8 + x_label_lines + title_lines_panel) * units.char_h);
   grid.plot_lines =
       ((grid.top - grid.bottom) - grid.row_spacing * static_cast<double>(grid.rows - 1)) / static_cast<double>(grid.rows) / units.char_h;
   // A y label runs along its panel's height and past either end, beside the panel's title
@@ -857,6 +857,17 @@ double calc_text_height(const Figure& figure, double width, double font, double 
   return height;
 }
 
+// The height (inches, before the text under the panels) at which square panels (equal axes)
+// fill their plot areas, which are as wide as the grid's columns leave them: the margins and
+// gaps of set_vertical_margins and set_horizontal_margins for one-line labels and titles.
+double calc_square_panels_height(std::size_t columns, std::size_t rows, double width, double font) {
+  const double char_w = 0.55 * font / 72, line = 1.25 * font / 72;  // inches
+  const double left = 12 * char_w, right = 3.5 * char_w;
+  const double side = (width - right - left * static_cast<double>(columns)) / static_cast<double>(columns);
+  const double lines = (2.6 + 1 + 1.1) + (3.0 + 1) + (3.8 + 1 + 1) * static_cast<double>(rows - 1);
+  return static_cast<double>(rows) * side + lines * line;
+}
+
 std::string make_terminal_line(Format format, double width, double height, double font) {
   char line[256];
   switch (format) {
@@ -892,9 +903,14 @@ TerminalSettings make_terminal_settings(const std::string& out_path, const Figur
   const FigureStyle style = resolve_style(out_path, options);
   const std::size_t columns = count_columns(figure);
   const std::size_t rows = (std::max<std::size_t>(figure.panels.size(), 1) + columns - 1) / columns;
-  const StylePage page = make_style_page(style, figure.panels.size(), columns, rows);
+  StylePage page = make_style_page(style, figure.panels.size(), columns, rows);
   const double width = options.width_in.value_or(page.width);
   const double font = options.font_pt.value_or(page.font);
+  // A paper figure of square panels is no taller than its squares need (figure 6.11's rows stood
+  // in 0.8 in of blank each): the plot areas, as wide as the columns leave them, are as tall.
+  const bool all_square = !figure.panels.empty() &&
+                          std::all_of(figure.panels.begin(), figure.panels.end(), [](const Panel& panel) { return panel.equal_axes; });
+  if (style == FigureStyle::paper && all_square) page.height = std::min(page.height, calc_square_panels_height(columns, rows, width, font));
   const double key_row_lines = format == Format::svg ? 1.25 : 1.0;
   const double height = options.height_in ? *options.height_in : page.height + calc_text_height(figure, width, font, key_row_lines);
   if (!(width > 0 && height > 0 && font > 0 && width <= 100 && height <= 100 && font <= 200)) {
