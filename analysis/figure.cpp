@@ -656,8 +656,8 @@ std::string make_curve_look(const Curve& curve, std::size_t colour, double line_
   switch (curve.style) {
     case Curve::Style::lines: look = "with lines lw " + lw; break;
     case Curve::Style::points: look = "with points pt 7 ps 0.6"; break;
-    case Curve::Style::lines_points: look = "with linespoints lw " + lw + " pt 7"; break;
-    case Curve::Style::error_bars: look = "with yerrorlines lw " + lw + " pt 7"; break;
+    case Curve::Style::lines_points: look = "with linespoints lw " + lw + " pt 7 ps 0.7"; break;
+    case Curve::Style::error_bars: look = "with yerrorlines lw " + lw + " pt 7 ps 0.7"; break;
     case Curve::Style::band: look = "with filledcurves fs transparent solid 0.25 noborder"; break;
   }
   if (curve.emphasised) return look + " lc rgb '#000000' dt 2";

@@ -732,9 +732,7 @@ Figure make_tracking(const ResultsStore& store, const SweepData& data, const Plo
   return figure;
 }
 
-}  // namespace
-
-Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request) {
+Figure make_kind_figure(const ResultsStore& store, const PlotRequest& request) {
   // A search plot spans sweeps (the method beside its random baseline).
   if (request.kind == PlotKind::search) return make_search_figure(store, request.sweep);
   const SweepData data = load_sweep_data(store, choose_sweep(store, request.sweep));
@@ -747,6 +745,51 @@ Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request) {
     case PlotKind::search: break;
   }
   throw AnalysisError("unknown plot kind");
+}
+
+bool have_equal_values(const Curve& a, const Curve& b) {
+  return !a.x.empty() && a.x == b.x && a.y == b.y && a.y_low == b.y_low && a.y_high == b.y_high;
+}
+
+// "gain_scale=0.2, mode=batch lies under gain_scale=1, mode=batch (equal values) in every
+// panel": titled curves of one panel with equal values, which the later one hides (a batch
+// model is the same at every gain; the quick start's legend listed a curve no panel showed).
+// "" when no curve is hidden.
+std::string describe_hidden_curves(const Figure& figure) {
+  std::vector<std::pair<std::pair<std::string, std::string>, std::vector<std::string>>> hidden;  // (under, over), panels
+  for (const Panel& panel : figure.panels) {
+    for (std::size_t i = 0; i < panel.curves.size(); ++i) {
+      for (std::size_t j = i + 1; j < panel.curves.size(); ++j) {
+        const Curve &under = panel.curves[i], &over = panel.curves[j];
+        if (under.title.empty() || over.title.empty() || under.title == over.title || !have_equal_values(under, over)) continue;
+        const auto pair = std::make_pair(under.title, over.title);
+        auto found = std::find_if(hidden.begin(), hidden.end(), [&](const auto& entry) { return entry.first == pair; });
+        if (found == hidden.end()) found = hidden.insert(hidden.end(), {pair, {}});
+        found->second.push_back(panel.title.empty() ? "the panel" : panel.title);
+        break;  // drawn under the first equal curve after it
+      }
+    }
+  }
+  std::string text;
+  for (const auto& [pair, panels] : hidden) {
+    std::string where;
+    if (panels.size() == figure.panels.size() && panels.size() > 1) {
+      where = "every panel";
+    } else {
+      for (const std::string& panel : panels) where += (where.empty() ? "" : ", ") + panel;
+    }
+    text += (text.empty() ? "" : "; ") + pair.first + " lies under " + pair.second + " (equal values) in " + where;
+  }
+  return text.empty() ? "" : "hidden: " + text;
+}
+
+}  // namespace
+
+Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request) {
+  Figure figure = make_kind_figure(store, request);
+  const std::string hidden = describe_hidden_curves(figure);
+  if (!hidden.empty()) figure.caption.push_back(hidden);
+  return figure;
 }
 
 std::vector<PlotKind> find_available_plot_kinds(const ResultsStore& store, const SweepData& data) {

@@ -414,6 +414,37 @@ TEST_F(PlotTest, MissingSeriesSaysWhatToSet) {
   }
 }
 
+// The quick start's batch jobs learn one model at every gain (the collection runs at full gain),
+// so their curves are equal and the later hid the earlier: the legend listed a curve no panel
+// showed (issue 24). The caption says which curve lies under which.
+TEST_F(PlotTest, ACurveHiddenUnderAnEqualOneIsNamedInTheCaption) {
+  const std::string db = directory_.file("hidden.db");
+  std::vector<testing::TestJob> jobs;
+  for (const char* mode : {"online", "batch"}) {
+    for (double gain : {0.2, 1.0}) {
+      for (double init_d : {0.02, 0.05, 0.2}) {
+        testing::TestJob job;
+        job.params = {{"learning.mode", mode}, {"control.gain_scale", gain}, {"learning.lwpr.init_D", init_d}};
+        const double nmse = std::string(mode) == "batch" ? 0.1 * init_d : 0.2 * init_d * gain;
+        job.metrics = {{0, "same_run_test_nmse", 1, nmse, ""}, {0, "n_receptive_fields", std::nullopt, std::string(mode) == "batch" ? 10 / init_d : 20 / init_d * gain, ""}};
+        jobs.push_back(job);
+      }
+    }
+  }
+  testing::write_test_sweep(db, "hidden", jobs);
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  PlotRequest request;
+  request.kind = PlotKind::nmse_vs_kernel;
+  const Figure figure = make_plot_figure(store, request);
+  ASSERT_EQ(figure.panels.size(), 2u);
+  std::string caption;
+  for (const std::string& paragraph : figure.caption) caption += paragraph + "\n";
+  EXPECT_NE(caption.find("hidden: gain_scale=0.2, mode=batch lies under gain_scale=1, mode=batch (equal values) in every panel"),
+            std::string::npos)
+      << caption;
+  EXPECT_EQ(caption.find("mode=online lies under"), std::string::npos) << caption;  // the online curves differ
+}
+
 TEST_F(PlotTest, NoTextOverlapsOnAnyPlotKindOfASevenJointSweep) {
   const std::vector<std::string> plots = {
       "nmse-vs-kernel", "rf-growth", "signals", "tracking",
