@@ -661,8 +661,10 @@ Figure make_signals(const ResultsStore& store, const SweepData& data, const Plot
   const auto jobs = choose_signal_jobs(store, data, request);
   if (jobs.empty()) throw AnalysisError("sweep '" + data.name + "': no done job recorded the F and FF series; " + advise_series({"F", "FF", "TOR"}));
   Figure figure;
-  figure.title = jobs.size() == 1 ? "Feedback, feed-forward and composite torques: " + make_job_label(*jobs.front())
-                                  : "Feedback, feed-forward and composite torques (sweep " + data.name + ")";
+  // A short title; the job is the caption's (its label took four lines of a paper column).
+  figure.title = "Feedback, feed-forward and composite torques (sweep " + data.name + ")";
+  if (jobs.size() == 1) figure.caption.push_back("job " + jobs.front()->key.substr(0, 8) + ": " + make_job_label(*jobs.front()));
+  // Time series want the page's width: up to four joints stacked in one column.
   for (const JobResult* job : jobs) {
     const SeriesRecord feedback = require_series(store, *job, "F");
     const SeriesRecord feedforward = require_series(store, *job, "FF");
@@ -690,6 +692,7 @@ Figure make_signals(const ResultsStore& store, const SweepData& data, const Plot
       }
     }
   }
+  if (figure.panels.size() <= 4) figure.columns = 1;
   return figure;
 }
 
@@ -754,7 +757,7 @@ bool have_equal_values(const Curve& a, const Curve& b) {
 // "gain_scale=0.2, mode=batch lies under gain_scale=1, mode=batch (equal values) in every
 // panel": titled curves of one panel with equal values, which the later one hides (a batch
 // model is the same at every gain; the quick start's legend listed a curve no panel showed).
-// "" when no curve is hidden.
+// "" when no curve is hidden. For nmse-vs-kernel and metric-vs-param.
 std::string describe_hidden_curves(const Figure& figure) {
   std::vector<std::pair<std::pair<std::string, std::string>, std::vector<std::string>>> hidden;  // (under, over), panels
   for (const Panel& panel : figure.panels) {
@@ -787,6 +790,8 @@ std::string describe_hidden_curves(const Figure& figure) {
 
 Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request) {
   Figure figure = make_kind_figure(store, request);
+  // The group figures, whose legend names groups (series figures draw one curve per configuration).
+  if (request.kind != PlotKind::nmse_vs_kernel && request.kind != PlotKind::metric_vs_param) return figure;
   const std::string hidden = describe_hidden_curves(figure);
   if (!hidden.empty()) figure.caption.push_back(hidden);
   return figure;
@@ -804,7 +809,13 @@ std::vector<PlotKind> find_available_plot_kinds(const ResultsStore& store, const
     if (job.status != "done") continue;
     for (const std::string& name : store.find_series_names(job.id)) series.insert(name);
   }
-  if (series.count("RF")) kinds.push_back(PlotKind::rf_growth);
+  // rf-growth draws per reach from TRIAL where a job recorded several reaches (figure 6.7's
+  // and the held-out reaching sweep's, which record no RF), else RF against time.
+  bool trials = false;
+  for (const JobResult& job : data.jobs) {
+    if (job.status == "done" && !trials) trials = make_fields_per_reach(store, job, "").has_value();
+  }
+  if (series.count("RF") || trials) kinds.push_back(PlotKind::rf_growth);
   if (series.count("F") && series.count("FF")) kinds.push_back(PlotKind::signals);
   if (series.count("POS") && series.count("POS_D")) kinds.push_back(PlotKind::tracking);
   if (store.find_search(data.name)) kinds.push_back(PlotKind::search);

@@ -154,7 +154,7 @@ const char* kStyle =
     "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
     "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px}"
     "th{background:#eee}td.num{text-align:right;font-family:monospace}pre{background:#f6f6f6;padding:1em;"
-    "overflow-x:auto;white-space:pre-wrap;overflow-wrap:anywhere}.bad{color:#a00;overflow-wrap:anywhere}"
+    "overflow-x:auto;white-space:pre-wrap;overflow-wrap:anywhere}.bad{color:#a00;overflow-wrap:anywhere}p.caption{overflow-wrap:anywhere}"
     "svg{max-width:100%;height:auto}"
     ".scroll{overflow-x:auto;max-width:100%;max-height:40em;overflow-y:auto}"
     "table.sortable th{cursor:pointer}table.sortable th:after{content:' \\2195';color:#999}"
@@ -477,6 +477,19 @@ std::string make_job_page(const ResultsStore& store, const SweepData& data, cons
   return page.str();
 }
 
+// A description's first sentence, at most `limit` characters (cut at a space, "…" added): the
+// index's rows, where a thesis spec's 1 000-character description made its row a page tall
+// (the whole text is on the sweep's page).
+std::string make_short_description(const std::string& text, std::size_t limit = 160) {
+  std::size_t end = text.find(". ");
+  end = end == std::string::npos ? text.size() : end + 1;
+  if (end <= limit) return text.substr(0, end) + (end < text.size() ? " …" : "");
+  std::size_t cut = text.rfind(' ', limit);
+  if (cut == std::string::npos || cut == 0) cut = limit;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
+  return text.substr(0, cut) + " …";
+}
+
 // The index's row of a sweep.
 std::string make_index_row(const ResultsStore& store, const SweepRecord& sweep, const SweepData& data,
                            const std::string& file, const DescribeBest& describe_best) {
@@ -490,7 +503,7 @@ std::string make_index_row(const ResultsStore& store, const SweepRecord& sweep, 
   const std::string best = describe_best ? describe_best(data) : std::string();
   std::ostringstream row;
   row << "<tr><td class=\"name\"><a href=\"" << escape_html(file) << "\">" << escape_html(sweep.name) << "</a><br><small>"
-      << escape_html(sweep.description) << "</small></td>";
+      << escape_html(make_short_description(sweep.description)) << "</small></td>";
   for (int number : {jobs, count("done"), count("failed") + count("timeout"), count("diverged")}) {
     row << "<td class=\"num\" data-sort=\"" << number << "\">" << number << "</td>";
   }

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -443,6 +444,29 @@ TEST_F(PlotTest, ACurveHiddenUnderAnEqualOneIsNamedInTheCaption) {
             std::string::npos)
       << caption;
   EXPECT_EQ(caption.find("mode=online lies under"), std::string::npos) << caption;  // the online curves differ
+}
+
+// The held-out reaching sweep records TRIAL (a row per reach) and no RF: its report had no
+// figure, though rf-growth draws the fields per reach from TRIAL.
+TEST_F(PlotTest, ReceptiveFieldGrowthIsAvailableFromTheTrialSeriesAlone) {
+  const std::string db = directory_.file("trials.db");
+  std::vector<testing::TestJob> jobs(2);
+  for (int seed = 0; seed < 2; ++seed) {
+    jobs[seed].params = {{"seed", seed}};
+    jobs[seed].series.push_back(make_series("TRIAL", {"segment", "t", "n_receptive_fields"}, 5,
+                                            [&](int r, int c) { return c == 0 ? r + 1.0 : c == 1 ? r : 3.0 * (r + 1) + seed; }));
+  }
+  testing::write_test_sweep(db, "trials", jobs);
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  const auto kinds = find_available_plot_kinds(store, load_sweep_data(store, "trials"));
+  EXPECT_NE(std::find(kinds.begin(), kinds.end(), PlotKind::rf_growth), kinds.end());
+  // One TRIAL row per job (one trial) is not growth: rf-growth is not offered.
+  const std::string flat = directory_.file("flat.db");
+  for (auto& job : jobs) job.series = {make_series("TRIAL", {"segment", "t", "n_receptive_fields"}, 1, [](int, int c) { return c + 1.0; })};
+  testing::write_test_sweep(flat, "flat", jobs);
+  const ResultsStore flat_store = ResultsStore::open(flat, ResultsStore::Mode::read_only);
+  const auto flat_kinds = find_available_plot_kinds(flat_store, load_sweep_data(flat_store, "flat"));
+  EXPECT_EQ(std::find(flat_kinds.begin(), flat_kinds.end(), PlotKind::rf_growth), flat_kinds.end());
 }
 
 TEST_F(PlotTest, NoTextOverlapsOnAnyPlotKindOfASevenJointSweep) {
