@@ -210,7 +210,7 @@ TEST(TrustedFigures, LogAxesPositiveErrorBarsAndNoSilentPooling) {
     for (int c = 0; c < 13; ++c) p.curves.push_back(Curve{"curve " + std::to_string(c), {0, 1}, {0, 1}, {}, {}});
   }
   const std::string script = make_gnuplot_script(many, TerminalSettings{"set terminal svg"}, "out.svg", "/tmp");
-  EXPECT_NE(script.find("lc rgb '#332288' dt 2"), std::string::npos);  // the 13th curve: first colour, dashed
+  EXPECT_NE(script.find("lc rgb '" + figure_colours()[0] + "' dt 2"), std::string::npos);  // the 13th curve: first colour, dashed
   EXPECT_NE(script.find("notitle"), std::string::npos);                // second panel repeats no legend
   std::size_t titled = 0;
   for (auto at = script.find(" title 'curve "); at != std::string::npos; at = script.find(" title 'curve ", at + 1)) ++titled;
@@ -221,9 +221,10 @@ TEST(TrustedFigures, LogAxesPositiveErrorBarsAndNoSilentPooling) {
   swapped.panels[0].curves = {Curve{"online", {0, 1}, {0, 1}, {}, {}}, Curve{"batch", {0, 1}, {1, 0}, {}, {}}};
   swapped.panels[1].curves = {Curve{"batch", {0, 1}, {0, 1}, {}, {}}};
   const std::string two = make_gnuplot_script(swapped, TerminalSettings{"set terminal svg"}, "out.svg", "/tmp");
-  const auto batch_colour = two.find("lc rgb '#88CCEE'");
+  const std::string batch = "lc rgb '" + figure_colours()[1] + "'";
+  const auto batch_colour = two.find(batch);
   ASSERT_NE(batch_colour, std::string::npos);
-  EXPECT_NE(two.find("lc rgb '#88CCEE'", batch_colour + 1), std::string::npos) << two;  // batch twice, one colour
+  EXPECT_NE(two.find(batch, batch_colour + 1), std::string::npos) << two;  // batch twice, one colour
 }
 
 // Log x for log-spaced swept values even within one decade (0.02, 0.05, 0.2, the quick start's
