@@ -467,7 +467,7 @@ struct ArmSimulation::Impl {
   }
 
   /// Classical fourth-order Runge–Kutta over `duration` in options.steps_per_tick equal steps,
-  /// τ held; leaves the state realized to Velocity at the end and qdd under τ there. A tick in
+  /// τ held; leaves the state's kinematics realized at the end and qdd under τ there. A tick in
   /// which any stage reaches beyond a joint limit is redone by the adaptive Runge–Kutta–Merson
   /// (at options.accuracy) from the tick's start. Returns false when it fell back.
   bool step_runge_kutta_4(const Eigen::VectorXd& tau, double duration) {
