@@ -3,6 +3,7 @@
 #include "engine/physics/arm_simulation.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -12,6 +13,44 @@ namespace {
 
 /// Joint frames with active joints on the path above this many use a heap buffer for their origins.
 constexpr int kStackSteps = 32;
+
+/// The index of the unit coordinate vector `axis` is exactly, or −1.
+int find_coordinate_axis(const Eigen::Vector3d& axis) {
+  for (int a = 0; a < 3; ++a) {
+    if (axis == Eigen::Vector3d::Unit(a)) return a;
+  }
+  return -1;
+}
+
+/// origin += rotation · t, the terms of t's zero components left out (each would add an exact
+/// zero to the sum; the others are added in Eigen's order, column 0 first).
+void add_rotated(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& t, Eigen::Vector3d& origin) {
+  Eigen::Vector3d sum;
+  bool any = false;
+  for (int k = 0; k < 3; ++k) {
+    if (t[k] == 0.0) continue;
+    if (any) {
+      sum += rotation.col(k) * t[k];
+    } else {
+      sum = rotation.col(k) * t[k];
+      any = true;
+    }
+  }
+  if (any) origin += sum;
+}
+
+/// rotation ← rotation · R, R = AngleAxisd(angle, e_a).toRotationMatrix(): with (p, r) the
+/// other two axes in cyclic order, R has c at (p, p) and (r, r), s at (r, p), −s at (p, r),
+/// (1 − c) + c at (a, a) (Eigen's diagonal formula) and exact zeros elsewhere.
+void rotate_about_coordinate_axis(Eigen::Matrix3d& rotation, int a, double angle) {
+  const int p = (a + 1) % 3, r = (a + 2) % 3;
+  const double s = std::sin(angle), c = std::cos(angle);
+  const Eigen::Vector3d column_p = rotation.col(p) * c + rotation.col(r) * s;
+  const Eigen::Vector3d column_r = rotation.col(p) * (-s) + rotation.col(r) * c;
+  rotation.col(p) = column_p;
+  rotation.col(r) = column_r;
+  rotation.col(a) *= (1.0 - c) + c;
+}
 
 }  // namespace
 
@@ -67,6 +106,8 @@ SerialChain::SerialChain(const ArmModel& model, const std::vector<int>& active_j
     step.axis = joint.axis.normalized();
     step.prismatic = joint.type == JointType::prismatic;
     step.column = column_of[j];
+    step.identity_rotation = step.rotation == Eigen::Matrix3d::Identity();
+    step.axis_index = step.prismatic ? -1 : find_coordinate_axis(step.axis);
     steps_.push_back(step);
     pending = joint.child_offset;
   }
@@ -83,18 +124,23 @@ Eigen::Vector3d SerialChain::walk(const Eigen::VectorXd& q, Visit&& visit) const
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < steps_.size(); ++k) {
     const Step& step = steps_[k];
-    origin += rotation * step.translation;
-    rotation = rotation * step.rotation;
+    add_rotated(rotation, step.translation, origin);
+    if (!step.identity_rotation) rotation = rotation * step.rotation;
     const double angle = q[step.column];
     if (step.prismatic) {
       visit(k, step, rotation, origin);  // the axis does not move with the slide
       origin += rotation * (angle * step.axis);
+    } else if (step.axis_index >= 0) {
+      rotate_about_coordinate_axis(rotation, step.axis_index, angle);
+      visit(k, step, rotation, origin);
     } else {
       rotation = rotation * Eigen::AngleAxisd(angle, step.axis).toRotationMatrix();
       visit(k, step, rotation, origin);
     }
   }
-  return origin + rotation * point_;
+  Eigen::Vector3d point = origin;
+  add_rotated(rotation, point_, point);
+  return point;
 }
 
 Eigen::Vector3d SerialChain::calc_position(const Eigen::VectorXd& q) const {
@@ -118,7 +164,11 @@ void SerialChain::calc_position_and_jacobian(const Eigen::VectorXd& q, Eigen::Ve
   Eigen::Map<Eigen::Matrix3Xd> origins(buffer, 3, n);  // joint origins, world frame
   // First the world axes (in the Jacobian's columns) and origins, then the lever arms.
   position = walk(q, [&](std::size_t k, const Step& step, const Eigen::Matrix3d& rotation, const Eigen::Vector3d& origin) {
-    jacobian.col(step.column) = rotation * step.axis;
+    if (step.axis_index >= 0) {
+      jacobian.col(step.column) = rotation.col(step.axis_index);  // rotation · e_a, without its zero terms
+    } else {
+      jacobian.col(step.column) = rotation * step.axis;
+    }
     origins.col(k) = origin;
   });
   for (int k = 0; k < n; ++k) {

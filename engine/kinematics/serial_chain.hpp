@@ -53,6 +53,14 @@ class SerialChain {
     Eigen::Vector3d axis;         ///< unit, joint frame
     bool prismatic = false;
     int column = 0;               ///< index into q
+    /// The fixed rotation is exactly I (every joint origin of an arm without rpy): its product,
+    /// which would add only exact zeros to each entry, is skipped.
+    bool identity_rotation = false;
+    /// 0, 1 or 2 when `axis` is exactly that unit vector (a revolute joint about x, y or z): the
+    /// joint's rotation moves two columns of the frame (and scales the third by the (1 − c) + c
+    /// that Eigen's AngleAxis puts on the diagonal), the same sums without the terms that are
+    /// exact zeros. −1: the general AngleAxis product.
+    int axis_index = -1;
   };
 
   /// Walks the path; calls visit(step, frame) with the joint frame after its motion.

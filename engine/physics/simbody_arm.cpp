@@ -69,7 +69,26 @@ struct ArmSystem {
   JointForceParameters parameters;                       ///< in user (active) order
   const ArmSimulationOptions* options = nullptr;
   Eigen::VectorXd held_torque;                           ///< user order, read by the force element
+  /// Work space of the per-stage calculations (M, the rigid residual), sized on first use so that
+  /// a stage allocates no SimTK vector of its own. Not shared across threads (one system per job).
+  struct Scratch {
+    SimTK::Vector unit, column;                     ///< nu: e_i and M e_i
+    SimTK::Vector zero_mobility_forces, udot, residual;  ///< nu
+    SimTK::Vector_<SimTK::SpatialVec> body_forces;  ///< per body, ground's entry zero
+  };
+  mutable Scratch scratch;
 };
+
+/// Realizes what the stage calculations read at the state's (q, u): the tree's position and then
+/// velocity kinematics (body poses, velocities, the velocity-dependent inertial terms). This is
+/// what System::realize(state, Stage::Velocity) computes for the matter, without the stage loop
+/// over every subsystem (the force subsystem, whose one element acts at Dynamics, and the event
+/// handlers have nothing to do at Position or Velocity here). M, the residual, gravity's body
+/// forces and the station kinematics read only these caches, so their numbers are the same bits.
+void realize_kinematics(const ArmSystem& arm, const SimTK::State& state) {
+  arm.matter.realizePositionKinematics(state);
+  arm.matter.realizeVelocityKinematics(state);
+}
 
 /// Computes all generalized forces of the arm, armature included (see the file comment).
 class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
@@ -99,8 +118,14 @@ class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
   }
 
   /// `total` (n, user order) plus the passive, limit and gravity generalized forces.
-  static Eigen::VectorXd add_passive_and_gravity(const ArmSystem& arm, const SimTK::State& state, Eigen::VectorXd total,
-                                                 bool with_gravity = true) {
+  static Eigen::VectorXd add_passive_and_gravity(const ArmSystem& arm, const SimTK::State& state, Eigen::VectorXd total) {
+    add_passive(arm, state, total);
+    const Eigen::VectorXd gravity = calc_gravity_generalized_force(arm, state);
+    return total + gravity;
+  }
+
+  /// Adds the passive (damping, friction) and limit generalized forces to `total` (n, user order).
+  static void add_passive(const ArmSystem& arm, const SimTK::State& state, Eigen::VectorXd& total) {
     const int n = static_cast<int>(arm.active_bodies.size());
     const ArmSimulationOptions& options = *arm.options;
     const SimTK::Vector& u = state.getU();
@@ -117,15 +142,15 @@ class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
         if (above > 0.0) total[j] -= options.limit_stiffness * above + options.limit_damping * std::max(velocity, 0.0);
       }
     }
-    if (!with_gravity) return total;
-    const Eigen::VectorXd gravity = calc_gravity_generalized_force(arm, state);
-    return total + gravity;
   }
 
-  /// Gravity as one spatial force per body (about its origin, ground frame). Needs Position stage.
-  static SimTK::Vector_<SimTK::SpatialVec> calc_gravity_body_forces(const ArmSystem& arm, const SimTK::State& state) {
+  /// Gravity as one spatial force per body (about its origin, ground frame) into `body_forces`
+  /// (sized to the bodies, ground's entry zero). Needs position kinematics.
+  static void calc_gravity_body_forces(const ArmSystem& arm, const SimTK::State& state,
+                                       SimTK::Vector_<SimTK::SpatialVec>& body_forces) {
     const int n_bodies = arm.matter.getNumBodies();
-    SimTK::Vector_<SimTK::SpatialVec> body_forces(n_bodies, SimTK::SpatialVec(SimTK::Vec3(0), SimTK::Vec3(0)));
+    if (body_forces.size() != n_bodies) body_forces.resize(n_bodies);
+    body_forces[0] = SimTK::SpatialVec(SimTK::Vec3(0), SimTK::Vec3(0));
     for (SimTK::MobilizedBodyIndex b(1); b < n_bodies; ++b) {
       const SimTK::MobilizedBody& body = arm.matter.getMobilizedBody(b);
       const SimTK::MassProperties& mass = body.getBodyMassProperties(state);
@@ -133,22 +158,41 @@ class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
       const SimTK::Vec3 weight = mass.getMass() * arm.gravity;
       body_forces[b] = SimTK::SpatialVec(com_offset % weight, weight);
     }
+  }
+
+  static SimTK::Vector_<SimTK::SpatialVec> calc_gravity_body_forces(const ArmSystem& arm, const SimTK::State& state) {
+    SimTK::Vector_<SimTK::SpatialVec> body_forces;
+    calc_gravity_body_forces(arm, state, body_forces);
     return body_forces;
   }
 
   /// M q̈ + c(q, q̇) − g(q) for q̈ (user order; empty = 0) in one inverse-dynamics pass with gravity
-  /// applied as body forces, user order. Needs Velocity stage.
-  static Eigen::VectorXd calc_rigid_residual(const ArmSystem& arm, const SimTK::State& state, const Eigen::VectorXd& qdd) {
-    SimTK::Vector udot;
-    if (qdd.size()) {
-      udot.resize(arm.matter.getNumMobilities());
-      udot = 0.0;
-      for (std::size_t j = 0; j < arm.active_bodies.size(); ++j) udot[arm.mobility_of_active[j]] = qdd[static_cast<Eigen::Index>(j)];
+  /// applied as body forces, into `result` (user order). Needs velocity kinematics. Zero applied
+  /// mobility forces and a zero q̈ are passed as zero vectors rather than empty ones: Simbody
+  /// then makes no zero vector of its own, and adds and multiplies the same zeros.
+  static void calc_rigid_residual(const ArmSystem& arm, const SimTK::State& state, const Eigen::VectorXd& qdd,
+                                  Eigen::VectorXd& result) {
+    ArmSystem::Scratch& scratch = arm.scratch;
+    const int nu = arm.matter.getNumMobilities();
+    if (scratch.zero_mobility_forces.size() != nu) {
+      scratch.zero_mobility_forces.resize(nu);
+      scratch.zero_mobility_forces = 0.0;
+      scratch.udot.resize(nu);
     }
-    SimTK::Vector residual;
-    arm.matter.calcResidualForceIgnoringConstraints(state, SimTK::Vector(), calc_gravity_body_forces(arm, state), udot, residual);
-    Eigen::VectorXd result(arm.active_bodies.size());
-    for (std::size_t j = 0; j < arm.active_bodies.size(); ++j) result[j] = residual[arm.mobility_of_active[j]];
+    scratch.udot = 0.0;
+    for (std::size_t j = 0; j < static_cast<std::size_t>(qdd.size()); ++j) {
+      scratch.udot[arm.mobility_of_active[j]] = qdd[static_cast<Eigen::Index>(j)];
+    }
+    calc_gravity_body_forces(arm, state, scratch.body_forces);
+    arm.matter.calcResidualForceIgnoringConstraints(state, scratch.zero_mobility_forces, scratch.body_forces, scratch.udot,
+                                                    scratch.residual);
+    result.resize(static_cast<Eigen::Index>(arm.active_bodies.size()));
+    for (std::size_t j = 0; j < arm.active_bodies.size(); ++j) result[j] = scratch.residual[arm.mobility_of_active[j]];
+  }
+
+  static Eigen::VectorXd calc_rigid_residual(const ArmSystem& arm, const SimTK::State& state, const Eigen::VectorXd& qdd) {
+    Eigen::VectorXd result;
+    calc_rigid_residual(arm, state, qdd, result);
     return result;
   }
 
@@ -172,14 +216,29 @@ class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
     return result;
   }
 
-  /// M(q) in user order (without armature).
-  static Eigen::MatrixXd calc_rigid_mass_matrix(const ArmSystem& arm, const SimTK::State& state) {
-    SimTK::Matrix mass;
-    arm.matter.calcM(state, mass);
+  /// M(q) in user order (without armature) into `result`. Needs position kinematics. Column by
+  /// column as SimbodyMatterSubsystem::calcM makes it (M e_i by multiplyByM, the same numbers),
+  /// into one contiguous vector instead of a view of a Matrix column per call.
+  static void calc_rigid_mass_matrix(const ArmSystem& arm, const SimTK::State& state, Eigen::MatrixXd& result) {
+    ArmSystem::Scratch& scratch = arm.scratch;
+    const int nu = arm.matter.getNumMobilities();
+    if (scratch.unit.size() != nu) {
+      scratch.unit.resize(nu);
+      scratch.unit = 0.0;
+    }
     const int n = static_cast<int>(arm.active_bodies.size());
-    Eigen::MatrixXd result(n, n);
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) result(i, j) = mass(arm.mobility_of_active[i], arm.mobility_of_active[j]);
+    result.resize(n, n);
+    for (int j = 0; j < n; ++j) {
+      scratch.unit[arm.mobility_of_active[j]] = 1.0;
+      arm.matter.multiplyByM(state, scratch.unit, scratch.column);
+      scratch.unit[arm.mobility_of_active[j]] = 0.0;
+      for (int i = 0; i < n; ++i) result(i, j) = scratch.column[arm.mobility_of_active[i]];
+    }
+  }
+
+  static Eigen::MatrixXd calc_rigid_mass_matrix(const ArmSystem& arm, const SimTK::State& state) {
+    Eigen::MatrixXd result;
+    calc_rigid_mass_matrix(arm, state, result);
     return result;
   }
 
@@ -306,9 +365,12 @@ void write_joint_state(const ArmSystem& arm, SimTK::State& state, const Eigen::V
     throw std::invalid_argument("expected " + std::to_string(n) + " joint positions and velocities, got " +
                                 std::to_string(q.size()) + " and " + std::to_string(qd.size()));
   }
+  // One updQ/updU each: every call invalidates the stages and q- or u-dependent caches anew.
+  SimTK::Vector& positions = state.updQ();
+  SimTK::Vector& velocities = state.updU();
   for (int j = 0; j < n; ++j) {
-    state.updQ()[arm.mobility_of_active[j]] = q[j];  // 1-dof mobilizers: q index = u index
-    state.updU()[arm.mobility_of_active[j]] = qd[j];
+    positions[arm.mobility_of_active[j]] = q[j];  // 1-dof mobilizers: q index = u index
+    velocities[arm.mobility_of_active[j]] = qd[j];
   }
 }
 
@@ -360,26 +422,42 @@ struct ArmSimulation::Impl {
   };
   StageDynamics current;
   bool current_valid = false;
-  Eigen::VectorXd stage_q, stage_u;  ///< scratch
+  /// Work space of the stages, sized once: one stage writes no heap memory of its own.
+  StageDynamics stage;
+  Eigen::MatrixXd stage_mass;
+  Eigen::VectorXd stage_residual, stage_force;
 
-  /// Moves the scratch state to (q, u), realizes it to Velocity and fills `out`.
+  /// Moves the scratch state to (q, u), realizes its kinematics and fills `out`.
   void calc_stage_dynamics(const Eigen::VectorXd& positions, const Eigen::VectorXd& velocities, StageDynamics& out) {
     write_joint_state(*arm, state, positions, velocities);
-    arm->system.realize(state, SimTK::Stage::Velocity);
-    const Eigen::VectorXd passive =
-        JointDynamicsForce::add_passive_and_gravity(*arm, state, Eigen::VectorXd::Zero(positions.size()), false);
-    Eigen::MatrixXd mass = JointDynamicsForce::calc_rigid_mass_matrix(*arm, state);
-    mass.diagonal() += arm->parameters.armature;
-    out.mass.compute(mass);
-    out.free_force = passive - JointDynamicsForce::calc_rigid_residual(*arm, state, Eigen::VectorXd());  // passive + g − c
+    realize_kinematics(*arm, state);
+    stage_force.setZero(positions.size());
+    JointDynamicsForce::add_passive(*arm, state, stage_force);
+    JointDynamicsForce::calc_rigid_mass_matrix(*arm, state, stage_mass);
+    stage_mass.diagonal() += arm->parameters.armature;
+    out.mass.compute(stage_mass);
+    JointDynamicsForce::calc_rigid_residual(*arm, state, Eigen::VectorXd(), stage_residual);
+    out.free_force = stage_force - stage_residual;  // passive + g − c
   }
 
-  Eigen::VectorXd calc_stage_acceleration(const Eigen::VectorXd& positions, const Eigen::VectorXd& velocities,
-                                          const Eigen::VectorXd& tau) {
-    StageDynamics stage;
+  /// q̈ at (q, u) under the held τ, into `acceleration`.
+  void calc_stage_acceleration(const Eigen::VectorXd& positions, const Eigen::VectorXd& velocities, const Eigen::VectorXd& tau,
+                               Eigen::VectorXd& acceleration) {
     calc_stage_dynamics(positions, velocities, stage);
-    return stage.mass.solve(tau + stage.free_force);
+    solve_stage(stage, tau, acceleration);
   }
+
+  /// (M + A)⁻¹ (τ + free_force) of `dynamics`, into `acceleration` (LLT::solve's arithmetic, in place).
+  void solve_stage(const StageDynamics& dynamics, const Eigen::VectorXd& tau, Eigen::VectorXd& acceleration) const {
+    acceleration = tau + dynamics.free_force;
+    dynamics.mass.solveInPlace(acceleration);
+  }
+
+  /// The stages' vectors of one RK4 step, kept across ticks (sized once).
+  struct RungeKuttaScratch {
+    Eigen::VectorXd q0, u0, a1, v2, q2, a2, v3, q3, a3, v4, q4, a4;
+  };
+  RungeKuttaScratch rk;
 
   /// Whether any joint of `positions` is outside its position limits (where the soft-limit
   /// spring-damper acts: its damping switches on there, a jump no fixed step resolves).
@@ -389,35 +467,37 @@ struct ArmSimulation::Impl {
   }
 
   /// Classical fourth-order Runge–Kutta over `duration` in options.steps_per_tick equal steps,
-  /// τ held; leaves the state realized to Velocity at the end and qdd under τ there. A tick in
+  /// τ held; leaves the state's kinematics realized at the end and qdd under τ there. A tick in
   /// which any stage reaches beyond a joint limit is redone by the adaptive Runge–Kutta–Merson
   /// (at options.accuracy) from the tick's start. Returns false when it fell back.
   bool step_runge_kutta_4(const Eigen::VectorXd& tau, double duration) {
     const double start = state.getTime();
     const int steps = std::max(1, options.steps_per_tick);
     const double h = duration / steps;
-    const Eigen::VectorXd q_start = q, u_start = qd;
-    Eigen::VectorXd q0 = q, u0 = qd;
+    // The tick's start stays in q and qd until the tick is accepted; the stages use rk's buffers.
+    RungeKuttaScratch& k = rk;
+    Eigen::VectorXd& q0 = k.q0;
+    Eigen::VectorXd& u0 = k.u0;
+    q0 = q;
+    u0 = qd;
     for (int s = 0; s < steps; ++s) {
       if (!current_valid) calc_stage_dynamics(q0, u0, current);
-      const Eigen::VectorXd a1 = current.mass.solve(tau + current.free_force);
-      const Eigen::VectorXd v2 = u0 + 0.5 * h * a1;
-      const Eigen::VectorXd q2 = q0 + 0.5 * h * u0;
-      const Eigen::VectorXd a2 = calc_stage_acceleration(q2, v2, tau);
-      const Eigen::VectorXd v3 = u0 + 0.5 * h * a2;
-      const Eigen::VectorXd q3 = q0 + 0.5 * h * v2;
-      const Eigen::VectorXd a3 = calc_stage_acceleration(q3, v3, tau);
-      const Eigen::VectorXd v4 = u0 + h * a3;
-      const Eigen::VectorXd q4 = q0 + h * v3;
-      const Eigen::VectorXd a4 = calc_stage_acceleration(q4, v4, tau);
-      const bool at_limit = beyond_limits(q0) || beyond_limits(q2) || beyond_limits(q3) || beyond_limits(q4);
-      q0 += (h / 6.0) * (u0 + 2.0 * v2 + 2.0 * v3 + v4);
-      u0 += (h / 6.0) * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
+      solve_stage(current, tau, k.a1);
+      k.v2 = u0 + 0.5 * h * k.a1;
+      k.q2 = q0 + 0.5 * h * u0;
+      calc_stage_acceleration(k.q2, k.v2, tau, k.a2);
+      k.v3 = u0 + 0.5 * h * k.a2;
+      k.q3 = q0 + 0.5 * h * k.v2;
+      calc_stage_acceleration(k.q3, k.v3, tau, k.a3);
+      k.v4 = u0 + h * k.a3;
+      k.q4 = q0 + h * k.v3;
+      calc_stage_acceleration(k.q4, k.v4, tau, k.a4);
+      const bool at_limit = beyond_limits(q0) || beyond_limits(k.q2) || beyond_limits(k.q3) || beyond_limits(k.q4);
+      q0 += (h / 6.0) * (u0 + 2.0 * k.v2 + 2.0 * k.v3 + k.v4);
+      u0 += (h / 6.0) * (k.a1 + 2.0 * k.a2 + 2.0 * k.a3 + k.a4);
       if (at_limit || beyond_limits(q0)) {
         state.setTime(start);
-        write_joint_state(*arm, state, q_start, u_start);
-        q = q_start;
-        qd = u_start;
+        write_joint_state(*arm, state, q, qd);  // q and qd still hold the tick's start
         current_valid = false;
         return false;
       }
@@ -432,7 +512,7 @@ struct ArmSimulation::Impl {
     integrator_steps += steps;
     q = q0;
     qd = u0;
-    qdd = current.mass.solve(tau + current.free_force);
+    solve_stage(current, tau, qdd);
     return true;
   }
 
@@ -552,9 +632,15 @@ struct ArmDynamics::Impl {
   std::unique_ptr<ArmSystem> arm;
   SimTK::State state;
 
-  void set(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, SimTK::Stage stage) {
+  /// Moves the state to (q, q̇) and realizes its position kinematics, and its velocity
+  /// kinematics when `velocities` (what Stage::Position and Stage::Velocity computed for these calls).
+  void set(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, bool velocities) {
     write_joint_state(*arm, state, q, qd);
-    arm->system.realize(state, stage);
+    if (velocities) {
+      realize_kinematics(*arm, state);
+    } else {
+      arm->matter.realizePositionKinematics(state);
+    }
   }
 };
 
@@ -566,6 +652,8 @@ ArmDynamics::ArmDynamics(const ArmModel& model, std::vector<int> active_joints, 
   impl_->options.soft_joint_limits = false;
   impl_->arm = make_arm_system(model, impl_->options);
   impl_->state = impl_->arm->system.getDefaultState();
+  // Kinematics is realized per call (Impl::set); it needs the instance stage (masses, frames) once.
+  impl_->arm->system.realize(impl_->state, SimTK::Stage::Instance);
 }
 
 ArmDynamics::~ArmDynamics() = default;
@@ -579,7 +667,7 @@ const std::vector<int>& ArmDynamics::active_joint_indices() const { return impl_
 Eigen::VectorXd ArmDynamics::calc_inverse_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                                    const Eigen::VectorXd& qdd) {
   if (qdd.size() != dof()) throw std::invalid_argument("expected " + std::to_string(dof()) + " joint accelerations");
-  impl_->set(q, qd, SimTK::Stage::Velocity);
+  impl_->set(q, qd, true);
   const ArmSystem& arm = *impl_->arm;
   return JointDynamicsForce::calc_rigid_residual(arm, impl_->state, qdd) + arm.parameters.armature.cwiseProduct(qdd);
 }
@@ -587,21 +675,21 @@ Eigen::VectorXd ArmDynamics::calc_inverse_dynamics(const Eigen::VectorXd& q, con
 Eigen::VectorXd ArmDynamics::calc_forward_dynamics(const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                                                    const Eigen::VectorXd& tau) {
   if (tau.size() != dof()) throw std::invalid_argument("expected " + std::to_string(dof()) + " joint torques");
-  impl_->set(q, qd, SimTK::Stage::Velocity);
+  impl_->set(q, qd, true);
   const ArmSystem& arm = *impl_->arm;
   const Eigen::VectorXd total = tau + JointDynamicsForce::calc_gravity_generalized_force(arm, impl_->state);
   return JointDynamicsForce::calc_armature_acceleration(arm, impl_->state, total);
 }
 
 Eigen::MatrixXd ArmDynamics::calc_mass_matrix(const Eigen::VectorXd& q) {
-  impl_->set(q, Eigen::VectorXd::Zero(dof()), SimTK::Stage::Position);
+  impl_->set(q, Eigen::VectorXd::Zero(dof()), false);
   Eigen::MatrixXd mass = JointDynamicsForce::calc_rigid_mass_matrix(*impl_->arm, impl_->state);
   mass.diagonal() += impl_->arm->parameters.armature;
   return mass;
 }
 
 Eigen::Vector3d ArmDynamics::calc_point_position(const Eigen::VectorXd& q, int link, const Eigen::Vector3d& offset) {
-  impl_->set(q, Eigen::VectorXd::Zero(dof()), SimTK::Stage::Position);
+  impl_->set(q, Eigen::VectorXd::Zero(dof()), false);
   const SimTK::MobilizedBodyIndex body = impl_->arm->link_bodies.at(link);
   const SimTK::Vec3 p = impl_->arm->matter.getMobilizedBody(body).findStationLocationInGround(impl_->state, to_simtk(offset));
   return Eigen::Vector3d(p[0], p[1], p[2]);
@@ -612,7 +700,7 @@ Eigen::Vector3d ArmDynamics::calc_end_effector_position(const Eigen::VectorXd& q
 }
 
 Eigen::Matrix3Xd ArmDynamics::calc_point_jacobian(const Eigen::VectorXd& q, int link, const Eigen::Vector3d& offset) {
-  impl_->set(q, Eigen::VectorXd::Zero(dof()), SimTK::Stage::Position);
+  impl_->set(q, Eigen::VectorXd::Zero(dof()), false);
   const ArmSystem& arm = *impl_->arm;
   SimTK::Matrix jacobian;  // 3 × nu
   arm.matter.calcStationJacobian(impl_->state, arm.link_bodies.at(link), to_simtk(offset), jacobian);

@@ -10,7 +10,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace armfarm {
@@ -102,6 +104,86 @@ TEST(SerialChain, MatchesSimbodyWithAPrismaticJointAndATiltedAxis) {
   expect_matches_simbody(model, {}, "prismatic all");
   expect_matches_simbody(model, {0}, "prismatic locked at 0.15 m");
   expect_matches_simbody(model, {1}, "prismatic only");
+}
+
+/// The chain's position and Jacobian by the general products only (every fixed rotation
+/// multiplied, every joint rotation an AngleAxisd matrix, every vector product in full), folded
+/// as SerialChain folds the path: the arithmetic SerialChain had before its joints about x, y or
+/// z and its identity origins left out the terms that are exact zeros.
+void calc_by_general_products(const ArmModel& model, const std::vector<int>& active, int link, const Eigen::Vector3d& offset,
+                              const Eigen::VectorXd& q, Eigen::Vector3d& position, Eigen::Matrix3Xd& jacobian) {
+  std::vector<int> parent_joint(model.links.size(), -1), path;
+  for (int j = 0; j < static_cast<int>(model.joints.size()); ++j) parent_joint[model.joints[j].child_link] = j;
+  for (int l = link; l != model.root_link; l = model.joints[parent_joint[l]].parent_link) path.push_back(parent_joint[l]);
+  std::reverse(path.begin(), path.end());
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Isometry3d pending = Eigen::Isometry3d::Identity();
+  std::vector<std::pair<int, Eigen::Vector3d>> revolute_origins;  // column, joint origin in the world
+  jacobian.setZero(3, static_cast<Eigen::Index>(active.size()));
+  for (int j : path) {
+    const Joint& joint = model.joints[j];
+    pending = pending * joint.origin;
+    const auto found = std::find(active.begin(), active.end(), j);
+    if (found == active.end()) {
+      pending = pending * calc_joint_motion(joint, joint.type == JointType::fixed ? 0.0 : joint.start_position) * joint.child_offset;
+      continue;
+    }
+    const int column = static_cast<int>(found - active.begin());
+    const Eigen::Vector3d axis = joint.axis.normalized();
+    origin += rotation * pending.translation();
+    rotation = rotation * pending.linear();
+    if (joint.type == JointType::prismatic) {
+      jacobian.col(column) = rotation * axis;
+      origin += rotation * (q[column] * axis);
+    } else {
+      rotation = rotation * Eigen::AngleAxisd(q[column], axis).toRotationMatrix();
+      jacobian.col(column) = rotation * axis;
+      revolute_origins.emplace_back(column, origin);
+    }
+    pending = joint.child_offset;
+  }
+  position = origin + rotation * (pending * offset);
+  for (const auto& [column, joint_origin] : revolute_origins) {
+    const Eigen::Vector3d axis = jacobian.col(column);
+    jacobian.col(column) = axis.cross(position - joint_origin);
+  }
+}
+
+TEST(SerialChain, JointsAboutCoordinateAxesGiveTheGeneralProductsBitForBit) {
+  // The LWR III's joints turn about x or z and its origins carry no rotation, so every step takes
+  // the short path; the tilted planar arm (a general axis, a rotated origin, a prismatic joint)
+  // takes the general one. Either way the numbers are the general products' to the last bit.
+  ArmModel tilted = testing::make_planar_arm({});
+  tilted.joints[0].axis = Eigen::Vector3d(0.3, -1.0, 0.2).normalized();
+  tilted.joints[0].origin.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  tilted.joints[1].type = JointType::prismatic;
+  tilted.joints[1].axis = Eigen::Vector3d(1.0, 0.5, -0.25).normalized();
+  const std::vector<std::pair<ArmModel, std::vector<int>>> cases = {
+      {load_shipped("dlr_lwr3.urdf"), {}}, {load_shipped("dlr_lwr3.urdf"), {0, 1, 3}}, {load_shipped("dlr_lwr3.dcg"), {}},
+      {with_random_start_angles(load_shipped("dlr_lwr3.urdf"), 3), {1, 2, 4, 6}}, {tilted, {}}};
+  RandomStream draws(17, "serial_chain_test.bit_for_bit");
+  int short_paths = 0;
+  for (const auto& [model, subset] : cases) {
+    ArmDynamics dynamics(model, subset);
+    const std::vector<int>& active = dynamics.active_joint_indices();
+    const int link = model.end_effector.link;
+    const SerialChain chain(model, active, link, model.end_effector.offset);
+    for (int trial = 0; trial < 200; ++trial) {
+      const Eigen::VectorXd q = draw_state(draws, model, active);
+      Eigen::Vector3d position, expected_position;
+      Eigen::Matrix3Xd jacobian, expected_jacobian;
+      chain.calc_position_and_jacobian(q, position, jacobian);
+      calc_by_general_products(model, active, link, model.end_effector.offset, q, expected_position, expected_jacobian);
+      ASSERT_TRUE(position == expected_position) << model.name << " trial " << trial << ": " << (position - expected_position).transpose();
+      ASSERT_TRUE(chain.calc_position(q) == expected_position) << model.name << " trial " << trial;
+      ASSERT_TRUE(jacobian == expected_jacobian) << model.name << " trial " << trial << "\n" << jacobian - expected_jacobian;
+    }
+    for (int j : active) {
+      for (int a = 0; a < 3; ++a) short_paths += model.joints[j].axis.normalized() == Eigen::Vector3d::Unit(a);
+    }
+  }
+  EXPECT_GT(short_paths, 0);  // the LWR's axes are coordinate axes: the short path was compared
 }
 
 TEST(SerialChain, JacobianEqualsFiniteDifferencesOfThePosition) {

@@ -59,6 +59,39 @@ TEST(ArmDynamics, PlanarArmMatchesTheClosedFormAtRandomStates) {
   }
 }
 
+TEST(ArmDynamics, EachCallSeesItsOwnStateWhateverTheCallsBeforeIt) {
+  // Each call realizes only the kinematics it reads (not the whole system). A call must never
+  // read caches left by an earlier call at another state: interleaved calls on one instance,
+  // each kind after the others, give the bits a fresh instance gives at that state alone.
+  const ArmModel model = testing::load_lwr3();
+  ArmDynamics shared(model, {0, 1, 3});
+  std::mt19937 generator(5);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  const auto draw = [&](double scale) {
+    Eigen::VectorXd v(3);
+    for (int j = 0; j < 3; ++j) v[j] = scale * unit(generator);
+    return v;
+  };
+  for (int trial = 0; trial < 10; ++trial) {
+    const Eigen::VectorXd q = draw(1.5), qd = draw(2.0), qdd = draw(5.0), tau = draw(20.0);
+    ArmDynamics fresh_id(model, {0, 1, 3}), fresh_fd(model, {0, 1, 3}), fresh_m(model, {0, 1, 3}), fresh_x(model, {0, 1, 3});
+    const Eigen::VectorXd id = fresh_id.calc_inverse_dynamics(q, qd, qdd);
+    const Eigen::VectorXd fd = fresh_fd.calc_forward_dynamics(q, qd, tau);
+    const Eigen::MatrixXd m = fresh_m.calc_mass_matrix(q);
+    const Eigen::Vector3d x = fresh_x.calc_end_effector_position(q);
+    // On the shared instance each call follows calls at other states (the previous trial's).
+    EXPECT_TRUE(shared.calc_inverse_dynamics(q, qd, qdd) == id) << "trial " << trial;
+    EXPECT_TRUE(shared.calc_mass_matrix(-q) == fresh_m.calc_mass_matrix(-q)) << "trial " << trial;
+    EXPECT_TRUE(shared.calc_forward_dynamics(q, qd, tau) == fd) << "trial " << trial;
+    EXPECT_TRUE(shared.calc_inverse_dynamics(q, -qd, qdd) == fresh_id.calc_inverse_dynamics(q, -qd, qdd)) << "trial " << trial;
+    EXPECT_TRUE(shared.calc_mass_matrix(q) == m) << "trial " << trial;
+    EXPECT_TRUE(shared.calc_end_effector_position(q) == x) << "trial " << trial;
+    // The velocities do matter (c(q, q̇) is quadratic in q̇: −q̇ gives the same torques, 2q̇ not).
+    EXPECT_TRUE(shared.calc_inverse_dynamics(q, -qd, qdd) == id) << "trial " << trial;
+    EXPECT_FALSE(shared.calc_inverse_dynamics(q, 2.0 * qd, qdd) == id) << "trial " << trial;
+  }
+}
+
 TEST(ArmDynamics, InverseAndForwardDynamicsAreInversesOnTheLwr) {
   const ArmModel model = testing::load_lwr3();
   ArmDynamics dynamics(model);
