@@ -11,8 +11,8 @@
 #include "runner/cli/number_checks.hpp"
 #include "runner/cli/subcommand.hpp"
 #include "runner/io/csv_reader.hpp"
-#include "runner/lwpr_params_json.hpp"
-#include "runner/ssgpr_params_json.hpp"
+#include "runner/config/lwpr_params_json.hpp"
+#include "runner/config/ssgpr_params_json.hpp"
 
 #include <nlohmann/json.hpp>
 
