@@ -17,6 +17,10 @@ struct Curve {
   std::vector<double> y_high;  ///< error_bars, band: upper end of each bar
   Style style = Style::lines;
   bool emphasised = false;     ///< drawn last, black, dashed (e.g. a desired path on top)
+  /// Drawn first and 2.5 times as wide as the others, so that curves lying on it stay visible on
+  /// top: a sum such as the composite torque, which is the feedback where the feed-forward is near
+  /// zero (figure 6.8's joint 1 showed the composite alone). The legend shows the same width.
+  bool underneath = false;
 };
 
 struct Panel {
@@ -65,6 +69,10 @@ struct FigureOptions {
   std::optional<double> width_in;              ///< override of the style's size, inches
   std::optional<double> height_in;
   std::optional<double> font_pt;               ///< override of the style's font size, points
+  /// Draw the figure's caption and table under the legend (the page grows for them in every
+  /// style). false: the figure ends at its legend, for a document that sets its own caption
+  /// (format_caption_text gives the text left out).
+  bool caption = true;
 };
 
 /// The gnuplot terminal line and the line width for `out_path`'s format (by extension: .pdf,
@@ -78,9 +86,27 @@ struct TerminalSettings {
 };
 TerminalSettings make_terminal_settings(const std::string& out_path, const FigureOptions& options, const Figure& figure);
 
-/// Colours: 12 distinct ones, then the same colours with dashed, dotted … line styles. A
-/// curve title already shown in an earlier panel is not repeated, so the figure has one legend,
+/// The curves' colours, the one home of the palette: 12 that stay apart in greyscale print (the
+/// first three) and for colour-blind readers ("#RRGGBB"). Curves take them in the order their
+/// titles are first declared over the figure; past 12 the same colours repeat dashed, dotted ….
+/// A curve title already shown in an earlier panel is not repeated, so the figure has one legend,
 /// and a title keeps its colour in every panel (the same colour is the same group).
+const std::vector<std::string>& figure_colours();
+/// The colour of the marks of jobs without a value (diverged, failed) on a panel's top edge.
+const std::string& figure_edge_mark_colour();
+
+/// `figure` as `style` sets it out (write_figure applies it): on a slide, panels the figure
+/// stacks in one column (time series, full width on paper) go side by side, up to three to a
+/// row, since three stacked rows left each plot area 0.6 in of a 5.6 in slide.
+Figure arrange_for_style(Figure figure, FigureStyle style);
+
+/// `figure` without its caption and table (what FigureOptions::caption = false draws).
+Figure remove_caption(Figure figure);
+
+/// The caption and table as plain text: the table's rows in aligned columns, then a line per
+/// caption paragraph ("" when the figure has neither). For `plot --no-caption`, which prints it.
+std::string format_caption_text(const Figure& figure);
+
 /// Renders `figure` to `out_path` (.pdf, .svg or .png, chosen by extension) with gnuplot. The file is
 /// written whole or not at all. Throws AnalysisError (gnuplot missing or failing, bad extension,
 /// empty figure).

@@ -363,26 +363,57 @@ std::string list_checkpoints(const std::set<std::int64_t>& checkpoints) {
   return list;
 }
 
+// The nMSE that nmse-vs-kernel draws and at which checkpoint (none for the same-run split).
+struct KernelMetric {
+  std::string name;
+  std::optional<std::int64_t> checkpoint;
+  bool last = false;  ///< the checkpoint is the last the sweep recorded
+};
+
+KernelMetric choose_kernel_metric(const SweepData& data, const PlotRequest& request) {
+  const std::set<std::int64_t> heldout = find_checkpoints(data, "heldout_test_nmse", std::nullopt);
+  KernelMetric metric{request.metric, std::nullopt, false};
+  if (metric.name.empty()) metric.name = heldout.empty() ? "same_run_test_nmse" : "heldout_test_nmse";
+  if (metric.name != "same_run_test_nmse" && metric.name != "heldout_test_nmse") {
+    throw AnalysisError("nmse-vs-kernel draws same_run_test_nmse or heldout_test_nmse, not '" + metric.name + "' (metric-vs-param draws any)");
+  }
+  if (metric.name != "heldout_test_nmse") return metric;
+  if (heldout.empty()) throw AnalysisError("sweep '" + data.name + "' has no heldout_test_nmse metric (held-out evaluations)");
+  if (request.checkpoint && !heldout.count(*request.checkpoint)) {
+    throw AnalysisError("sweep '" + data.name + "': heldout_test_nmse is recorded at checkpoints " + list_checkpoints(heldout) + ", not " +
+                        std::to_string(*request.checkpoint) + "; choose one with --checkpoint N");
+  }
+  metric.checkpoint = request.checkpoint ? *request.checkpoint : *heldout.rbegin();
+  metric.last = *metric.checkpoint == *heldout.rbegin();
+  return metric;
+}
+
+// nmse-vs-kernel's last panel: the receptive fields after training against the kernel width,
+// log y where they span decades (unless forced). `log_y` tells the caller which.
+Panel make_kernel_fields_panel(const SweepData& data, const PlotRequest& request, const std::string& kernel_label, bool log_x,
+                               bool& log_y) {
+  Panel fields;
+  fields.title = "receptive fields";
+  fields.x_label = kernel_label;
+  const MetricId metric{"n_receptive_fields", std::nullopt, std::nullopt};
+  const auto points = collect_points(data, request.kernel_param, request.adaptation_param, metric);
+  log_y = request.log_y.value_or(spans_decades(all_values(points, false)));
+  fields.y_label = make_metric_axis_label(data.metric_info, metric);
+  fields.log_x = log_x;
+  fields.log_y = log_y;
+  fields.curves = make_error_bar_curves(points, log_y, "n_receptive_fields", fields);
+  add_unfinished_marks(data, request.kernel_param, fields);
+  return fields;
+}
+
 // Figures 6.1-6.2: the nMSE per joint and the receptive fields against the kernel width. The
 // nMSE is the held-out one (heldout_test_nmse, at --checkpoint or the last) where the sweep
 // recorded it, the metric `thesis-figure 6.1` draws and issue 23's verdicts use; else the
 // training run's same-run split (same_run_test_nmse); --metric chooses.
 Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
-  const std::set<std::int64_t> heldout = find_checkpoints(data, "heldout_test_nmse", std::nullopt);
-  std::string metric = request.metric;
-  if (metric.empty()) metric = heldout.empty() ? "same_run_test_nmse" : "heldout_test_nmse";
-  if (metric != "same_run_test_nmse" && metric != "heldout_test_nmse") {
-    throw AnalysisError("nmse-vs-kernel draws same_run_test_nmse or heldout_test_nmse, not '" + metric + "' (metric-vs-param draws any)");
-  }
-  std::optional<std::int64_t> checkpoint;
-  if (metric == "heldout_test_nmse") {
-    if (heldout.empty()) throw AnalysisError("sweep '" + data.name + "' has no heldout_test_nmse metric (held-out evaluations)");
-    if (request.checkpoint && !heldout.count(*request.checkpoint)) {
-      throw AnalysisError("sweep '" + data.name + "': heldout_test_nmse is recorded at checkpoints " + list_checkpoints(heldout) + ", not " +
-                          std::to_string(*request.checkpoint) + "; choose one with --checkpoint N");
-    }
-    checkpoint = request.checkpoint ? *request.checkpoint : *heldout.rbegin();
-  }
+  const KernelMetric chosen = choose_kernel_metric(data, request);
+  const std::string& metric = chosen.name;
+  const std::optional<std::int64_t> checkpoint = chosen.checkpoint;
   std::set<int> joints;
   for (const JobResult& job : data.jobs) {
     for (const auto& [id, value] : job.metrics) {
@@ -394,7 +425,7 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   figure.title = "Test nMSE and receptive fields against kernel width (sweep " + data.name + ")";
   figure.caption.push_back(metric == "heldout_test_nmse"
                                ? "nMSE: held-out test nMSE (heldout_test_nmse) at checkpoint " + std::to_string(*checkpoint) +
-                                     (*checkpoint == *heldout.rbegin() ? ", the last" : "") + "; receptive fields after training"
+                                     (chosen.last ? ", the last" : "") + "; receptive fields after training"
                                : "nMSE: same-run test nMSE (same_run_test_nmse, the training run's own test split); receptive fields "
                                  "after training");
   const bool log_x = request.log_x.value_or(true);
@@ -428,17 +459,8 @@ Figure make_nmse_vs_kernel(const SweepData& data, const PlotRequest& request) {
   if (!marked.empty()) figure.caption.push_back(marked);
   if (!dropped.empty()) figure.caption.push_back(dropped);
   if (!undefined.empty()) figure.caption.push_back("joint " + undefined + " not shown: test nMSE undefined in every job (the torque hardly varies)");
-  Panel fields;
-  fields.title = "receptive fields";
-  fields.x_label = kernel_label;
-  const auto field_points = collect_points(data, request.kernel_param, request.adaptation_param,
-                                           MetricId{"n_receptive_fields", std::nullopt, std::nullopt});
-  const bool fields_log = request.log_y.value_or(spans_decades(all_values(field_points, false)));
-  fields.y_label = make_metric_axis_label(data.metric_info, MetricId{"n_receptive_fields", std::nullopt, std::nullopt});
-  fields.log_x = log_x;
-  fields.log_y = fields_log;
-  fields.curves = make_error_bar_curves(field_points, fields_log, "n_receptive_fields", fields);
-  add_unfinished_marks(data, request.kernel_param, fields);
+  bool fields_log = false;
+  Panel fields = make_kernel_fields_panel(data, request, kernel_label, log_x, fields_log);
   bool bars = has_bars(fields.curves);
   for (const Panel& panel : figure.panels) bars = bars || has_bars(panel.curves);
   if (bars) {
@@ -639,8 +661,10 @@ Figure make_signals(const ResultsStore& store, const SweepData& data, const Plot
   const auto jobs = choose_signal_jobs(store, data, request);
   if (jobs.empty()) throw AnalysisError("sweep '" + data.name + "': no done job recorded the F and FF series; " + advise_series({"F", "FF", "TOR"}));
   Figure figure;
-  figure.title = jobs.size() == 1 ? "Feedback, feed-forward and composite torques: " + make_job_label(*jobs.front())
-                                  : "Feedback, feed-forward and composite torques (sweep " + data.name + ")";
+  // A short title; the job is the caption's (its label took four lines of a paper column).
+  figure.title = "Feedback, feed-forward and composite torques (sweep " + data.name + ")";
+  if (jobs.size() == 1) figure.caption.push_back("job " + jobs.front()->key.substr(0, 8) + ": " + make_job_label(*jobs.front()));
+  // Time series want the page's width: up to four joints stacked in one column.
   for (const JobResult* job : jobs) {
     const SeriesRecord feedback = require_series(store, *job, "F");
     const SeriesRecord feedforward = require_series(store, *job, "FF");
@@ -662,10 +686,13 @@ Figure make_signals(const ResultsStore& store, const SweepData& data, const Plot
         panel.curves.push_back(make_series_curve(feedforward, 0, static_cast<int>(c), prefix + "feed-forward"));
       }
       if (composite && c < composite->rows.cols()) {
+        // Under the others, wider: it equals the feedback where the feed-forward is near zero.
         panel.curves.push_back(make_series_curve(*composite, 0, static_cast<int>(c), prefix + "composite"));
+        panel.curves.back().underneath = true;
       }
     }
   }
+  if (figure.panels.size() <= 4) figure.columns = 1;
   return figure;
 }
 
@@ -708,9 +735,7 @@ Figure make_tracking(const ResultsStore& store, const SweepData& data, const Plo
   return figure;
 }
 
-}  // namespace
-
-Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request) {
+Figure make_kind_figure(const ResultsStore& store, const PlotRequest& request) {
   // A search plot spans sweeps (the method beside its random baseline).
   if (request.kind == PlotKind::search) return make_search_figure(store, request.sweep);
   const SweepData data = load_sweep_data(store, choose_sweep(store, request.sweep));
@@ -725,6 +750,53 @@ Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request) {
   throw AnalysisError("unknown plot kind");
 }
 
+bool have_equal_values(const Curve& a, const Curve& b) {
+  return !a.x.empty() && a.x == b.x && a.y == b.y && a.y_low == b.y_low && a.y_high == b.y_high;
+}
+
+// "gain_scale=0.2, mode=batch lies under gain_scale=1, mode=batch (equal values) in every
+// panel": titled curves of one panel with equal values, which the later one hides (a batch
+// model is the same at every gain; the quick start's legend listed a curve no panel showed).
+// "" when no curve is hidden. For nmse-vs-kernel and metric-vs-param.
+std::string describe_hidden_curves(const Figure& figure) {
+  std::vector<std::pair<std::pair<std::string, std::string>, std::vector<std::string>>> hidden;  // (under, over), panels
+  for (const Panel& panel : figure.panels) {
+    for (std::size_t i = 0; i < panel.curves.size(); ++i) {
+      for (std::size_t j = i + 1; j < panel.curves.size(); ++j) {
+        const Curve &under = panel.curves[i], &over = panel.curves[j];
+        if (under.title.empty() || over.title.empty() || under.title == over.title || !have_equal_values(under, over)) continue;
+        const auto pair = std::make_pair(under.title, over.title);
+        auto found = std::find_if(hidden.begin(), hidden.end(), [&](const auto& entry) { return entry.first == pair; });
+        if (found == hidden.end()) found = hidden.insert(hidden.end(), {pair, {}});
+        found->second.push_back(panel.title.empty() ? "the panel" : panel.title);
+        break;  // drawn under the first equal curve after it
+      }
+    }
+  }
+  std::string text;
+  for (const auto& [pair, panels] : hidden) {
+    std::string where;
+    if (panels.size() == figure.panels.size() && panels.size() > 1) {
+      where = "every panel";
+    } else {
+      for (const std::string& panel : panels) where += (where.empty() ? "" : ", ") + panel;
+    }
+    text += (text.empty() ? "" : "; ") + pair.first + " lies under " + pair.second + " (equal values) in " + where;
+  }
+  return text.empty() ? "" : "hidden: " + text;
+}
+
+}  // namespace
+
+Figure make_plot_figure(const ResultsStore& store, const PlotRequest& request) {
+  Figure figure = make_kind_figure(store, request);
+  // The group figures, whose legend names groups (series figures draw one curve per configuration).
+  if (request.kind != PlotKind::nmse_vs_kernel && request.kind != PlotKind::metric_vs_param) return figure;
+  const std::string hidden = describe_hidden_curves(figure);
+  if (!hidden.empty()) figure.caption.push_back(hidden);
+  return figure;
+}
+
 std::vector<PlotKind> find_available_plot_kinds(const ResultsStore& store, const SweepData& data) {
   std::vector<PlotKind> kinds;
   bool has_test_nmse = false;
@@ -737,7 +809,13 @@ std::vector<PlotKind> find_available_plot_kinds(const ResultsStore& store, const
     if (job.status != "done") continue;
     for (const std::string& name : store.find_series_names(job.id)) series.insert(name);
   }
-  if (series.count("RF")) kinds.push_back(PlotKind::rf_growth);
+  // rf-growth draws per reach from TRIAL where a job recorded several reaches (figure 6.7's
+  // and the held-out reaching sweep's, which record no RF), else RF against time.
+  bool trials = false;
+  for (const JobResult& job : data.jobs) {
+    if (job.status == "done" && !trials) trials = make_fields_per_reach(store, job, "").has_value();
+  }
+  if (series.count("RF") || trials) kinds.push_back(PlotKind::rf_growth);
   if (series.count("F") && series.count("FF")) kinds.push_back(PlotKind::signals);
   if (series.count("POS") && series.count("POS_D")) kinds.push_back(PlotKind::tracking);
   if (store.find_search(data.name)) kinds.push_back(PlotKind::search);

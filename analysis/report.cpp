@@ -154,7 +154,7 @@ const char* kStyle =
     "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
     "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px}"
     "th{background:#eee}td.num{text-align:right;font-family:monospace}pre{background:#f6f6f6;padding:1em;"
-    "overflow-x:auto;white-space:pre-wrap;overflow-wrap:anywhere}.bad{color:#a00;overflow-wrap:anywhere}"
+    "overflow-x:auto;white-space:pre-wrap;overflow-wrap:anywhere}.bad{color:#a00;overflow-wrap:anywhere}p.caption{overflow-wrap:anywhere}"
     "svg{max-width:100%;height:auto}"
     ".scroll{overflow-x:auto;max-width:100%;max-height:40em;overflow-y:auto}"
     "table.sortable th{cursor:pointer}table.sortable th:after{content:' \\2195';color:#999}"
@@ -182,10 +182,11 @@ std::string render_figure_html(const ResultsStore& store, const PlotRequest& req
   try {
     // The caption (what is drawn from which metric, error bars, jobs not shown) as the page's
     // text under the figure, where it wraps with the page, not inside the drawing.
-    Figure figure = make_plot_figure(store, request);
-    const std::vector<std::string> caption = std::move(figure.caption);
-    figure.caption.clear();
-    write_figure(figure, svg_path.string());
+    const Figure figure = make_plot_figure(store, request);
+    const std::vector<std::string>& caption = figure.caption;
+    FigureOptions without_caption;
+    without_caption.caption = false;
+    write_figure(figure, svg_path.string(), without_caption);
     html << make_inline_svg(read_whole_file(svg_path)) << "\n";
     if (!caption.empty()) {
       html << "<p class=\"caption\">";
@@ -280,46 +281,46 @@ std::string make_jobs_table(const SweepData& data, const std::optional<std::stri
   return html.str();
 }
 
-std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep, const SweepData& data,
-                            const fs::path& work_dir, const ReportOptions& options) {
-  std::ostringstream page;
-  page << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>armfarm sweep " << escape_html(sweep.name)
-       << "</title>" << kStyle << "</head><body>\n";
-  page << "<p><a href=\"index.html\">all sweeps</a></p>\n";
-  page << "<h1>Sweep " << escape_html(sweep.name) << "</h1>\n<p>" << escape_html(sweep.description) << "</p>\n";
+// A sweep page's table of contents: an anchor and a title per entry.
+using Contents = std::vector<std::pair<std::string, std::string>>;
 
-  // The figures and tables first (rendered now, so that the contents can list them).
-  std::ostringstream figures, tables;
-  std::vector<std::pair<std::string, std::string>> contents;  // anchor, title
-  int n = 0, svg_files = 0;
+// The figures of a sweep page: the plot kinds it has data for, then the main metric against
+// each numeric swept parameter (the others split the curves). Adds them to `contents`; `count`
+// is how many were attempted.
+std::string render_sweep_figures(const ResultsStore& store, const SweepRecord& sweep, const SweepData& data, const fs::path& work_dir,
+                                 const ReportOptions& options, const std::optional<std::string>& main_metric, Contents& contents,
+                                 int& count) {
+  std::ostringstream figures;
+  int svg_files = 0;
+  PlotRequest base;
+  base.sweep = sweep.name;
+  base.param_unit = options.param_unit;
   for (PlotKind kind : find_available_plot_kinds(store, data)) {
-    PlotRequest request;
+    PlotRequest request = base;
     request.kind = kind;
-    request.sweep = sweep.name;
-    request.param_unit = options.param_unit;
-    const std::string anchor = "figure-" + std::to_string(++n);
+    const std::string anchor = "figure-" + std::to_string(++count);
     contents.emplace_back(anchor, std::string("Figure: ") + to_string(kind));
     figures << render_figure_html(store, request, to_string(kind), anchor, work_dir, svg_files);
   }
-  // The main metric against each numeric swept parameter (the others split the curves).
-  const std::optional<std::string> main_metric = options.choose_main_metric ? options.choose_main_metric(data) : std::nullopt;
-  if (main_metric) {
-    for (const std::string& path : data.varying_params) {
-      if (path == "seed" || !is_numeric_param(data, path)) continue;
-      PlotRequest request;
-      request.kind = PlotKind::metric_vs_param;
-      request.sweep = sweep.name;
-      request.metric = *main_metric;
-      request.param = path;
-      request.param_unit = options.param_unit;
-      const std::string anchor = "figure-" + std::to_string(++n);
-      const std::string heading = *main_metric + " against " + path;
-      contents.emplace_back(anchor, "Figure: " + heading);
-      figures << render_figure_html(store, request, heading, anchor, work_dir, svg_files);
-    }
+  if (!main_metric) return figures.str();
+  for (const std::string& path : data.varying_params) {
+    if (path == "seed" || !is_numeric_param(data, path)) continue;
+    PlotRequest request = base;
+    request.kind = PlotKind::metric_vs_param;
+    request.metric = *main_metric;
+    request.param = path;
+    const std::string anchor = "figure-" + std::to_string(++count);
+    const std::string heading = *main_metric + " against " + path;
+    contents.emplace_back(anchor, "Figure: " + heading);
+    figures << render_figure_html(store, request, heading, anchor, work_dir, svg_files);
   }
-  const int figure_count = n;
-  n = 0;
+  return figures.str();
+}
+
+// The default tables of a sweep, each in its own box, then the jobs table; added to `contents`.
+std::string render_sweep_tables(const SweepData& data, const std::optional<std::string>& main_metric, Contents& contents) {
+  std::ostringstream tables;
+  int n = 0;
   for (const TableSpec& spec : make_default_table_specs(data)) {
     const std::string anchor = "table-" + std::to_string(++n);
     contents.emplace_back(anchor, "Table: " + spec.title);
@@ -331,45 +332,44 @@ std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep,
     }
     tables << "</div>\n";
   }
-
   contents.emplace_back("jobs", "Table: jobs");
   tables << "<h3 id=\"jobs\">Jobs</h3>\n" << make_jobs_table(data, main_metric);
-  const std::string thesis = make_thesis_section(store, sweep, options, contents);
-  const std::optional<SearchSummary> search = load_search_summary(store, sweep.name);
-  page << "<nav><h2>Contents</h2>\n<ul>\n";
-  for (const auto& [anchor, title] : contents) {
-    page << "<li><a href=\"#" << anchor << "\">" << escape_html(title) << "</a></li>\n";
-  }
-  if (search) page << "<li><a href=\"#Search\">Search</a></li>\n";
-  for (const char* section : {"Status", "Provenance", "Spec"}) {
-    page << "<li><a href=\"#" << section << "\">" << section << "</a></li>\n";
-  }
-  page << "</ul></nav>\n";
-  page << "<h2 id=\"figures\">Figures</h2>\n" << figures.str();
-  if (figure_count == 0) {
-    page << "<p>No figure: no job records the series a figure draws (F and FF, POS and POS_D, RF), and "
-         << (main_metric ? "no numeric parameter besides seed is swept" : "no main metric is chosen") << ".</p>\n";
-  }
-  page << "<h2 id=\"tables\">Tables</h2>\n<p>Click a column header to sort by it; a job's key opens its page.</p>\n"
-       << tables.str() << thesis;
-  if (search) page << "<h2 id=\"Search\">Search</h2>\n<pre>" << escape_html(format_search_summary(*search)) << "</pre>\n";
+  return tables.str();
+}
 
-  page << "<h2 id=\"Status\">Status</h2>\n<table><tr><th>status</th><th>jobs</th></tr>\n";
+std::string make_contents_nav(const Contents& contents, bool search) {
+  std::ostringstream nav;
+  nav << "<nav><h2>Contents</h2>\n<ul>\n";
+  for (const auto& [anchor, title] : contents) nav << "<li><a href=\"#" << anchor << "\">" << escape_html(title) << "</a></li>\n";
+  if (search) nav << "<li><a href=\"#Search\">Search</a></li>\n";
+  for (const char* section : {"Status", "Provenance", "Spec"}) nav << "<li><a href=\"#" << section << "\">" << section << "</a></li>\n";
+  nav << "</ul></nav>\n";
+  return nav.str();
+}
+
+// The jobs per status, then each job that did not finish with its message.
+std::string make_status_section(const ResultsStore& store, const SweepRecord& sweep, const SweepData& data) {
+  std::ostringstream html;
+  html << "<h2 id=\"Status\">Status</h2>\n<table><tr><th>status</th><th>jobs</th></tr>\n";
   for (const auto& [status, count] : store.count_jobs_by_status(sweep.name)) {
-    page << "<tr><td>" << escape_html(status) << "</td><td class=\"num\">" << count << "</td></tr>\n";
+    html << "<tr><td>" << escape_html(status) << "</td><td class=\"num\">" << count << "</td></tr>\n";
   }
-  page << "</table>\n";
+  html << "</table>\n";
   bool any_failure = false;
   for (const JobResult& job : data.jobs) {
     if (job.status == "done" || job.status == "pending" || job.status == "running") continue;
-    if (!any_failure) page << "<ul class=\"bad\">\n";
+    if (!any_failure) html << "<ul class=\"bad\">\n";
     any_failure = true;
-    page << "<li>" << make_job_links({&job}) << " " << escape_html(job.status + ": " + job.message + " [" + make_job_label(job) + "]")
+    html << "<li>" << make_job_links({&job}) << " " << escape_html(job.status + ": " + job.message + " [" + make_job_label(job) + "]")
          << "</li>\n";
   }
-  if (any_failure) page << "</ul>\n";
+  if (any_failure) html << "</ul>\n";
+  return html.str();
+}
 
-  page << "<h2 id=\"Provenance\">Provenance</h2>\n<table>\n";
+std::string make_provenance_section(const ResultsStore& store, const SweepRecord& sweep) {
+  std::ostringstream html;
+  html << "<h2 id=\"Provenance\">Provenance</h2>\n<table>\n";
   const Provenance& p = sweep.provenance;
   const std::vector<std::pair<std::string, std::string>> rows = {
       {"started", sweep.started_at},
@@ -381,9 +381,37 @@ std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep,
       {"host", p.host},
       {"spec hash", sweep.spec_hash},
       {"database", store.path()}};
-  for (const auto& [name, value] : rows) page << "<tr><th>" << escape_html(name) << "</th><td>" << escape_html(value) << "</td></tr>\n";
-  page << "</table>\n";
+  for (const auto& [name, value] : rows) html << "<tr><th>" << escape_html(name) << "</th><td>" << escape_html(value) << "</td></tr>\n";
+  html << "</table>\n";
+  return html.str();
+}
 
+// A sweep's page: contents, figures, tables (and the thesis's), search, status, provenance, spec.
+std::string make_sweep_page(const ResultsStore& store, const SweepRecord& sweep, const SweepData& data,
+                            const fs::path& work_dir, const ReportOptions& options) {
+  std::ostringstream page;
+  page << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>armfarm sweep " << escape_html(sweep.name)
+       << "</title>" << kStyle << "</head><body>\n";
+  page << "<p><a href=\"index.html\">all sweeps</a></p>\n";
+  page << "<h1>Sweep " << escape_html(sweep.name) << "</h1>\n<p>" << escape_html(sweep.description) << "</p>\n";
+  // The figures and tables first (rendered now, so that the contents can list them).
+  Contents contents;
+  int figure_count = 0;
+  const std::optional<std::string> main_metric = options.choose_main_metric ? options.choose_main_metric(data) : std::nullopt;
+  const std::string figures = render_sweep_figures(store, sweep, data, work_dir, options, main_metric, contents, figure_count);
+  const std::string tables = render_sweep_tables(data, main_metric, contents);
+  const std::string thesis = make_thesis_section(store, sweep, options, contents);
+  const std::optional<SearchSummary> search = load_search_summary(store, sweep.name);
+  page << make_contents_nav(contents, search.has_value());
+  page << "<h2 id=\"figures\">Figures</h2>\n" << figures;
+  if (figure_count == 0) {
+    page << "<p>No figure: no job records the series a figure draws (F and FF, POS and POS_D, RF), and "
+         << (main_metric ? "no numeric parameter besides seed is swept" : "no main metric is chosen") << ".</p>\n";
+  }
+  page << "<h2 id=\"tables\">Tables</h2>\n<p>Click a column header to sort by it; a job's key opens its page.</p>\n"
+       << tables << thesis;
+  if (search) page << "<h2 id=\"Search\">Search</h2>\n<pre>" << escape_html(format_search_summary(*search)) << "</pre>\n";
+  page << make_status_section(store, sweep, data) << make_provenance_section(store, sweep);
   page << "<h2 id=\"Spec\">Spec</h2>\n<pre>" << escape_html(sweep.spec_text) << "</pre>\n" << kSortScript
        << "\n</body></html>\n";
   return page.str();
@@ -449,6 +477,19 @@ std::string make_job_page(const ResultsStore& store, const SweepData& data, cons
   return page.str();
 }
 
+// A description's first sentence, at most `limit` characters (cut at a space, "…" added): the
+// index's rows, where a thesis spec's 1 000-character description made its row a page tall
+// (the whole text is on the sweep's page).
+std::string make_short_description(const std::string& text, std::size_t limit = 160) {
+  std::size_t end = text.find(". ");
+  end = end == std::string::npos ? text.size() : end + 1;
+  if (end <= limit) return text.substr(0, end) + (end < text.size() ? " …" : "");
+  std::size_t cut = text.rfind(' ', limit);
+  if (cut == std::string::npos || cut == 0) cut = limit;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
+  return text.substr(0, cut) + " …";
+}
+
 // The index's row of a sweep.
 std::string make_index_row(const ResultsStore& store, const SweepRecord& sweep, const SweepData& data,
                            const std::string& file, const DescribeBest& describe_best) {
@@ -462,7 +503,7 @@ std::string make_index_row(const ResultsStore& store, const SweepRecord& sweep, 
   const std::string best = describe_best ? describe_best(data) : std::string();
   std::ostringstream row;
   row << "<tr><td class=\"name\"><a href=\"" << escape_html(file) << "\">" << escape_html(sweep.name) << "</a><br><small>"
-      << escape_html(sweep.description) << "</small></td>";
+      << escape_html(make_short_description(sweep.description)) << "</small></td>";
   for (int number : {jobs, count("done"), count("failed") + count("timeout"), count("diverged")}) {
     row << "<td class=\"num\" data-sort=\"" << number << "\">" << number << "</td>";
   }

@@ -519,136 +519,131 @@ std::string csv_number(double value) {
   return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
 }
 
+// Markdown: a "###" title, the table, then its footnotes "[k] …" (two spaces: a line break).
+void write_markdown_table(std::ostream& out, const Table& table, Aggregate aggregate) {
+  if (!table.title.empty()) out << "### " << escape_markdown_cell(table.title) << "\n\n";  // a heading is one line too
+  out << "|";
+  for (const std::string& header : table.row_headers) out << " " << escape_markdown_cell(header) << " |";
+  for (const TableColumn& column : table.columns) out << " " << escape_markdown_cell(column.header) << " |";
+  out << " jobs done |\n|";
+  for (std::size_t i = 0; i < table.row_headers.size() + table.columns.size() + 1; ++i) out << "---|";
+  out << "\n";
+  for (const TableRow& row : table.rows) {
+    out << "|";
+    for (const std::string& label : row.labels) out << " " << escape_markdown_cell(label) << " |";
+    for (std::size_t c = 0; c < row.cells.size(); ++c) out << " " << format_cell(row.cells[c], aggregate, false, row.footnotes[c]) << " |";
+    out << " " << format_status(row) << " |\n";
+  }
+  out << "\n";
+  for (std::size_t f = 0; f < table.footnotes.size(); ++f) out << "[" << f + 1 << "] " << table.footnotes[f] << "  \n";
+  if (!table.footnotes.empty()) out << "\n";
+}
+
+// CSV: per metric its value, std, n and 95 % interval; undefined cells empty, their reasons
+// after the table as "# [k] …" lines only when asked for (pandas reads them as data).
+void write_csv_table(std::ostream& out, const Table& table, Aggregate aggregate, CsvNotes csv_notes) {
+  bool first = true;
+  auto field = [&](const std::string& text) {
+    out << (first ? "" : ",") << escape_csv(text);
+    first = false;
+  };
+  for (const std::string& header : table.row_headers) field(header);
+  for (const TableColumn& column : table.columns) {
+    for (const char* suffix : {"", " std", " n", " ci95_low", " ci95_high"}) field(column.header + suffix);
+  }
+  for (const char* count : {"jobs_done", "jobs_failed", "jobs_unfinished"}) field(count);
+  out << "\n";
+  for (const TableRow& row : table.rows) {
+    first = true;
+    for (const std::string& label : row.labels) field(label);
+    for (const SummaryStatistics& cell : row.cells) {
+      field(cell.count ? csv_number(cell.value(aggregate)) : "");
+      field(cell.count ? csv_number(cell.std_dev) : "");
+      field(std::to_string(cell.count));
+      field(cell.has_ci() ? csv_number(cell.ci_low) : "");
+      field(cell.has_ci() ? csv_number(cell.ci_high) : "");
+    }
+    field(std::to_string(row.jobs_done));
+    field(std::to_string(row.jobs_failed));
+    field(std::to_string(row.jobs_unfinished));
+    out << "\n";
+  }
+  if (csv_notes == CsvNotes::comment_lines) {
+    for (std::size_t f = 0; f < table.footnotes.size(); ++f) out << "# [" << f + 1 << "] " << table.footnotes[f] << "\n";
+  }
+}
+
+// LaTeX: a table float, its footnotes as superscripted paragraphs, the title as its caption.
+void write_latex_table(std::ostream& out, const Table& table, Aggregate aggregate) {
+  const std::size_t n_columns = table.row_headers.size() + table.columns.size() + 1;
+  out << "% " << table.title << "\n\\begin{table}[ht]\n\\centering\n\\begin{tabular}{" << std::string(table.row_headers.size(), 'l')
+      << std::string(n_columns - table.row_headers.size(), 'r') << "}\n\\hline\n";
+  std::vector<std::string> headers;
+  for (const std::string& header : table.row_headers) headers.push_back(escape_latex(header));
+  for (const TableColumn& column : table.columns) headers.push_back(escape_latex(column.header));
+  headers.push_back("jobs");
+  const auto write_row = [&out](const std::vector<std::string>& cells) {
+    for (std::size_t i = 0; i < cells.size(); ++i) out << (i ? " & " : "") << cells[i];
+    out << " \\\\\n";
+  };
+  write_row(headers);
+  out << "\\hline\n";
+  for (const TableRow& row : table.rows) {
+    std::vector<std::string> cells;
+    for (const std::string& label : row.labels) cells.push_back(escape_latex(label));
+    for (std::size_t c = 0; c < row.cells.size(); ++c) cells.push_back(format_cell(row.cells[c], aggregate, true, row.footnotes[c]));
+    cells.push_back(escape_latex(format_status(row)));
+    write_row(cells);
+  }
+  out << "\\hline\n\\end{tabular}\n";
+  for (std::size_t f = 0; f < table.footnotes.size(); ++f) {
+    out << "\\par{\\footnotesize $^{" << f + 1 << "}$ " << escape_latex(table.footnotes[f]) << "}\n";
+  }
+  out << "\\caption{" << escape_latex(table.title) << "}\n\\end{table}\n";
+}
+
+// JSON: one object per cell with its n, note, aggregate value and statistics.
+nlohmann::json make_json_cell(const Table& table, const TableRow& row, std::size_t c, Aggregate aggregate) {
+  const SummaryStatistics& cell = row.cells[c];
+  nlohmann::json value = {{"n", cell.count}};
+  if (row.footnotes[c]) value["note"] = table.footnotes[static_cast<std::size_t>(row.footnotes[c] - 1)];
+  if (cell.count > 0) {
+    value["value"] = cell.value(aggregate);
+    value["mean"] = cell.mean;
+    value["std"] = cell.std_dev;
+    if (cell.has_ci()) value["ci95"] = {cell.ci_low, cell.ci_high};
+    value["min"] = cell.min;
+    value["max"] = cell.max;
+    value["median"] = cell.median;
+  }
+  return value;
+}
+
+void write_json_table(std::ostream& out, const Table& table, Aggregate aggregate) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const TableRow& row : table.rows) {
+    nlohmann::json entry;
+    for (std::size_t i = 0; i < row.labels.size(); ++i) entry["params"][table.row_headers[i]] = row.labels[i];
+    entry["jobs_done"] = row.jobs_done;
+    entry["jobs_failed"] = row.jobs_failed;
+    entry["jobs_unfinished"] = row.jobs_unfinished;
+    entry["cells"] = nlohmann::json::object();
+    for (std::size_t c = 0; c < table.columns.size(); ++c) entry["cells"][table.columns[c].header] = make_json_cell(table, row, c, aggregate);
+    rows.push_back(entry);
+  }
+  nlohmann::json document = {{"title", table.title}, {"aggregate", to_string(aggregate)}, {"rows", rows}, {"footnotes", table.footnotes}};
+  out << document.dump(2) << "\n";
+}
+
 }  // namespace
 
 std::string format_table(const Table& table, TableFormat format, Aggregate aggregate, CsvNotes csv_notes) {
   std::ostringstream out;
   switch (format) {
-    case TableFormat::markdown: {
-      if (!table.title.empty()) out << "### " << escape_markdown_cell(table.title) << "\n\n";  // a heading is one line too
-      out << "|";
-      for (const std::string& header : table.row_headers) out << " " << escape_markdown_cell(header) << " |";
-      for (const TableColumn& column : table.columns) out << " " << escape_markdown_cell(column.header) << " |";
-      out << " jobs done |\n|";
-      for (std::size_t i = 0; i < table.row_headers.size() + table.columns.size() + 1; ++i) out << "---|";
-      out << "\n";
-      for (const TableRow& row : table.rows) {
-        out << "|";
-        for (const std::string& label : row.labels) out << " " << escape_markdown_cell(label) << " |";
-        for (std::size_t c = 0; c < row.cells.size(); ++c) {
-          out << " " << format_cell(row.cells[c], aggregate, false, row.footnotes[c]) << " |";
-        }
-        out << " " << format_status(row) << " |\n";
-      }
-      out << "\n";
-      for (std::size_t f = 0; f < table.footnotes.size(); ++f) out << "[" << f + 1 << "] " << table.footnotes[f] << "  \n";
-      if (!table.footnotes.empty()) out << "\n";
-      break;
-    }
-    case TableFormat::csv: {
-      // Undefined cells are empty; their reasons follow the table as comment lines if asked for.
-      bool first = true;
-      auto field = [&](const std::string& text) {
-        out << (first ? "" : ",") << escape_csv(text);
-        first = false;
-      };
-      for (const std::string& header : table.row_headers) field(header);
-      for (const TableColumn& column : table.columns) {
-        field(column.header);
-        field(column.header + " std");
-        field(column.header + " n");
-        field(column.header + " ci95_low");
-        field(column.header + " ci95_high");
-      }
-      field("jobs_done");
-      field("jobs_failed");
-      field("jobs_unfinished");
-      out << "\n";
-      for (const TableRow& row : table.rows) {
-        first = true;
-        for (const std::string& label : row.labels) field(label);
-        for (const SummaryStatistics& cell : row.cells) {
-          field(cell.count ? csv_number(cell.value(aggregate)) : "");
-          field(cell.count ? csv_number(cell.std_dev) : "");
-          field(std::to_string(cell.count));
-          field(cell.has_ci() ? csv_number(cell.ci_low) : "");
-          field(cell.has_ci() ? csv_number(cell.ci_high) : "");
-        }
-        field(std::to_string(row.jobs_done));
-        field(std::to_string(row.jobs_failed));
-        field(std::to_string(row.jobs_unfinished));
-        out << "\n";
-      }
-      if (csv_notes == CsvNotes::comment_lines) {
-        for (std::size_t f = 0; f < table.footnotes.size(); ++f) out << "# [" << f + 1 << "] " << table.footnotes[f] << "\n";
-      }
-      break;
-    }
-    case TableFormat::latex: {
-      const std::size_t n_columns = table.row_headers.size() + table.columns.size() + 1;
-      out << "% " << table.title << "\n\\begin{table}[ht]\n\\centering\n\\begin{tabular}{"
-          << std::string(table.row_headers.size(), 'l') << std::string(n_columns - table.row_headers.size(), 'r')
-          << "}\n\\hline\n";
-      bool first = true;
-      for (const std::string& header : table.row_headers) {
-        out << (first ? "" : " & ") << escape_latex(header);
-        first = false;
-      }
-      for (const TableColumn& column : table.columns) {
-        out << (first ? "" : " & ") << escape_latex(column.header);
-        first = false;
-      }
-      out << (first ? "" : " & ") << "jobs \\\\\n\\hline\n";
-      for (const TableRow& row : table.rows) {
-        first = true;
-        for (const std::string& label : row.labels) {
-          out << (first ? "" : " & ") << escape_latex(label);
-          first = false;
-        }
-        for (std::size_t c = 0; c < row.cells.size(); ++c) {
-          out << (first ? "" : " & ") << format_cell(row.cells[c], aggregate, true, row.footnotes[c]);
-          first = false;
-        }
-        out << (first ? "" : " & ") << escape_latex(format_status(row)) << " \\\\\n";
-      }
-      out << "\\hline\n\\end{tabular}\n";
-      for (std::size_t f = 0; f < table.footnotes.size(); ++f) {
-        out << "\\par{\\footnotesize $^{" << f + 1 << "}$ " << escape_latex(table.footnotes[f]) << "}\n";
-      }
-      out << "\\caption{" << escape_latex(table.title) << "}\n\\end{table}\n";
-      break;
-    }
-    case TableFormat::json: {
-      nlohmann::json rows = nlohmann::json::array();
-      for (const TableRow& row : table.rows) {
-        nlohmann::json entry;
-        for (std::size_t i = 0; i < row.labels.size(); ++i) entry["params"][table.row_headers[i]] = row.labels[i];
-        entry["jobs_done"] = row.jobs_done;
-        entry["jobs_failed"] = row.jobs_failed;
-        entry["jobs_unfinished"] = row.jobs_unfinished;
-        entry["cells"] = nlohmann::json::object();
-        for (std::size_t c = 0; c < table.columns.size(); ++c) {
-          const SummaryStatistics& cell = row.cells[c];
-          nlohmann::json value = {{"n", cell.count}};
-          if (row.footnotes[c]) value["note"] = table.footnotes[static_cast<std::size_t>(row.footnotes[c] - 1)];
-          if (cell.count > 0) {
-            value["value"] = cell.value(aggregate);
-            value["mean"] = cell.mean;
-            value["std"] = cell.std_dev;
-            if (cell.has_ci()) value["ci95"] = {cell.ci_low, cell.ci_high};
-            value["min"] = cell.min;
-            value["max"] = cell.max;
-            value["median"] = cell.median;
-          }
-          entry["cells"][table.columns[c].header] = value;
-        }
-        rows.push_back(entry);
-      }
-      nlohmann::json document = {
-          {"title", table.title}, {"aggregate", to_string(aggregate)}, {"rows", rows}, {"footnotes", table.footnotes}};
-      out << document.dump(2) << "\n";
-      break;
-    }
+    case TableFormat::markdown: write_markdown_table(out, table, aggregate); break;
+    case TableFormat::csv: write_csv_table(out, table, aggregate, csv_notes); break;
+    case TableFormat::latex: write_latex_table(out, table, aggregate); break;
+    case TableFormat::json: write_json_table(out, table, aggregate); break;
   }
   return out.str();
 }

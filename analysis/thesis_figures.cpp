@@ -226,66 +226,71 @@ std::string format_count(double value) {
   return std::abs(value - std::round(value)) < 1e-9 ? std::to_string(std::llround(value)) : format_table_number(value);
 }
 
-Figure make_figure_6_7(const ResultsStore& store, const ThesisResults& thesis, const ThesisFigure& figure,
-                       const ThesisFigureRequest& request) {
-  const std::string sweep = require_sweep(store, thesis, figure.number, request.sweep, figure.mapping.sweep);
-  const SweepData data = load_sweep_data(store, sweep);
-  // Per group (every varying parameter but the seed): per reach, the per-output count of each seed.
-  struct Group {
-    std::string title;
-    bool chosen = false;  ///< passes the figure's `where` (the thesis comparison's setting)
-    std::map<double, std::vector<double>> by_reach;
-  };
-  std::vector<Group> groups;
-  int without_series = 0;
+// Figure 6.7's groups (every varying parameter but the seed): per reach, the per-output count
+// of each seed, from the done jobs' TRIAL series.
+struct ReachGroup {
+  std::string title;
+  bool chosen = false;  ///< passes the figure's `where` (the thesis comparison's setting)
+  std::map<double, std::vector<double>> by_reach;
+};
+
+struct ReachGroups {
+  std::vector<ReachGroup> groups;
+  int without_series = 0;  ///< done jobs without the TRIAL series
+};
+
+// A job's outputs: the summed count over the per-output count at the end of the run, else its active joints.
+double count_outputs(const JobResult& job) {
+  const auto summed = job.metrics.find(MetricId{"n_receptive_fields"});
+  const auto per_output = job.metrics.find(MetricId{"n_receptive_fields_per_output"});
+  if (summed != job.metrics.end() && per_output != job.metrics.end() && per_output->second > 0.0) {
+    return std::max(1.0, std::round(summed->second / per_output->second));
+  }
+  return static_cast<double>(find_active_joints(job, 1).size());
+}
+
+ReachGroups collect_reach_groups(const ResultsStore& store, const SweepData& data, const ThesisFigure& figure) {
+  ReachGroups result;
   for (const JobResult& job : data.jobs) {
     if (job.status != "done") continue;
     const auto series = store.find_series(job.id, "TRIAL");
     int segment = -1, fields = -1;
-    if (series) {
-      for (std::size_t c = 0; c < series->columns.size(); ++c) {
-        if (series->columns[c] == "segment") segment = static_cast<int>(c);
-        if (series->columns[c] == "n_receptive_fields") fields = static_cast<int>(c);
-      }
+    for (std::size_t c = 0; series && c < series->columns.size(); ++c) {
+      if (series->columns[c] == "segment") segment = static_cast<int>(c);
+      if (series->columns[c] == "n_receptive_fields") fields = static_cast<int>(c);
     }
     if (segment < 0 || fields < 0) {
-      ++without_series;
+      ++result.without_series;
       continue;
     }
-    // Outputs: the summed count over the per-output count at the end of the run.
-    double outputs = 1.0;
-    const auto summed = job.metrics.find(MetricId{"n_receptive_fields"});
-    const auto per_output = job.metrics.find(MetricId{"n_receptive_fields_per_output"});
-    if (summed != job.metrics.end() && per_output != job.metrics.end() && per_output->second > 0.0) {
-      outputs = std::max(1.0, std::round(summed->second / per_output->second));
-    } else {
-      outputs = static_cast<double>(find_active_joints(job, 1).size());
-    }
+    const double outputs = count_outputs(job);
     std::string title;
     for (const std::string& path : data.varying_params) {
       if (path == "seed") continue;
       title += (title.empty() ? "" : ", ") + make_short_param_name(path) + "=" + format_param_value(find_param_value(job, path));
     }
     if (title.empty()) title = "armfarm";
-    auto group = std::find_if(groups.begin(), groups.end(), [&](const Group& g) { return g.title == title; });
-    if (group == groups.end()) group = groups.insert(groups.end(), Group{title, matches_thesis_where(job, figure.mapping), {}});
+    auto& groups = result.groups;
+    auto group = std::find_if(groups.begin(), groups.end(), [&](const ReachGroup& g) { return g.title == title; });
+    if (group == groups.end()) group = groups.insert(groups.end(), ReachGroup{title, matches_thesis_where(job, figure.mapping), {}});
     for (Eigen::Index r = 0; r < series->rows.rows(); ++r) {
       group->by_reach[series->rows(r, segment)].push_back(series->rows(r, fields) / outputs);
     }
   }
-  if (groups.empty()) {
-    throw AnalysisError("sweep '" + sweep + "': no done job recorded the TRIAL series (record it with recording.series, e.g. "
-                        "\"recording\": {\"series\": [\"TRIAL\"]}, and run the sweep again)");
-  }
-  Panel panel;
-  panel.x_label = "reaches";
-  panel.y_label = "receptive fields per output (count)";
-  panel.tight_x = true;
-  double low = INFINITY, high = 0.0;  // the final counts (armfarm's means, the thesis's): log axis when they span decades
+  return result;
+}
+
+// What the curves of figure 6.7 leave for its axis and caption.
+struct GrowthCurvesSummary {
+  double low = INFINITY, high = 0.0;  ///< the final counts (armfarm's means, the thesis's): log axis when they span decades
   double smallest_mean = INFINITY;
-  std::string chosen_note;
+  std::string chosen_note;  ///< the comparison's setting's count after the last reach
   int most_seeds = 0;
-  for (const Group& group : groups) {
+};
+
+// Per group its mean and, with two seeds or more, its 95 % band (stopping at zero: a count).
+void add_growth_curves(const std::vector<ReachGroup>& groups, Panel& panel, GrowthCurvesSummary& summary_out) {
+  for (const ReachGroup& group : groups) {
     int seeds = 0;
     Curve mean, band;
     mean.title = band.title = group.title;
@@ -300,62 +305,89 @@ Figure make_figure_6_7(const ResultsStore& store, const ThesisResults& thesis, c
       mean.y_high.push_back(summary.mean);
       band.x.push_back(reach);
       band.y.push_back(summary.mean);
-      band.y_low.push_back(std::max(summary.ci_low, 0.0));  // a count's interval stops at zero
+      band.y_low.push_back(std::max(summary.ci_low, 0.0));
       band.y_high.push_back(summary.ci_high);
-      if (summary.mean > 0.0) smallest_mean = std::min(smallest_mean, summary.mean);
+      if (summary.mean > 0.0) summary_out.smallest_mean = std::min(summary_out.smallest_mean, summary.mean);
     }
     if (!mean.y.empty() && mean.y.back() > 0.0) {
-      low = std::min(low, mean.y.back());
-      high = std::max(high, mean.y.back());
+      summary_out.low = std::min(summary_out.low, mean.y.back());
+      summary_out.high = std::max(summary_out.high, mean.y.back());
     }
     if (group.chosen && !group.by_reach.empty()) {
       const auto& [reach, values] = *group.by_reach.rbegin();
       const SummaryStatistics summary = calc_summary_statistics(values);
-      chosen_note = "armfarm" + (group.title == "armfarm" ? std::string() : " at " + group.title) + " (the comparison's setting) after " +
-                    format_count(reach) + " reaches: " + format_mean_ci(summary, 3) + " (" + std::to_string(summary.count) + ") per output";
+      summary_out.chosen_note = "armfarm" + (group.title == "armfarm" ? std::string() : " at " + group.title) +
+                                " (the comparison's setting) after " + format_count(reach) + " reaches: " + format_mean_ci(summary, 3) +
+                                " (" + std::to_string(summary.count) + ") per output";
     }
     panel.curves.push_back(std::move(mean));
     if (seeds >= 2) panel.curves.push_back(std::move(band));
-    most_seeds = std::max(most_seeds, seeds);
+    summary_out.most_seeds = std::max(summary_out.most_seeds, seeds);
   }
+}
+
+// The thesis's counts after 1 / 200 / 1000 reaches: black, dashed, on top, points joined so
+// that three marks stand out. Returns the caption's note ("" without counts).
+std::string add_thesis_growth_marks(const ThesisFigure& figure, Panel& panel, GrowthCurvesSummary& summary) {
   const auto marks = read_fields_after_reaches(figure);
-  std::string thesis_note;
-  if (!marks.empty()) {
-    Curve thesis_marks;  // black, dashed, on top: points joined so that three marks stand out
-    thesis_marks.style = Curve::Style::lines_points;
-    thesis_marks.emphasised = true;
-    std::string counts, reaches;
-    for (const auto& [reach, count] : marks) {
-      thesis_marks.x.push_back(reach);
-      thesis_marks.y.push_back(count);
-      counts += (counts.empty() ? "" : " / ") + format_count(count);
-      reaches += (reaches.empty() ? "" : " / ") + format_count(reach);
-    }
-    low = std::min(low, marks.back().second);
-    high = std::max(high, marks.back().second);
-    thesis_marks.title = "thesis: " + counts;  // short: a long entry ran past the page's edge
-    thesis_note = "thesis (black marks, dashed): " + counts + " receptive fields after " + reaches + " reaches";
-    panel.curves.push_back(std::move(thesis_marks));
+  if (marks.empty()) return "";
+  Curve thesis_marks;
+  thesis_marks.style = Curve::Style::lines_points;
+  thesis_marks.emphasised = true;
+  std::string counts, reaches;
+  for (const auto& [reach, count] : marks) {
+    thesis_marks.x.push_back(reach);
+    thesis_marks.y.push_back(count);
+    counts += (counts.empty() ? "" : " / ") + format_count(count);
+    reaches += (reaches.empty() ? "" : " / ") + format_count(reach);
   }
-  panel.log_y = low > 0.0 && high / low >= 20.0;
-  if (panel.log_y && std::isfinite(smallest_mean)) {
-    // A band's low end at or below zero ends on the axis, half a decade below the smallest mean.
-    const double axis = smallest_mean / std::sqrt(10.0);
-    panel.y_min = axis;
-    for (Curve& curve : panel.curves) {
-      for (double& end : curve.y_low) end = std::max(end, axis);
-    }
+  summary.low = std::min(summary.low, marks.back().second);
+  summary.high = std::max(summary.high, marks.back().second);
+  thesis_marks.title = "thesis: " + counts;  // short: a long entry ran past the page's edge
+  panel.curves.push_back(std::move(thesis_marks));
+  return "thesis (black marks, dashed): " + counts + " receptive fields after " + reaches + " reaches";
+}
+
+// Log y when the final counts span more than a factor 20; a band's low end at or below zero then
+// ends on the axis, half a decade below the smallest mean.
+void choose_growth_scale(Panel& panel, const GrowthCurvesSummary& summary) {
+  panel.log_y = summary.low > 0.0 && summary.high / summary.low >= 20.0;
+  if (!panel.log_y || !std::isfinite(summary.smallest_mean)) return;
+  const double axis = summary.smallest_mean / std::sqrt(10.0);
+  panel.y_min = axis;
+  for (Curve& curve : panel.curves) {
+    for (double& end : curve.y_low) end = std::max(end, axis);
   }
+}
+
+Figure make_figure_6_7(const ResultsStore& store, const ThesisResults& thesis, const ThesisFigure& figure,
+                       const ThesisFigureRequest& request) {
+  const std::string sweep = require_sweep(store, thesis, figure.number, request.sweep, figure.mapping.sweep);
+  const ReachGroups groups = collect_reach_groups(store, load_sweep_data(store, sweep), figure);
+  if (groups.groups.empty()) {
+    throw AnalysisError("sweep '" + sweep + "': no done job recorded the TRIAL series (record it with recording.series, e.g. "
+                        "\"recording\": {\"series\": [\"TRIAL\"]}, and run the sweep again)");
+  }
+  Panel panel;
+  panel.x_label = "reaches";
+  panel.y_label = "receptive fields per output (count)";
+  panel.tight_x = true;
+  GrowthCurvesSummary summary;
+  add_growth_curves(groups.groups, panel, summary);
+  const std::string thesis_note = add_thesis_growth_marks(figure, panel, summary);
+  choose_growth_scale(panel, summary);
   panel.x_min = 0.0;  // 0 reaches: the axis starts before the first
   Figure result;
   result.title = "Figure " + figure.number + ": receptive fields per output against reaches";
   result.caption.push_back(make_thesis_caption(figure));
   result.caption.push_back("armfarm: sweep " + sweep + ", the TRIAL series' count per reach ÷ the outputs; " +
-                           (most_seeds >= 2 ? "mean and 95 % band over the seeds" : "one seed, no band") +
+                           (summary.most_seeds >= 2 ? "mean and 95 % band over the seeds" : "one seed, no band") +
                            (panel.log_y ? "; log y: the counts span more than a factor 20" : ""));
-  if (!chosen_note.empty()) result.caption.push_back(chosen_note);
+  if (!summary.chosen_note.empty()) result.caption.push_back(summary.chosen_note);
   if (!thesis_note.empty()) result.caption.push_back(thesis_note);
-  if (without_series > 0) result.caption.push_back("jobs not shown: " + std::to_string(without_series) + " done without the TRIAL series");
+  if (groups.without_series > 0) {
+    result.caption.push_back("jobs not shown: " + std::to_string(groups.without_series) + " done without the TRIAL series");
+  }
   result.panels.push_back(std::move(panel));
   return result;
 }
@@ -422,6 +454,41 @@ Curve make_column_curve(const SeriesRecord& series, Eigen::Index column, const s
   return curve;
 }
 
+// The caption's lines on a signal figure's source: the sweep, job and pass drawn, then the
+// model's receptive fields (per output and summed) beside the thesis's count, which it does not
+// say is either.
+std::vector<std::string> describe_signal_source(const SignalSource& source, const ThesisFigure& figure, const ThesisMapping& mapping,
+                                                const std::string& sweep) {
+  std::vector<std::string> lines;
+  std::string source_line = "armfarm: sweep " + sweep + ", job " + source.job->key.substr(0, 8) + " (seed " + std::to_string(source.job->seed) + ")";
+  std::optional<std::int64_t> checkpoint;
+  if (mapping.checkpoint) {
+    checkpoint = std::llround(*mapping.checkpoint);
+    source_line += ", the held-out pass after " + std::to_string(*checkpoint) + (*checkpoint == 1 ? " reach" : " reaches");
+  } else {
+    source_line += ", the test pass over the recording";
+  }
+  lines.push_back(source_line);
+  // The model's receptive fields beside the thesis's count (which it does not say is per output or summed).
+  const std::string prefix = checkpoint ? "heldout_" : "";
+  const auto per_output = source.job->metrics.find(MetricId{prefix + "n_receptive_fields_per_output", std::nullopt, checkpoint});
+  const auto summed = source.job->metrics.find(MetricId{prefix + "n_receptive_fields", std::nullopt, checkpoint});
+  std::string fields;
+  if (per_output != source.job->metrics.end() && std::isfinite(per_output->second)) fields = format_count(per_output->second) + " per output";
+  if (summed != source.job->metrics.end() && std::isfinite(summed->second)) {
+    fields += (fields.empty() ? "" : ", ") + format_count(summed->second) + " summed over the outputs";
+  }
+  const json* thesis_fields = figure.facts.is_object() ? (figure.facts.contains("receptive_fields") ? &figure.facts["receptive_fields"]
+                                                          : figure.facts.contains("model_receptive_fields") ? &figure.facts["model_receptive_fields"]
+                                                                                                             : nullptr)
+                                                        : nullptr;
+  if (!fields.empty() || (thesis_fields && thesis_fields->is_number())) {
+    lines.push_back("receptive fields of the model: armfarm " + (fields.empty() ? std::string("not recorded") : fields) +
+                             (thesis_fields && thesis_fields->is_number() ? "; thesis " + format_count(thesis_fields->get<double>()) : std::string()));
+  }
+  return lines;
+}
+
 Figure make_signal_figure(const ResultsStore& store, const ThesisResults& thesis, const ThesisFigure& figure,
                           const ThesisFigureRequest& request, bool with_composite) {
   const ThesisTable& table = find_figure_table(thesis, figure);
@@ -443,32 +510,7 @@ Figure make_signal_figure(const ResultsStore& store, const ThesisResults& thesis
     // The thesis's caption names its own colours; armfarm's are the legend's.
     result.caption.push_back("the colours the thesis's caption names are its own; armfarm's are in the legend");
   }
-  std::string source_line = "armfarm: sweep " + sweep + ", job " + source.job->key.substr(0, 8) + " (seed " + std::to_string(source.job->seed) + ")";
-  std::optional<std::int64_t> checkpoint;
-  if (mapping.checkpoint) {
-    checkpoint = std::llround(*mapping.checkpoint);
-    source_line += ", the held-out pass after " + std::to_string(*checkpoint) + (*checkpoint == 1 ? " reach" : " reaches");
-  } else {
-    source_line += ", the test pass over the recording";
-  }
-  result.caption.push_back(source_line);
-  // The model's receptive fields beside the thesis's count (which it does not say is per output or summed).
-  const std::string prefix = checkpoint ? "heldout_" : "";
-  const auto per_output = source.job->metrics.find(MetricId{prefix + "n_receptive_fields_per_output", std::nullopt, checkpoint});
-  const auto summed = source.job->metrics.find(MetricId{prefix + "n_receptive_fields", std::nullopt, checkpoint});
-  std::string fields;
-  if (per_output != source.job->metrics.end() && std::isfinite(per_output->second)) fields = format_count(per_output->second) + " per output";
-  if (summed != source.job->metrics.end() && std::isfinite(summed->second)) {
-    fields += (fields.empty() ? "" : ", ") + format_count(summed->second) + " summed over the outputs";
-  }
-  const json* thesis_fields = figure.facts.is_object() ? (figure.facts.contains("receptive_fields") ? &figure.facts["receptive_fields"]
-                                                          : figure.facts.contains("model_receptive_fields") ? &figure.facts["model_receptive_fields"]
-                                                                                                             : nullptr)
-                                                        : nullptr;
-  if (!fields.empty() || (thesis_fields && thesis_fields->is_number())) {
-    result.caption.push_back("receptive fields of the model: armfarm " + (fields.empty() ? std::string("not recorded") : fields) +
-                             (thesis_fields && thesis_fields->is_number() ? "; thesis " + format_count(thesis_fields->get<double>()) : std::string()));
-  }
+  for (std::string& line : describe_signal_source(source, figure, mapping, sweep)) result.caption.push_back(std::move(line));
   const std::string table_name = table.number ? "table " + *table.number : table.id;
   result.table.header = {"joint", "thesis", "armfarm [95 % CI]", "n", "verdict"};
   for (Eigen::Index c = 1; c < source.feedback.rows.cols(); ++c) {
@@ -488,7 +530,10 @@ Figure make_signal_figure(const ResultsStore& store, const ThesisResults& thesis
     panel.curves.push_back(make_column_curve(source.feedback, c, "feedback"));
     if (c < source.feed_forward.rows.cols()) panel.curves.push_back(make_column_curve(source.feed_forward, c, "feed-forward"));
     if (with_composite && source.composite && c < source.composite->rows.cols()) {
+      // The sum of the two, drawn under them and wider: where the feed-forward is near zero
+      // (joint 1 after one reach) it is the feedback, which it hid when drawn on top.
       panel.curves.push_back(make_column_curve(*source.composite, c, "composite"));
+      panel.curves.back().underneath = true;
     }
     result.panels.push_back(std::move(panel));
   }

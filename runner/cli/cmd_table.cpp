@@ -28,6 +28,7 @@ struct TableOptions {
   std::string aggregate = "mean";
   std::string format = "md";
   bool notes = false;
+  std::string against;  ///< analysis/thesis_comparison.hpp
 };
 
 std::pair<std::string, std::string> parse_where(const std::string& text) {
@@ -36,6 +37,96 @@ std::pair<std::string, std::string> parse_where(const std::string& text) {
     throw AnalysisError("--where \"" + text + "\": expected PARAM=VALUE");
   }
   return {text.substr(0, equals), text.substr(equals + 1)};
+}
+
+// The sweeps a table command prints: the one asked for, else every sweep of the database.
+std::vector<std::string> choose_table_sweeps(const ResultsStore& store, const TableOptions& options) {
+  if (!options.sweep.empty()) return {choose_sweep(store, options.sweep)};
+  std::vector<std::string> sweeps;
+  for (const SweepRecord& record : store.find_sweeps()) sweeps.push_back(record.name);
+  if (sweeps.empty()) throw AnalysisError(options.database + ": the database holds no sweep");
+  return sweeps;
+}
+
+// A sweep's table specs: one of --cols against the swept parameters, else the thesis's
+// defaults; --rows, --joints and --where apply to each.
+std::vector<TableSpec> make_table_specs(const SweepData& data, const TableOptions& options,
+                                        const std::vector<std::pair<std::string, std::string>>& where) {
+  std::vector<TableSpec> specs;
+  if (!options.cols.empty()) {
+    TableSpec spec;
+    spec.title = "Sweep " + data.name;
+    spec.metrics = options.cols;
+    for (const std::string& path : data.varying_params) {
+      if (path != "seed") spec.rows.push_back(path);
+    }
+    specs.push_back(spec);
+  } else {
+    specs = make_default_table_specs(data);
+    for (TableSpec& spec : specs) spec.title = spec.title + " — sweep " + data.name;
+  }
+  for (TableSpec& spec : specs) {
+    if (!options.rows.empty()) spec.rows = options.rows;
+    spec.joints = options.joints;
+    spec.where = where;
+  }
+  return specs;
+}
+
+// Prints one table (json: adds it to `json_tables`, printed at the end as one document); returns
+// the footnotes a CSV left out.
+std::size_t print_table(const Table& table, const std::string& sweep, TableFormat format, Aggregate aggregate, bool notes,
+                        nlohmann::json& json_tables) {
+  const std::string text = format_table(table, format, aggregate, notes ? CsvNotes::comment_lines : CsvNotes::omitted);
+  if (format == TableFormat::json) {
+    nlohmann::json document = {{"sweep", sweep}};
+    document.update(nlohmann::json::parse(text));
+    json_tables.push_back(std::move(document));
+    return 0;
+  }
+  // md and latex are text for a terminal or a document: names print without escapes
+  // (csv keeps the values exactly, json escapes control characters).
+  const bool for_reading = format == TableFormat::markdown || format == TableFormat::latex;
+  std::cout << (for_reading ? make_printable_text(text, /*keep_newlines=*/true) : text);
+  if (format != TableFormat::csv) return 0;
+  std::cout << "\n";
+  return notes ? 0 : table.footnotes.size();
+}
+
+int run_table(const TableOptions& options) {
+  const ResultsStore store = ResultsStore::open(options.database, ResultsStore::Mode::read_only);
+  verify_readable(store);  // damaged rows and series are an error, not a quiet table
+  const Aggregate aggregate = parse_aggregate(options.aggregate);
+  const TableFormat format = parse_table_format(options.format);
+  if (!options.against.empty()) {
+    const ThesisResults thesis =
+        parse_thesis_results_text(read_input_file_as<AnalysisError>(options.against, InputFileKind::json), options.against);
+    const auto only = options.sweep.empty() ? std::nullopt : std::optional<std::string>(options.sweep);
+    std::cout << format_thesis_comparison(make_thesis_comparison(thesis, store, aggregate, only), format, aggregate);
+    return 0;
+  }
+  std::vector<std::pair<std::string, std::string>> where;
+  for (const std::string& text : options.where) where.push_back(parse_where(text));
+  std::size_t notes_left_out = 0;
+  // json: one document for every table of every sweep, {"tables": [{"sweep": …, "title": …}, …]}.
+  nlohmann::json json_tables = nlohmann::json::array();
+  for (const std::string& sweep : choose_table_sweeps(store, options)) {
+    const SweepData data = load_sweep_data(store, sweep);
+    for (const TableSpec& spec : make_table_specs(data, options, where)) {
+      notes_left_out += print_table(make_table(data, spec), sweep, format, aggregate, options.notes, json_tables);
+    }
+    // A search's best trials, rung survivors and budget (markdown only: csv, latex and json
+    // stay one table kind; the rows are in the search tables for any other reader).
+    if (format == TableFormat::markdown) {
+      if (const std::optional<SearchSummary> summary = load_search_summary(store, sweep)) std::cout << "\n" << format_search_summary(*summary);
+    }
+  }
+  if (format == TableFormat::json) std::cout << nlohmann::json{{"tables", json_tables}}.dump(2) << "\n";
+  if (notes_left_out > 0) {
+    std::cerr << "armfarm: table: " << notes_left_out
+              << " footnotes (why cells are empty) left out of the CSV; --notes adds them as '# [k]' lines\n";
+  }
+  return 0;
 }
 
 }  // namespace
@@ -55,82 +146,8 @@ RunFunction setup_table(CLI::App& parent) {
                 "With --format csv: the footnotes (why a cell is empty or what a mean left out) as '# [k] ...' lines "
                 "after each table (off by default: pandas reads them as rows)");
   sub->add_option("--format", options->format, "md, csv, latex or json (one document: {\"tables\": [{\"sweep\", \"title\", \"rows\", …}]})")->check(CLI::IsMember({"md", "csv", "latex", "json"}));
-  auto against = std::make_shared<std::string>();  // analysis/thesis_comparison.hpp
-  sub->add_option("--against", *against, "Thesis results JSON (sweeps/thesis/thesis_results.json): thesis value, armfarm value, ratio per cell");
-  return [options, against] {
-    const ResultsStore store = ResultsStore::open(options->database, ResultsStore::Mode::read_only);
-    verify_readable(store);  // damaged rows and series are an error, not a quiet table
-    const Aggregate aggregate = parse_aggregate(options->aggregate);
-    const TableFormat format = parse_table_format(options->format);
-    if (!against->empty()) {
-      const ThesisResults thesis =
-          parse_thesis_results_text(read_input_file_as<AnalysisError>(*against, InputFileKind::json), *against);
-      const auto only = options->sweep.empty() ? std::nullopt : std::optional<std::string>(options->sweep);
-      std::cout << format_thesis_comparison(make_thesis_comparison(thesis, store, aggregate, only), format, aggregate);
-      return 0;
-    }
-    std::vector<std::pair<std::string, std::string>> where;
-    for (const std::string& text : options->where) where.push_back(parse_where(text));
-
-    std::vector<std::string> sweeps;
-    if (!options->sweep.empty()) {
-      sweeps.push_back(choose_sweep(store, options->sweep));
-    } else {
-      for (const SweepRecord& record : store.find_sweeps()) sweeps.push_back(record.name);
-      if (sweeps.empty()) throw AnalysisError(options->database + ": the database holds no sweep");
-    }
-    std::size_t notes_left_out = 0;
-    // json: one document for every table of every sweep, {"tables": [{"sweep": …, "title": …}, …]}.
-    nlohmann::json json_tables = nlohmann::json::array();
-    for (const std::string& sweep : sweeps) {
-      const SweepData data = load_sweep_data(store, sweep);
-      std::vector<TableSpec> specs;
-      if (!options->cols.empty()) {
-        TableSpec spec;
-        spec.title = "Sweep " + sweep;
-        spec.metrics = options->cols;
-        for (const std::string& path : data.varying_params) {
-          if (path != "seed") spec.rows.push_back(path);
-        }
-        specs.push_back(spec);
-      } else {
-        specs = make_default_table_specs(data);
-        for (TableSpec& spec : specs) spec.title = spec.title + " — sweep " + sweep;
-      }
-      for (TableSpec& spec : specs) {
-        if (!options->rows.empty()) spec.rows = options->rows;
-        spec.joints = options->joints;
-        spec.where = where;
-        const Table table = make_table(data, spec);
-        const std::string text = format_table(table, format, aggregate, options->notes ? CsvNotes::comment_lines : CsvNotes::omitted);
-        if (format == TableFormat::json) {
-          nlohmann::json document = {{"sweep", sweep}};
-          document.update(nlohmann::json::parse(text));
-          json_tables.push_back(std::move(document));
-          continue;
-        }
-        // md and latex are text for a terminal or a document: names print without escapes
-        // (csv keeps the values exactly, json escapes control characters).
-        const bool for_reading = format == TableFormat::markdown || format == TableFormat::latex;
-        std::cout << (for_reading ? make_printable_text(text, /*keep_newlines=*/true) : text);
-        if (format == TableFormat::csv) std::cout << "\n";
-        if (format == TableFormat::csv && !options->notes) notes_left_out += table.footnotes.size();
-      }
-      // A search's best trials, rung survivors and budget (markdown only: csv, latex and json
-      // stay one table kind; the rows are in the search tables for any other reader).
-      if (format == TableFormat::markdown) {
-        if (const std::optional<SearchSummary> summary = load_search_summary(store, sweep)) {
-          std::cout << "\n" << format_search_summary(*summary);
-        }
-      }
-    }
-    if (format == TableFormat::json) std::cout << nlohmann::json{{"tables", json_tables}}.dump(2) << "\n";
-    if (notes_left_out > 0) {
-      std::cerr << "armfarm: table: " << notes_left_out
-                << " footnotes (why cells are empty) left out of the CSV; --notes adds them as '# [k]' lines\n";
-    }
-    return 0;
-  };
+  sub->add_option("--against", options->against, "Thesis results JSON (sweeps/thesis/thesis_results.json): thesis value, armfarm value, ratio per cell");
+  return [options] { return run_table(*options); };
 }
 
 }  // namespace armfarm::cli

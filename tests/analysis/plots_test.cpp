@@ -417,6 +417,60 @@ TEST_F(PlotTest, MissingSeriesSaysWhatToSet) {
   }
 }
 
+// The quick start's batch jobs learn one model at every gain (the collection runs at full gain),
+// so their curves are equal and the later hid the earlier: the legend listed a curve no panel
+// showed (issue 24). The caption says which curve lies under which.
+TEST_F(PlotTest, ACurveHiddenUnderAnEqualOneIsNamedInTheCaption) {
+  const std::string db = directory_.file("hidden.db");
+  std::vector<testing::TestJob> jobs;
+  for (const char* mode : {"online", "batch"}) {
+    for (double gain : {0.2, 1.0}) {
+      for (double init_d : {0.02, 0.05, 0.2}) {
+        testing::TestJob job;
+        job.params = {{"learning.mode", mode}, {"control.gain_scale", gain}, {"learning.lwpr.init_D", init_d}};
+        const double nmse = std::string(mode) == "batch" ? 0.1 * init_d : 0.2 * init_d * gain;
+        job.metrics = {{0, "same_run_test_nmse", 1, nmse, ""}, {0, "n_receptive_fields", std::nullopt, std::string(mode) == "batch" ? 10 / init_d : 20 / init_d * gain, ""}};
+        jobs.push_back(job);
+      }
+    }
+  }
+  testing::write_test_sweep(db, "hidden", jobs);
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  PlotRequest request;
+  request.kind = PlotKind::nmse_vs_kernel;
+  const Figure figure = make_plot_figure(store, request);
+  ASSERT_EQ(figure.panels.size(), 2u);
+  std::string caption;
+  for (const std::string& paragraph : figure.caption) caption += paragraph + "\n";
+  EXPECT_NE(caption.find("hidden: gain_scale=0.2, mode=batch lies under gain_scale=1, mode=batch (equal values) in every panel"),
+            std::string::npos)
+      << caption;
+  EXPECT_EQ(caption.find("mode=online lies under"), std::string::npos) << caption;  // the online curves differ
+}
+
+// The held-out reaching sweep records TRIAL (a row per reach) and no RF: its report had no
+// figure, though rf-growth draws the fields per reach from TRIAL.
+TEST_F(PlotTest, ReceptiveFieldGrowthIsAvailableFromTheTrialSeriesAlone) {
+  const std::string db = directory_.file("trials.db");
+  std::vector<testing::TestJob> jobs(2);
+  for (int seed = 0; seed < 2; ++seed) {
+    jobs[seed].params = {{"seed", seed}};
+    jobs[seed].series.push_back(make_series("TRIAL", {"segment", "t", "n_receptive_fields"}, 5,
+                                            [&](int r, int c) { return c == 0 ? r + 1.0 : c == 1 ? r : 3.0 * (r + 1) + seed; }));
+  }
+  testing::write_test_sweep(db, "trials", jobs);
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  const auto kinds = find_available_plot_kinds(store, load_sweep_data(store, "trials"));
+  EXPECT_NE(std::find(kinds.begin(), kinds.end(), PlotKind::rf_growth), kinds.end());
+  // One TRIAL row per job (one trial) is not growth: rf-growth is not offered.
+  const std::string flat = directory_.file("flat.db");
+  for (auto& job : jobs) job.series = {make_series("TRIAL", {"segment", "t", "n_receptive_fields"}, 1, [](int, int c) { return c + 1.0; })};
+  testing::write_test_sweep(flat, "flat", jobs);
+  const ResultsStore flat_store = ResultsStore::open(flat, ResultsStore::Mode::read_only);
+  const auto flat_kinds = find_available_plot_kinds(flat_store, load_sweep_data(flat_store, "flat"));
+  EXPECT_EQ(std::find(flat_kinds.begin(), flat_kinds.end(), PlotKind::rf_growth), flat_kinds.end());
+}
+
 TEST_F(PlotTest, NoTextOverlapsOnAnyPlotKindOfASevenJointSweep) {
   const std::vector<std::string> plots = {
       "nmse-vs-kernel", "rf-growth", "signals", "tracking",
@@ -549,7 +603,7 @@ TEST(PlotAxes, LogAxesPositiveErrorBarsAndNoSilentPooling) {
     for (int c = 0; c < 13; ++c) p.curves.push_back(Curve{"curve " + std::to_string(c), {0, 1}, {0, 1}, {}, {}});
   }
   const std::string script = make_gnuplot_script(many, TerminalSettings{"set terminal svg"}, "out.svg", "/tmp");
-  EXPECT_NE(script.find("lc rgb '#332288' dt 2"), std::string::npos);  // the 13th curve: first colour, dashed
+  EXPECT_NE(script.find("lc rgb '" + figure_colours()[0] + "' dt 2"), std::string::npos);  // the 13th curve: first colour, dashed
   EXPECT_NE(script.find("notitle"), std::string::npos);                // second panel repeats no legend
   std::size_t titled = 0;
   for (auto at = script.find(" title 'curve "); at != std::string::npos; at = script.find(" title 'curve ", at + 1)) ++titled;
@@ -560,9 +614,10 @@ TEST(PlotAxes, LogAxesPositiveErrorBarsAndNoSilentPooling) {
   swapped.panels[0].curves = {Curve{"online", {0, 1}, {0, 1}, {}, {}}, Curve{"batch", {0, 1}, {1, 0}, {}, {}}};
   swapped.panels[1].curves = {Curve{"batch", {0, 1}, {0, 1}, {}, {}}};
   const std::string two = make_gnuplot_script(swapped, TerminalSettings{"set terminal svg"}, "out.svg", "/tmp");
-  const auto batch_colour = two.find("lc rgb '#88CCEE'");
+  const std::string batch = "lc rgb '" + figure_colours()[1] + "'";
+  const auto batch_colour = two.find(batch);
   ASSERT_NE(batch_colour, std::string::npos);
-  EXPECT_NE(two.find("lc rgb '#88CCEE'", batch_colour + 1), std::string::npos) << two;  // batch twice, one colour
+  EXPECT_NE(two.find(batch, batch_colour + 1), std::string::npos) << two;  // batch twice, one colour
 }
 
 // Log x for log-spaced swept values even within one decade (0.02, 0.05, 0.2, the quick start's

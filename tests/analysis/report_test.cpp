@@ -196,6 +196,11 @@ TEST_F(ReportTest, AFiveThousandCharacterSweepNameGetsPagesAndTheIndex) {
     ++pages;
   }
   EXPECT_EQ(pages, 1u + 2u + 6u + 2u);  // index, two sweep pages, a page per job (keys of 5 000 characters too)
+  // The index shows a description's first sentence or 160 characters (a thesis spec's 1 000 made
+  // its row a page tall); the sweep's page shows it whole.
+  EXPECT_NE(index.find("<small>test sweep …</small>"), std::string::npos);
+  EXPECT_EQ(index.find("test sweep " + long_name), std::string::npos);
+  EXPECT_NE(read_file(fs::path(out) / file).find("<p>test sweep " + long_name + "</p>"), std::string::npos);
 }
 
 // Issue 29: a sweep named with an ANSI escape kept the raw ESC in every page; the reader now

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -249,12 +250,15 @@ TEST_F(ThesisFigureTest, PlotCommandRendersTheFigureAndNamesMissingOptions) {
 // tick labels; 6.7's "1000" and legend ran past the right edge.
 class ThesisFigureLayoutTest : public ThesisFigureTest {
  protected:
-  /// Figure `number` rendered by the CLI at paper style as SVG.
-  std::string render(const std::string& number, const std::string& database = "") {
-    const std::string out = directory_.file("figure_" + number + ".svg");
+  /// Figure `number` rendered by the CLI at paper style (or `options`) as SVG.
+  std::string render(const std::string& number, const std::string& database = "", const std::string& options = "--style paper") {
+    std::string name = options;
+    for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+    const std::string out = directory_.file("figure_" + number + name + ".svg");
     const auto result = testing::run_armfarm("plot " + (database.empty() ? db_ : database) + " thesis-figure --figure " + number +
-                                             " --against " + kThesisFile + " --style paper --out " + out);
+                                             " --against " + kThesisFile + " " + options + " --out " + out);
     EXPECT_EQ(result.exit_code, 0) << result.output;
+    last_output_ = result.output;
     if (const char* keep = std::getenv("ARMFARM_KEEP_PLOTS")) {
       std::error_code ignored;
       std::filesystem::copy_file(out, std::filesystem::path(keep) / std::filesystem::path(out).filename(),
@@ -268,6 +272,24 @@ class ThesisFigureLayoutTest : public ThesisFigureTest {
     EXPECT_EQ(std::sscanf(svg.c_str() + svg.find("viewBox=\"") + 9, "0 0 %lf", &width), 1);
     return width;
   }
+
+  static double image_height(const std::string& svg) {
+    double width = 0, height = 0;
+    EXPECT_EQ(std::sscanf(svg.c_str() + svg.find("viewBox=\"") + 9, "0 0 %lf %lf", &width, &height), 2);
+    return height;
+  }
+
+  /// Texts that reach past the image's top or bottom edge.
+  static std::vector<std::string> find_outside_vertically(const std::string& svg) {
+    const double height = image_height(svg);
+    std::vector<std::string> outside;
+    for (const auto& box : testing::find_text_boxes(svg)) {
+      if (box.top < 0 || box.bottom > height) outside.push_back(box.text);
+    }
+    return outside;
+  }
+
+  std::string last_output_;  ///< the last render's standard output and error
 
   /// Texts that reach past the image's left or right edge.
   static std::vector<std::string> find_outside(const std::string& svg) {
@@ -433,6 +455,73 @@ TEST_F(ThesisFigureLayoutTest, RecordingsFigureLabelsEachAxisAndKeepsItsTitlesIn
   const std::string picking_svg = render("6.12", db);
   EXPECT_EQ(find_outside(picking_svg), std::vector<std::string>());
   EXPECT_TRUE(testing::find_overlapping_text(picking_svg).empty());
+}
+
+// The composite torque under the feedback and feed-forward (issue 24, item 3): drawn first and
+// wider in every panel of 6.8-6.10, so that the feedback it equals where the feed-forward is
+// near zero shows on top; the legend's entry is drawn as the curve.
+TEST_F(ThesisFigureLayoutTest, TorqueFiguresDrawTheCompositeUnderTheFeedbackAndFeedForward) {
+  const ResultsStore store = ResultsStore::open(db_, ResultsStore::Mode::read_only);
+  ThesisFigureRequest request;
+  request.number = "6.8";
+  const Figure figure = make_thesis_figure(store, thesis_, request);
+  FigureOptions paper;
+  paper.style = FigureStyle::paper;
+  const std::string script = make_gnuplot_script(figure, make_terminal_settings("f.pdf", paper, figure), "f.pdf", "/tmp");
+  ASSERT_EQ(figure.panels.size(), 3u);
+  std::size_t at = 0;
+  for (std::size_t p = 0; p < figure.panels.size(); ++p) {
+    ASSERT_EQ(figure.panels[p].curves.size(), 3u);
+    EXPECT_EQ(figure.panels[p].curves[2].title, "composite");
+    at = script.find("\nplot ", at + 1);
+    ASSERT_NE(at, std::string::npos);
+    const std::string command = script.substr(at, script.find("\nun", at + 1) - at);  // to "unset label" or "unset multiplot"
+    const std::string prefix = "data_" + std::to_string(p) + "_";
+    const auto first = command.find(prefix), second = command.find(prefix, first + 1);
+    ASSERT_NE(second, std::string::npos) << command;
+    EXPECT_EQ(command[first + prefix.size()], '2') << command;  // the composite's file first
+    const double composite_lw = std::atof(command.c_str() + command.find(" lw ", first) + 4);
+    const double feedback_lw = std::atof(command.c_str() + command.find(" lw ", second) + 4);
+    EXPECT_GE(composite_lw, 2 * feedback_lw) << command;
+  }
+  EXPECT_NE(script.find("keyentry with lines lw 2.5 "), std::string::npos) << "the legend shows the composite as drawn";
+}
+
+// At slide style the page grows for the table and caption under the legend (issue 24, item 2):
+// a 16:9 page kept its height and clipped or crowded them.
+TEST_F(ThesisFigureLayoutTest, SlideStyleGrowsThePageForTheCaptionAndKeepsEveryTextInside) {
+  for (const char* number : {"6.9", "6.7", "6.1"}) {
+    SCOPED_TRACE(number);
+    const std::string svg = render(number, "", "--style slide");
+    EXPECT_GT(image_height(svg), 5.625 * 72 + 1) << "the caption's lines add to the slide's height";
+    EXPECT_EQ(find_outside(svg), std::vector<std::string>());
+    EXPECT_EQ(find_outside_vertically(svg), std::vector<std::string>());
+    const auto overlaps = testing::find_overlapping_text(svg);
+    EXPECT_TRUE(overlaps.empty()) << overlaps.size() << " overlaps, first " << (overlaps.empty() ? "" : overlaps.front());
+    // The panels keep the room a slide gives them: together at least half the slide's height.
+    double panels = 0;
+    for (const auto& frame : testing::find_plot_frames(svg)) panels += frame.bottom - frame.top;
+    EXPECT_GE(panels, 0.5 * 5.625 * 72) << svg.size();
+  }
+}
+
+// --no-caption leaves the caption and table out of the drawing and prints them (issue 24, item 1);
+// --caption (the default) draws them.
+TEST_F(ThesisFigureLayoutTest, NoCaptionLeavesTheCaptionAndTableOutAndPrintsThem) {
+  const std::string with = render("6.9", "", "--style paper --caption");
+  EXPECT_NE(with.find("0.6566"), std::string::npos);  // table 6.6, joint 3
+  EXPECT_NE(with.find("avg(ff/fb) per joint"), std::string::npos);
+  EXPECT_EQ(last_output_.find("caption (not drawn"), std::string::npos);
+  const std::string without = render("6.9", "", "--style paper --no-caption");
+  const std::string printed = last_output_;
+  EXPECT_EQ(without.find("0.6566"), std::string::npos);
+  EXPECT_EQ(without.find("avg(ff/fb) per joint"), std::string::npos);
+  EXPECT_LT(image_height(without), image_height(with));
+  EXPECT_TRUE(testing::find_overlapping_text(without).empty());
+  EXPECT_NE(printed.find("caption (not drawn, --no-caption):"), std::string::npos) << printed;
+  EXPECT_NE(printed.find("0.6566"), std::string::npos) << printed;
+  EXPECT_NE(printed.find("Figure 6.9 (thesis"), std::string::npos) << printed;
+  EXPECT_EQ(render("6.9"), with) << "the caption is drawn by default";
 }
 
 }  // namespace

@@ -6,8 +6,6 @@
 #include "runner/spec/spec_error.hpp"
 #include "runner/spec/sweep_expansion.hpp"
 #include "runner/spec/sweep_stages.hpp"
-#include "support/command_line.hpp"
-#include "support/scratch_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -271,23 +269,6 @@ TEST(BoundedExpansion, FromConfigKeepsAConfigurationAsItIs) {
   EXPECT_EQ(job.seed, 7);
   ASSERT_TRUE(job.inputs);
   EXPECT_FALSE(job.base->contains("inputs"));
-}
-
-TEST(BoundedExpansion, ExpandRefusesFromTheCommandLineWithExitTwo) {
-  const std::string spec = test_support::scratch_file("bounded_expansion.json");
-  {
-    FILE* file = std::fopen(spec.c_str(), "w");
-    ASSERT_NE(file, nullptr);
-    std::fputs(make_grid_spec({"control.gain_scale", "trajectory.period"}, 1000).c_str(), file);
-    std::fclose(file);
-  }
-  const auto refused = test_support::run_armfarm_with_fake_jobs("expand " + spec);
-  EXPECT_EQ(refused.exit_code, 2) << refused.output;
-  EXPECT_EQ(refused.output, "armfarm: " + spec + ": sweep: expands to 1000000 jobs, over the limit of 100000 (--max-jobs N raises it)\n");
-  const auto raised = test_support::run_armfarm_with_fake_jobs("expand " + spec + " --max-jobs 999999");
-  EXPECT_EQ(raised.exit_code, 2) << raised.output;
-  EXPECT_NE(raised.output.find("over the limit of 999999"), std::string::npos) << raised.output;
-  std::remove(spec.c_str());
 }
 
 }  // namespace

@@ -7,7 +7,6 @@
 #include "runner/execution/job_executor.hpp"
 #include "runner/spec/spec_error.hpp"
 #include "runner/spec/sweep_expansion.hpp"
-#include "support/command_line.hpp"
 #include "support/scratch_file.hpp"
 
 #include <gtest/gtest.h>
@@ -420,20 +419,6 @@ TEST(SearchBlock, ASearchDoesNotCombineWithGridAxes) {
   const std::vector<std::string> errors = collect_search_errors(text);
   ASSERT_EQ(errors.size(), 1u);
   EXPECT_NE(errors[0].find("sweep.grid: does not combine with sweep.search"), std::string::npos) << errors[0];
-}
-
-TEST(SearchBlock, ExpandRefusesABadBlockWithExitTwoAndWritesNothing) {
-  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "armfarm_search_block_test";
-  std::filesystem::create_directories(folder);
-  const std::filesystem::path file = folder / "bad search.json";  // a space in the name
-  std::ofstream(file) << make_spec(R"({"method": "tpe", "objective": {"metric": "n_training_samples"},
-      "space": {"learning.lwpr.init_D": {"uniform": [1, 2]}}, "budget": {"jobs": 9}})");
-  const test_support::CommandResult result = test_support::run_armfarm("expand '" + file.string() + "'");
-  EXPECT_EQ(result.exit_code, 2) << result.output;
-  EXPECT_NE(result.output.find(file.string() + ": sweep.search.objective.metric: 'n_training_samples' has no direction"),
-            std::string::npos)
-      << result.output;
-  std::filesystem::remove_all(folder);
 }
 
 }  // namespace
