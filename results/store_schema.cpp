@@ -14,12 +14,10 @@
 namespace armfarm {
 namespace store_detail {
 
-// Migration k (1-based) moves the schema from version k-1 to k. Never edit a released entry;
-// append a new one.
-const std::vector<const char*>& migrations() {
-  static const std::vector<const char*> scripts = {
-      // 1: the initial schema.
-      R"sql(
+namespace {
+
+// 1: the initial schema: sweeps, runs, jobs, their sweeps, metrics, series, two fixed views.
+const char* const kInitialSchema = R"sql(
 CREATE TABLE sweeps (
   id INTEGER PRIMARY KEY,
   name TEXT NOT NULL UNIQUE,
@@ -94,9 +92,10 @@ CREATE VIEW sweep_job_status AS
   SELECT s.name AS sweep, j.id AS job_id, j.key AS key, j.status AS status, j.message AS message,
          j.seed AS seed, sj.params AS params, j.wall_seconds AS wall_seconds, j.end_time AS end_time
     FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id JOIN jobs j ON j.id = sj.job_id;
-)sql",
-      // 2: metrics gain checkpoint and reason, values must be REAL or NULL; metric_info explains names.
-      R"sql(
+)sql";
+
+// 2: metrics gain checkpoint and reason, values must be REAL or NULL; metric_info explains names.
+const char* const kMetricCheckpointsMigration = R"sql(
 DROP VIEW job_metrics;
 CREATE TABLE metrics_v2 (
   job_id INTEGER NOT NULL REFERENCES jobs(id) ON DELETE CASCADE,
@@ -128,11 +127,10 @@ CREATE VIEW job_metrics AS
          m.reason AS reason, i.unit AS unit, i.direction AS direction, i.kind AS kind
     FROM sweep_jobs sj JOIN sweeps s ON s.id = sj.sweep_id JOIN jobs j ON j.id = sj.job_id
     JOIN metrics m ON m.job_id = j.id LEFT JOIN metric_info i ON i.name = m.name;
-)sql",
-      // 3: job claims of runners sharing the file, heartbeats of runs (results/job_claims.cpp).
-      job_claims_sql::kMigration,
-      // 4: models holds the learned model a job stored (learning.store_model), its model file as a BLOB.
-      R"sql(
+)sql";
+
+// 4: models holds the learned model a job stored (learning.store_model), its model file as a BLOB.
+const char* const kModelsMigration = R"sql(
 CREATE TABLE models (
   job_id INTEGER PRIMARY KEY REFERENCES jobs(id) ON DELETE CASCADE,
   kind TEXT NOT NULL,
@@ -141,12 +139,20 @@ CREATE TABLE models (
   data BLOB NOT NULL
 );
 CREATE INDEX models_by_hash ON models(hash);
-)sql",
-      // 5: fenced claims: the file's lease and the claims' fencing tokens (results/job_claims.cpp).
-      job_claims_sql::kFencingMigration,
-      // 6: searches, their rungs, trials and steps (new trials and promotions) and the objective
-      // each step saw (results/search_store.cpp).
-      search_store_sql::kMigration,
+)sql";
+
+}  // namespace
+
+// Migration k (1-based) moves the schema from version k-1 to k. Never edit a released entry;
+// append a new one.
+const std::vector<const char*>& migrations() {
+  static const std::vector<const char*> scripts = {
+      kInitialSchema,                     // 1
+      kMetricCheckpointsMigration,        // 2: metric checkpoints and reasons, metric_info
+      job_claims_sql::kMigration,         // 3: runners' job claims, runs' heartbeats (job_claims.cpp)
+      kModelsMigration,                   // 4: the learned models jobs stored
+      job_claims_sql::kFencingMigration,  // 5: the file's lease, claims' fencing tokens (job_claims.cpp)
+      search_store_sql::kMigration,       // 6: searches, rungs, trials, steps, objectives (search_store.cpp)
       // 7: the settings a search decision depends on beside those of version 6: the trial and
       // bracket limits, TPE's effective start-up and constants, the space (results/search_store.cpp).
       search_store_sql::kSettingsMigration,

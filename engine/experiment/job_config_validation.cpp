@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -130,9 +131,10 @@ void check_steps(const JobConfig& config, const ModelFacts& facts, Checker& chec
   try {
     const std::optional<StartPostureLoops> loops = make_start_posture_loops(config, facts);
     if (!loops) return;
-    for (const StepProblem& problem : check_job_steps(config, loops->plants, loops->controllers, loops->joint_numbers)) {
-      checker.add(problem.key, problem.message);
-    }
+    const std::vector<StepProblem> problems = facts.step_checks
+                                                  ? facts.step_checks->check(config, *loops)
+                                                  : check_job_steps(config, loops->plants, loops->controllers, loops->joint_numbers);
+    for (const StepProblem& problem : problems) checker.add(problem.key, problem.message);
   } catch (const std::invalid_argument& error) {
     checker.add("model", std::string("the step-stability check failed: ") + error.what());
   }
@@ -533,6 +535,12 @@ ModelFacts make_model_facts(const ArmModel& model) {
       ArmModel model;  // its own copy: the dynamics refer to it, and the facts outlive the caller's
       ArmDynamics dynamics;
       Eigen::VectorXd armature;
+      Eigen::VectorXd start;                              // the facts' start positions
+      std::optional<Eigen::MatrixXd> start_stiffness;  // the gravity stiffness there, once asked for
+      // Whether `q` is the start posture, bit for bit (the stiffness there is then the same bits).
+      bool is_start(const Eigen::VectorXd& q) const {
+        return q.size() == start.size() && std::memcmp(q.data(), start.data(), sizeof(double) * static_cast<std::size_t>(q.size())) == 0;
+      }
     };
     auto shared = std::make_shared<LockedDynamics>(model);
     shared->armature.resize(facts.movable_joints);
@@ -544,10 +552,16 @@ ModelFacts make_model_facts(const ArmModel& model) {
       mass.diagonal() -= shared->armature;
       return mass;
     };
-    facts.gravity_stiffness_at = [shared](const Eigen::VectorXd& q) {
+    shared->start = Eigen::Map<const Eigen::VectorXd>(facts.start_positions.data(), facts.movable_joints);
+    // Every job at the start posture asks for the same matrix (the default gains' kp floor): it
+    // is computed once (a sweep's validation spent as long on it as on all else of a job).
+    facts.gravity_stiffness_at = [shared](const Eigen::VectorXd& q) -> Eigen::MatrixXd {
       std::lock_guard<std::mutex> lock(shared->mutex);
-      return make_gravity_stiffness(shared->dynamics, q);
+      if (!shared->is_start(q)) return make_gravity_stiffness(shared->dynamics, q);
+      if (!shared->start_stiffness) shared->start_stiffness = make_gravity_stiffness(shared->dynamics, q);
+      return *shared->start_stiffness;
     };
+    facts.step_checks = std::make_shared<StepCheckMemo>();
     facts.rigid_mass = facts.rigid_mass_at(shared->dynamics.start_positions());
     facts.damping = shared->dynamics.viscous_damping();
   } catch (const std::exception&) {

@@ -9,6 +9,7 @@
 #include "engine/model/arm_model.hpp"
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -41,6 +42,8 @@ class ConfigProblemError : public std::invalid_argument {
   ConfigProblem problem_;
 };
 
+class StepCheckMemo;
+
 /// What the configuration is checked against, from the model it will run on.
 struct ModelFacts {
   int movable_joints = 0;
@@ -63,11 +66,15 @@ struct ModelFacts {
   /// Per movable joint, for messages: its name and whether it slides (m) rather than turns (rad).
   std::vector<std::string> joint_names{};
   std::vector<bool> prismatic{};
+  /// The step checks of the jobs validated against these facts, reused where their loops are the
+  /// same (job_steps.hpp; thread-safe); null: every job's steps are checked afresh.
+  std::shared_ptr<StepCheckMemo> step_checks{};
 };
 
 /// The facts of `model`: its movable joints, their limits, names and start positions, and the
 /// mass matrix at the start posture (a Simbody system is built for it: callers that validate
-/// many jobs keep the facts of a model rather than making them per job).
+/// many jobs keep the facts of a model rather than making them per job, and so share the gravity
+/// stiffness at the start posture, computed once, and the step checks' memo).
 ModelFacts make_model_facts(const ArmModel& model);
 
 /// Bounds on a job's cost, so that a typo cannot occupy a core for days. At the measured
@@ -119,6 +126,7 @@ class ValidJobConfig {
   explicit ValidJobConfig(JobConfig config) : config_(std::move(config)) {}
   friend std::variant<ValidJobConfig, std::vector<ConfigProblem>> check_job_config(JobConfig config, const ModelFacts& facts,
                                                                                    const JobCostLimits& limits);
+  friend class PackedValidJobConfig;  // packed_job_config.hpp: unpacks what a ValidJobConfig packed
   JobConfig config_;
 };
 

@@ -3,6 +3,7 @@
 #include "engine/control/composite_controller.hpp"
 
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -212,6 +213,87 @@ std::optional<StartPostureLoops> make_start_posture_loops(const JobConfig& confi
   loops.plants = make_job_plants(config, mass, damping);
   loops.controllers = make_job_controllers(config, gains, calc_gravity_kp_floor(stiffness, static_cast<int>(n)));
   return loops;
+}
+
+namespace {
+
+// The bytes of each value, in order: the memo's key (equal keys, equal inputs, bit for bit).
+class KeyWriter {
+ public:
+  template <typename T>
+  void add(const T& value) {
+    char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));
+    key_.append(bytes, sizeof(T));
+  }
+  void add(const Eigen::MatrixXd& m) {
+    add(m.rows());
+    add(m.cols());
+    key_.append(reinterpret_cast<const char*>(m.data()), sizeof(double) * static_cast<std::size_t>(m.size()));
+  }
+  void add(const Eigen::VectorXd& v) {
+    add(v.size());
+    key_.append(reinterpret_cast<const char*>(v.data()), sizeof(double) * static_cast<std::size_t>(v.size()));
+  }
+  void add(const std::string& text) {
+    add(text.size());
+    key_ += text;
+  }
+  std::string take() { return std::move(key_); }
+
+ private:
+  std::string key_;
+};
+
+// Everything check_job_steps reads of its arguments.
+std::string make_step_check_key(const JobConfig& config, const StartPostureLoops& loops, const std::string& where) {
+  KeyWriter key;
+  const SimulationConfig& simulation = config.simulation;
+  key.add(simulation.dt);
+  key.add(static_cast<int>(simulation.integrator));
+  key.add(simulation.pd_substeps.has_value());
+  key.add(simulation.pd_substeps.value_or(0));
+  key.add(simulation.integrator_steps_per_tick.has_value());
+  key.add(simulation.integrator_steps_per_tick.value_or(0));
+  key.add(loops.joint_numbers.size());
+  for (int number : loops.joint_numbers) key.add(number);
+  key.add(loops.plants.size());
+  for (const LoopPlant& plant : loops.plants) {
+    key.add(plant.mass);
+    key.add(plant.damping);
+  }
+  key.add(loops.controllers.size());
+  for (const JobController& controller : loops.controllers) {
+    key.add(controller.gains.kp);
+    key.add(controller.gains.kd);
+    key.add(controller.scale_key);
+    key.add(controller.scale);
+  }
+  key.add(where);
+  return key.take();
+}
+
+}  // namespace
+
+std::vector<StepProblem> StepCheckMemo::check(const JobConfig& config, const StartPostureLoops& loops, const std::string& where) {
+  std::string key = make_step_check_key(config, loops, where);
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto found = results_.find(key);
+    if (found != results_.end()) return found->second;
+  }
+  // Checked outside the lock: other threads' checks of other loops go on meanwhile.
+  std::vector<StepProblem> problems = check_job_steps(config, loops.plants, loops.controllers, loops.joint_numbers, where);
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++computed_;
+  if (results_.size() >= kCapacity) results_.clear();
+  results_.emplace(std::move(key), problems);
+  return problems;
+}
+
+std::size_t StepCheckMemo::computed() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return computed_;
 }
 
 StepChoice calc_start_posture_steps(const JobConfig& config, const ModelFacts& facts) {

@@ -11,8 +11,10 @@
 
 #include <Eigen/Core>
 
+#include <mutex>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace armfarm {
@@ -73,6 +75,28 @@ struct StartPostureLoops {
 /// restricted to the active joints, armature × armature_scale); empty when the facts carry no
 /// mass matrix or the gains cannot be placed (mis-sized or negative: their keys report that).
 std::optional<StartPostureLoops> make_start_posture_loops(const JobConfig& config, const ModelFacts& facts);
+
+/// check_job_steps's results by everything they depend on (the plants, the controllers with
+/// their scale keys, the joint numbers, dt, the integrator and the explicit steps, the posture's
+/// name), for the validation of many jobs against one model (ModelFacts::step_checks): a sweep's
+/// jobs mostly differ in keys the steps do not read (learning.lwpr.init_D), and the
+/// eigen-analyses of calc_stable_steps then run once per distinct loop instead of once per job.
+/// The same problems as check_job_steps, bit for bit (tests/engine/experiment/job_steps_test.cpp).
+/// Thread-safe; holds at most kCapacity results, then starts over.
+class StepCheckMemo {
+ public:
+  static constexpr std::size_t kCapacity = 4096;
+
+  std::vector<StepProblem> check(const JobConfig& config, const StartPostureLoops& loops,
+                                 const std::string& where = "the start posture");
+  /// How many checks ran check_job_steps rather than reusing a result.
+  std::size_t computed() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::unordered_map<std::string, std::vector<StepProblem>> results_;
+  std::size_t computed_ = 0;
+};
 
 /// The steps a job of `config` runs with as judged at the start posture (before its
 /// trajectories add postures): what `armfarm model info` shows for the default job.

@@ -169,103 +169,139 @@ LoadedJob load_job_config(const std::string& path, const JobConfigSchema& schema
 
 nlohmann::json number_or_null(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
 
+struct JobOptions {
+  std::string path;
+  bool json = false;
+  double timeout = 3600.0;
+  std::string ee;
+  bool strict = false;
+  std::string db;
+};
+
+// The model's non-URDF elements: refused with --strict, else each a warning.
+void check_model_elements(const nlohmann::json& config, bool strict) {
+  const ArmModel model = load_arm_model_file(calc_config_with_resolved_inputs(config).at("model").get<std::string>());
+  if (strict) check_strict_model(model);
+  for (const std::string& warning : model.warnings) std::cerr << "armfarm: warning: " << warning << " (skipped; --strict refuses it)\n";
+}
+
+// Runs the job until it ends, Ctrl-C or the wall-time limit (0: none), which its message names.
+JobOutcome run_loaded_job(const LoadedJob& job, const std::shared_ptr<StoredModels>& stored, const JobOptions& options) {
+  StopSignalScope signals;
+  const std::atomic<bool>& interrupted = signals.stop_requested();
+  const auto start = std::chrono::steady_clock::now();
+  const double limit = options.timeout;
+  bool timed_out = false;
+  JobControl control;
+  control.should_stop = [&] {
+    if (limit > 0.0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > limit) timed_out = true;
+    return timed_out || interrupted.load();
+  };
+  JobOutcome outcome;
+  try {
+    outcome = make_experiment_executor(stored)(job.config, job.checked.get(), control);
+  } catch (const ConfigError& error) {
+    throw std::runtime_error(options.path + ": " + error.what());
+  }
+  if (timed_out && outcome.status == JobStatus::timeout) {
+    char text[96];
+    std::snprintf(text, sizeof text, "stopped after the timeout of %g s (--timeout)", limit);
+    outcome.message = text;
+  }
+  return outcome;
+}
+
+// The outcome's metrics by name: the job's own, and per joint (1-based); a reason beside every
+// null, and every note on a value.
+struct JobMetricsJson {
+  nlohmann::json metrics = nlohmann::json::object();
+  nlohmann::json reasons = nlohmann::json::object();
+  std::map<int, nlohmann::json> per_joint;
+};
+
+JobMetricsJson collect_metrics(const JobOutcome& outcome) {
+  JobMetricsJson out;
+  for (const Metric& metric : outcome.metrics) {
+    // Held-out metrics are measured at checkpoints: "heldout_test_nmse_c200", as the sweep view
+    // and the tables spell them (joints are the per_joint entries').
+    const std::string name = make_metric_column_name(
+        metric.name, std::nullopt, metric.checkpoint ? std::optional<std::int64_t>(metric.checkpoint->number) : std::nullopt);
+    const nlohmann::json value = number_or_null(metric.value.value_or(std::nan("")));
+    const std::string reason = value.is_null() ? describe_undefined_value(metric.reason) : metric.reason;
+    if (metric.joint) {
+      nlohmann::json& joint = out.per_joint[*metric.joint];
+      joint["joint"] = *metric.joint;
+      joint[name] = value;
+      if (!reason.empty()) joint["reasons"][name] = reason;
+    } else {
+      out.metrics[name] = value;
+      if (!reason.empty()) out.reasons[name] = reason;
+    }
+  }
+  return out;
+}
+
+void print_job_json(const nlohmann::json& config, const JobOutcome& outcome, const JobMetricsJson& metrics) {
+  nlohmann::json out = {{"key", calc_job_key(config)}, {"status", to_string(outcome.status)}, {"message", outcome.message},
+                        {"end_time", outcome.end_time}, {"metrics", metrics.metrics}, {"reasons", metrics.reasons},
+                        {"per_joint", nlohmann::json::array()}};
+  for (const auto& [joint, values] : metrics.per_joint) out["per_joint"].push_back(values);
+  std::cout << out.dump(2) << "\n";
+}
+
+void print_job_text(const JobOutcome& outcome, const JobMetricsJson& metrics) {
+  std::printf("status %s at t = %.3f s%s%s\n", to_string(outcome.status), outcome.end_time, outcome.message.empty() ? "" : ": ",
+              outcome.message.c_str());
+  for (const auto& [name, value] : metrics.metrics.items()) {
+    const std::string reason = metrics.reasons.value(name, "");
+    std::printf("  %-30s %s%s%s\n", name.c_str(), value.dump().c_str(), reason.empty() ? "" : "  # ", reason.c_str());
+  }
+  for (const auto& [joint, values] : metrics.per_joint) {
+    std::printf("  joint %d:", joint);
+    for (const auto& [name, value] : values.items()) {
+      if (name != "joint" && name != "reasons") {
+        std::printf(" %s=%s", name.c_str(), value.is_number() ? std::to_string(value.get<double>()).c_str() : "null");
+      }
+    }
+    std::printf("\n");
+  }
+}
+
+// The command: load and check the configuration, run it, print its metrics; 0 when it is done.
+int run_job_command(const JobOptions& options) {
+  // Without --db a reference fails in the resolver with its "needs a results database" line.
+  const auto stored = std::make_shared<StoredModels>(options.db);
+  const JobConfigSchema schema = make_experiment_config_schema(stored);
+  std::optional<EndEffectorConfig> end_effector;
+  if (!options.ee.empty()) end_effector = parse_end_effector_text(options.ee);
+  const LoadedJob job = load_job_config(options.path, schema, end_effector);
+  check_model_elements(job.config, options.strict);
+  const JobOutcome outcome = run_loaded_job(job, stored, options);
+  const JobMetricsJson metrics = collect_metrics(outcome);
+  if (options.json) {
+    print_job_json(job.config, outcome, metrics);
+  } else {
+    print_job_text(outcome, metrics);
+  }
+  return outcome.status == JobStatus::done ? 0 : 1;
+}
+
 }  // namespace
 
 RunFunction setup_job(CLI::App& parent) {
   CLI::App* command = parent.add_subcommand("job", "Run one experiment job from a configuration file and print its metrics");
-  auto path = std::make_shared<std::string>();
-  auto as_json = std::make_shared<bool>(false);
-  auto timeout = std::make_shared<double>(3600.0);
-  command->add_option("config", *path, "Job configuration (JSON; missing keys take their defaults)")->required();
-  command->add_flag("--json", *as_json,
+  auto options = std::make_shared<JobOptions>();
+  command->add_option("config", options->path, "Job configuration (JSON; missing keys take their defaults)")->required();
+  command->add_flag("--json", options->json,
                     "Print {key, status, message, end_time, metrics, reasons, per_joint} as JSON (reasons: why a value "
                     "is null, or what a mean left out; per_joint entries carry their own)");
-  auto ee = std::make_shared<std::string>();
-  command->add_option("--ee", *ee, "End effector LINK[:x,y,z] (offset in m, link frame); sets end_effector.link and .offset");
-  auto strict = std::make_shared<bool>(false);
-  command->add_flag("--strict", *strict, "Refuse non-URDF elements inside the model's <link>/<joint> (by default skipped with a warning)");
-  auto db = std::make_shared<std::string>();
-  command->add_option("--db", *db, "Results database (read only) whose stored models learning.initial_model references name");
-  command->add_option("--timeout", *timeout, "Stop the job after this many seconds of wall clock (0: none)")
+  command->add_option("--ee", options->ee, "End effector LINK[:x,y,z] (offset in m, link frame); sets end_effector.link and .offset");
+  command->add_flag("--strict", options->strict, "Refuse non-URDF elements inside the model's <link>/<joint> (by default skipped with a warning)");
+  command->add_option("--db", options->db, "Results database (read only) whose stored models learning.initial_model references name");
+  command->add_option("--timeout", options->timeout, "Stop the job after this many seconds of wall clock (0: none)")
       ->check(make_non_negative_check())
       ->capture_default_str();
-  return [path, as_json, timeout, ee, strict, db] {
-    // Without --db a reference fails in the resolver with its "needs a results database" line.
-    const auto stored = std::make_shared<StoredModels>(*db);
-    const JobConfigSchema schema = make_experiment_config_schema(stored);
-    std::optional<EndEffectorConfig> end_effector;
-    if (!ee->empty()) end_effector = parse_end_effector_text(*ee);
-    const LoadedJob job = load_job_config(*path, schema, end_effector);
-    const nlohmann::json& config = job.config;
-    {
-      const ArmModel model = load_arm_model_file(calc_config_with_resolved_inputs(config).at("model").get<std::string>());
-      if (*strict) check_strict_model(model);
-      for (const std::string& warning : model.warnings) std::cerr << "armfarm: warning: " << warning << " (skipped; --strict refuses it)\n";
-    }
-    JobOutcome outcome;
-    StopSignalScope signals;
-    const std::atomic<bool>& interrupted = signals.stop_requested();
-    const auto start = std::chrono::steady_clock::now();
-    const double limit = *timeout;
-    bool timed_out = false;
-    JobControl control;
-    control.should_stop = [&] {
-      if (limit > 0.0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > limit) timed_out = true;
-      return timed_out || interrupted.load();
-    };
-    try {
-      outcome = make_experiment_executor(stored)(config, job.checked.get(), control);
-    } catch (const ConfigError& error) {
-      throw std::runtime_error(*path + ": " + error.what());
-    }
-    if (timed_out && outcome.status == JobStatus::timeout) {
-      char text[96];
-      std::snprintf(text, sizeof text, "stopped after the timeout of %g s (--timeout)", limit);
-      outcome.message = text;
-    }
-    std::map<int, nlohmann::json> per_joint;
-    nlohmann::json metrics = nlohmann::json::object();
-    nlohmann::json reasons = nlohmann::json::object();  // beside every null, and every note on a value
-    for (const Metric& metric : outcome.metrics) {
-      // Held-out metrics are measured at checkpoints: "heldout_test_nmse_c200", as the sweep view
-      // and the tables spell them (joints are the per_joint entries').
-      const std::string name = make_metric_column_name(
-          metric.name, std::nullopt,
-          metric.checkpoint ? std::optional<std::int64_t>(metric.checkpoint->number) : std::nullopt);
-      const nlohmann::json value = number_or_null(metric.value.value_or(std::nan("")));
-      const std::string reason = value.is_null() ? describe_undefined_value(metric.reason) : metric.reason;
-      if (metric.joint) {
-        nlohmann::json& joint = per_joint[*metric.joint];
-        joint["joint"] = *metric.joint;
-        joint[name] = value;
-        if (!reason.empty()) joint["reasons"][name] = reason;
-      } else {
-        metrics[name] = value;
-        if (!reason.empty()) reasons[name] = reason;
-      }
-    }
-    if (*as_json) {
-      nlohmann::json out = {{"key", calc_job_key(config)}, {"status", to_string(outcome.status)}, {"message", outcome.message}, {"end_time", outcome.end_time},
-                            {"metrics", metrics}, {"reasons", reasons}, {"per_joint", nlohmann::json::array()}};
-      for (auto& [joint, values] : per_joint) out["per_joint"].push_back(values);
-      std::cout << out.dump(2) << "\n";
-    } else {
-      std::printf("status %s at t = %.3f s%s%s\n", to_string(outcome.status), outcome.end_time,
-                  outcome.message.empty() ? "" : ": ", outcome.message.c_str());
-      for (const auto& [name, value] : metrics.items()) {
-        const std::string reason = reasons.value(name, "");
-        std::printf("  %-30s %s%s%s\n", name.c_str(), value.dump().c_str(), reason.empty() ? "" : "  # ", reason.c_str());
-      }
-      for (const auto& [joint, values] : per_joint) {
-        std::printf("  joint %d:", joint);
-        for (const auto& [name, value] : values.items()) {
-          if (name != "joint" && name != "reasons") std::printf(" %s=%s", name.c_str(), value.is_number() ? std::to_string(value.get<double>()).c_str() : "null");
-        }
-        std::printf("\n");
-      }
-    }
-    return outcome.status == JobStatus::done ? 0 : 1;
-  };
+  return [options] { return run_job_command(*options); };
 }
 
 }  // namespace armfarm::cli

@@ -2,7 +2,7 @@
 // JSON ↔ one configuration field, driven by the engine's key tables
 // (engine/config/config_key.hpp): the only place that knows how each ValueKind is spelled in
 // JSON. Used by the job configuration (job_config_json.hpp) and LWPR's parameter files
-// (runner/lwpr_params_json.hpp).
+// (runner/config/lwpr_params_json.hpp).
 #include "engine/config/config_key.hpp"
 
 #include <nlohmann/json.hpp>

@@ -1,11 +1,14 @@
 #pragma once
 // What the experiment job's schema check (runner/execution/experiment_executor.cpp) makes of a
-// configuration: the engine's ValidJobConfig, the proof of the one validation, and the model
-// file it was validated against. An expanded job carries it (ExpandedJob::checked) to the
-// executor, which runs it without parsing or validating the JSON again, and to the cost estimate.
-#include "engine/experiment/job_config_validation.hpp"
+// configuration: the engine's ValidJobConfig, the proof of the one validation, packed
+// (engine/experiment/packed_job_config.hpp: the keys that differ from the defaults, the file
+// contents shared between the jobs that read the same files), and the model file it was validated
+// against, shared too. An expanded job carries it (ExpandedJob::checked) to the executor, which
+// runs it without parsing or validating the JSON again, and to the cost estimate.
+#include "engine/experiment/packed_job_config.hpp"
 #include "runner/spec/config_schema.hpp"
 
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -13,10 +16,13 @@
 namespace armfarm {
 
 struct CheckedExperimentJob final : CheckedConfig {
-  CheckedExperimentJob(ValidJobConfig valid, std::string model) : job(std::move(valid)), model_path(std::move(model)) {}
+  CheckedExperimentJob(PackedValidJobConfig valid, std::shared_ptr<const std::string> model)
+      : job(std::move(valid)), model(std::move(model)) {}
 
-  ValidJobConfig job;      ///< parsed and validated against the model's facts; its files' contents read
-  std::string model_path;  ///< the model file the job loads (the resolved path its inputs record)
+  const std::string& model_path() const { return *model; }
+
+  PackedValidJobConfig job;  ///< parsed and validated against the model's facts, its files' contents read; unpack() runs it
+  std::shared_ptr<const std::string> model;  ///< the model file the job loads (the resolved path its inputs record)
 };
 
 /// `checked` as the experiment job's; null when it is null. Throws std::logic_error when another

@@ -91,15 +91,32 @@ std::string find_model_path(const nlohmann::json& recorded) {
   return (resolved != nullptr ? *resolved : recorded.at("model")).get<std::string>();
 }
 
+// What one sweep's checks share: the files they read (read once), and the model path and file
+// contents of the last job checked, which the next job's packed configuration reuses when equal.
+struct SweepCheckShare {
+  JobFileContents contents;
+  std::shared_ptr<const std::string> model_path;
+  std::shared_ptr<const JobFileData> files;
+};
+
 // The check of a configuration with its inputs recorded: parsed and validated against its model,
-// the job's model made (end effector, start posture). ConfigError naming the path of the first problem.
+// the job's model made (end effector, start posture), packed. ConfigError naming the path of the
+// first problem. `share`: the sweep's (null: a configuration checked alone).
 std::shared_ptr<const CheckedExperimentJob> check_config(const nlohmann::json& recorded, JobModels& models,
-                                                         const std::shared_ptr<StoredModels>& stored,
-                                                         JobFileContents* contents) {
-  std::string path = find_model_path(recorded);
-  ValidJobConfig job = parse_recorded_job_config(recorded, *models.get_facts(path), make_stored_model_reader(stored), contents);
+                                                         const std::shared_ptr<StoredModels>& stored, SweepCheckShare* share) {
+  const std::string path = find_model_path(recorded);
+  const ValidJobConfig job =
+      parse_recorded_job_config(recorded, *models.get_facts(path), make_stored_model_reader(stored), share ? &share->contents : nullptr);
   models.get(path, job);
-  return std::make_shared<const CheckedExperimentJob>(std::move(job), std::move(path));
+  std::shared_ptr<const std::string> model_path = share && share->model_path && *share->model_path == path
+                                                      ? share->model_path
+                                                      : std::make_shared<const std::string>(path);
+  PackedValidJobConfig packed(job, share ? share->files : nullptr);
+  if (share) {
+    share->model_path = model_path;
+    share->files = packed.files();
+  }
+  return std::make_shared<const CheckedExperimentJob>(std::move(packed), std::move(model_path));
 }
 
 }  // namespace
@@ -113,9 +130,9 @@ JobConfigSchema make_experiment_config_schema(std::shared_ptr<StoredModels> stor
     return check_config(recorded, *models, stored, nullptr);
   };
   schema.make_sweep_validate = [models, stored] {
-    auto contents = std::make_shared<JobFileContents>();  // the sweep's recorded trajectory and initial model, read once
-    return ConfigCheck([models, stored, contents](const nlohmann::json& recorded) -> std::shared_ptr<const CheckedConfig> {
-      return check_config(recorded, *models, stored, contents.get());
+    auto share = std::make_shared<SweepCheckShare>();  // the sweep's recorded trajectory and initial model, read once
+    return ConfigCheck([models, stored, share](const nlohmann::json& recorded) -> std::shared_ptr<const CheckedConfig> {
+      return check_config(recorded, *models, stored, share.get());
     });
   };
   schema.find_key_range = [](const std::string& path) -> std::optional<Range> {
@@ -164,16 +181,17 @@ JobExecutor make_experiment_executor(std::shared_ptr<StoredModels> stored) {
     // bytes the check read and compared with those hashes (at the expansion when the job comes
     // checked, else now, by parse_recorded_job_config).
     const CheckedExperimentJob* carried = find_checked_experiment_job(checked);
-    const std::string path = carried != nullptr ? carried->model_path : find_model_path(recorded);
-    std::optional<ValidJobConfig> parsed;
+    const std::string path = carried != nullptr ? carried->model_path() : find_model_path(recorded);
+    std::optional<ValidJobConfig> valid;
     if (carried == nullptr) {
       const std::shared_ptr<const ModelFacts> facts = models->get_facts(path);
       model_hashes->check(recorded, path);
-      parsed.emplace(parse_recorded_job_config(recorded, *facts, make_stored_model_reader(stored)));
+      valid.emplace(parse_recorded_job_config(recorded, *facts, make_stored_model_reader(stored)));
     } else {
       model_hashes->check(recorded, path);
+      valid.emplace(carried->job.unpack());
     }
-    const ValidJobConfig& job = carried != nullptr ? carried->job : *parsed;
+    const ValidJobConfig& job = *valid;
     const auto model = models->get(path, job);
     JobOutcome outcome;
     try {

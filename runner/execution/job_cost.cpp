@@ -23,7 +23,8 @@ JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
     std::optional<ValidJobConfig> parsed;
     std::string path;
     if (carried != nullptr) {
-      path = carried->model_path;
+      path = carried->model_path();
+      parsed.emplace(carried->job.unpack());
     } else {
       const nlohmann::json config = calc_config_with_resolved_inputs(recorded);
       path = config.at("model").get<std::string>();
@@ -34,7 +35,7 @@ JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
       // configuration, as at expansion and in the executor (a choice those accept works here).
       models->get(path, *parsed);
     }
-    const JobConfig& job = carried != nullptr ? carried->job.get() : parsed->get();
+    const JobConfig& job = parsed->get();
     const int movable = static_cast<int>(models->get_file(path)->movable_joints().size());
     const int n = job.active_joints.empty() ? movable : static_cast<int>(job.active_joints.size());
     const LearningConfig& learning = job.learning;

@@ -16,8 +16,9 @@
 namespace armfarm {
 
 /// One job, kept compact: a sweep holds only its key, the values its axes set and pointers to
-/// parts every job shares (about 0.5 KB per job, tests/bench/bench_expansion.cpp); the full
-/// configuration (a ~15 KB JSON tree) is built when asked for.
+/// parts every job shares (about 0.5 KB per job, tests/bench/bench_expansion.cpp, and the
+/// experiment job's packed checked configuration, about 0.3 KB more); the full configuration (a
+/// ~15 KB JSON tree) is built when asked for.
 struct ExpandedJob {
   std::string key;         ///< calc_job_key(config())
   nlohmann::json params;   ///< the values the axes set, {"dotted.path": value}

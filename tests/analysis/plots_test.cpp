@@ -1,6 +1,8 @@
 // Plots and the report render from a small database: valid SVG/PNG files with the expected
-// series, one-line errors when the sweep lacks what a plot needs.
+// series, one-line errors when the sweep lacks what a plot needs; log axes where values span
+// decades, error bars above zero there, no silent pooling, marks for unfinished jobs.
 #include "analysis/analysis_error.hpp"
+#include "analysis/figure.hpp"
 #include "analysis/plots.hpp"
 #include "analysis/report.hpp"
 #include "svg_text_boxes.hpp"
@@ -541,6 +543,122 @@ TEST_F(PlotTest, KernelWidthSweepOfSixtyJobsReadsAtPaperStyle) {
   const auto rooms = testing::find_room_above_frames(testing::find_text_boxes(metric), testing::find_plot_frames(metric));
   ASSERT_EQ(rooms.size(), 1u);
   EXPECT_LT(rooms[0], 1.2) << "a blank line between the title and the panel";
+}
+
+// Figures: nMSE over decades gets a log axis whose error bars stay above zero, and an unplotted
+// swept parameter splits the curves instead of being pooled into the error bars.
+TEST(PlotAxes, LogAxesPositiveErrorBarsAndNoSilentPooling) {
+  testing::TemporaryDirectory directory;
+  const std::string db = directory.file("r.db");
+  std::vector<testing::TestJob> jobs;
+  for (const char* mode : {"online", "batch"}) {
+    for (double init_d : {0.01, 0.1, 1.0}) {
+      for (int seed = 1; seed <= 2; ++seed) {
+        testing::TestJob job;
+        job.params = {{"learning.mode", mode}, {"learning.lwpr.init_D", init_d}, {"seed", seed}};
+        // Spread over seeds larger than the mean's half: mean − std < 0 on a linear axis.
+        const double value = (std::string(mode) == "online" ? 1.0 : 100.0) * init_d * (seed == 1 ? 0.1 : 1.9);
+        job.metrics = {{0, "tracking_nmse", std::nullopt, value, ""}};
+        jobs.push_back(job);
+      }
+    }
+  }
+  testing::write_test_sweep(db, "modes", jobs);
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  PlotRequest request;
+  request.kind = PlotKind::metric_vs_param;
+  request.metric = "tracking_nmse";
+  request.param = "learning.lwpr.init_D";
+  const Figure figure = make_plot_figure(store, request);
+  ASSERT_EQ(figure.panels.size(), 1u);
+  const Panel& panel = figure.panels[0];
+  EXPECT_TRUE(panel.log_x);
+  EXPECT_TRUE(panel.log_y);
+  EXPECT_EQ(panel.y_label, "tracking nMSE");  // readable; unit "1" of metric_info: dimensionless, no unit
+  ASSERT_EQ(panel.curves.size(), 2u);          // online and batch, not pooled
+  EXPECT_EQ(panel.curves[0].title, "mode=online");
+  // The mean and its 95 % Student-t interval, as the tables print them: the two seeds' values
+  // a = 0.1 v and b = 1.9 v have mean v and half-width t(0.975, 1) · |b − a| / 2 = 12.7062 · 0.9 v.
+  ASSERT_TRUE(panel.y_min.has_value());  // the low ends are below zero: clipped at the axis
+  EXPECT_GT(*panel.y_min, 0.0);
+  for (const Curve& curve : panel.curves) {
+    ASSERT_EQ(curve.x.size(), 3u);
+    for (std::size_t i = 0; i < curve.y.size(); ++i) {
+      const double v = curve.x[i] * (curve.title == "mode=online" ? 1.0 : 100.0);
+      EXPECT_NEAR(curve.y[i], v, 1e-12 * v);
+      EXPECT_NEAR(curve.y_high[i], v + 12.7062047 * 0.9 * v, 1e-6 * v);
+      EXPECT_DOUBLE_EQ(curve.y_low[i], *panel.y_min);  // on the axis, never at or below zero
+      EXPECT_LT(curve.y_low[i], 0.01);                 // below every mean drawn
+    }
+  }
+  request.log_y = false;  // forced linear: the interval reaches below zero, the bar stops at zero
+  const Figure linear = make_plot_figure(store, request);
+  EXPECT_FALSE(linear.panels[0].log_y);
+  EXPECT_FALSE(linear.panels[0].y_min.has_value());
+  EXPECT_EQ(linear.panels[0].curves[0].y_low[0], 0.0);
+  // Twelve colours before line styles repeat; one legend entry per title.
+  Figure many;
+  many.panels.resize(2);
+  for (Panel& p : many.panels) {
+    for (int c = 0; c < 13; ++c) p.curves.push_back(Curve{"curve " + std::to_string(c), {0, 1}, {0, 1}, {}, {}});
+  }
+  const std::string script = make_gnuplot_script(many, TerminalSettings{"set terminal svg"}, "out.svg", "/tmp");
+  EXPECT_NE(script.find("lc rgb '" + figure_colours()[0] + "' dt 2"), std::string::npos);  // the 13th curve: first colour, dashed
+  EXPECT_NE(script.find("notitle"), std::string::npos);                // second panel repeats no legend
+  std::size_t titled = 0;
+  for (auto at = script.find(" title 'curve "); at != std::string::npos; at = script.find(" title 'curve ", at + 1)) ++titled;
+  EXPECT_EQ(titled, 13u);
+  // The same group keeps its colour in every panel, whatever the order it is drawn in.
+  Figure swapped;
+  swapped.panels.resize(2);
+  swapped.panels[0].curves = {Curve{"online", {0, 1}, {0, 1}, {}, {}}, Curve{"batch", {0, 1}, {1, 0}, {}, {}}};
+  swapped.panels[1].curves = {Curve{"batch", {0, 1}, {0, 1}, {}, {}}};
+  const std::string two = make_gnuplot_script(swapped, TerminalSettings{"set terminal svg"}, "out.svg", "/tmp");
+  const std::string batch = "lc rgb '" + figure_colours()[1] + "'";
+  const auto batch_colour = two.find(batch);
+  ASSERT_NE(batch_colour, std::string::npos);
+  EXPECT_NE(two.find(batch, batch_colour + 1), std::string::npos) << two;  // batch twice, one colour
+}
+
+// Log x for log-spaced swept values even within one decade (0.02, 0.05, 0.2, the quick start's
+// init_D), not for evenly spaced ones; a diverged job is a mark on the top edge at its x.
+TEST(PlotAxes, LogSpacedValuesGetALogAxisAndUnfinishedJobsAMark) {
+  testing::TemporaryDirectory directory;
+  const std::string db = directory.file("r.db");
+  const auto write = [&](const std::string& sweep, const std::vector<double>& values) {
+    std::vector<testing::TestJob> jobs;
+    for (double value : values) {
+      testing::TestJob job;
+      job.params = {{"learning.lwpr.init_D", value}};
+      job.metrics = {{0, "tracking_nmse", std::nullopt, 0.01 + value / 100, ""}};
+      jobs.push_back(job);
+    }
+    jobs.back().status = "diverged";
+    jobs.back().metrics.clear();
+    testing::write_test_sweep(db, sweep, jobs);
+  };
+  write("log", {0.02, 0.05, 0.2, 0.5});
+  write("even", {1.0, 2.0, 3.0, 4.0});
+  const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+  PlotRequest request;
+  request.kind = PlotKind::metric_vs_param;
+  request.metric = "tracking_nmse";
+  request.param = "learning.lwpr.init_D";
+  request.sweep = "log";
+  const Figure log = make_plot_figure(store, request);
+  EXPECT_TRUE(log.panels[0].log_x);
+  EXPECT_EQ(log.panels[0].edge_marks_x, std::vector<double>{0.5});
+  EXPECT_NE(std::find(log.caption.begin(), log.caption.end(), "marked on the top edge: 1 diverged"), log.caption.end());
+  request.sweep = "even";
+  const Figure even = make_plot_figure(store, request);
+  EXPECT_FALSE(even.panels[0].log_x);
+  EXPECT_EQ(even.panels[0].edge_marks_x, std::vector<double>{4.0});
+  // The mark is drawn on the frame in graph coordinates, with one legend entry.
+  const std::string script = make_gnuplot_script(even, TerminalSettings{"set terminal svg"}, "out.svg", "/tmp");
+  EXPECT_NE(script.find("set label 1 '' at first 4, graph 1 point pt 11"), std::string::npos) << script;
+  EXPECT_NE(script.find("keyentry with points pt 11 ps 1.4 lc rgb '#CC3311' title 'not finished (1 diverged), at its init_D'"),
+            std::string::npos)
+      << script;
 }
 
 TEST(SvgTextBoxes, FindsADeliberateOverlapAndNotItsSeparatedTwin) {

@@ -1,9 +1,12 @@
-// Tables: cells equal hand-computed aggregates; failed jobs are counted, never averaged in.
+// Tables: cells equal hand-computed aggregates; failed jobs are counted, never averaged in; through
+// the command line, per-joint rows, suggestions for unknown names, pooling only across seeds and
+// footnoted undefined cells.
 #include "analysis/analysis_error.hpp"
 #include "analysis/table.hpp"
 #include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 
 #include <algorithm>
 #include <cmath>
@@ -349,6 +352,92 @@ TEST(Table, DefaultTablesAddTheHeldOutEvaluation) {
   for (const TableSpec& spec : make_default_table_specs(make_data())) {
     EXPECT_EQ(spec.title.find("Held-out"), std::string::npos) << spec.title;
   }
+}
+
+// Through the command line on small generated databases: per-joint rows show per-joint values,
+// unknown names are refused with a suggestion, rows pool only across seeds, undefined cells are
+// footnoted with their reason.
+
+// One row of the job_metrics view, read as a user would.
+double query_job_metric(const std::string& db_path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  sqlite3_stmt* statement = nullptr;
+  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &statement, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
+  double value = std::nan("");
+  if (sqlite3_step(statement) == SQLITE_ROW) value = sqlite3_column_double(statement, 0);
+  sqlite3_finalize(statement);
+  sqlite3_close(db);
+  return value;
+}
+
+TEST(TableCommand, PerJointRowsShowPerJointValues) {
+  testing::TemporaryDirectory directory;
+  const std::string db = directory.file("r.db");
+  testing::write_test_sweep(db, "gains", testing::make_gain_jobs());
+  const auto result = testing::run_armfarm("table " + db + " --rows control.gain_scale,joint --cols tracking_nmse --format json");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  const auto json = nlohmann::json::parse(result.output)["tables"].at(0);
+  ASSERT_EQ(json["rows"].size(), 6u);  // 2 gains × 3 joints
+  for (const auto& row : json["rows"]) {
+    const std::string gain = row["params"]["control.gain_scale"], joint = row["params"]["joint"];
+    const double expected = query_job_metric(
+        db, "SELECT avg(value) FROM job_metrics WHERE sweep = 'gains' AND name = 'tracking_nmse' AND joint = " + joint +
+                " AND json_extract(params, '$.\"control.gain_scale\"') = " + gain);
+    EXPECT_NEAR(row["cells"]["tracking_nmse"]["mean"].get<double>(), expected, 1e-15) << gain << " joint " << joint;
+    EXPECT_EQ(row["cells"]["tracking_nmse"]["n"].get<int>(), 2);
+  }
+  // Different joints, different values (the old table printed the job mean on every row).
+  EXPECT_NE(json["rows"][0]["cells"]["tracking_nmse"]["mean"], json["rows"][1]["cells"]["tracking_nmse"]["mean"]);
+}
+
+TEST(TableCommand, UnknownNamesExitTwoWithASuggestion) {
+  testing::TemporaryDirectory directory;
+  const std::string db = directory.file("r.db");
+  testing::write_test_sweep(db, "gains", testing::make_gain_jobs());
+  const auto where = testing::run_armfarm("table " + db + " --where gain_scale=1");
+  EXPECT_EQ(where.exit_code, 2) << where.output;
+  EXPECT_NE(where.output.find("no parameter 'gain_scale'"), std::string::npos) << where.output;
+  EXPECT_NE(where.output.find("did you mean 'control.gain_scale'"), std::string::npos) << where.output;
+  const auto rows = testing::run_armfarm("table " + db + " --rows control.gain_scal");
+  EXPECT_EQ(rows.exit_code, 2) << rows.output;
+  EXPECT_NE(rows.output.find("did you mean 'control.gain_scale'"), std::string::npos) << rows.output;
+  const auto cols = testing::run_armfarm("table " + db + " --cols tracking_nms");
+  EXPECT_EQ(cols.exit_code, 2) << cols.output;
+  EXPECT_NE(cols.output.find("did you mean 'tracking_nmse'"), std::string::npos) << cols.output;
+  EXPECT_EQ(testing::run_armfarm("table " + db + " --where control.gain_scale=1").exit_code, 0);
+}
+
+TEST(TableCommand, RowsPoolOnlyJobsThatDifferInTheirSeed) {
+  testing::TemporaryDirectory directory;
+  const std::string db = directory.file("r.db");
+  testing::write_test_sweep(db, "gains", testing::make_gain_jobs());
+  // Rows by joint alone would pool both gain scales: refused, naming the parameter.
+  const auto pooled = testing::run_armfarm("table " + db + " --rows joint --cols tracking_nmse");
+  EXPECT_EQ(pooled.exit_code, 2) << pooled.output;
+  EXPECT_NE(pooled.output.find("differ in control.gain_scale"), std::string::npos) << pooled.output;
+  EXPECT_EQ(testing::run_armfarm("table " + db + " --rows joint --cols tracking_nmse --where control.gain_scale=1").exit_code, 0);
+}
+
+TEST(TableCommand, UndefinedCellsPrintADashWithTheirReason) {
+  testing::TemporaryDirectory directory;
+  const std::string db = directory.file("r.db");
+  testing::TestJob job;
+  job.params = {{"control.gain_scale", 0.2}};
+  job.metrics = {{0, "tracking_nmse", 1, 0.02, ""},
+                 {0, "tracking_nmse", 2, std::nullopt, "target std 1e-15 rad is below the nMSE floor 0.006 rad"},
+                 {0, "tracking_nmse", std::nullopt, 0.02, "mean over 1 of 2 joints; left out: joint 2"}};
+  testing::write_test_sweep(db, "still", {job});
+  const auto joints = testing::run_armfarm("table " + db + " --rows joint --cols tracking_nmse");
+  ASSERT_EQ(joints.exit_code, 0) << joints.output;
+  EXPECT_NE(joints.output.find("| 2 | – [1] |"), std::string::npos) << joints.output;
+  EXPECT_NE(joints.output.find("[1] tracking_nmse, joint 2: undefined in 1 of 1 jobs: target std 1e-15 rad"),
+            std::string::npos)
+      << joints.output;
+  const auto mean = testing::run_armfarm("table " + db + " --cols tracking_nmse");
+  ASSERT_EQ(mean.exit_code, 0) << mean.output;
+  EXPECT_NE(mean.output.find("| 0.2 | 0.02 [1] |"), std::string::npos) << mean.output;
+  EXPECT_NE(mean.output.find("[1] tracking_nmse: mean over 1 of 2 joints"), std::string::npos) << mean.output;
 }
 
 TEST(TableCommand, CheckpointRowsMatchTheStoredRows) {

@@ -127,6 +127,28 @@ inline void write_test_sweep(const std::string& path, const std::string& sweep, 
   store.update_run_finished(run.run_id, "complete", static_cast<int>(jobs.size()), 0, make_utc_timestamp());
 }
 
+/// Two gain scales × two seeds (params control.gain_scale, seed); tracking_nmse per joint 1–3 plus
+/// its job mean, as the job writes it; with `with_timing`, a learner_us_per_update of `microseconds`.
+inline std::vector<TestJob> make_gain_jobs(bool with_timing = false, double microseconds = 20.0) {
+  std::vector<TestJob> jobs;
+  for (double gain : {0.2, 1.0}) {
+    for (int seed = 1; seed <= 2; ++seed) {
+      TestJob job;
+      job.params = {{"control.gain_scale", gain}, {"seed", seed}};
+      double sum = 0.0;
+      for (int joint = 1; joint <= 3; ++joint) {
+        const double value = 0.01 * joint / gain + 0.001 * seed;
+        sum += value;
+        job.metrics.push_back({0, "tracking_nmse", joint, value, ""});
+      }
+      job.metrics.push_back({0, "tracking_nmse", std::nullopt, sum / 3.0, "mean over 3 of 3 joints"});
+      if (with_timing) job.metrics.push_back({0, "learner_us_per_update", std::nullopt, microseconds, ""});
+      jobs.push_back(job);
+    }
+  }
+  return jobs;
+}
+
 using test_support::CommandResult;
 using test_support::run_armfarm;
 

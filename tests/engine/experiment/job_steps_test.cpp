@@ -16,6 +16,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace armfarm {
 namespace {
@@ -133,6 +134,68 @@ TEST(JobSteps, StartPostureLoopsUseTheConfiguredPosture) {
   ASSERT_EQ(set->controllers.size(), job->controllers.size());
   EXPECT_LT((set->controllers[0].gains.kp - job->controllers[0].gains.kp).norm(), 1e-9);
   EXPECT_LT(set->controllers[0].gains.kp[0], stated->controllers[0].gains.kp[0]);
+}
+
+// The memo of a model's facts (ModelFacts::step_checks) gives the problems check_job_steps gives,
+// key and message, for loops with and without problems (the iiwa at the old fixed steps is
+// refused on joint 7; "auto" is not), computes each distinct loop once, and tells loops apart
+// that differ only in a gain scale; validate() with and without it finds the same problems. The
+// gravity stiffness at the start posture, computed once, is the bits a fresh model's gives.
+TEST(JobSteps, TheStepCheckMemoGivesCheckJobStepsProblemsOncePerDistinctLoop) {
+  const ArmModel model = load_iiwa();
+  const ModelFacts facts = make_model_facts(model);
+  ASSERT_TRUE(facts.step_checks);
+  ModelFacts plain = facts;
+  plain.step_checks = nullptr;
+  std::vector<JobConfig> configs;
+  for (double scale : {0.2, 1.0, 3.0}) {
+    for (bool old_steps : {false, true}) {
+      JobConfig config;
+      config.end_effector.link = "tool_tcp";
+      config.control.gain_scale = scale;
+      if (old_steps) {
+        config.simulation.pd_substeps = 1;
+        config.simulation.integrator_steps_per_tick = 1;
+      }
+      configs.push_back(config);
+    }
+  }
+  std::size_t refused = 0;
+  for (int round = 0; round < 2; ++round) {
+    for (const JobConfig& config : configs) {
+      const std::optional<StartPostureLoops> loops = make_start_posture_loops(config, facts);
+      ASSERT_TRUE(loops);
+      const std::vector<StepProblem> direct = check_job_steps(config, loops->plants, loops->controllers, loops->joint_numbers);
+      const std::vector<StepProblem> memo = facts.step_checks->check(config, *loops);
+      ASSERT_EQ(memo.size(), direct.size());
+      for (std::size_t i = 0; i < direct.size(); ++i) {
+        EXPECT_EQ(memo[i].key, direct[i].key);
+        EXPECT_EQ(memo[i].message, direct[i].message);
+      }
+      if (round == 0) refused += direct.empty() ? 0 : 1;
+      const std::vector<ConfigProblem> with_memo = validate(config, facts), without = validate(config, plain);
+      ASSERT_EQ(with_memo.size(), without.size());
+      for (std::size_t i = 0; i < without.size(); ++i) {
+        EXPECT_EQ(with_memo[i].path, without[i].path);
+        EXPECT_EQ(with_memo[i].message, without[i].message);
+      }
+    }
+  }
+  EXPECT_GE(refused, 1u);                               // the old steps on the iiwa
+  EXPECT_LT(refused, configs.size());                    // not "auto"
+  EXPECT_EQ(facts.step_checks->computed(), configs.size());  // six loops, each checked once
+  // The start posture's gravity stiffness: computed once, the same bits as a fresh computation.
+  const std::vector<double>& start = facts.start_positions;
+  const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(start.data(), static_cast<Eigen::Index>(start.size()));
+  const Eigen::MatrixXd first = facts.gravity_stiffness_at(q), again = facts.gravity_stiffness_at(q);
+  const Eigen::MatrixXd fresh = make_model_facts(model).gravity_stiffness_at(q);
+  EXPECT_TRUE(first == fresh);
+  EXPECT_TRUE(again == fresh);
+  EXPECT_GT(fresh.norm(), 0.0);
+  // Elsewhere it is computed for the posture asked.
+  Eigen::VectorXd bent = q;
+  bent[1] += 0.5;
+  EXPECT_FALSE(facts.gravity_stiffness_at(bent) == fresh);
 }
 
 // The coupled criterion against the simulated arm: planar2's gains placed on the diagonal give

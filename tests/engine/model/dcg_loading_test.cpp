@@ -1,15 +1,19 @@
-// DCG loading: a small example with every body type against closed forms, and the shipped
-// LWR in DCG form against its URDF twin (kinematics at several postures, mass properties).
+// DCG loading: a small example with every body type against closed forms, the shipped LWR in
+// DCG form against its URDF twin (kinematics at several postures, mass properties), and the
+// strict reading of numbers (file and line of each refused one).
 #include "engine/model/mass_properties.hpp"
 #include "engine/model/model_loading.hpp"
 #include "tests/engine/model/model_test_helpers.hpp"
 #include "engine/physics/arm_simulation.hpp"
+#include "support/scratch_file.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 #include <cstdio>
+#include <fstream>
+#include <string>
 
 namespace armfarm {
 namespace {
@@ -185,6 +189,41 @@ TEST(ModelFormats, UrdfAndDcgOfTheLwrGiveTheSameInverseDynamics) {
   const Eigen::VectorXd q = a.start_positions(), zero = Eigen::VectorXd::Zero(a.dof());
   EXPECT_LT((a.calc_inverse_dynamics(q, zero, zero) - b.calc_inverse_dynamics(q, zero, zero)).norm(),
             1e-6 * a.calc_inverse_dynamics(q, zero, zero).norm());
+}
+
+// Strict numbers (issue 16): every number of a tag is all number, finite and decimal; an
+// embedded NUL or control character, hex, NaN or Inf is refused with the file and line.
+
+// The ModelError of loading a one-box DCG whose box size tag is s(SIZE), after the file name.
+std::string dcg_problem(const std::string& size) {
+  const std::string path = test_support::scratch_file("strict.dcg");
+  std::ofstream(path, std::ios::binary) << "<DCGraph>\nB ground <t(0 0 0)> o(1) s(1 1 0.1) fix;\nB arm <> o(1) s(" + size +
+                                               ") w(1) ee(0 0 0);\nJ ground-arm <t(0 0 0.1)>;\n</DCGraph>\n";
+  std::string problem = "(loaded)";
+  try {
+    load_arm_model(path);
+  } catch (const ModelError& error) {
+    problem = std::string(error.what()).substr(path.size());
+  }
+  std::remove(path.c_str());
+  return problem;
+}
+
+TEST(DcgLoading, PlainNumbersLoad) { EXPECT_EQ(dcg_problem("0.1 0.2 0.3"), "(loaded)"); }
+
+TEST(DcgLoading, NulInsideANumberIsRefusedNotTruncated) {
+  EXPECT_EQ(dcg_problem(std::string("0.1 0.2\0" "5 0.3", 13)), ":3: tag s: value 2 is not a finite number (a 5-byte token, not shown)");
+}
+
+TEST(DcgLoading, NanInfHexAndOverflowAreRefused) {
+  EXPECT_EQ(dcg_problem("0.1 nan 0.3"), ":3: tag s: value 2 is not a finite number: 'nan'");
+  EXPECT_EQ(dcg_problem("0.1 0.2 -inf"), ":3: tag s: value 3 is not a finite number: '-inf'");
+  EXPECT_EQ(dcg_problem("1e999 0.2 0.3"), ":3: tag s: value 1: '1e999' overflows a double (above 1.8e308 in magnitude)");
+  // Out of a double's range, not "not a finite number": 1e-400 is a finite number no double holds.
+  EXPECT_EQ(dcg_problem("0.1 1e-400 0.3"),
+            ":3: tag s: value 2: '1e-400' underflows to zero (below 4.9e-324, the smallest double, in magnitude)");
+  EXPECT_EQ(dcg_problem("0x1p-3 0.2 0.3"), ":3: tag s: value 1 is not a finite number (a 6-byte token, not shown)");
+  EXPECT_EQ(dcg_problem("0.1m 0.2 0.3"), ":3: tag s: value 1 is not a finite number (a 4-byte token, not shown)");
 }
 
 }  // namespace

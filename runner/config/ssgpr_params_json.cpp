@@ -1,5 +1,5 @@
 // SSGPR params JSON → SsgprLearningConfig, through the learning.ssgpr key table.
-#include "runner/ssgpr_params_json.hpp"
+#include "runner/config/ssgpr_params_json.hpp"
 
 #include "base/number_format.hpp"
 #include "engine/io/input_file.hpp"

@@ -1,5 +1,5 @@
 // LWPR params JSON: library names, init_D shapes, "std" normalisation, unknown keys.
-#include "runner/lwpr_params_json.hpp"
+#include "runner/config/lwpr_params_json.hpp"
 
 #include "engine/learning/learning_config.hpp"
 

@@ -1,5 +1,5 @@
 // LWPR params JSON → LwprParams, through LWPR's key table (engine/learning/learning_config.hpp).
-#include "runner/lwpr_params_json.hpp"
+#include "runner/config/lwpr_params_json.hpp"
 
 #include "base/did_you_mean.hpp"
 #include "engine/io/input_file.hpp"
