@@ -567,13 +567,13 @@ void update_receptive_field(const LwprParams& params, double trust_n_data, const
 
   // Add a projection when the last one still cut the leave-one-out error by enough and has seen
   // (nearly) all the data the field has.
-  if (params.add_proj && n_reg >= 2 && n_reg < rf.input_dim()) {
+  // The sample-count test, which needs no division, first: it fails until the last projection
+  // has seen 0.5/(1−λ) samples (500 at λ = 0.999), so the three divisions are rarely evaluated.
+  if (params.add_proj && n_reg >= 2 && n_reg < rf.input_dim() && rf.n_data(n_reg - 1) * (1.0 - lambda) > 0.5 &&
+      rf.n_data(n_reg - 1) / rf.n_data(0) > 0.99) {
     const double mse_last = rf.sum_e_cv2(n_reg - 1) / rf.sum_w(n_reg - 1) + 1e-10;
     const double mse_prev = rf.sum_e_cv2(n_reg - 2) / rf.sum_w(n_reg - 2) + 1e-10;
-    if (mse_last / mse_prev < params.add_threshold && rf.n_data(n_reg - 1) / rf.n_data(0) > 0.99 &&
-        rf.n_data(n_reg - 1) * (1.0 - lambda) > 0.5) {
-      add_projection(params, rf);
-    }
+    if (mse_last / mse_prev < params.add_threshold) add_projection(params, rf);
   }
 
   rf.lambda = params.tau_lambda * lambda + (1.0 - params.tau_lambda) * params.final_lambda;
