@@ -533,12 +533,15 @@ void update_receptive_field(const LwprParams& params, double trust_n_data, const
       leverage_r += 1.0 - scratch.one_minus_h(r);
       const double e_cv = scratch.residual(r) / std::max(1.0 - leverage_r, kMinOneMinusH);
       rf.sum_e_cv2(r) = lambda * rf.sum_e_cv2(r) + w * e_cv * e_cv;
-      // Projection r's own leave-one-out residual, for the PRESS sums of the metric gradient.
-      scratch.e_cv(r) = scratch.residual(r) / scratch.one_minus_h(r);
     }
-    rf.sum_e2 = lambda * rf.sum_e2 + w * e * e;
-    rf.press_E = lambda * rf.press_E + w * scratch.e_cv.head(n_reg).squaredNorm();
+    // The rest feeds the metric step only: without update_D it is never read (a model's
+    // parameters are fixed, in its file too), so sum_e2, press_E, press_H and press_R stay 0.
     if (params.update_D) {
+      for (int r = 0; r < n_reg; ++r) {  // projection r's own leave-one-out residual
+        scratch.e_cv(r) = scratch.residual(r) / scratch.one_minus_h(r);
+      }
+      rf.sum_e2 = lambda * rf.sum_e2 + w * e * e;
+      rf.press_E = lambda * rf.press_E + w * scratch.e_cv.head(n_reg).squaredNorm();
       MetricSample sample(scratch.s, scratch.residual, scratch.e_cv);
       sample.w = w;
       scratch.diff = x - rf.center;
@@ -555,13 +558,13 @@ void update_receptive_field(const LwprParams& params, double trust_n_data, const
       const double ratio = rf.sum_e2 / (rf.sum_e_cv2(n_reg - 1) + 1e-10);
       const double transient = std::min(1.0, ratio * ratio * ratio * ratio);
       update_distance_metric(params, scratch.diff, sample, transient, rf, scratch);
-    }
-    for (int r = 0; r < n_reg; ++r) {
-      const double s = scratch.s(r);
-      const double e_cv = scratch.e_cv(r);
-      const double one_minus_h = scratch.one_minus_h(r);
-      rf.press_H(r) = lambda * rf.press_H(r) + w * s * e_cv / one_minus_h;
-      rf.press_R(r) = lambda * rf.press_R(r) + w * w * s * s * e_cv * e_cv / one_minus_h;
+      for (int r = 0; r < n_reg; ++r) {
+        const double s = scratch.s(r);
+        const double e_cv = scratch.e_cv(r);
+        const double one_minus_h = scratch.one_minus_h(r);
+        rf.press_H(r) = lambda * rf.press_H(r) + w * s * e_cv / one_minus_h;
+        rf.press_R(r) = lambda * rf.press_R(r) + w * w * s * s * e_cv * e_cv / one_minus_h;
+      }
     }
   }
 

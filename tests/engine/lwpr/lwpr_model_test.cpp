@@ -309,6 +309,70 @@ TEST(LwprModel, Avx2ScanMatchesThePortableScanBitForBit) {
   }
 }
 
+// Without update_D the PRESS memory terms (press_E, press_H, press_R) and Σλw e² feed nothing: the
+// metric never moves, so the field update leaves them at 0, and a model restored with arbitrary
+// values there learns and predicts the same bits as one restored without. With update_D the same
+// change of those terms changes the predictions (so the comparison can see a term that is read).
+TEST(LwprModel, PressTermsAreReadOnlyWithUpdateD) {
+  for (const bool update_d : {false, true}) {
+    LwprParams params;
+    params.init_D = Eigen::MatrixXd::Constant(1, 1, 4.0);
+    params.update_D = update_d;
+    params.w_gen = 0.2;
+    params.init_lambda = 0.99;  // the leave-one-out statistics start after 10 samples
+    std::mt19937_64 rng(43);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    auto sample = [&](Eigen::VectorXd& x, Eigen::VectorXd& y) {
+      x = Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng));
+      y = Eigen::Vector2d(std::sin(2.0 * x(0)) + x(1) * x(2), std::cos(x(0) + x(2)));
+    };
+    LwprModel model(3, 2, params);
+    Eigen::VectorXd x, y;
+    for (int i = 0; i < 2000; ++i) {
+      sample(x, y);
+      model.update(x, y);
+    }
+    std::vector<std::vector<ReceptiveField>> fields = {model.fields(0), model.fields(1)}, changed = fields;
+    double largest_press = 0.0;
+    for (auto& list : changed) {
+      for (ReceptiveField& rf : list) {
+        largest_press = std::max({largest_press, std::abs(rf.press_E), std::abs(rf.sum_e2),
+                                  rf.press_H.cwiseAbs().maxCoeff(), rf.press_R.cwiseAbs().maxCoeff()});
+        rf.press_E = 3.0;
+        rf.sum_e2 = 0.5;
+        rf.press_H.setConstant(-2.0);
+        rf.press_R.setConstant(5.0);
+      }
+    }
+    if (update_d) {
+      EXPECT_GT(largest_press, 0.0);
+    } else {
+      EXPECT_EQ(largest_press, 0.0);
+    }
+    LwprModel a(3, 2, params, fields, model.n_updates()), b(3, 2, params, changed, model.n_updates());
+    for (int i = 0; i < 1000; ++i) {
+      sample(x, y);
+      a.update(x, y);
+      b.update(x, y);
+    }
+    auto wa = a.make_workspace(), wb = b.make_workspace();
+    int differ = 0;
+    for (int i = 0; i < 300; ++i) {
+      sample(x, y);
+      const Prediction pa = a.predict(x, *wa), pb = b.predict(x, *wb);
+      for (int o = 0; o < 2; ++o) {
+        differ += std::memcmp(&pa.value(o), &pb.value(o), sizeof(double)) != 0 ? 1 : 0;
+        differ += std::memcmp(&pa.confidence(o), &pb.confidence(o), sizeof(double)) != 0 ? 1 : 0;
+      }
+    }
+    if (update_d) {
+      EXPECT_GT(differ, 0) << "with update_D the PRESS terms must change the metric steps";
+    } else {
+      EXPECT_EQ(differ, 0) << "without update_D the PRESS terms must not be read";
+    }
+  }
+}
+
 TEST(LwprModel, RejectsNonFiniteSamplesAndLeavesModelUnchanged) {
   std::mt19937_64 rng(5);
   LwprModel model(2, 1, cross_params(2));
