@@ -152,9 +152,10 @@ int run_fit(const FitOptions& opt) {
   long long untrusted = 0;
   const auto start = std::chrono::steady_clock::now();
   const double predict_cpu_start = thread_cpu_seconds();
+  Prediction p;  // one for all rows: predict_into reuses its vectors
   for (Eigen::Index i = 0; i < x_test.rows(); ++i) {
     x = x_test.row(i).transpose();
-    const Prediction p = learner->predict(x, *workspace);
+    learner->predict_into(x, *workspace, p);
     predicted.row(i) = p.value.transpose();
     if (!p.trustworthy) ++untrusted;
   }

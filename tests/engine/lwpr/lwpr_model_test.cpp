@@ -309,6 +309,55 @@ TEST(LwprModel, Avx2ScanMatchesThePortableScanBitForBit) {
   }
 }
 
+// predict_into() writes the same bits as predict() into a caller's Prediction, whatever it held
+// (other sizes, stale flags), and reuses its vectors: their storage stays put from the second call on.
+TEST(LwprModel, PredictIntoMatchesPredictAndReusesTheVectors) {
+  LwprParams params;
+  params.init_D = Eigen::MatrixXd::Constant(1, 1, 6.0);
+  params.w_gen = 0.3;
+  LwprModel model(3, 2, params);
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int i = 0; i < 1500; ++i) {
+    const Eigen::Vector3d x(uniform(rng), uniform(rng), uniform(rng));
+    model.update(x, Eigen::Vector2d(std::sin(2.0 * x(0)) + x(2), x(0) * x(1)));
+  }
+  auto ws_a = model.make_workspace(), ws_b = model.make_workspace();
+  Prediction reused;
+  reused.value = Eigen::VectorXd::Constant(5, 7.0);
+  reused.confidence = Eigen::VectorXd::Constant(1, -1.0);
+  reused.output_trusted.assign(4, true);
+  reused.max_activation = 9.0;
+  const double* value_storage = nullptr;
+  const double* confidence_storage = nullptr;
+  int untrusted = 0;
+  for (int i = 0; i < 300; ++i) {
+    // Every tenth point far outside the data: no trustworthy field, value 0 and confidence +inf.
+    const double scale = i % 10 == 0 ? 40.0 : 1.0;
+    const Eigen::Vector3d x(scale * uniform(rng), uniform(rng), uniform(rng));
+    const Prediction expected = model.predict(x, *ws_a);
+    model.predict_into(x, *ws_b, reused);
+    ASSERT_EQ(reused.value.size(), 2);
+    ASSERT_EQ(reused.confidence.size(), 2);
+    for (int o = 0; o < 2; ++o) {
+      EXPECT_EQ(std::memcmp(&expected.value(o), &reused.value(o), sizeof(double)), 0) << "sample " << i;
+      EXPECT_EQ(std::memcmp(&expected.confidence(o), &reused.confidence(o), sizeof(double)), 0) << "sample " << i;
+    }
+    EXPECT_EQ(expected.output_trusted, reused.output_trusted) << "sample " << i;
+    EXPECT_EQ(expected.trustworthy, reused.trustworthy) << "sample " << i;
+    EXPECT_EQ(expected.max_activation, reused.max_activation) << "sample " << i;
+    untrusted += expected.trustworthy ? 0 : 1;
+    if (i == 0) {
+      value_storage = reused.value.data();
+      confidence_storage = reused.confidence.data();
+    }
+    EXPECT_EQ(reused.value.data(), value_storage) << "sample " << i << ": the value vector was reallocated";
+    EXPECT_EQ(reused.confidence.data(), confidence_storage) << "sample " << i;
+  }
+  EXPECT_GE(untrusted, 25);  // the far points
+  EXPECT_LT(untrusted, 100);
+}
+
 // Without update_D the PRESS memory terms (press_E, press_H, press_R) and Σλw e² feed nothing: the
 // metric never moves, so the field update leaves them at 0, and a model restored with arbitrary
 // values there learns and predicts the same bits as one restored without. With update_D the same
