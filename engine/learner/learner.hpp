@@ -59,6 +59,11 @@ class Learner {
   virtual std::unique_ptr<PredictionWorkspace> make_workspace() const = 0;
   /// Predicts y at x; const and thread-safe given one workspace per thread.
   virtual Prediction predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace) const = 0;
+  /// predict() into `out`, overwriting every member. A learner that overrides it reuses out's
+  /// vectors, so a caller that keeps one Prediction across calls allocates nothing per call.
+  virtual void predict_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const {
+    out = predict(x, workspace);
+  }
 
   /// Number of local models (LWPR: receptive fields summed over outputs).
   virtual std::size_t size() const = 0;

@@ -289,16 +289,24 @@ std::unique_ptr<PredictionWorkspace> LwprModel::make_workspace() const {
 }
 
 Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace) const {
-  return predict_with(x, workspace, nullptr);
+  Prediction prediction;
+  predict_with(x, workspace, nullptr, prediction);
+  return prediction;
 }
 
 Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace,
                               LwprPredictionDetail& detail) const {
-  return predict_with(x, workspace, &detail);
+  Prediction prediction;
+  predict_with(x, workspace, &detail, prediction);
+  return prediction;
 }
 
-Prediction LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace,
-                                   LwprPredictionDetail* detail) const {
+void LwprModel::predict_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const {
+  predict_with(x, workspace, nullptr, out);
+}
+
+void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail,
+                             Prediction& prediction) const {
   require_vector(x, n_in_, "x");
   auto* ws = dynamic_cast<LwprWorkspace*>(&workspace);
   if (ws == nullptr) throw std::invalid_argument("LWPR: predict() needs a workspace from make_workspace()");
@@ -307,9 +315,8 @@ Prediction LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace
   ws->x_padded.resize(stride_, 0.0);
   std::copy(xn.data(), xn.data() + n_in_, ws->x_padded.begin());
 
-  Prediction prediction;
-  prediction.value = Eigen::VectorXd::Zero(n_out_);
-  prediction.confidence = Eigen::VectorXd::Constant(n_out_, std::numeric_limits<double>::infinity());
+  prediction.value.setZero(n_out_);  // no allocation when the sizes are already n_out
+  prediction.confidence.setConstant(n_out_, std::numeric_limits<double>::infinity());
   prediction.trustworthy = true;
   prediction.output_trusted.assign(n_out_, false);
   if (detail != nullptr) {
@@ -360,7 +367,6 @@ Prediction LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace
     prediction.confidence(o) = std::sqrt(std::max(0.0, variance)) * norm_out_(o);
   }
   prediction.max_activation = n_out_ > 0 ? min_of_max : 0.0;
-  return prediction;
 }
 
 std::size_t LwprModel::size() const {

@@ -68,6 +68,9 @@ class LwprModel final : public Learner {
   /// predict() plus the per-output activations and trust flags.
   Prediction predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail& detail) const;
 
+  /// predict() into `out`: no allocation once out's vectors have n_out elements.
+  void predict_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const override;
+
   /// Receptive fields summed over outputs.
   std::size_t size() const override;
 
@@ -85,9 +88,10 @@ class LwprModel final : public Learner {
   // Updates output `output` with y (normalised) given the fields active at x (every field with
   // w > 0, in field order), creating and pruning as update() says.
   void update_output(int output, double y, const std::vector<ActiveField>& active);
-  // Both predict()s; `detail` (may be null: then nothing of it is allocated) receives the
-  // per-output activations and trust flags.
-  Prediction predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail) const;
+  // Every predict(): writes `prediction`; `detail` (may be null: then nothing of it is allocated)
+  // receives the per-output activations and trust flags.
+  void predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail,
+                    Prediction& prediction) const;
   // The fields of `output`'s scan active at x_padded (w > 0), in field order; only trustworthy
   // ones when `trusted_only`.
   void scan_active(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,

@@ -303,40 +303,102 @@ double calc_field_noise_variance(const ReceptiveField& rf) {
 
 namespace {
 
-// Pass (2) of update_statistics() for one projection: the normalised direction u = sxy/|sxy|, the
-// input loadings' statistics sxs and p = sxs/Σλws², and, if Deflate, the deflated input z − s·p.
-// Element-wise, so any vector width gives the same bits; n is update_statistics()'s.
+// The three kinds of pass over length-n vectors that update_statistics() makes, each on elements
+// [i, i + kWidth) of V (a Pair or a Quad) or on one element (the scalar tails). Element-wise, so
+// any vector width rounds the same; the reductions are the caller's. A fused pass runs two of
+// them in one loop, the same operations in the same order per element as the separate passes.
+// (a) The weighted mean x₀ ← (w_old·x₀ + w·x)/Σλw and the centred input z = x − x₀.
+template <class V>
+__attribute__((always_inline)) inline void update_mean(const double* x, double* mean_x, double* z, double w_old,
+                                                       double w, double inv_w_new, V& zv) {
+  V xv, mv;
+  load_vector(xv, x);
+  load_vector(mv, mean_x);
+  const V m = (w_old * mv + w * xv) * inv_w_new;
+  store_vector(mean_x, m);
+  zv = xv - m;
+  store_vector(z, zv);
+}
+// (b) Projection r's direction statistics sxy ← λ_slow·sxy + w·res·z (u_r before normalising).
+template <class V>
+__attribute__((always_inline)) inline void update_direction_sums(double* sxy, const V& zv, double lambda_slow,
+                                                                 double w_res, V& v) {
+  load_vector(v, sxy);
+  v = lambda_slow * v + w_res * zv;
+  store_vector(sxy, v);
+}
+// (c) Projection r's normalised direction u = sxy/|sxy|, its loadings' statistics sxs ← λ·sxs + ws·z
+// and p = sxs/Σλws²; with Deflate, the next projection's input z − s·p (in zv, and stored).
 template <bool Deflate, class V>
-__attribute__((always_inline)) inline void update_directions(int n, double inv_norm, double ws, double inv_ss2,
-                                                             double s, double lambda, const double* sxy, double* sxs,
-                                                             double* u, double* p, double* z) {
-  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
-  int i = 0;
-  for (; i + kWidth <= n; i += kWidth) {
-    V zv, yv, sv;
-    load_vector(zv, z + i);
-    load_vector(yv, sxy + i);
-    load_vector(sv, sxs + i);
-    store_vector(u + i, yv * inv_norm);
-    const V v = lambda * sv + ws * zv;
-    store_vector(sxs + i, v);
-    const V pv = v * inv_ss2;
-    store_vector(p + i, pv);
-    if (Deflate) store_vector(z + i, zv - s * pv);
-  }
-  for (int t = 0; t < kWidth - 1 && i < n; ++t, ++i) {  // at most kWidth − 1 left: unrolled
-    u[i] = sxy[i] * inv_norm;
-    const double v = lambda * sxs[i] + ws * z[i];
-    sxs[i] = v;
-    p[i] = v * inv_ss2;
-    if (Deflate) z[i] -= s * p[i];
+__attribute__((always_inline)) inline void update_loadings(double* z, const double* sxy, double* sxs, double* u,
+                                                           double* p, double inv_norm, double ws, double inv_ss2,
+                                                           double s, double lambda, V& zv) {
+  V yv, sv;
+  load_vector(zv, z);
+  load_vector(yv, sxy);
+  load_vector(sv, sxs);
+  store_vector(u, yv * inv_norm);
+  const V v = lambda * sv + ws * zv;
+  store_vector(sxs, v);
+  const V pv = v * inv_ss2;
+  store_vector(p, pv);
+  if (Deflate) {
+    zv = zv - s * pv;
+    store_vector(z, zv);
   }
 }
 
+// One projection's reduction: |sxy|² and sxy·z, element i in lane i mod kLanes.
+struct DirectionSums {
+  double norm2 = 0.0;
+  double dot = 0.0;
+};
+
+// Over blocks of kLanes elements (kLanes/kWidth vectors V each, element i in lane i mod kLanes),
+// then the at most kLanes − 1 elements left one by one (element i + k in lane k, written out so
+// that the partial sums stay in registers): `input(i, zv)` produces the input z at [i, i + width)
+// (a mean or a deflation pass, `Width` wide), then (b) updates `sxy` with it and accumulates the
+// sums. This is projection r+1's pass (1) fused with what produces its input.
+template <class V, class Input, class InputTail>
+__attribute__((always_inline)) inline DirectionSums run_direction_pass(int n, double* sxy, const double* z,
+                                                                       double lambda_slow, double w_res, Input input,
+                                                                       InputTail input_tail) {
+  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
+  constexpr int kGroups = kLanes / kWidth;
+  V norm2_lanes[kGroups] = {}, dot_lanes[kGroups] = {};
+  int i = 0;
+  for (; i + kLanes <= n; i += kLanes) {
+    for (int g = 0; g < kGroups; ++g) {
+      V zv;
+      input(i + g * kWidth, zv);
+      V v;
+      update_direction_sums<V>(sxy + i + g * kWidth, zv, lambda_slow, w_res, v);
+      norm2_lanes[g] += v * v;
+      dot_lanes[g] += v * zv;
+    }
+  }
+  double norm2_part[kLanes], dot_part[kLanes];
+  for (int k = 0; k < kLanes; ++k) {
+    norm2_part[k] = norm2_lanes[k / kWidth][k % kWidth];
+    dot_part[k] = dot_lanes[k / kWidth][k % kWidth];
+  }
+  auto tail = [&](int k) __attribute__((always_inline)) {
+    input_tail(i + k);
+    const double v = lambda_slow * sxy[i + k] + w_res * z[i + k];
+    sxy[i + k] = v;
+    norm2_part[k] += v * v;
+    dot_part[k] += v * z[i + k];
+  };
+  if (i < n) tail(0);
+  if (i + 1 < n) tail(1);
+  if (i + 2 < n) tail(2);
+  return {sum_lanes(norm2_part), sum_lanes(dot_part)};
+}
+
 // The forgetting-weighted sums, means and PLS statistics of update_receptive_field() for one
-// sample; leaves s_r, the residuals, 1 − h_r and e_cv,r in `scratch`. N > 0 fixes the input
-// dimension at compile time (the loops unroll; most of a 2-D field's update went to loop control),
-// N = 0 takes it from the field; the same operations in the same order either way.
+// sample; leaves s_r, the residuals and 1 − h_r in `scratch`. N > 0 fixes the input dimension at
+// compile time (the loops unroll; most of a 2-D field's update went to loop control), N = 0 takes
+// it from the field; the same operations in the same order either way.
 // V is the vector the loops run on: Pair (SSE2, two per block of kLanes) or Quad (AVX2, one per
 // block); either way element i is in lane i mod kLanes, so the same bits. Always inlined, so that
 // the AVX2 copy below compiles it, and the helpers above, for AVX2.
@@ -347,8 +409,6 @@ __attribute__((always_inline)) inline void update_statistics(const Eigen::Vector
   const double lambda_slow = 1.0 - (1.0 - lambda) / 10.0;  // PLS directions forget more slowly
   const int n_reg = rf.n_reg();
   const int n = N > 0 ? N : rf.input_dim();
-  constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
-  constexpr int kGroups = kLanes / kWidth;  // vectors per block of kLanes
 
   // Forgetting-weighted sums: Σλw (the weights, for the means and the MSE normalisation) and
   // n_data = Σλ·1, the discounted number of samples each projection has seen (the algorithm counts
@@ -360,86 +420,67 @@ __attribute__((always_inline)) inline void update_statistics(const Eigen::Vector
     rf.n_data(r) = lambda * rf.n_data(r) + 1.0;
   }
   const double inv_w_new = 1.0 / rf.sum_w(0);
-
-  // Weighted means x₀, β₀, and the centred input z = x − x₀, in one pass.
-  double* z = scratch.z.data();
-  double* mean_x = rf.mean_x.data();
-  const double* xp = x.data();
-  int i = 0;
-  for (; i + kWidth <= n; i += kWidth) {
-    V xv, mv;
-    load_vector(xv, xp + i);
-    load_vector(mv, mean_x + i);
-    const V m = (w_old * mv + w * xv) * inv_w_new;
-    store_vector(mean_x + i, m);
-    store_vector(z + i, xv - m);
-  }
-  for (int t = 0; t < kWidth - 1 && i < n; ++t, ++i) {  // at most kWidth − 1 left: unrolled
-    const double m = (w_old * mean_x[i] + w * xp[i]) * inv_w_new;
-    mean_x[i] = m;
-    z[i] = xp[i] - m;
-  }
   rf.beta0 = (w_old * rf.beta0 + w * y) * inv_w_new;
 
   // Incremental PLS (Vijayakumar et al. 2005, table 2): each projection regresses the residual
-  // left by the previous ones on s_r = u_rᵀz_r and deflates the input by s_r·p_r. Two passes per
-  // projection: (1) u_r's statistics with |·|² and ·z accumulated, (2) the normalised direction,
-  // the loadings and the deflation; one division for 1/|u_r| and one for 1/Σλws_r².
+  // left by the previous ones on s_r = u_rᵀz_r and deflates the input by s_r·p_r. Per projection:
+  // (1) u_r's statistics with |·|² and ·z accumulated, (2) the normalised direction, the loadings
+  // and the deflation; one division for 1/|u_r| and one for 1/Σλws_r². Pass (1) of projection 0
+  // runs in one loop with the means x₀ and z = x − x₀, pass (1) of projection r+1 in one loop with
+  // pass (2) of projection r; pass (2) of the last projection does not deflate (nothing reads it).
+  double* z = scratch.z.data();
+  double* mean_x = rf.mean_x.data();
+  const double* xp = x.data();
   double res = y - rf.beta0;
-  for (int r = 0; r < n_reg; ++r) {
-    double* sxy = rf.sxy.col(r).data();
-    double* sxs = rf.sxs.col(r).data();
-    double* u = rf.directions.col(r).data();
-    double* p = rf.loadings.col(r).data();
-    const double w_res = w * res;
-    // Four interleaved partial sums (a fixed order, so the same bits at any vector width).
-    V norm2_lanes[kGroups] = {}, dot_lanes[kGroups] = {};
-    i = 0;
-    for (; i + kLanes <= n; i += kLanes) {
-      for (int g = 0; g < kGroups; ++g) {
-        V zv, v;
-        load_vector(zv, z + i + g * kWidth);
-        load_vector(v, sxy + i + g * kWidth);
-        v = lambda_slow * v + w_res * zv;
-        store_vector(sxy + i + g * kWidth, v);
-        norm2_lanes[g] += v * v;
-        dot_lanes[g] += v * zv;
-      }
-    }
-    double norm2_part[kLanes], dot_part[kLanes];
-    for (int k = 0; k < kLanes; ++k) {
-      norm2_part[k] = norm2_lanes[k / kWidth][k % kWidth];
-      dot_part[k] = dot_lanes[k / kWidth][k % kWidth];
-    }
-    // At most kLanes − 1 elements are left, element i + k in lane k: written out, so that the
-    // partial sums stay in registers.
-    auto tail = [&](int k) __attribute__((always_inline)) {
-      const double v = lambda_slow * sxy[i + k] + w_res * z[i + k];
-      sxy[i + k] = v;
-      norm2_part[k] += v * v;
-      dot_part[k] += v * z[i + k];
-    };
-    if (i < n) tail(0);
-    if (i + 1 < n) tail(1);
-    if (i + 2 < n) tail(2);
-    const double norm2 = sum_lanes(norm2_part), dot = sum_lanes(dot_part);
-    const double inv_norm = norm2 > 0.0 ? 1.0 / std::sqrt(norm2) : 0.0;  // u_r = 0 while sxy_r = 0
-    const double s = dot * inv_norm;
+  DirectionSums sums = run_direction_pass<V>(
+      n, rf.sxy.col(0).data(), z, lambda_slow, w * res,
+      [&](int i, V& zv) __attribute__((always_inline)) {
+        update_mean<V>(xp + i, mean_x + i, z + i, w_old, w, inv_w_new, zv);
+      },
+      [&](int i) __attribute__((always_inline)) {
+        const double m = (w_old * mean_x[i] + w * xp[i]) * inv_w_new;
+        mean_x[i] = m;
+        z[i] = xp[i] - m;
+      });
+  for (int r = 0;; ++r) {
+    const double inv_norm = sums.norm2 > 0.0 ? 1.0 / std::sqrt(sums.norm2) : 0.0;  // u_r = 0 while sxy_r = 0
+    const double s = sums.dot * inv_norm;
     const double ws = w * s;
     rf.ss2(r) = lambda * rf.ss2(r) + ws * s;
     rf.sys(r) = lambda * rf.sys(r) + ws * res;
     const double inv_ss2 = 1.0 / rf.ss2(r);
     rf.beta(r) = rf.sys(r) * inv_ss2;
-    if (r + 1 < n_reg) {
-      update_directions<true, V>(n, inv_norm, ws, inv_ss2, s, lambda, sxy, sxs, u, p, z);
-    } else {  // the deflated input after the last projection is not used
-      update_directions<false, V>(n, inv_norm, ws, inv_ss2, s, lambda, sxy, sxs, u, p, z);
-    }
     res -= rf.beta(r) * s;
     scratch.s(r) = s;
     scratch.residual(r) = res;
     scratch.one_minus_h(r) = std::max(1.0 - ws * s * inv_ss2, kMinOneMinusH);
-    scratch.e_cv(r) = res / scratch.one_minus_h(r);
+    const double* sxy = rf.sxy.col(r).data();
+    double* sxs = rf.sxs.col(r).data();
+    double* u = rf.directions.col(r).data();
+    double* p = rf.loadings.col(r).data();
+    auto loadings_tail = [&](int i, bool deflate) __attribute__((always_inline)) {
+      u[i] = sxy[i] * inv_norm;
+      const double v = lambda * sxs[i] + ws * z[i];
+      sxs[i] = v;
+      p[i] = v * inv_ss2;
+      if (deflate) z[i] -= s * p[i];
+    };
+    if (r + 1 == n_reg) {
+      constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
+      int i = 0;
+      for (; i + kWidth <= n; i += kWidth) {
+        V zv;
+        update_loadings<false, V>(z + i, sxy + i, sxs + i, u + i, p + i, inv_norm, ws, inv_ss2, s, lambda, zv);
+      }
+      for (int t = 0; t < kWidth - 1 && i < n; ++t, ++i) loadings_tail(i, false);  // unrolled
+      return;
+    }
+    sums = run_direction_pass<V>(
+        n, rf.sxy.col(r + 1).data(), z, lambda_slow, w * res,
+        [&](int i, V& zv) __attribute__((always_inline)) {
+          update_loadings<true, V>(z + i, sxy + i, sxs + i, u + i, p + i, inv_norm, ws, inv_ss2, s, lambda, zv);
+        },
+        [&](int i) __attribute__((always_inline)) { loadings_tail(i, true); });
   }
 }
 
@@ -493,9 +534,14 @@ void update_receptive_field(const LwprParams& params, double trust_n_data, const
       const double e_cv = scratch.residual(r) / std::max(1.0 - leverage_r, kMinOneMinusH);
       rf.sum_e_cv2(r) = lambda * rf.sum_e_cv2(r) + w * e_cv * e_cv;
     }
-    rf.sum_e2 = lambda * rf.sum_e2 + w * e * e;
-    rf.press_E = lambda * rf.press_E + w * scratch.e_cv.head(n_reg).squaredNorm();
+    // The rest feeds the metric step only: without update_D it is never read (a model's
+    // parameters are fixed, in its file too), so sum_e2, press_E, press_H and press_R stay 0.
     if (params.update_D) {
+      for (int r = 0; r < n_reg; ++r) {  // projection r's own leave-one-out residual
+        scratch.e_cv(r) = scratch.residual(r) / scratch.one_minus_h(r);
+      }
+      rf.sum_e2 = lambda * rf.sum_e2 + w * e * e;
+      rf.press_E = lambda * rf.press_E + w * scratch.e_cv.head(n_reg).squaredNorm();
       MetricSample sample(scratch.s, scratch.residual, scratch.e_cv);
       sample.w = w;
       scratch.diff = x - rf.center;
@@ -512,25 +558,25 @@ void update_receptive_field(const LwprParams& params, double trust_n_data, const
       const double ratio = rf.sum_e2 / (rf.sum_e_cv2(n_reg - 1) + 1e-10);
       const double transient = std::min(1.0, ratio * ratio * ratio * ratio);
       update_distance_metric(params, scratch.diff, sample, transient, rf, scratch);
-    }
-    for (int r = 0; r < n_reg; ++r) {
-      const double s = scratch.s(r);
-      const double e_cv = scratch.e_cv(r);
-      const double one_minus_h = scratch.one_minus_h(r);
-      rf.press_H(r) = lambda * rf.press_H(r) + w * s * e_cv / one_minus_h;
-      rf.press_R(r) = lambda * rf.press_R(r) + w * w * s * s * e_cv * e_cv / one_minus_h;
+      for (int r = 0; r < n_reg; ++r) {
+        const double s = scratch.s(r);
+        const double e_cv = scratch.e_cv(r);
+        const double one_minus_h = scratch.one_minus_h(r);
+        rf.press_H(r) = lambda * rf.press_H(r) + w * s * e_cv / one_minus_h;
+        rf.press_R(r) = lambda * rf.press_R(r) + w * w * s * s * e_cv * e_cv / one_minus_h;
+      }
     }
   }
 
   // Add a projection when the last one still cut the leave-one-out error by enough and has seen
   // (nearly) all the data the field has.
-  if (params.add_proj && n_reg >= 2 && n_reg < rf.input_dim()) {
+  // The sample-count test, which needs no division, first: it fails until the last projection
+  // has seen 0.5/(1−λ) samples (500 at λ = 0.999), so the three divisions are rarely evaluated.
+  if (params.add_proj && n_reg >= 2 && n_reg < rf.input_dim() && rf.n_data(n_reg - 1) * (1.0 - lambda) > 0.5 &&
+      rf.n_data(n_reg - 1) / rf.n_data(0) > 0.99) {
     const double mse_last = rf.sum_e_cv2(n_reg - 1) / rf.sum_w(n_reg - 1) + 1e-10;
     const double mse_prev = rf.sum_e_cv2(n_reg - 2) / rf.sum_w(n_reg - 2) + 1e-10;
-    if (mse_last / mse_prev < params.add_threshold && rf.n_data(n_reg - 1) / rf.n_data(0) > 0.99 &&
-        rf.n_data(n_reg - 1) * (1.0 - lambda) > 0.5) {
-      add_projection(params, rf);
-    }
+    if (mse_last / mse_prev < params.add_threshold) add_projection(params, rf);
   }
 
   rf.lambda = params.tau_lambda * lambda + (1.0 - params.tau_lambda) * params.final_lambda;

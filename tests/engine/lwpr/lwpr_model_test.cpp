@@ -329,6 +329,119 @@ TEST(LwprModel, Avx2ScanMatchesThePortableScanBitForBit) {
   }
 }
 
+// predict_into() writes the same bits as predict() into a caller's Prediction, whatever it held
+// (other sizes, stale flags), and reuses its vectors: their storage stays put from the second call on.
+TEST(LwprModel, PredictIntoMatchesPredictAndReusesTheVectors) {
+  LwprParams params;
+  params.init_D = Eigen::MatrixXd::Constant(1, 1, 6.0);
+  params.w_gen = 0.3;
+  LwprModel model(3, 2, params);
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int i = 0; i < 1500; ++i) {
+    const Eigen::Vector3d x(uniform(rng), uniform(rng), uniform(rng));
+    model.update(x, Eigen::Vector2d(std::sin(2.0 * x(0)) + x(2), x(0) * x(1)));
+  }
+  auto ws_a = model.make_workspace(), ws_b = model.make_workspace();
+  Prediction reused;
+  reused.value = Eigen::VectorXd::Constant(5, 7.0);
+  reused.confidence = Eigen::VectorXd::Constant(1, -1.0);
+  reused.output_trusted.assign(4, true);
+  reused.max_activation = 9.0;
+  const double* value_storage = nullptr;
+  const double* confidence_storage = nullptr;
+  int untrusted = 0;
+  for (int i = 0; i < 300; ++i) {
+    // Every tenth point far outside the data: no trustworthy field, value 0 and confidence +inf.
+    const double scale = i % 10 == 0 ? 40.0 : 1.0;
+    const Eigen::Vector3d x(scale * uniform(rng), uniform(rng), uniform(rng));
+    const Prediction expected = model.predict(x, *ws_a);
+    model.predict_into(x, *ws_b, reused);
+    ASSERT_EQ(reused.value.size(), 2);
+    ASSERT_EQ(reused.confidence.size(), 2);
+    for (int o = 0; o < 2; ++o) {
+      EXPECT_EQ(std::memcmp(&expected.value(o), &reused.value(o), sizeof(double)), 0) << "sample " << i;
+      EXPECT_EQ(std::memcmp(&expected.confidence(o), &reused.confidence(o), sizeof(double)), 0) << "sample " << i;
+    }
+    EXPECT_EQ(expected.output_trusted, reused.output_trusted) << "sample " << i;
+    EXPECT_EQ(expected.trustworthy, reused.trustworthy) << "sample " << i;
+    EXPECT_EQ(expected.max_activation, reused.max_activation) << "sample " << i;
+    untrusted += expected.trustworthy ? 0 : 1;
+    if (i == 0) {
+      value_storage = reused.value.data();
+      confidence_storage = reused.confidence.data();
+    }
+    EXPECT_EQ(reused.value.data(), value_storage) << "sample " << i << ": the value vector was reallocated";
+    EXPECT_EQ(reused.confidence.data(), confidence_storage) << "sample " << i;
+  }
+  EXPECT_GE(untrusted, 25);  // the far points
+  EXPECT_LT(untrusted, 100);
+}
+
+// Without update_D the PRESS memory terms (press_E, press_H, press_R) and Σλw e² feed nothing: the
+// metric never moves, so the field update leaves them at 0, and a model restored with arbitrary
+// values there learns and predicts the same bits as one restored without. With update_D the same
+// change of those terms changes the predictions (so the comparison can see a term that is read).
+TEST(LwprModel, PressTermsAreReadOnlyWithUpdateD) {
+  for (const bool update_d : {false, true}) {
+    LwprParams params;
+    params.init_D = Eigen::MatrixXd::Constant(1, 1, 4.0);
+    params.update_D = update_d;
+    params.w_gen = 0.2;
+    params.init_lambda = 0.99;  // the leave-one-out statistics start after 10 samples
+    std::mt19937_64 rng(43);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    auto sample = [&](Eigen::VectorXd& x, Eigen::VectorXd& y) {
+      x = Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng));
+      y = Eigen::Vector2d(std::sin(2.0 * x(0)) + x(1) * x(2), std::cos(x(0) + x(2)));
+    };
+    LwprModel model(3, 2, params);
+    Eigen::VectorXd x, y;
+    for (int i = 0; i < 2000; ++i) {
+      sample(x, y);
+      model.update(x, y);
+    }
+    std::vector<std::vector<ReceptiveField>> fields = {model.fields(0), model.fields(1)}, changed = fields;
+    double largest_press = 0.0;
+    for (auto& list : changed) {
+      for (ReceptiveField& rf : list) {
+        largest_press = std::max({largest_press, std::abs(rf.press_E), std::abs(rf.sum_e2),
+                                  rf.press_H.cwiseAbs().maxCoeff(), rf.press_R.cwiseAbs().maxCoeff()});
+        rf.press_E = 3.0;
+        rf.sum_e2 = 0.5;
+        rf.press_H.setConstant(-2.0);
+        rf.press_R.setConstant(5.0);
+      }
+    }
+    if (update_d) {
+      EXPECT_GT(largest_press, 0.0);
+    } else {
+      EXPECT_EQ(largest_press, 0.0);
+    }
+    LwprModel a(3, 2, params, fields, model.n_updates()), b(3, 2, params, changed, model.n_updates());
+    for (int i = 0; i < 1000; ++i) {
+      sample(x, y);
+      a.update(x, y);
+      b.update(x, y);
+    }
+    auto wa = a.make_workspace(), wb = b.make_workspace();
+    int differ = 0;
+    for (int i = 0; i < 300; ++i) {
+      sample(x, y);
+      const Prediction pa = a.predict(x, *wa), pb = b.predict(x, *wb);
+      for (int o = 0; o < 2; ++o) {
+        differ += std::memcmp(&pa.value(o), &pb.value(o), sizeof(double)) != 0 ? 1 : 0;
+        differ += std::memcmp(&pa.confidence(o), &pb.confidence(o), sizeof(double)) != 0 ? 1 : 0;
+      }
+    }
+    if (update_d) {
+      EXPECT_GT(differ, 0) << "with update_D the PRESS terms must change the metric steps";
+    } else {
+      EXPECT_EQ(differ, 0) << "without update_D the PRESS terms must not be read";
+    }
+  }
+}
+
 TEST(LwprModel, RejectsNonFiniteSamplesAndLeavesModelUnchanged) {
   std::mt19937_64 rng(5);
   LwprModel model(2, 1, cross_params(2));
