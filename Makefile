@@ -1,6 +1,6 @@
 # Two commands on a fresh machine: `make run` and `make test`.
 # make run   : install missing Debian packages, build, run the default sweep, print its table
-# make test  : build and run the GoogleTest suites (SANITIZE=1 for ASan+UBSan)
+# make test  : install what only the tests use (Chromium, as root), build and run the GoogleTest suites (SANITIZE=1 for ASan+UBSan)
 # make test-slurm : run a sweep on a private one-node Slurm cluster (root; see tests/slurm)
 # make bench : build and run the Google Benchmark programs (long; not part of test)
 
@@ -30,12 +30,16 @@ SANITIZER_ENV = ASAN_OPTIONS=halt_on_error=1:detect_leaks=1 UBSAN_OPTIONS=halt_o
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS ?= spec urdf dcg obj csv model_file
 
-.PHONY: all deps configure build build-armfarm install run test test-sanitize-subset test-slurm bench fuzz fuzz-build clean
+.PHONY: all deps deps-test configure build build-armfarm install run test test-sanitize-subset test-slurm bench fuzz fuzz-build clean
 
 all: build
 
+# deps: what make run needs; deps-test: and what only the test suites use (Chromium, as root).
 deps:
 	@bash .ci/install-deps
+
+deps-test: deps
+	@bash .ci/install-deps --tests
 
 $(BUILD_DIR)/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD_DIR) $(CMAKE_FLAGS)
@@ -65,7 +69,7 @@ PREFIX ?= /usr/local
 install: build-armfarm
 	cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
-test: build
+test: deps-test build
 	cd $(BUILD_DIR) && $(if $(filter 1,$(SANITIZE)),$(SANITIZER_ENV)) ctest --output-on-failure -j $(JOBS)
 
 # A private one-node Slurm on this machine (root; installs slurm-wlm and munge if missing).
