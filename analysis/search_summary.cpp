@@ -1,6 +1,7 @@
 #include "analysis/search_summary.hpp"
 
 #include "analysis/analysis_error.hpp"
+#include "analysis/sweep_data.hpp"
 #include "base/number_format.hpp"
 
 #include <algorithm>
@@ -143,7 +144,11 @@ std::string format_search_progress(const SearchSummary& summary) {
   return out.str();
 }
 
-Figure make_search_figure(const ResultsStore& store, const std::optional<std::string>& sweep) {
+namespace {
+
+// The searches a search figure draws: every one of the database, or `sweep`'s and every random
+// search of the same objective (its baseline).
+std::vector<SearchSummary> select_searches(const ResultsStore& store, const std::optional<std::string>& sweep) {
   std::vector<SearchSummary> summaries;
   for (const SweepRecord& record : store.find_sweeps()) {
     if (std::optional<SearchSummary> summary = load_search_summary(store, record.name)) summaries.push_back(std::move(*summary));
@@ -164,42 +169,136 @@ Figure make_search_figure(const ResultsStore& store, const std::optional<std::st
     summaries = std::move(kept);
   }
   if (summaries.empty()) throw AnalysisError("plot search: the database holds no search");
+  return summaries;
+}
 
-  Panel panel;
-  panel.title = "Best objective against cost";
-  const SearchRecord& first = summaries.front().search;
-  panel.x_label = first.budget_unit == "jobs" ? "jobs run (cumulative)" : "estimated CPU-seconds (cumulative)";
-  panel.y_label = "best " + first.objective_metric +
-                  (first.objective_joint ? " (joint " + std::to_string(*first.objective_joint) + ")" : std::string(" (mean)"));
-  double low = 0.0, high = 0.0;
-  bool any = false;
-  for (const SearchSummary& summary : summaries) {
-    if (summary.curve.empty()) continue;
-    Curve curve;
-    const bool halving = summary.search.method != "random" && summary.search.method != "tpe";
-    curve.title = summary.search.method + (halving ? " + " + summary.search.sampler : std::string()) +
-                  " (" + summary.search.sweep + ")";
-    curve.style = Curve::Style::lines_points;
-    for (const SearchCurvePoint& point : summary.curve) {
-      // A staircase: the best holds until the next improvement.
-      if (!curve.x.empty()) {
-        curve.x.push_back(point.cumulative_cost);
-        curve.y.push_back(curve.y.back());
-      }
+bool is_baseline(const SearchRecord& search) { return search.method == "random"; }
+
+std::string describe_method(const SearchRecord& search) {
+  const bool halving = search.method != "random" && search.method != "tpe";
+  return search.method + (halving ? " + " + search.sampler : std::string());
+}
+
+// The objective as the catalog names it: "held-out test nMSE, joint 2" (or ", mean over the joints").
+MetricId make_objective_id(const SearchRecord& search) {
+  return MetricId{search.objective_metric, search.objective_joint, search.objective_checkpoint};
+}
+std::string describe_readable_objective(const SearchRecord& search) {
+  return make_readable_metric_label(make_objective_id(search)) + (search.objective_joint ? "" : ", mean over the joints");
+}
+
+// The best objective so far as a staircase (it holds until the next improvement), held to
+// the budget spent. A random search, the baseline, is drawn underneath and wider, so that the
+// method under test stays visible where it equals the baseline (a TPE search's random start-up
+// trials are the random search's own when both have one seed).
+Curve make_search_curve(const SearchSummary& summary, const std::string& title) {
+  Curve curve;
+  curve.title = title;
+  curve.style = Curve::Style::lines_points;
+  curve.underneath = is_baseline(summary.search);
+  for (const SearchCurvePoint& point : summary.curve) {
+    if (!curve.x.empty()) {
       curve.x.push_back(point.cumulative_cost);
-      curve.y.push_back(point.best);
-      low = any ? std::min(low, point.best) : point.best;
-      high = any ? std::max(high, point.best) : point.best;
-      any = true;
+      curve.y.push_back(curve.y.back());
     }
-    curve.x.push_back(summary.spent);
-    curve.y.push_back(curve.y.back());
-    panel.curves.push_back(std::move(curve));
+    curve.x.push_back(point.cumulative_cost);
+    curve.y.push_back(point.best);
   }
-  if (!any) throw AnalysisError("plot search: no search has an objective at its last rung yet");
+  curve.x.push_back(summary.spent);
+  curve.y.push_back(curve.y.back());
+  return curve;
+}
+
+// The best of `summary` once `cost` is spent; empty before its first last-rung objective or past its spending.
+std::optional<double> find_best_at(const SearchSummary& summary, double cost) {
+  if (summary.curve.empty() || cost < summary.curve.front().cumulative_cost || cost > summary.spent) return std::nullopt;
+  double best = summary.curve.front().best;
+  for (const SearchCurvePoint& point : summary.curve) {
+    if (point.cumulative_cost <= cost) best = point.best;
+  }
+  return best;
+}
+
+// The stretches of cost over which two searches' staircases are equal ("from 1 until 7": equal
+// from the first and parting at the second; "from 3 to 12": equal to the end of the shorter).
+std::string describe_equal_stretches(const SearchSummary& a, const SearchSummary& b) {
+  std::vector<double> breaks;
+  for (const SearchSummary* summary : {&a, &b}) {
+    for (const SearchCurvePoint& point : summary->curve) breaks.push_back(point.cumulative_cost);
+    breaks.push_back(summary->spent);
+  }
+  std::sort(breaks.begin(), breaks.end());
+  breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
+  const double end = std::min(a.spent, b.spent);
+  std::string text;
+  for (std::size_t i = 0; i + 1 < breaks.size(); ++i) {
+    const auto equal_at = [&](std::size_t k) {
+      const std::optional<double> x = find_best_at(a, breaks[k]), y = find_best_at(b, breaks[k]);
+      return x && y && *x == *y && breaks[k + 1] <= end;
+    };
+    if (!equal_at(i)) continue;
+    std::size_t last = i;
+    while (last + 2 < breaks.size() && equal_at(last + 1)) ++last;
+    const double to = breaks[last + 1];
+    text += (text.empty() ? "from " : ", from ") + format_number(breaks[i]) + (to == end ? " to " : " until ") + format_number(to);
+    i = last;
+  }
+  return text;
+}
+
+// "overlap: tpe lies on random (equal values) from 1 until 7 jobs run; …" for every pair of drawn
+// searches with equal stretches; "" when none. The one drawn first lies under the other.
+std::string describe_search_overlaps(const std::vector<const SearchSummary*>& drawn, const std::vector<Curve>& curves,
+                                     const std::string& unit) {
+  std::string text;
+  for (std::size_t i = 0; i < drawn.size(); ++i) {
+    for (std::size_t j = i + 1; j < drawn.size(); ++j) {
+      const std::string stretches = describe_equal_stretches(*drawn[i], *drawn[j]);
+      if (stretches.empty()) continue;
+      const bool i_first = curves[i].underneath || !curves[j].underneath;
+      const Curve &under = curves[i_first ? i : j], &over = curves[i_first ? j : i];
+      text += (text.empty() ? "" : "; ") + over.title + " lies on " + under.title + " (equal values) " + stretches + " " + unit +
+              (under.underneath ? ", " + under.title + " the wider line beneath" : std::string(", hiding it"));
+    }
+  }
+  return text.empty() ? "" : "overlap: " + text;
+}
+
+}  // namespace
+
+Figure make_search_figure(const ResultsStore& store, const std::optional<std::string>& sweep) {
+  const std::vector<SearchSummary> summaries = select_searches(store, sweep);
+  const SearchRecord& first = summaries.front().search;
+  Panel panel;  // untitled: a single panel sits right under the figure's title
+  const std::string unit = first.budget_unit == "jobs" ? "jobs run" : "estimated CPU-seconds";
+  panel.x_label = unit + " (cumulative)";
+  panel.y_label = "best " + make_metric_axis_label(load_metric_info(store), make_objective_id(first)) +
+                  (first.objective_joint ? "" : ", mean over the joints");
+  std::vector<const SearchSummary*> drawn;
+  for (const SearchSummary& summary : summaries) {
+    if (!summary.curve.empty()) drawn.push_back(&summary);
+  }
+  if (drawn.empty()) throw AnalysisError("plot search: no search has an objective at its last rung yet");
+  // The legend names the method; the sweep only where two drawn searches share one.
+  std::string sources;
+  double low = INFINITY, high = -INFINITY;
+  for (const SearchSummary* summary : drawn) {
+    const std::string method = describe_method(summary->search);
+    const bool shared = std::count_if(drawn.begin(), drawn.end(), [&](const SearchSummary* other) {
+                          return describe_method(other->search) == method;
+                        }) > 1;
+    panel.curves.push_back(make_search_curve(*summary, shared ? method + " (" + summary->search.sweep + ")" : method));
+    sources += (sources.empty() ? "" : "; ") + panel.curves.back().title + ": sweep " + summary->search.sweep +
+               (sweep && is_baseline(summary->search) && summary->search.sweep != *sweep ? " (the baseline)" : "");
+    for (double best : panel.curves.back().y) low = std::min(low, best), high = std::max(high, best);
+  }
   panel.log_y = low > 0.0 && high / low > 100.0;
   Figure figure;
-  figure.title = "Search: " + describe_objective(first);
+  figure.title = "Search: " + describe_readable_objective(first) + ", " + first.objective_direction + " is better";
+  figure.caption.push_back("searches: " + sources);
+  figure.caption.push_back("column: " + make_metric_label(make_objective_id(first)) + " (the tables' spelling)");
+  const std::string overlaps = describe_search_overlaps(drawn, panel.curves, unit);
+  if (!overlaps.empty()) figure.caption.push_back(overlaps);
   figure.panels.push_back(std::move(panel));
   return figure;
 }

@@ -14,6 +14,8 @@
 #include "svg_text_boxes.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <tuple>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,7 @@ SweepRegistration make_sweep(const std::string& name) {
   sweep.spec_text = "{}";
   sweep.spec_hash = "h-" + name;
   sweep.started_at = make_utc_timestamp();
+  sweep.metric_info = testing::make_test_metric_info();
   return sweep;
 }
 
@@ -136,10 +139,11 @@ TEST_F(SearchSummaryTest, PlotSearchDrawsTheMethodBesideRandomOfTheSameObjective
   ASSERT_EQ(figure.panels.size(), 1u);
   const std::vector<Curve>& curves = figure.panels[0].curves;
   ASSERT_EQ(curves.size(), 2u);  // other_objective is left out
-  EXPECT_NE(curves[0].title.find("asha_s"), std::string::npos);
+  EXPECT_EQ(curves[0].title, "asha + random");  // the sweeps are named in the caption
   EXPECT_EQ(curves[0].x, (std::vector<double>{5.0, 6.0}));  // held to the budget spent
   EXPECT_EQ(curves[0].y, (std::vector<double>{0.3, 0.3}));
-  EXPECT_NE(curves[1].title.find("random_s"), std::string::npos);
+  EXPECT_EQ(curves[1].title, "random");
+  EXPECT_EQ(figure.caption.at(0), "searches: asha + random: sweep asha_s; random: sweep random_s (the baseline)");
   EXPECT_EQ(curves[1].x, (std::vector<double>{1.0, 2.0, 2.0, 3.0}));  // a staircase: 0.4, then 0.35; 0.6 no better
   EXPECT_EQ(curves[1].y, (std::vector<double>{0.4, 0.4, 0.35, 0.35}));
 
@@ -164,9 +168,148 @@ TEST_F(SearchSummaryTest, PlotSearchAtPaperStyleKeepsItsYLabelOnOneLine) {
   const auto result = testing::run_armfarm("plot " + lone + " search --style paper --out " + out);
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const std::string svg = test_support::read_text_file(out);
-  EXPECT_NE(svg.find(">best heldout_test_nmse (joint 2)</text>"), std::string::npos) << svg;
+  EXPECT_NE(svg.find(">best held-out test nMSE, joint 2</text>"), std::string::npos) << svg;
   EXPECT_TRUE(testing::find_overlapping_text(svg).empty());
   EXPECT_TRUE(testing::find_crowded_y_labels(testing::find_text_boxes(svg), 0.3).empty());
+}
+
+// A TPE search and the random search of the same objective and seed, five jobs each (the lead's
+// search_fig6_1_reduced against random_fig6_1_reduced, issue 24): TPE's start-up trials are
+// random's own, so both best-so-far staircases are 0.5 after job 1 and 0.3 after job 2; at job 4
+// TPE finds 0.1, random 0.2. The objective is tracking RMSE of joint 2, in rad in the catalog.
+class SearchFigureTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ResultsStore store = ResultsStore::open(db(), ResultsStore::Mode::read_write);
+    for (const auto& [sweep, method, fourth] : {std::tuple<const char*, const char*, double>{"tpe_s", "tpe", 0.1},
+                                                std::tuple<const char*, const char*, double>{"random_s", "random", 0.2}}) {
+      store.insert_sweep_run(make_sweep(sweep), {});
+      store.insert_search(make_search(sweep, method, "tracking_rmse", {{0, std::nullopt, 1.0}}));
+      std::vector<SearchStepRecord> steps;
+      for (std::int64_t s = 0; s < 5; ++s) steps.push_back({s, s, 0, s, "new", 1.0, std::string(sweep) + std::to_string(s), std::nullopt, "", false});
+      add_steps(store, sweep, steps, {0.5, 0.3, 0.4, fourth, 0.35}, 5);
+    }
+  }
+  Figure make_figure() const {
+    const ResultsStore store = ResultsStore::open(db(), ResultsStore::Mode::read_only);
+    PlotRequest request;
+    request.kind = PlotKind::search;
+    request.sweep = "tpe_s";
+    return make_plot_figure(store, request);
+  }
+  std::string db() const { return directory_.file("search.db"); }
+  testing::TemporaryDirectory directory_;
+};
+
+std::string join_caption(const Figure& figure) {
+  std::string text;
+  for (const std::string& paragraph : figure.caption) text += paragraph + "\n";
+  return text;
+}
+
+// The y label and title were the raw column name ("best heldout_test_nmse (joint 2)"); every
+// other kind takes the readable name and unit from the catalog (make_metric_axis_label).
+TEST_F(SearchFigureTest, LabelsTheObjectiveWithTheCatalogsNameAndUnit) {
+  const Figure figure = make_figure();
+  ASSERT_EQ(figure.panels.size(), 1u);
+  EXPECT_EQ(figure.panels[0].y_label, "best tracking RMSE, joint 2 (rad)");
+  EXPECT_EQ(figure.title, "Search: tracking RMSE, joint 2, lower is better");
+  EXPECT_EQ(figure.panels[0].x_label, "jobs run (cumulative)");
+  // The column spelling stays findable, in the caption.
+  EXPECT_NE(join_caption(figure).find("column: tracking_rmse_j2 (the tables' spelling)"), std::string::npos) << join_caption(figure);
+}
+
+// The TPE curve was invisible for its first jobs: it equals random's there and random, declared
+// after it, was drawn on top. The baseline is drawn first and wider; the legend and colours keep
+// the method first (the palette's first colour), and the caption says where the two are equal.
+TEST_F(SearchFigureTest, DrawsTheMethodOverItsBaselineAndSaysWhereTheyAreEqual) {
+  const Figure figure = make_figure();
+  const std::vector<Curve>& curves = figure.panels[0].curves;
+  ASSERT_EQ(curves.size(), 2u);
+  EXPECT_EQ(curves[0].title, "tpe");  // the sweeps are in the caption, not in a legend wider than the panel
+  EXPECT_EQ(curves[1].title, "random");
+  FigureOptions paper;
+  paper.style = FigureStyle::paper;
+  const std::string script = make_gnuplot_script(figure, make_terminal_settings("f.pdf", paper, figure), "f.pdf", "/tmp");
+  const std::size_t plot = script.find("\nplot ");
+  ASSERT_NE(plot, std::string::npos) << script;
+  const std::size_t tpe = script.find("data_0_0.dat", plot), random = script.find("data_0_1.dat", plot);
+  ASSERT_NE(tpe, std::string::npos) << script;
+  ASSERT_NE(random, std::string::npos) << script;
+  EXPECT_LT(random, tpe) << script;  // drawn first: under tpe
+  EXPECT_NE(script.find("with linespoints lw 2.5 pt 7 ps 0.7 lc rgb '" + figure_colours()[1] + "'", plot), std::string::npos) << script;
+  EXPECT_NE(script.find("with linespoints lw 1 pt 7 ps 0.7 lc rgb '" + figure_colours()[0] + "'", plot), std::string::npos) << script;
+  EXPECT_LT(script.find("title 'tpe'"), script.find("title 'random'")) << script;
+  // Equal from job 1 until job 4, where TPE improves on random.
+  const std::string caption = join_caption(figure);
+  EXPECT_NE(caption.find("overlap: tpe lies on random (equal values) from 1 until 4 jobs run, random the wider line beneath"),
+            std::string::npos)
+      << caption;
+  EXPECT_NE(caption.find("searches: tpe: sweep tpe_s; random: sweep random_s (the baseline)"), std::string::npos) << caption;
+}
+
+// Two random searches with equal staircases to the end: the later one hides the earlier, and
+// the caption says so for the whole stretch ("to", not "until").
+TEST_F(SearchFigureTest, ACurveHiddenToTheEndIsNamedWithTheSweepsThatTellThemApart) {
+  {
+    ResultsStore store = ResultsStore::open(db(), ResultsStore::Mode::read_write);
+    store.insert_sweep_run(make_sweep("random_t"), {});
+    store.insert_search(make_search("random_t", "random", "tracking_rmse", {{0, std::nullopt, 1.0}}));
+    std::vector<SearchStepRecord> steps;
+    for (std::int64_t s = 0; s < 5; ++s) steps.push_back({s, s, 0, s, "new", 1.0, "random_t" + std::to_string(s), std::nullopt, "", false});
+    add_steps(store, "random_t", steps, {0.5, 0.3, 0.4, 0.2, 0.35}, 5);
+  }
+  const Figure figure = make_figure();
+  ASSERT_EQ(figure.panels[0].curves.size(), 3u);
+  EXPECT_EQ(figure.panels[0].curves[1].title, "random (random_s)");  // two random searches: named by sweep
+  EXPECT_EQ(figure.panels[0].curves[2].title, "random (random_t)");
+  const std::string caption = join_caption(figure);
+  EXPECT_NE(caption.find("random (random_t) lies on random (random_s) (equal values) from 1 to 5 jobs run"), std::string::npos) << caption;
+  EXPECT_NE(caption.find("tpe lies on random (random_s) (equal values) from 1 until 4 jobs run"), std::string::npos) << caption;
+}
+
+// The panel had about half of the page: a panel title ("Best objective against cost", what the
+// figure's title says) took 3.6 lines under the figure's title. At paper style without the
+// caption, the plot area now has at least 60 % of the page's height (51.6 % before).
+TEST_F(SearchFigureTest, ThePanelSitsUnderTheTitleAndFillsMostOfThePage) {
+  const Figure figure = remove_caption(make_figure());
+  EXPECT_TRUE(figure.panels[0].title.empty());
+  FigureOptions paper;
+  paper.style = FigureStyle::paper;
+  const std::string script = make_gnuplot_script(figure, make_terminal_settings("f.pdf", paper, figure), "f.pdf", "/tmp");
+  const std::size_t at = script.find(" margins ");
+  ASSERT_NE(at, std::string::npos) << script;
+  double left = 0, right = 0, bottom = 0, top = 0;
+  ASSERT_EQ(std::sscanf(script.c_str() + at, " margins %lf,%lf,%lf,%lf", &left, &right, &bottom, &top), 4) << script;
+  EXPECT_GE(top - bottom, 0.6) << script;
+}
+
+// The overlap check of every other kind, on this one: each style, with and without the caption.
+TEST_F(SearchFigureTest, NoTextOverlapsOrLeavesThePageInAnyStyle) {
+  for (const char* style : {"paper", "screen", "slide"}) {
+    for (const char* caption : {"", " --no-caption"}) {
+      const std::string out = directory_.file(std::string("search_") + style + ".svg");
+      const auto result = testing::run_armfarm("plot " + db() + " search --sweep tpe_s --style " + style + caption + " --out " + out);
+      ASSERT_EQ(result.exit_code, 0) << result.output;
+      const std::string svg = test_support::read_text_file(out);
+      const auto boxes = testing::find_text_boxes(svg);
+      EXPECT_GE(boxes.size(), 10u) << style << caption;  // the checker sees the labels
+      const auto overlaps = testing::find_overlapping_text(svg);
+      EXPECT_TRUE(overlaps.empty()) << style << caption << ": " << overlaps.size() << " overlaps, first "
+                                    << (overlaps.empty() ? "" : overlaps.front());
+      double width = 0, height = 0;
+      ASSERT_EQ(std::sscanf(svg.c_str() + svg.find("viewBox=\"0 0 "), "viewBox=\"0 0 %lf %lf", &width, &height), 2);
+      for (const testing::TextBox& box : boxes) {
+        EXPECT_TRUE(box.left >= 0 && box.top >= 0 && box.right <= width && box.bottom <= height)
+            << style << caption << ": '" << box.text << "' leaves the " << width << " x " << height << " page";
+      }
+      // --no-caption leaves the caption out (plot prints it instead).
+      EXPECT_EQ(svg.find(">overlap: ") == std::string::npos, std::string(caption) != "") << style << caption;
+      if (*caption) {
+        EXPECT_NE(result.output.find("overlap: tpe lies on random"), std::string::npos) << result.output;
+      }
+    }
+  }
 }
 
 // Spearman's ρ, worked by hand. Without ties, from 1 − 6 Σd²/(n(n²−1)), a different formula
