@@ -42,23 +42,31 @@ namespace {
 // the liars, sorted by loss then trial, the first n_good of them good.
 struct Groups {
   std::vector<const Observation*> good;
-  std::vector<const Observation*> bad;
+  std::vector<const Observation*> bad;          ///< known and liars, in the split's order (the per-axis rule)
+  std::vector<const Observation*> bad_known;    ///< the known observations of `bad` (the joint rule's points)
+  std::vector<const Observation*> bad_liars;    ///< the liars of `bad` (the joint rule's liar components)
 };
 
 Groups split_observations(const TpeSettings& settings, const std::vector<Observation>& known, const std::vector<Observation>& liars) {
-  std::vector<const Observation*> all;
-  for (const Observation& o : known) all.push_back(&o);
-  for (const Observation& o : liars) all.push_back(&o);
-  std::stable_sort(all.begin(), all.end(), [](const Observation* x, const Observation* y) {
-    if (x->loss != y->loss) return x->loss < y->loss;
-    return x->trial < y->trial;
+  std::vector<std::pair<const Observation*, bool>> all;  // (observation, is a liar)
+  for (const Observation& o : known) all.emplace_back(&o, false);
+  for (const Observation& o : liars) all.emplace_back(&o, true);
+  std::stable_sort(all.begin(), all.end(), [](const auto& x, const auto& y) {
+    if (x.first->loss != y.first->loss) return x.first->loss < y.first->loss;
+    return x.first->trial < y.first->trial;
   });
   const auto n = static_cast<double>(known.size());
   const std::size_t n_good = std::clamp<std::size_t>(static_cast<std::size_t>(std::ceil(settings.gamma * n)), 1,
                                                      std::min(settings.max_good, known.size() - 1));
   Groups groups;
-  groups.good.assign(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(n_good));
-  groups.bad.assign(all.begin() + static_cast<std::ptrdiff_t>(n_good), all.end());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (i < n_good) {
+      groups.good.push_back(all[i].first);
+      continue;
+    }
+    groups.bad.push_back(all[i].first);
+    (all[i].second ? groups.bad_liars : groups.bad_known).push_back(all[i].first);
+  }
   return groups;
 }
 
@@ -125,10 +133,12 @@ std::vector<SearchPoint> internal_points(const SearchSpace& space, const std::ve
   return points;
 }
 
-// The joint rule: one estimator over all axes per group, the score ln ℓ(x) − ln g(x).
+// The joint rule: one estimator over all axes per group, the liars in g with the narrower
+// kernel (parzen_estimator.hpp, JointParzen), the score ln ℓ(x) − ln g(x).
 SearchPoint propose_joint(const SearchSpace& space, const TpeSettings& settings, const Groups& groups, RandomStream& stream) {
   const JointParzen good = make_joint_parzen(space, internal_points(space, groups.good), settings.prior_weight, settings.bandwidth);
-  const JointParzen bad = make_joint_parzen(space, internal_points(space, groups.bad), settings.prior_weight, settings.bandwidth);
+  JointParzen bad = make_joint_parzen(space, internal_points(space, groups.bad_known), settings.prior_weight, settings.bandwidth);
+  add_joint_liars(bad, good, internal_points(space, groups.bad_liars), settings.liar_bandwidth);
   return find_best_candidate(settings, [&](double& score) {
     const SearchPoint z = calc_parzen_draw(good, stream);
     score = calc_log_density(good, z) - calc_log_density(bad, z);

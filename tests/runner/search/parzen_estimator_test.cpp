@@ -145,6 +145,53 @@ TEST(JointParzen, TheMixtureSumsToOneOverTheMixedSpace) {
   }
 }
 
+TEST(JointParzen, LiarsAreComponentsWithAFractionOfTheGoodBandwidthsAndTheMixtureStillSumsToOne) {
+  const SearchSpace space = make_mixed_space();
+  const JointParzen good = make_joint_parzen(space, {{std::log(0.1), 2.0, 0.0}}, 1.0, 0.2);
+  JointParzen bad = make_joint_parzen(space, {{std::log(0.02), 1.0, 1.0}, {std::log(9.0), 4.0, 2.0}}, 1.0, 0.2);
+  add_joint_liars(bad, good, {{std::log(0.1), 2.0, 0.0}, {std::log(0.1), 3.0, 0.0}}, 0.7);
+  // τ_d = 0.7 · σ^ℓ_d (above a hundredth of the axis), ε^λ = 0.7 · ε^ℓ; σ^ℓ = 0.2 · 1^(−1/7) · width.
+  EXPECT_DOUBLE_EQ(bad.liar_bandwidths[0], 0.7 * 0.2 * std::log(1000.0));
+  EXPECT_DOUBLE_EQ(bad.liar_bandwidths[1], 0.7 * 0.2 * 4.0);
+  EXPECT_DOUBLE_EQ(bad.liar_bandwidths[2], 0.7 * 0.2);
+  EXPECT_DOUBLE_EQ(bad.bandwidths[0], 0.2 * std::pow(2.0, -1.0 / 7.0) * std::log(1000.0));  // the points' own, unchanged
+  // The density at a liar is the mixture's by hand: (π + k(x|p1) + k(x|p2) + k(x|p3) + k(x|p4)) / (2 + 2 + 1).
+  const auto normal_kernel = [](double x, double mu, double sigma, double a, double b) {
+    const double z = calc_normal_cdf((b - mu) / sigma) - calc_normal_cdf((a - mu) / sigma);
+    return std::exp(-0.5 * (x - mu) * (x - mu) / (sigma * sigma)) / (sigma * std::sqrt(2.0 * M_PI) * z);
+  };
+  const auto cell = [](double k, double mu, double sigma) {
+    // The integer axis 1 … 4 is the internal interval [0.5, 4.5], of width 4.
+    const double z = calc_normal_cdf((4.5 - mu) / sigma) - calc_normal_cdf((0.5 - mu) / sigma);
+    const double lo = std::max(0.5, k - 0.5), hi = std::min(4.5, k + 0.5);
+    return (calc_normal_cdf((hi - mu) / sigma) - calc_normal_cdf((lo - mu) / sigma)) / z;
+  };
+  const auto choice = [](double c, double mu, double eps) { return (c == mu ? 1.0 - eps : 0.0) + eps / 3.0; };
+  const double a = std::log(1e-2), b = std::log(1e1);
+  const SearchPoint x = {std::log(0.1), 2.0, 0.0};
+  double sum = 1.0 / ((b - a) * 4.0 * 3.0);
+  for (const SearchPoint& p : bad.centres) {
+    sum += normal_kernel(x[0], p[0], bad.bandwidths[0], a, b) * cell(x[1], p[1], bad.bandwidths[1]) * choice(x[2], p[2], bad.bandwidths[2]);
+  }
+  for (const SearchPoint& p : bad.liars) {
+    sum += normal_kernel(x[0], p[0], bad.liar_bandwidths[0], a, b) * cell(x[1], p[1], bad.liar_bandwidths[1]) *
+           choice(x[2], p[2], bad.liar_bandwidths[2]);
+  }
+  EXPECT_NEAR(calc_log_density(bad, x), std::log(sum / 5.0), 1e-12);
+  // Σ over the cells and choices of ∫ g dx: 1 (the trapezoid rule on 4000 cells of ln x).
+  const int cells = 4000;
+  const double h = (b - a) / cells;
+  double total = 0.0;
+  for (double k = 1.0; k <= 4.0; k += 1.0) {
+    for (double c = 0.0; c < 3.0; c += 1.0) {
+      double row = 0.5 * (std::exp(calc_log_density(bad, {a, k, c})) + std::exp(calc_log_density(bad, {b, k, c})));
+      for (int i = 1; i < cells; ++i) row += std::exp(calc_log_density(bad, {a + i * h, k, c}));
+      total += row * h;
+    }
+  }
+  EXPECT_NEAR(total, 1.0, 1e-6);
+}
+
 TEST(JointParzen, DrawsFollowTheDensityAndKeepEachPointsCoordinatesTogether) {
   // Two points far apart on x with different choices: a draw near one point's x takes that
   // point's choice far more often than the other's (the per-axis estimators would mix them).
