@@ -29,7 +29,7 @@
 // Per axis a liar is one more centre of g_d (coinciding liars get the narrowest bandwidth). In the
 // joint rule a liar is a component of g of its own whose kernel is λ = 0.7 times as wide as ℓ's
 // (parzen_estimator.hpp, "Liars"): with g's common bandwidth it was a bump as wide as ℓ's and
-// did not move the proposal (392 of 400 within 0.05 of the pending point, 280 without liars).
+// did not move the proposal (392 of 400 within 0.05 of the pending point, 400 without liars).
 // Which trials are pending is decided by the search's fixed visibility rule
 // (search_schedule.hpp), never by timing.
 //
