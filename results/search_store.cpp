@@ -76,6 +76,12 @@ ALTER TABLE searches ADD COLUMN tpe_candidates INTEGER;
 ALTER TABLE searches ADD COLUMN space TEXT;
 )sql";
 
+// NULL in a row migrated from version 7 (or 6): a TPE search of those builds used the per-axis
+// rule, and a runner reads NULL so (search_store.hpp, SearchRecord::tpe_rule).
+const char* const kTpeRuleMigration = R"sql(
+ALTER TABLE searches ADD COLUMN tpe_rule TEXT CHECK (tpe_rule IN ('joint', 'per_axis'));
+)sql";
+
 }  // namespace search_store_sql
 
 namespace {
@@ -106,7 +112,7 @@ void ResultsStore::insert_search(const SearchRecord& search) {
            "UPDATE searches SET max_trials = COALESCE(max_trials, ?1), bracket_size = COALESCE(bracket_size, ?2), "
            "tpe_startup = COALESCE(tpe_startup, ?3), tpe_gamma = COALESCE(tpe_gamma, ?4), "
            "tpe_max_good = COALESCE(tpe_max_good, ?5), tpe_candidates = COALESCE(tpe_candidates, ?6), "
-           "space = COALESCE(space, ?7) WHERE id = ?8")
+           "space = COALESCE(space, ?7), tpe_rule = COALESCE(tpe_rule, ?9) WHERE id = ?8")
         .bind(1, search.max_trials)
         .bind(2, search.bracket_size)
         .bind(3, search.tpe_startup)
@@ -115,6 +121,7 @@ void ResultsStore::insert_search(const SearchRecord& search) {
         .bind(6, search.tpe_candidates)
         .bind(7, search.space)
         .bind(8, id)
+        .bind(9, search.tpe_rule)
         .execute();
     transaction.commit();
     return;
@@ -122,8 +129,8 @@ void ResultsStore::insert_search(const SearchRecord& search) {
   db_->prepare(
          "INSERT INTO searches (sweep_id, method, sampler, seed, eta, slots, budget_unit, budget, resumable, "
          "objective_metric, objective_direction, objective_joint, objective_checkpoint, max_trials, bracket_size, "
-         "tpe_startup, tpe_gamma, tpe_max_good, tpe_candidates, space) "
-         "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20)")
+         "tpe_startup, tpe_gamma, tpe_max_good, tpe_candidates, space, tpe_rule) "
+         "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20, ?21)")
       .bind(1, sweep_id)
       .bind(2, search.method)
       .bind(3, search.sampler)
@@ -144,6 +151,7 @@ void ResultsStore::insert_search(const SearchRecord& search) {
       .bind(18, search.tpe_max_good)
       .bind(19, search.tpe_candidates)
       .bind(20, search.space)
+      .bind(21, search.tpe_rule)
       .execute();
   const std::int64_t id = db_->last_insert_rowid();
   SqliteStatement rung = db_->prepare("INSERT INTO search_rungs (search_id, rung, checkpoint, cost) VALUES (?, ?, ?, ?)");
@@ -158,7 +166,7 @@ std::optional<SearchRecord> ResultsStore::find_search(const std::string& sweep) 
   SqliteStatement query = db_->prepare(
       "SELECT se.id, se.method, se.sampler, se.seed, se.eta, se.slots, se.budget_unit, se.budget, se.resumable, "
       "se.objective_metric, se.objective_direction, se.objective_joint, se.objective_checkpoint, se.max_trials, "
-      "se.bracket_size, se.tpe_startup, se.tpe_gamma, se.tpe_max_good, se.tpe_candidates, se.space "
+      "se.bracket_size, se.tpe_startup, se.tpe_gamma, se.tpe_max_good, se.tpe_candidates, se.space, se.tpe_rule "
       "FROM searches se JOIN sweeps s ON s.id = se.sweep_id WHERE s.name = ?");
   query.bind(1, sweep);
   if (!query.step()) return std::nullopt;
@@ -184,6 +192,7 @@ std::optional<SearchRecord> ResultsStore::find_search(const std::string& sweep) 
   if (!query.is_null(17)) r.tpe_max_good = query.column_int(17);
   if (!query.is_null(18)) r.tpe_candidates = query.column_int(18);
   r.space = query.column_optional_text(19);
+  r.tpe_rule = query.column_optional_text(20);
   SqliteStatement rungs = db_->prepare("SELECT rung, checkpoint, cost FROM search_rungs WHERE search_id = ? ORDER BY rung");
   rungs.bind(1, id);
   while (rungs.step()) {
@@ -297,7 +306,7 @@ namespace {
 constexpr const char* kSearchSettingColumns =
     "method, sampler, seed, eta, slots, budget_unit, budget, resumable, objective_metric, objective_direction, "
     "objective_joint, objective_checkpoint, max_trials, bracket_size, tpe_startup, tpe_gamma, tpe_max_good, "
-    "tpe_candidates, space";
+    "tpe_candidates, space, tpe_rule";
 // The columns of version 7: NULL in a row migrated from version 6 (not recorded), so a NULL agrees
 // with any value and is filled in from the other file.
 constexpr const char* kSearchDecisionColumns[] = {"max_trials",   "bracket_size",   "tpe_startup", "tpe_gamma",
@@ -394,6 +403,10 @@ void merge_search_tables(SqliteConnection& db, const std::map<std::int64_t, std:
         agree += " AND (m." + c + " IS o." + c + " OR m." + c + " IS NULL OR o." + c + " IS NULL)";
         fill += std::string(fill.empty() ? "" : ", ") + c + " = COALESCE(" + c + ", (SELECT " + c + " FROM src.searches WHERE id = ?2))";
       }
+      // TPE's rule (version 8): NULL is the per-axis rule, so it is compared as that (a NULL
+      // agreeing with "joint" would merge steps of two rules), and only where TPE proposes.
+      agree += " AND ((m.method <> 'tpe' AND m.sampler <> 'tpe') OR COALESCE(m.tpe_rule, 'per_axis') IS COALESCE(o.tpe_rule, 'per_axis'))";
+      fill += ", tpe_rule = COALESCE(tpe_rule, (SELECT tpe_rule FROM src.searches WHERE id = ?2))";
       SqliteStatement same = db.prepare(
           "SELECT count(*) FROM main.searches m, src.searches o WHERE m.id = ?1 AND o.id = ?2 AND "
           "m.method IS o.method AND m.sampler IS o.sampler AND m.seed IS o.seed AND m.eta IS o.eta AND "

@@ -45,6 +45,10 @@ struct SearchRecord {
   std::optional<std::int64_t> tpe_max_good;    ///< TPE's cap on the good group
   std::optional<std::int64_t> tpe_candidates;  ///< TPE's draws scored per proposal
   std::optional<std::string> space;            ///< the axes as JSON, in the order that fixes the draws
+  // Schema version 8: TPE's estimator rule, "joint" or "per_axis" (runner/search/tpe_sampler.hpp),
+  // written only where TPE proposes (method tpe, or sampler tpe). NULL in a TPE search's row means "per_axis": every build
+  // before version 8 proposed with the per-axis rule. A resumed search adopts it.
+  std::optional<std::string> tpe_rule;
 };
 
 struct SearchTrialRecord {
@@ -85,6 +89,8 @@ namespace search_store_sql {
 extern const char* const kMigration;
 /// The migration step that adds the decision settings to `searches` (schema version 7).
 extern const char* const kSettingsMigration;
+/// The migration step that adds TPE's estimator rule to `searches` (schema version 8).
+extern const char* const kTpeRuleMigration;
 }  // namespace search_store_sql
 
 }  // namespace armfarm

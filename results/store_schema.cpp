@@ -156,6 +156,8 @@ const std::vector<const char*>& migrations() {
       // 7: the settings a search decision depends on beside those of version 6: the trial and
       // bracket limits, TPE's effective start-up and constants, the space (results/search_store.cpp).
       search_store_sql::kSettingsMigration,
+      // 8: TPE's estimator rule, joint or per axis (NULL: per axis, as every TPE search before it).
+      search_store_sql::kTpeRuleMigration,
   };
   return scripts;
 }

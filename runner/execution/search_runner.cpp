@@ -119,6 +119,11 @@ std::string make_space_text(const SpecSearch& search) {
   return axes.dump();
 }
 
+// Whether the search proposes with TPE: the method itself, or the sampler of ASHA and Hyperband.
+bool uses_tpe(const search::SearchSettings& settings) {
+  return settings.method == search::SearchMethod::tpe || settings.sampler == search::SearchSampler::tpe;
+}
+
 // The search's row as this runner takes its decisions.
 SearchRecord make_search_record(const SweepSpec& spec, const search::SearchSettings& settings) {
   const SpecSearch& search = *spec.search;
@@ -150,15 +155,18 @@ SearchRecord make_search_record(const SweepSpec& spec, const search::SearchSetti
   record.tpe_max_good = static_cast<std::int64_t>(settings.tpe.max_good);
   record.tpe_candidates = static_cast<std::int64_t>(settings.tpe.candidates);
   record.space = make_space_text(search);
+  if (uses_tpe(settings)) record.tpe_rule = settings.tpe.joint ? "joint" : "per_axis";
   return record;
 }
 
 // A search the file holds already under this sweep's name (a resume, or another runner that
 // started first): what the spec decides must be the same, or the steps replayed would be
 // another search's (refused, one line per difference, before anything is written); what the
-// build decides (each rung's estimated cost, TPE's start-up by the budget rule and its
-// constants) is taken from the file, so a runner of another build continues the same search.
-// A row of schema version 6 lacks some of them (empty): this runner's are used and written.
+// build decides (each rung's estimated cost, TPE's start-up by the budget rule, its constants
+// and its rule, joint or per axis) is taken from the file, so a runner of another build
+// continues the same search. A row of schema version 6 lacks some of them (empty): this
+// runner's are used and written. TPE's rule is the exception: NULL (a row of schema 6 or 7) is
+// the per-axis rule those builds proposed with, adopted and then written as "per_axis".
 void adopt_stored_search(const SweepSpec& spec, const std::string& db_path, search::SearchSettings& settings) {
   if (!std::filesystem::exists(db_path)) return;
   const std::optional<SearchRecord> stored = ResultsStore::open(db_path, ResultsStore::Mode::read_write).find_search(spec.name);
@@ -204,6 +212,8 @@ void adopt_stored_search(const SweepSpec& spec, const std::string& db_path, sear
   if (stored->tpe_gamma) settings.tpe.gamma = *stored->tpe_gamma;
   if (stored->tpe_max_good) settings.tpe.max_good = static_cast<std::size_t>(*stored->tpe_max_good);
   if (stored->tpe_candidates) settings.tpe.candidates = static_cast<std::size_t>(*stored->tpe_candidates);
+  // TPE's rule: NULL is a row of a build before schema version 8, whose TPE was per axis.
+  if (uses_tpe(settings)) settings.tpe.joint = stored->tpe_rule.value_or("per_axis") == "joint";
 }
 
 // Writes what the store lacks of the replayed search: the search row, new steps, objectives.

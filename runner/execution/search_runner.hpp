@@ -19,8 +19,10 @@
 // sampler, seed, η, slots, limits, budget, objective, rungs, space, an explicit tpe_startup) and
 // refuses any difference, one line each, before anything is written (SpecError, exit 2); what
 // the build decides (each rung's estimated cost, TPE's start-up by the budget rule, TPE's γ,
-// good-group cap and candidates) it takes from the row, so runners of different builds continue
-// one search alike. A row of schema version 6 lacks the last ones: the runner's are written.
+// good-group cap and candidates, TPE's rule: joint or per axis) it takes from the row, so runners
+// of different builds continue one search alike. A row of schema version 6 lacks the last ones:
+// the runner's are written, except TPE's rule, which a row of schema 6 or 7 lacks as NULL and
+// which is read as the per-axis rule those builds used (and written so).
 //
 // Rungs are short jobs; promotions rerun. A step to rung r below the last is a job that learns
 // exactly to rung r's checkpoint (SpecSearch::length_path: learning.epochs for batch jobs,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace armfarm::search {
 namespace {
@@ -105,6 +106,128 @@ double calc_parzen_draw(const CategoricalParzen& parzen, RandomStream& stream) {
     if (u < cumulative) return static_cast<double>(c);
   }
   return static_cast<double>(parzen.probabilities.size() - 1);
+}
+
+JointParzen make_joint_parzen(const SearchSpace& space, std::vector<SearchPoint> points, double prior_weight, double bandwidth) {
+  JointParzen parzen;
+  parzen.axes = space.axes;
+  parzen.centres = std::move(points);
+  parzen.prior_weight = prior_weight;
+  const double m = static_cast<double>(std::max<std::size_t>(parzen.centres.size(), 1));
+  const double d = static_cast<double>(space.axes.size());
+  const double shrink = bandwidth * std::pow(m, -1.0 / (d + 4.0));  // h · m^(−1/(D+4))
+  for (const SearchAxis& axis : space.axes) {
+    if (axis.kind == AxisKind::categorical) {
+      parzen.intervals.push_back({});
+      parzen.bandwidths.push_back(std::min(1.0, shrink));
+      continue;
+    }
+    const InternalInterval interval = calc_internal_interval(axis);
+    const double width = interval.high - interval.low;
+    parzen.intervals.push_back(interval);
+    parzen.bandwidths.push_back(std::max(shrink * width, width / 100.0));
+  }
+  return parzen;
+}
+
+namespace {
+
+// ln k_d(x_d | μ) of one axis with bandwidth h (σ_d or τ_d; categorical ε_d or ε^λ_d; see JointParzen).
+double calc_log_kernel(const JointParzen& parzen, std::size_t d, double x, double mu, double h) {
+  const SearchAxis& axis = parzen.axes[d];
+  if (axis.kind == AxisKind::categorical) {
+    const double k = static_cast<double>(axis.choice_count);
+    return std::log((x == mu ? 1.0 - h : 0.0) + h / k);
+  }
+  const InternalInterval interval = parzen.intervals[d];
+  const double mass_inside = calc_normal_cdf((interval.high - mu) / h) - calc_normal_cdf((interval.low - mu) / h);
+  if (axis.kind == AxisKind::integer) {
+    const double lo = std::max(interval.low, x - 0.5);
+    const double hi = std::min(interval.high, x + 0.5);
+    return std::log((calc_normal_cdf((hi - mu) / h) - calc_normal_cdf((lo - mu) / h)) / mass_inside);
+  }
+  const double u = (x - mu) / h;
+  return std::log(kInverseSqrtTwoPi / (h * mass_inside)) - 0.5 * u * u;
+}
+
+// ln π(x), the prior (see JointParzen).
+double calc_log_prior(const JointParzen& parzen) {
+  double log_prior = 0.0;
+  for (std::size_t d = 0; d < parzen.axes.size(); ++d) {
+    const SearchAxis& axis = parzen.axes[d];
+    const double width = axis.kind == AxisKind::categorical ? static_cast<double>(axis.choice_count)
+                                                            : parzen.intervals[d].high - parzen.intervals[d].low;
+    if (width > 0.0) log_prior -= std::log(width);  // a single-value axis: every draw is that value
+  }
+  return log_prior;
+}
+
+}  // namespace
+
+double calc_log_density(const JointParzen& parzen, const SearchPoint& x) {
+  // ln[ w·π(x) + Σ_i exp(L_i) ] − ln(m + w), with L_i = Σ_d ln k_d: summed from the largest
+  // term down (log-sum-exp), since a product over many axes can underflow a double.
+  std::vector<double> terms;
+  terms.reserve(parzen.centres.size() + parzen.liars.size() + 1);
+  terms.push_back(std::log(parzen.prior_weight) + calc_log_prior(parzen));
+  const auto add_components = [&](const std::vector<SearchPoint>& centres, const std::vector<double>& bandwidths) {
+    for (const SearchPoint& centre : centres) {
+      double log_component = 0.0;
+      for (std::size_t d = 0; d < parzen.axes.size(); ++d) {
+        const bool single = parzen.axes[d].kind != AxisKind::categorical && !(parzen.intervals[d].high > parzen.intervals[d].low);
+        if (!single) log_component += calc_log_kernel(parzen, d, x[d], centre[d], bandwidths[d]);
+      }
+      terms.push_back(log_component);
+    }
+  };
+  add_components(parzen.centres, parzen.bandwidths);
+  add_components(parzen.liars, parzen.liar_bandwidths);
+  const double largest = *std::max_element(terms.begin(), terms.end());
+  double sum = 0.0;
+  for (double t : terms) sum += std::exp(t - largest);
+  const double components = static_cast<double>(parzen.centres.size() + parzen.liars.size());
+  return largest + std::log(sum) - std::log(components + parzen.prior_weight);
+}
+
+void add_joint_liars(JointParzen& bad, const JointParzen& good, std::vector<SearchPoint> liars, double fraction) {
+  bad.liars = std::move(liars);
+  bad.liar_bandwidths.clear();
+  for (std::size_t d = 0; d < bad.axes.size(); ++d) {
+    if (bad.axes[d].kind == AxisKind::categorical) {
+      bad.liar_bandwidths.push_back(fraction * good.bandwidths[d]);
+      continue;
+    }
+    const double width = bad.intervals[d].high - bad.intervals[d].low;
+    bad.liar_bandwidths.push_back(std::max(fraction * good.bandwidths[d], width / 100.0));
+  }
+}
+
+SearchPoint calc_parzen_draw(const JointParzen& parzen, RandomStream& stream) {
+  // The component: u uniform on [0, m + w); below m it names point ⌊u⌋, above it the prior.
+  // A liar is component m + j, after the points.
+  const std::size_t points = parzen.centres.size();
+  const double m = static_cast<double>(points + parzen.liars.size());
+  const double u = stream.uniform() * (m + parzen.prior_weight);
+  const bool prior = !(u < m);
+  const std::size_t index = std::min(points + parzen.liars.size() - 1, static_cast<std::size_t>(u));
+  const SearchPoint* centre = prior ? nullptr : index < points ? &parzen.centres[index] : &parzen.liars[index - points];
+  const std::vector<double>& bandwidths = !prior && index >= points ? parzen.liar_bandwidths : parzen.bandwidths;
+  SearchPoint x(parzen.axes.size());
+  for (std::size_t d = 0; d < parzen.axes.size(); ++d) {
+    const SearchAxis& axis = parzen.axes[d];
+    if (axis.kind == AxisKind::categorical) {
+      const bool keep = centre != nullptr && stream.uniform() >= bandwidths[d];
+      x[d] = keep ? (*centre)[d] : static_cast<double>(stream.uniform_index(axis.choice_count));
+      continue;
+    }
+    const InternalInterval interval = parzen.intervals[d];
+    x[d] = centre == nullptr ? stream.uniform(interval.low, interval.high)
+                             : draw_truncated_normal((*centre)[d], bandwidths[d], interval, stream);
+    if (axis.kind == AxisKind::integer) {
+      x[d] = std::clamp(std::nearbyint(x[d]), std::ceil(interval.low), std::floor(interval.high));
+    }
+  }
+  return x;
 }
 
 }  // namespace armfarm::search

@@ -1,6 +1,7 @@
 // The search tables: a database of schema version 5 (before searches) migrates with its jobs
 // kept; one of version 6 keeps its search, whose version-7 settings are empty until a writer
-// fills them in (and then stay); a search, its rungs, trials and steps round-trip and are what a plain SQL
+// fills them in (and then stay); one of version 7 gains TPE's rule as NULL (read as the per-axis
+// rule; merge compares it so, a NULL against "joint" is a conflict); a search, its rungs, trials and steps round-trip and are what a plain SQL
 // reader sees (the search_promotions view); a step naming no job is refused; merge copies a
 // search whole, extends one the file already has and refuses a disagreeing one.
 #include "results/results_store.hpp"
@@ -96,7 +97,8 @@ TEST_F(SearchStoreTest, AVersionSixSearchMigratesWithItsNewSettingsEmptyAndTheNe
   query_rows(path("v6.db"), "ALTER TABLE searches DROP COLUMN max_trials; ALTER TABLE searches DROP COLUMN bracket_size; "
                             "ALTER TABLE searches DROP COLUMN tpe_startup; ALTER TABLE searches DROP COLUMN tpe_gamma; "
                             "ALTER TABLE searches DROP COLUMN tpe_max_good; ALTER TABLE searches DROP COLUMN tpe_candidates; "
-                            "ALTER TABLE searches DROP COLUMN space; PRAGMA user_version = 6;");
+                            "ALTER TABLE searches DROP COLUMN space; ALTER TABLE searches DROP COLUMN tpe_rule; "
+                            "PRAGMA user_version = 6;");
   ASSERT_EQ(query_rows(path("v6.db"), "SELECT count(*) FROM pragma_table_info('searches')"), std::vector<std::string>{"14"});
   {
     const ResultsStore reader = ResultsStore::open(path("v6.db"), ResultsStore::Mode::read_only);
@@ -193,6 +195,73 @@ void write_search_file(const std::string& file, const std::vector<std::string>& 
 const char* const kMergedSteps =
     "SELECT st.step, st.trial, st.rung, st.kind, j.key, st.objective, st.committed FROM search_steps st "
     "JOIN jobs j ON j.id = st.job_id ORDER BY st.step";
+
+TEST_F(SearchStoreTest, AVersionSevenSearchMigratesWithoutATpeRuleAndTheResumingWriterRecordsTheRuleItAdopted) {
+  // A file of schema version 7 as the build before version 8 wrote it: every setting but the rule.
+  SearchRecord recorded = make_search("seven");
+  recorded.max_trials = 0;
+  recorded.bracket_size = 0;
+  recorded.tpe_startup = 4;
+  recorded.tpe_gamma = 0.25;
+  recorded.tpe_max_good = 25;
+  recorded.tpe_candidates = 24;
+  recorded.space = R"([{"path":"x"}])";
+  {
+    ResultsStore store = ResultsStore::open(path("v7.db"), ResultsStore::Mode::read_write);
+    store.insert_sweep_run(testing::make_sweep_registration("seven"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}});
+    store.insert_search(recorded);
+    store.insert_search_step("seven", new_step(0, 0, 0, 0, "new", 12.5, "k1"), SearchTrialRecord{0, 0, R"({"x":1})"});
+  }
+  query_rows(path("v7.db"), "ALTER TABLE searches DROP COLUMN tpe_rule; PRAGMA user_version = 7;");
+  ASSERT_EQ(query_rows(path("v7.db"), "SELECT count(*) FROM pragma_table_info('searches')"), std::vector<std::string>{"21"});
+  {
+    const ResultsStore reader = ResultsStore::open(path("v7.db"), ResultsStore::Mode::read_only);  // a migrated copy
+    const std::optional<SearchRecord> old = reader.find_search("seven");
+    ASSERT_TRUE(old.has_value());
+    EXPECT_FALSE(old->tpe_rule.has_value());  // NULL: the per-axis rule of the builds before version 8
+    EXPECT_EQ(old->tpe_startup, 4);
+    EXPECT_EQ(reader.find_search_steps("seven").size(), 1u);
+  }
+  EXPECT_EQ(query_rows(path("v7.db"), "PRAGMA user_version"), std::vector<std::string>{"7"});  // reading left it so
+  {
+    // The resumed runner adopts "per_axis" for NULL and writes it; a later writer's value does not replace it.
+    ResultsStore writer = ResultsStore::open(path("v7.db"), ResultsStore::Mode::read_write);
+    SearchRecord resumed = recorded;
+    resumed.tpe_rule = "per_axis";
+    writer.insert_search(resumed);
+    resumed.tpe_rule = "joint";
+    writer.insert_search(resumed);
+  }
+  EXPECT_EQ(query_rows(path("v7.db"), "PRAGMA user_version"), std::vector<std::string>{"8"});
+  EXPECT_EQ(query_rows(path("v7.db"), "SELECT count(*), method, tpe_startup, tpe_rule FROM searches"),
+            std::vector<std::string>{"1|asha|4|per_axis"});
+  EXPECT_EQ(query_rows(path("v7.db"), "SELECT count(*) FROM search_steps"), std::vector<std::string>{"1"});
+  EXPECT_TRUE(ResultsStore::open(path("v7.db"), ResultsStore::Mode::read_only).check_contents(true).empty());
+  // The column takes only the two rules (the CHECK refuses the update; the row keeps its rule).
+  query_rows(path("v7.db"), "UPDATE searches SET tpe_rule = 'both'");
+  EXPECT_EQ(query_rows(path("v7.db"), "SELECT tpe_rule FROM searches"), std::vector<std::string>{"per_axis"});
+}
+
+TEST_F(SearchStoreTest, MergeReadsANullTpeRuleAsPerAxisAndRefusesItAgainstAJointSearch) {
+  const auto write = [&](const std::string& file, const std::optional<std::string>& rule) {
+    ResultsStore store = ResultsStore::open(path(file), ResultsStore::Mode::read_write);
+    store.insert_sweep_run(testing::make_sweep_registration("r"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}});
+    SearchRecord search = make_search("r");
+    search.tpe_rule = rule;
+    store.insert_search(search);
+  };
+  write("null.db", std::nullopt);
+  write("per_axis.db", std::string("per_axis"));
+  write("joint.db", std::string("joint"));
+  {
+    ResultsStore store = ResultsStore::open(path("null.db"), ResultsStore::Mode::read_write);
+    EXPECT_TRUE(store.merge_from(path("per_axis.db")).conflicts.empty());  // the same rule: NULL filled in
+    const MergeReport report = store.merge_from(path("joint.db"));
+    ASSERT_EQ(report.conflicts.size(), 1u);
+    EXPECT_NE(report.conflicts[0].find("search r: different settings in " + path("joint.db")), std::string::npos) << report.conflicts[0];
+  }
+  EXPECT_EQ(query_rows(path("null.db"), "SELECT tpe_rule FROM searches"), std::vector<std::string>{"per_axis"});
+}
 
 TEST_F(SearchStoreTest, MergeCopiesASearchWholeAndExtendsTheSameSearchStepByStep) {
   write_search_file(path("short.db"), {"ka", "kb", "ka1"}, 2, 1);

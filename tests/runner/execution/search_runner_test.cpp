@@ -3,7 +3,8 @@
 // runner is killed with SIGKILL mid-search and resumed at another thread count; a random search
 // whose jobs a TPE search of the same seed already ran still records its sweep and steps; a
 // real job's held-out objective without learning.heldout_checkpoints is read at its default
-// checkpoint (never undefined for every trial); an ASHA promotion of a batch job (each rung a
+// checkpoint (never undefined for every trial); a search recorded by a build before TPE's rule
+// was stored (schema 7, no rule: the per-axis rule) continues with the per-axis rule; an ASHA promotion of a batch job (each rung a
 // job that trains to its checkpoint's epoch) scores bit-identically to one straight run.
 #include <gtest/gtest.h>
 
@@ -11,6 +12,10 @@
 #include "support/command_line.hpp"
 #include "support/scratch_file.hpp"
 #include "support/sqlite_rows.hpp"
+
+#include "runner/execution/job_kind.hpp"
+#include "runner/execution/search_runner.hpp"
+#include "runner/spec/sweep_spec.hpp"
 
 #include <signal.h>
 #include <sqlite3.h>
@@ -185,6 +190,65 @@ TEST_F(CmdRunSearchTest, TheFileKeepsWhatDecisionsDependOnAdoptsTheBuildsPartAnd
       << refused.output;
   EXPECT_EQ(query_rows(db, kSteps), steps);
   EXPECT_EQ(query_rows(db, "SELECT budget FROM searches"), std::vector<std::string>{"6.0"});
+}
+
+TEST_F(CmdRunSearchTest, ASearchRecordedWithoutATpeRuleResumesWithThePerAxisRule) {
+  // The fixture's search (start-up 4 by the budget rule) with 1 ms jobs.
+  std::string text;
+  {
+    std::ifstream in(path("search.json"));
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::string slow = "\"sleep_ms\": 80";
+  text.replace(text.find(slow), slow.size(), "\"sleep_ms\": 1");
+  std::ofstream(path("rule.json")) << text;
+  // The per-axis run, in this process: the spec has no key for the rule, so it is set here.
+  {
+    const JobKind kind = make_job_kind();
+    SweepSpec spec = load_sweep_spec(path("rule.json"), kind.schema);
+    spec.search->settings.tpe.joint = false;
+    RunOptions options;
+    options.db_path = path("per_axis.db");
+    options.threads = 1;
+    const std::atomic<bool> stop{false};
+    ASSERT_TRUE(run_search(spec, kind, options, ExpansionLimits{}, stop).finished);
+  }
+  const std::vector<std::string> per_axis = query_rows(path("per_axis.db"), kSteps);
+  ASSERT_EQ(per_axis.size(), 14u);
+  EXPECT_EQ(query_rows(path("per_axis.db"), "SELECT tpe_rule FROM searches"), std::vector<std::string>{"per_axis"});
+  // The default (joint) run through the CLI: the same 4 prior draws, then other proposals.
+  const auto run_rule = [&](const std::string& db) {
+    return test_support::run_armfarm_with_fake_jobs("run " + path("rule.json") + " --db " + db + " -j 2 -q");
+  };
+  ASSERT_EQ(run_rule(path("joint.db")).exit_code, 0);
+  const std::vector<std::string> joint = query_rows(path("joint.db"), kSteps);
+  ASSERT_EQ(joint.size(), 14u);
+  EXPECT_EQ(query_rows(path("joint.db"), "SELECT tpe_rule FROM searches"), std::vector<std::string>{"joint"});
+  EXPECT_EQ(std::vector<std::string>(joint.begin(), joint.begin() + 4), std::vector<std::string>(per_axis.begin(), per_axis.begin() + 4));
+  EXPECT_NE(joint, per_axis);
+  // The per-axis search cut after 6 steps (2 of them TPE's), as a build of schema version 7 left
+  // it: no tpe_rule column. Its 14 jobs stay in the file, so a resume that proposes anything else
+  // runs new jobs. A copy with the rule "joint" shows that the rule decides the steps.
+  const auto cut = [&](const std::string& db, const std::string& rule_sql) {
+    fs::copy_file(path("per_axis.db"), db);
+    query_rows(db, "DELETE FROM search_steps WHERE step >= 6; "
+                   "DELETE FROM search_trials WHERE trial NOT IN (SELECT trial FROM search_steps); " + rule_sql);
+    ASSERT_EQ(query_rows(db, "SELECT count(*) FROM search_steps"), std::vector<std::string>{"6"});
+  };
+  cut(path("old.db"), "ALTER TABLE searches DROP COLUMN tpe_rule; PRAGMA user_version = 7;");
+  cut(path("joint_label.db"), "UPDATE searches SET tpe_rule = 'joint';");
+  const test_support::CommandResult resumed = run_rule(path("old.db"));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_EQ(query_rows(path("old.db"), kSteps), per_axis);
+  EXPECT_EQ(query_rows(path("old.db"), "SELECT count(*), sum(attempts) FROM jobs"), std::vector<std::string>{"14|14"});
+  EXPECT_EQ(query_rows(path("old.db"), "SELECT tpe_rule FROM searches"), std::vector<std::string>{"per_axis"});  // written so
+  EXPECT_EQ(query_rows(path("old.db"), "PRAGMA user_version"), std::vector<std::string>{"8"});
+  ASSERT_EQ(run_rule(path("joint_label.db")).exit_code, 0);
+  const std::vector<std::string> relabelled = query_rows(path("joint_label.db"), kSteps);
+  ASSERT_EQ(relabelled.size(), 14u);
+  EXPECT_EQ(std::vector<std::string>(relabelled.begin(), relabelled.begin() + 6), std::vector<std::string>(per_axis.begin(), per_axis.begin() + 6));
+  EXPECT_NE(relabelled, per_axis);
+  EXPECT_NE(query_rows(path("joint_label.db"), "SELECT count(*) FROM jobs"), std::vector<std::string>{"14"});
 }
 
 TEST_F(CmdRunSearchTest, AHeldOutObjectiveWithoutCheckpointsIsReadAtTheDefaultOne) {
