@@ -430,16 +430,22 @@ struct BelowBlock {
   std::size_t count_lines() const { return cells.size() + lines.size(); }
 };
 
+// Each column's width in characters: its widest cell, the header included.
+std::vector<std::size_t> calc_column_widths(const FigureTable& table) {
+  std::vector<std::size_t> widths(table.header.size(), 0);
+  for (std::size_t c = 0; c < table.header.size(); ++c) widths[c] = count_characters(table.header[c]);
+  for (const auto& row : table.rows) {
+    for (std::size_t c = 0; c < row.size() && c < widths.size(); ++c) widths[c] = std::max(widths[c], count_characters(row[c]));
+  }
+  return widths;
+}
+
 BelowBlock make_below_block(const Figure& figure, double page_chars) {
   BelowBlock block;
   const auto width = static_cast<std::size_t>(std::max(10.0, page_chars - 2));
   const FigureTable& table = figure.table;
   if (!table.header.empty()) {
-    std::vector<std::size_t> widths(table.header.size(), 0);
-    for (std::size_t c = 0; c < table.header.size(); ++c) widths[c] = count_characters(table.header[c]);
-    for (const auto& row : table.rows) {
-      for (std::size_t c = 0; c < row.size() && c < widths.size(); ++c) widths[c] = std::max(widths[c], count_characters(row[c]));
-    }
+    const std::vector<std::size_t> widths = calc_column_widths(table);
     std::size_t total = 0;
     for (std::size_t w : widths) total += w + 2;
     if (static_cast<double>(total) <= page_chars - 1) {
@@ -935,11 +941,7 @@ std::string format_caption_text(const Figure& figure) {
   std::string text;
   const FigureTable& table = figure.table;
   if (!table.header.empty()) {
-    std::vector<std::size_t> widths(table.header.size(), 0);
-    for (std::size_t c = 0; c < table.header.size(); ++c) widths[c] = count_characters(table.header[c]);
-    for (const auto& row : table.rows) {
-      for (std::size_t c = 0; c < row.size() && c < widths.size(); ++c) widths[c] = std::max(widths[c], count_characters(row[c]));
-    }
+    const std::vector<std::size_t> widths = calc_column_widths(table);
     const auto add_row = [&](const std::vector<std::string>& cells) {
       std::string line;
       for (std::size_t c = 0; c < cells.size(); ++c) {

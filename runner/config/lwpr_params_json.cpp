@@ -2,9 +2,9 @@
 #include "runner/config/lwpr_params_json.hpp"
 
 #include "base/did_you_mean.hpp"
-#include "engine/io/input_file.hpp"
 #include "engine/learning/learning_config.hpp"
 #include "runner/config/config_value_json.hpp"
+#include "runner/spec/json_document.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -58,14 +58,7 @@ lwpr::LwprParams parse_lwpr_params(const nlohmann::json& json, const std::string
 }
 
 lwpr::LwprParams load_lwpr_params(const std::string& path, int n_in, const LwprDataScales& scales) {
-  const std::string text = read_input_file(path, InputFileKind::json);
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::runtime_error(path + ": invalid JSON at byte " + std::to_string(e.byte));
-  }
-  return parse_lwpr_params(json, path, n_in, scales);
+  return parse_lwpr_params(read_json_file(path), path, n_in, scales);
 }
 
 }  // namespace armfarm

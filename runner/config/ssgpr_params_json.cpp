@@ -2,8 +2,8 @@
 #include "runner/config/ssgpr_params_json.hpp"
 
 #include "base/number_format.hpp"
-#include "engine/io/input_file.hpp"
 #include "runner/config/config_value_json.hpp"
+#include "runner/spec/json_document.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -50,14 +50,7 @@ SsgprLearningConfig parse_ssgpr_params(const nlohmann::json& json, const std::st
 }
 
 SsgprLearningConfig load_ssgpr_params(const std::string& path) {
-  const std::string text = read_input_file(path, InputFileKind::json);
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::runtime_error(path + ": invalid JSON at byte " + std::to_string(e.byte));
-  }
-  return parse_ssgpr_params(json, path);
+  return parse_ssgpr_params(read_json_file(path), path);
 }
 
 }  // namespace armfarm

@@ -1,5 +1,6 @@
 #include "runner/spec/json_document.hpp"
 
+#include "engine/io/input_file.hpp"
 #include "runner/spec/spec_error.hpp"
 
 #include <algorithm>
@@ -319,6 +320,10 @@ JsonDocument parse_json_document(const std::string& text, const std::string& fil
                      sax.error_message()});
   }
   return document;
+}
+
+nlohmann::json read_json_file(const std::string& path) {
+  return parse_json_document(read_input_file(path, InputFileKind::json), path).value;
 }
 
 }  // namespace armfarm

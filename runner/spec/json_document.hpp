@@ -48,6 +48,11 @@ std::string describe_text_position(const std::string& text, std::size_t offset);
 /// control character (U+0000–U+001F, U+007F: a name or value must print as itself on one line).
 JsonDocument parse_json_document(const std::string& text, const std::string& file);
 
+/// Reads the JSON file `path` through the confined reader (engine/io/input_file.hpp: a regular
+/// file under the size cap) and parses it as parse_json_document does, so that a syntax error
+/// names the file, the line and the column. Throws SpecError or the reader's error.
+nlohmann::json read_json_file(const std::string& path);
+
 /// True for strings that spell a non-finite number ("NaN", "inf", "-Infinity", …, any case).
 bool is_non_finite_number_text(const std::string& text);
 

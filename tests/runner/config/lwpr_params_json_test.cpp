@@ -2,8 +2,13 @@
 #include "runner/config/lwpr_params_json.hpp"
 
 #include "engine/learning/learning_config.hpp"
+#include "runner/config/ssgpr_params_json.hpp"
+#include "support/scratch_file.hpp"
 
 #include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
 
 namespace armfarm {
 namespace {
@@ -22,6 +27,27 @@ TEST(LwprParamsJson, ParsesLibraryNames) {
   EXPECT_EQ(p.norm_out(0), 2.0);
   EXPECT_EQ(p.max_fields, 7u);
   EXPECT_NO_THROW(lwpr::validate_lwpr_params(p, 2, 1));
+}
+
+// Both parameter files (`lwpr fit --params`, `fit --learner ssgpr --params`) are read as spec
+// files are: a syntax error names the file, the line and the column (it named a byte offset).
+TEST(LwprParamsJson, ASyntaxErrorInEitherParameterFileNamesItsLineAndColumn) {
+  const std::string path = test_support::scratch_file("bad params \xc3\xa9.json");
+  std::ofstream(path) << "{\"init_D\": 2,\n  \"update_D\": tru }\n";
+  const auto message = [](const auto& load) {
+    try {
+      load();
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string lwpr = message([&] { load_lwpr_params(path, 2, {}); });
+  const std::string ssgpr = message([&] { load_ssgpr_params(path); });
+  EXPECT_EQ(lwpr.rfind(path + ": line 2, column ", 0), 0u) << lwpr;
+  EXPECT_NE(lwpr.find("not valid JSON"), std::string::npos) << lwpr;
+  EXPECT_EQ(ssgpr, lwpr);
+  std::remove(path.c_str());
 }
 
 TEST(LwprParamsJson, UnknownKeyIsAnErrorWithASuggestion) {
