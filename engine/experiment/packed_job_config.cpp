@@ -20,7 +20,7 @@ class ByteWriter {
   }
   void add_doubles(const double* values, std::size_t count) {
     add(static_cast<std::uint64_t>(count));
-    out_.append(reinterpret_cast<const char*>(values), sizeof(double) * count);
+    if (count != 0) out_.append(reinterpret_cast<const char*>(values), sizeof(double) * count);  // values may be null
   }
   void add_text(const std::string& text) {
     add(static_cast<std::uint64_t>(text.size()));
@@ -64,6 +64,7 @@ class ByteReader {
   }
   void take_bytes(void* out, std::size_t size) {
     check(size);
+    if (size == 0) return;  // an empty list's data() may be null, which memcpy may not be given
     std::memcpy(out, data_, size);
     data_ += size;
   }
@@ -198,7 +199,8 @@ bool holds_file_data(const JobFileData& files, const JobConfig& config) {
   const RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
   const Eigen::MatrixXd& samples = files.recorded_samples;
   return samples.rows() == recorded.samples.rows() && samples.cols() == recorded.samples.cols() &&
-         std::memcmp(samples.data(), recorded.samples.data(), sizeof(double) * static_cast<std::size_t>(samples.size())) == 0 &&
+         (samples.size() == 0 ||  // empty matrices' data() are null, which memcmp may not be given
+          std::memcmp(samples.data(), recorded.samples.data(), sizeof(double) * static_cast<std::size_t>(samples.size())) == 0) &&
          files.recorded_lines == recorded.sample_lines && files.initial_model_bytes == config.learning.initial_model_bytes;
 }
 
