@@ -4,12 +4,11 @@
 #include "runner/execution/checked_experiment_job.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/spec/sweep_expansion.hpp"
+#include "support/expansion_heap.hpp"
 #include "support/recorded_arm.hpp"
 #include "support/scratch_file.hpp"
 
 #include <gtest/gtest.h>
-
-#include <malloc.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -128,13 +127,11 @@ TEST(BoundedExpansionMemory, TheExperimentJobKeepsUnderTwoKilobytesPerJob) {
       "control": {"mode": "composite", "feed_forward": "learner"}, "learning": {"collect_gain_scale": 1.0},
       "recording": {"series": ["TRIAL", "RF"], "every": 10}},
       "sweep": {"grid": {"control.gain_scale": [)" + gains + R"(], "learning.lwpr.init_D": [)" + widths + "]}}}";
-  const JobConfigSchema schema = make_experiment_config_schema();
-  SweepSpec spec = parse_sweep_spec(text, "m.json", ".", schema);
-  const std::size_t before = mallinfo2().uordblks;
-  const ExpandedSweep sweep = expand_sweep(std::move(spec), schema);
-  const std::size_t after = mallinfo2().uordblks;
+  const test_support::MeasuredExpansion measured =
+      test_support::expand_measuring_heap(text, make_experiment_config_schema());
+  const ExpandedSweep& sweep = measured.sweep;
   ASSERT_EQ(sweep.jobs.size(), 10000u);
-  const double per_job = (static_cast<double>(after) - static_cast<double>(before)) / 10000.0;
+  const double per_job = measured.bytes_per_job;
   EXPECT_LT(per_job, 2048.0);
   RecordProperty("bytes_per_job", std::to_string(per_job));
   std::printf("experiment job: %.0f bytes per job held after the expansion\n", per_job);

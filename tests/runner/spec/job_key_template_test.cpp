@@ -11,9 +11,9 @@
 
 #include <gtest/gtest.h>
 
+#include "support/expansion_heap.hpp"
 #include "support/scratch_file.hpp"
 
-#include <malloc.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -131,13 +131,11 @@ TEST(BoundedExpansionMemory, ASweepKeepsUnderTwoKilobytesPerJob) {
   for (int i = 0; i < 100; ++i) second += (i ? "," : "") + std::to_string(1.0 + 0.01 * i);
   const std::string text = R"({"name": "m", "sweep": {"grid": {"control.gain_scale": [)" + first +
                            R"(], "trajectory.period": [)" + second + "]}}}";
-  const JobConfigSchema schema = make_fake_job_config_schema();
-  SweepSpec spec = parse_sweep_spec(text, "m.json", ".", schema);
-  const std::size_t before = mallinfo2().uordblks;
-  const ExpandedSweep sweep = expand_sweep(std::move(spec), schema);
-  const std::size_t after = mallinfo2().uordblks;
+  const test_support::MeasuredExpansion measured =
+      test_support::expand_measuring_heap(text, make_fake_job_config_schema());
+  const ExpandedSweep& sweep = measured.sweep;
   ASSERT_EQ(sweep.jobs.size(), 10000u);
-  const double per_job = (static_cast<double>(after) - static_cast<double>(before)) / 10000.0;
+  const double per_job = measured.bytes_per_job;
   EXPECT_LT(per_job, 2048.0);
   RecordProperty("bytes_per_job", std::to_string(per_job));
   for (const ExpandedJob& job : sweep.jobs) {
