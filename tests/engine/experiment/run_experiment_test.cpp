@@ -573,6 +573,33 @@ TEST(StoredModel, AnOnlineJobContinuesLearningFromTheStoredModel) {
   EXPECT_EQ(b->n_updates(), 2 * a->n_updates());
 }
 
+// learning.learn_during_evaluation: a batch learner keeps learning in the evaluation pass, one
+// update per tick of the training trajectory; without it the pass leaves the learner as trained
+// (epochs × n_training_samples updates, counted independently from the metrics).
+TEST(StoredModel, ABatchLearnerLearnsInTheEvaluationPassOnlyWhenAsked) {
+  const ArmModel arm = testing::load_lwr3();
+  JobConfig config = make_online_config();
+  config.learning.mode = LearningMode::batch;
+  config.learning.heldout = false;
+  config.trajectory.sine.duration = 2.0;
+  const JobOutcome trained = run_experiment(arm, config);
+  ASSERT_EQ(trained.status, JobStatus::done) << trained.message;
+  JobConfig learning = config;
+  learning.learning.learn_during_evaluation = true;
+  const JobOutcome still_learning = run_experiment(arm, learning);
+  ASSERT_EQ(still_learning.status, JobStatus::done) << still_learning.message;
+
+  const auto a = decode_learner_model(trained.model_file), b = decode_learner_model(still_learning.model_file);
+  const auto metrics = job_metrics(trained);
+  const double training_samples = metrics.at("n_training_samples");
+  ASSERT_GT(training_samples, 0.0);
+  EXPECT_EQ(static_cast<double>(a->n_updates()), config.learning.epochs * training_samples);
+  const auto ticks = static_cast<std::uint64_t>(build_job_trajectories(arm, config).training.size());
+  EXPECT_EQ(b->n_updates(), a->n_updates() + ticks);
+  // Both evaluations start from the same trained learner: the batch figures agree.
+  EXPECT_EQ(job_metrics(still_learning).at("same_run_test_nmse"), metrics.at("same_run_test_nmse"));
+}
+
 // An SSGPR job that fits its hyperparameters on its first samples stores the fitted model (on main
 // it failed after its whole simulation: the model-file dispatch had no case for that learner).
 TEST(StoredModel, AnSsgprJobThatFitsItsHyperparametersStoresTheFittedModel) {
