@@ -1,5 +1,6 @@
 #include "engine/experiment/metric_catalog.hpp"
 
+#include <iterator>
 #include <stdexcept>
 
 namespace armfarm {
@@ -35,12 +36,14 @@ const char* to_string(MetricKind kind) {
 
 namespace {
 
-/// Everything but the held-out evaluation.
-std::vector<MetricInfo> make_job_entries() {
-  namespace n = metric_names;
-  using D = MetricDirection;
-  using S = MetricScope;
-  using K = MetricKind;
+// The entries' shorthand: n::name, D::direction, S::scope, K::kind.
+namespace n = metric_names;
+using D = MetricDirection;
+using S = MetricScope;
+using K = MetricKind;
+
+/// Tracking of the evaluation pass: per joint (rad) and per end-effector axis (m), over all its ticks.
+std::vector<MetricInfo> make_tracking_entries() {
   return {
       {n::tracking_nmse, "1",
        "joint angle error: mean (q_d - q)^2 over var(q_d); NULL where q_d's std < 0.1 % of the joint's range",
@@ -58,6 +61,12 @@ std::vector<MetricInfo> make_job_entries() {
       {n::tracking_rmse_z, "m", "root mean squared end-effector z error", D::lower, S::task_axis, K::result},
       {n::task_rmse, "m", "root mean squared end-effector distance from the desired point", D::lower, S::job,
        K::result},
+  };
+}
+
+/// Tracking over statistics.window's trajectory points only (written when the window is set).
+std::vector<MetricInfo> make_window_entries() {
+  return {
       {n::window_tracking_nmse_x, "1",
        "end-effector x error over the trajectory points of statistics.window only (counted per loop or reach, or over "
        "the pass: statistics.window_counting): MSE over var(x_d) within the window; NULL where that std < 0.1 % of 2 x "
@@ -77,6 +86,12 @@ std::vector<MetricInfo> make_job_entries() {
        D::lower, S::task_axis, K::result},
       {n::window_tracking_rmse_z, "m", "root mean squared end-effector z error over statistics.window's trajectory points",
        D::lower, S::task_axis, K::result},
+  };
+}
+
+/// How the evaluation pass's torque splits into feed-forward and feedback (N·m), and saturation.
+std::vector<MetricInfo> make_torque_share_entries() {
+  return {
       {n::ff_fb_ratio_avg, "1", "mean of |ff|/(|ff|+|fb|), the feed-forward share of the torque (thesis tables 6.1-6.7)",
        D::higher, S::joint, K::result},
       {n::ff_fb_ratio_var, "1", "variance of |ff|/(|ff|+|fb|) over the ticks", D::lower, S::joint, K::result},
@@ -84,6 +99,12 @@ std::vector<MetricInfo> make_job_entries() {
       {n::fb_abs_avg, "N·m", "mean absolute feedback torque", D::lower, S::joint, K::result},
       {n::torque_saturation_fraction, "1", "fraction of ticks whose commanded torque hit the effort limit", D::lower,
        S::joint, K::result},
+  };
+}
+
+/// Batch training scored on the collected samples it withheld (learning.mode batch).
+std::vector<MetricInfo> make_batch_training_entries() {
+  return {
       {n::same_run_test_nmse, "1",
        "batch learner on the collected samples withheld from training (a random shuffle of 10 ms samples of the same "
        "runs, not held-out data): torque MSE over var(torque); NULL where the torque's std < 0.1 % of 2 x effort limit. "
@@ -93,6 +114,12 @@ std::vector<MetricInfo> make_job_entries() {
       {n::same_run_test_rmse, "N·m", "batch learner on the withheld samples of the same runs: root mean squared torque error",
        D::lower, S::joint, K::result},
       {n::n_training_samples, "count", "samples the batch learner was trained on", D::none, S::job, K::result},
+  };
+}
+
+/// The feed-forward used against the true plant's inverse dynamics at the desired state.
+std::vector<MetricInfo> make_model_accuracy_entries() {
+  return {
       {n::id_nmse, "1",
        "feed-forward used against the true plant's inverse dynamics at the desired state: MSE over var(true torque); "
        "NULL where its std < 0.1 % of 2 x effort limit",
@@ -103,6 +130,12 @@ std::vector<MetricInfo> make_job_entries() {
        "fraction of ticks where the learner had no trustworthy local model for this joint's torque (its feed-forward "
        "was 0)",
        D::lower, S::joint, K::result},
+  };
+}
+
+/// The learner at the end of the job: its size, its memory and the wall time of its calls.
+std::vector<MetricInfo> make_learner_entries() {
+  return {
       {n::n_receptive_fields, "count", "learner size at the end: LWPR receptive fields summed over outputs, SSGPR frequencies D", D::none,
        S::job, K::result},
       {n::n_receptive_fields_per_output, "count",
@@ -115,6 +148,12 @@ std::vector<MetricInfo> make_job_entries() {
        D::lower, S::job, K::result},
       {n::learner_fit_seconds, "s", "wall-clock time of the learner's one-off hyperparameter fit (SSGPR fit_samples > 0; 0 otherwise)",
        D::lower, S::job, K::timing},
+  };
+}
+
+/// Loops or reaches of the evaluation pass: the first against the last.
+std::vector<MetricInfo> make_segment_entries() {
+  return {
       {n::n_segments, "count", "loops or reaches of the evaluation pass", D::none, S::job, K::result},
       {n::fb_abs_avg_first_segment, "N·m", "mean absolute feedback torque over the first loop or reach", D::lower,
        S::segment, K::result},
@@ -124,12 +163,24 @@ std::vector<MetricInfo> make_job_entries() {
        S::segment, K::result},
       {n::tracking_rmse_last_segment, "rad", "root mean squared joint error over the last loop or reach", D::lower,
        S::segment, K::result},
+  };
+}
+
+/// The job's cost: simulated time, the steps it ran with, and simulated against wall time.
+std::vector<MetricInfo> make_cost_entries() {
+  return {
       {n::simulated_seconds, "s", "simulated time over all passes", D::none, S::job, K::result},
       {n::pd_substeps_used, "count", "PD periods per control tick the job ran with (pd_substeps, \"auto\" resolved)", D::none, S::job,
        K::result},
       {n::integrator_steps_used, "count",
        "runge_kutta_4 steps per PD period the job ran with (integrator_steps_per_tick, \"auto\" resolved)", D::none, S::job, K::result},
       {n::sim_seconds_per_wall_second, "s/s", "simulated seconds per wall-clock second", D::higher, S::job, K::timing},
+  };
+}
+
+/// Where an evaluation tick's wall time goes (TickClock, control_pass.hpp), µs per tick.
+std::vector<MetricInfo> make_tick_entries() {
+  return {
       {n::tick_us_total, "µs", "wall-clock time per tick of the evaluation pass (the sum of the tick_us_* stages)", D::lower,
        S::job, K::timing},
       {n::tick_us_physics, "µs", "per evaluation tick: stepping the plant (integrator)", D::lower, S::job, K::timing},
@@ -143,19 +194,34 @@ std::vector<MetricInfo> make_job_entries() {
        K::timing},
       {n::tick_us_learning, "µs", "per evaluation tick: the measured sample and the learner's update", D::lower, S::job,
        K::timing},
+  };
+}
+
+/// Bookkeeping of the runner's tests.
+std::vector<MetricInfo> make_diagnostic_entries() {
+  return {
       {n::work_checksum, "1", "fake job (runner tests): checksum of its busy-work loop", D::none, S::job,
        K::diagnostic},
   };
+}
+
+/// Everything but the held-out evaluation, group by group in the catalog's order.
+std::vector<MetricInfo> make_job_entries() {
+  std::vector<MetricInfo> entries;
+  for (std::vector<MetricInfo> (*make_group)() :
+       {make_tracking_entries, make_window_entries, make_torque_share_entries, make_batch_training_entries,
+        make_model_accuracy_entries, make_learner_entries, make_segment_entries, make_cost_entries, make_tick_entries,
+        make_diagnostic_entries}) {
+    std::vector<MetricInfo> group = make_group();
+    entries.insert(entries.end(), std::make_move_iterator(group.begin()), std::make_move_iterator(group.end()));
+  }
+  return entries;
 }
 
 /// The held-out evaluation's entries (engine/experiment/heldout_evaluation.hpp): the frozen
 /// learner on a held-out realisation of the trajectory, one row per (joint,) checkpoint. The
 /// control-pass figures mirror the evaluation pass's entries under the heldout_ prefix.
 std::vector<MetricInfo> make_heldout_entries(const std::vector<MetricInfo>& job_entries) {
-  namespace n = metric_names;
-  using D = MetricDirection;
-  using S = MetricScope;
-  using K = MetricKind;
   std::vector<MetricInfo> entries = {
       {n::heldout_test_nmse, "1",
        "frozen learner on the held-out samples (never trained on): torque MSE over var(torque); NULL below the floor",
