@@ -71,49 +71,16 @@ class UrdfScanner {
  public:
   explicit UrdfScanner(std::string path) : path_(std::move(path)) {}
 
+  /// The checks and the extras of the document, in this order: the root, the size cap, element
+  /// names, links, joints, the tree, transmissions, armfarm extensions. Throws ModelError
+  /// "FILE:LINE: what" at the first problem.
   UrdfExtras scan(const tinyxml2::XMLDocument& document) {
     const tinyxml2::XMLElement* robot = document.FirstChildElement("robot");
     if (robot == nullptr) fail(1, "the root element must be <robot>");
     check_size(robot);
     check_element_names(robot);
-    for (const auto* e = robot->FirstChildElement("link"); e != nullptr; e = e->NextSiblingElement("link")) {
-      const std::string name = required_attribute(e, "name");
-      if (!extras_.lines.links.emplace(name, e->GetLineNum()).second) fail(e, "duplicate link name '" + name + "'");
-      extras_.link_order.push_back(name);
-      check_numbers(e);
-    }
-    for (const auto* e = robot->FirstChildElement("joint"); e != nullptr; e = e->NextSiblingElement("joint")) {
-      const std::string name = required_attribute(e, "name");
-      if (!extras_.lines.joints.emplace(name, e->GetLineNum()).second) fail(e, "duplicate joint name '" + name + "'");
-      for (const char* side : {"parent", "child"}) {
-        const auto* ref = e->FirstChildElement(side);
-        if (ref == nullptr) fail(e, "joint '" + name + "' has no <" + side + ">");
-        const std::string link = required_attribute(ref, "link");
-        if (extras_.lines.links.count(link) == 0) {
-          fail(ref, "joint '" + name + "': unknown " + side + " link '" + link + "'");
-        }
-      }
-      const char* type = e->Attribute("type");
-      // A fixed joint has no axis to speak of: vendor files (Kinova's, Jaco's) write <axis xyz="0 0 0"/> there.
-      const bool fixed = type != nullptr && std::string(type) == "fixed";
-      if (const auto* axis = e->FirstChildElement("axis"); axis != nullptr && !fixed) {
-        const Eigen::Vector3d xyz = vector_attribute(axis, "xyz");
-        if (xyz.norm() < 1e-12) fail(axis, "joint '" + name + "': zero axis");
-      }
-      if (type != nullptr && (std::string(type) == "revolute" || std::string(type) == "prismatic") &&
-          e->FirstChildElement("limit") == nullptr) {
-        fail(e, "joint '" + name + "': a " + type + " joint needs <limit lower upper effort velocity>");
-      }
-      if (e->FirstChildElement("mimic") != nullptr) fail(e, "joint '" + name + "': mimic joints are not supported");
-      check_numbers(e);
-      const std::string parent = e->FirstChildElement("parent")->Attribute("link");
-      const std::string child = e->FirstChildElement("child")->Attribute("link");
-      if (parent == child) fail(e, "joint '" + name + "' connects link '" + child + "' to itself");
-      if (const auto it = parent_of_.find(child); it != parent_of_.end()) {
-        fail(e, "link '" + child + "' has several parents (joint '" + name + "' and joint '" + it->second.joint + "')");
-      }
-      parent_of_.emplace(child, ParentRef{parent, name, e->GetLineNum()});
-    }
+    for (const auto* e = robot->FirstChildElement("link"); e != nullptr; e = e->NextSiblingElement("link")) scan_link(e);
+    for (const auto* e = robot->FirstChildElement("joint"); e != nullptr; e = e->NextSiblingElement("joint")) scan_joint(e);
     check_tree(robot);
     for (const auto* e = robot->FirstChildElement("transmission"); e != nullptr;
          e = e->NextSiblingElement("transmission")) {
@@ -121,29 +88,78 @@ class UrdfScanner {
     }
     for (const auto* e = robot->FirstChildElement(); e != nullptr; e = e->NextSiblingElement()) {
       const std::string tag = e->Name();
-      if (tag.rfind("armfarm:", 0) != 0) continue;
-      if (tag == "armfarm:end_effector") {
-        if (!extras_.end_effector_link.empty()) fail(e, "second <armfarm:end_effector>");
-        extras_.end_effector_link = required_attribute(e, "link");
-        if (extras_.lines.links.count(extras_.end_effector_link) == 0) {
-          fail(e, "<armfarm:end_effector>: unknown link '" + extras_.end_effector_link + "'");
-        }
-        if (e->Attribute("offset") != nullptr) extras_.end_effector_offset = vector_attribute(e, "offset");
-        extras_.end_effector_line = e->GetLineNum();
-      } else if (tag == "armfarm:start_position") {
-        const std::string joint = required_attribute(e, "joint");
-        if (extras_.lines.joints.count(joint) == 0) fail(e, "<armfarm:start_position>: unknown joint '" + joint + "'");
-        if (!extras_.start_position.emplace(joint, number_attribute(e, "value")).second) {
-          fail(e, "second start position for joint '" + joint + "'");
-        }
-      } else {
-        fail(e, "unknown element <" + tag + "> (armfarm extensions: <armfarm:end_effector>, <armfarm:start_position>)");
-      }
+      if (tag.rfind("armfarm:", 0) == 0) scan_extension(e, tag);
     }
     return extras_;
   }
 
  private:
+  /// A <link>: a unique name (its line and document order recorded), finite numbers.
+  void scan_link(const tinyxml2::XMLElement* e) {
+    const std::string name = required_attribute(e, "name");
+    if (!extras_.lines.links.emplace(name, e->GetLineNum()).second) fail(e, "duplicate link name '" + name + "'");
+    extras_.link_order.push_back(name);
+    check_numbers(e);
+  }
+
+  /// A <joint>: a unique name, known parent and child links, a non-zero axis (unless fixed),
+  /// <limit> on revolute and prismatic joints, no <mimic>, finite numbers, and a child link
+  /// that is not its own parent and has no other parent joint (recorded for check_tree).
+  void scan_joint(const tinyxml2::XMLElement* e) {
+    const std::string name = required_attribute(e, "name");
+    if (!extras_.lines.joints.emplace(name, e->GetLineNum()).second) fail(e, "duplicate joint name '" + name + "'");
+    for (const char* side : {"parent", "child"}) {
+      const auto* ref = e->FirstChildElement(side);
+      if (ref == nullptr) fail(e, "joint '" + name + "' has no <" + side + ">");
+      const std::string link = required_attribute(ref, "link");
+      if (extras_.lines.links.count(link) == 0) {
+        fail(ref, "joint '" + name + "': unknown " + side + " link '" + link + "'");
+      }
+    }
+    const char* type = e->Attribute("type");
+    // A fixed joint has no axis to speak of: vendor files (Kinova's, Jaco's) write <axis xyz="0 0 0"/> there.
+    const bool fixed = type != nullptr && std::string(type) == "fixed";
+    if (const auto* axis = e->FirstChildElement("axis"); axis != nullptr && !fixed) {
+      const Eigen::Vector3d xyz = vector_attribute(axis, "xyz");
+      if (xyz.norm() < 1e-12) fail(axis, "joint '" + name + "': zero axis");
+    }
+    if (type != nullptr && (std::string(type) == "revolute" || std::string(type) == "prismatic") &&
+        e->FirstChildElement("limit") == nullptr) {
+      fail(e, "joint '" + name + "': a " + type + " joint needs <limit lower upper effort velocity>");
+    }
+    if (e->FirstChildElement("mimic") != nullptr) fail(e, "joint '" + name + "': mimic joints are not supported");
+    check_numbers(e);
+    const std::string parent = e->FirstChildElement("parent")->Attribute("link");
+    const std::string child = e->FirstChildElement("child")->Attribute("link");
+    if (parent == child) fail(e, "joint '" + name + "' connects link '" + child + "' to itself");
+    if (const auto it = parent_of_.find(child); it != parent_of_.end()) {
+      fail(e, "link '" + child + "' has several parents (joint '" + name + "' and joint '" + it->second.joint + "')");
+    }
+    parent_of_.emplace(child, ParentRef{parent, name, e->GetLineNum()});
+  }
+
+  /// An armfarm:* element at the top level: <armfarm:end_effector link=".." offset="x y z"/>
+  /// (once) or <armfarm:start_position joint=".." value=".."/> (once per joint); any other is an error.
+  void scan_extension(const tinyxml2::XMLElement* e, const std::string& tag) {
+    if (tag == "armfarm:end_effector") {
+      if (!extras_.end_effector_link.empty()) fail(e, "second <armfarm:end_effector>");
+      extras_.end_effector_link = required_attribute(e, "link");
+      if (extras_.lines.links.count(extras_.end_effector_link) == 0) {
+        fail(e, "<armfarm:end_effector>: unknown link '" + extras_.end_effector_link + "'");
+      }
+      if (e->Attribute("offset") != nullptr) extras_.end_effector_offset = vector_attribute(e, "offset");
+      extras_.end_effector_line = e->GetLineNum();
+    } else if (tag == "armfarm:start_position") {
+      const std::string joint = required_attribute(e, "joint");
+      if (extras_.lines.joints.count(joint) == 0) fail(e, "<armfarm:start_position>: unknown joint '" + joint + "'");
+      if (!extras_.start_position.emplace(joint, number_attribute(e, "value")).second) {
+        fail(e, "second start position for joint '" + joint + "'");
+      }
+    } else {
+      fail(e, "unknown element <" + tag + "> (armfarm extensions: <armfarm:end_effector>, <armfarm:start_position>)");
+    }
+  }
+
   [[noreturn]] void fail(int line, const std::string& what) const {
     throw ModelError(path_ + ":" + std::to_string(line) + ": " + what);
   }
@@ -378,103 +394,148 @@ Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   return transform;
 }
 
-}  // namespace
-
-ArmModel load_urdf_model(const std::string& path) {
-  const std::string xml = read_model_file(path);
-
-  tinyxml2::XMLDocument document;
+/// The file's text as an XML document (the checks' and the extensions' pass reads it). Throws
+/// ModelError "FILE:LINE: XML error: NAME" for text that is not well-formed XML.
+void parse_xml_document(const std::string& path, const std::string& xml, tinyxml2::XMLDocument& document) {
   if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
     throw ModelError(path + ":" + std::to_string(document.ErrorLineNum()) + ": XML error: " + document.ErrorName());
   }
-  const UrdfExtras extras = UrdfScanner(path).scan(document);
+}
 
+/// urdfdom's reading of the file. Throws ModelError with urdfdom's reasons (the first 3,
+/// shortened) when it rejects a file the tinyxml2 pass accepted.
+urdf::ModelInterfaceSharedPtr parse_urdf(const std::string& path, const std::string& xml) {
   std::vector<std::string> urdfdom_errors;
-  const urdf::ModelInterfaceSharedPtr urdf = parse_urdf_quietly(xml, urdfdom_errors);
+  urdf::ModelInterfaceSharedPtr urdf = parse_urdf_quietly(xml, urdfdom_errors);
   if (!urdf) {
     throw ModelError(path + ": not a valid URDF: urdfdom rejected it" +
                      (urdfdom_errors.empty() ? std::string(" (it gave no reason)") : ": " + join_shortened(urdfdom_errors, "; ", 3)));
   }
+  return urdf;
+}
+
+/// A link's <inertial> in the link frame: mass (kg), centre of mass (m) and the inertia about
+/// it (kg·m²), rotated from the inertial frame (origin rpy) into the link frame: R·I·Rᵀ.
+Inertial to_inertial(const urdf::Inertial& in) {
+  Eigen::Matrix3d inertia;
+  inertia << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  const Eigen::Isometry3d frame = to_isometry(in.origin);  // inertial frame in the link frame
+  Inertial inertial;
+  inertial.mass = in.mass;
+  inertial.com = frame.translation();
+  inertial.inertia = frame.linear() * inertia * frame.linear().transpose();
+  return inertial;
+}
+
+/// The links, in document order, appended to model.links; returns each name's index there (a
+/// map: find_link per joint would make loading quadratic). A link without <inertial> is massless.
+std::unordered_map<std::string, int> add_links(ArmModel& model, const urdf::ModelInterface& urdf,
+                                               const std::vector<std::string>& link_order) {
+  std::unordered_map<std::string, int> link_index;
+  for (const std::string& name : link_order) {
+    link_index.emplace(name, static_cast<int>(model.links.size()));
+    const urdf::LinkConstSharedPtr source = urdf.getLink(name);
+    Link link;
+    link.name = name;
+    if (source->inertial) link.inertial = to_inertial(*source->inertial);
+    model.links.push_back(link);
+  }
+  return link_index;
+}
+
+/// ArmModel's type of a URDF joint. Throws ModelError naming the file, the joint's line and its
+/// name for the types armfarm does not simulate (floating, planar).
+JointType to_joint_type(const std::string& path, const urdf::Joint& source, const UrdfExtras& extras) {
+  switch (source.type) {
+    case urdf::Joint::REVOLUTE: return JointType::revolute;
+    case urdf::Joint::CONTINUOUS: return JointType::continuous;
+    case urdf::Joint::PRISMATIC: return JointType::prismatic;
+    case urdf::Joint::FIXED: return JointType::fixed;
+    default:
+      throw ModelError(path + ":" + std::to_string(extras.lines.joints.at(source.name)) + ": joint '" + source.name +
+                       "': only revolute, continuous, prismatic and fixed joints are supported");
+  }
+}
+
+/// One joint from urdfdom's reading of it: its links (`edge`), origin in the parent link frame,
+/// unit axis, type, limits (URDF writes 0 or nothing for "no limit": infinite effort and velocity;
+/// position limits on revolute and prismatic joints only; negative values are kept for
+/// validate_arm_model to reject), damping and friction; from the tinyxml2 pass its armature
+/// (kg·m²) and start position (rad or m; else calc_default_start_position). Throws ModelError
+/// naming the file, the joint's line and its name for an unsupported joint type.
+Joint make_joint(const std::string& path, const urdf::Joint& source, const TreeEdge& edge, const UrdfExtras& extras) {
+  const std::string& name = source.name;
+  Joint joint;
+  joint.name = name;
+  joint.parent_link = edge.parent_link;
+  joint.child_link = edge.child_link;
+  joint.origin = to_isometry(source.parent_to_joint_origin_transform);
+  joint.axis = Eigen::Vector3d(source.axis.x, source.axis.y, source.axis.z);
+  if (joint.axis.norm() > 0.0) joint.axis.normalize();
+  joint.type = to_joint_type(path, source, extras);
+  joint.effort_limit = kInfinity;
+  joint.velocity_limit = kInfinity;
+  if (source.limits) {
+    // URDF writes 0 (or nothing) for "no limit given"; negative values are kept and rejected.
+    if (source.limits->effort != 0.0) joint.effort_limit = source.limits->effort;
+    if (source.limits->velocity != 0.0) joint.velocity_limit = source.limits->velocity;
+    if (joint.type == JointType::revolute || joint.type == JointType::prismatic) {
+      joint.has_position_limits = true;
+      joint.lower = source.limits->lower;
+      joint.upper = source.limits->upper;
+    }
+  }
+  if (source.dynamics) {
+    joint.damping = source.dynamics->damping;
+    joint.friction = source.dynamics->friction;
+  }
+  if (const auto it = extras.armature.find(name); it != extras.armature.end()) joint.armature = it->second;
+  if (const auto it = extras.start_position.find(name); it != extras.start_position.end()) {
+    joint.start_position = it->second;
+    joint.start_position_from_file = true;
+  } else {
+    joint.start_position = calc_default_start_position(joint);
+  }
+  return joint;
+}
+
+/// The joints appended to model.joints in tree order (calc_tree_order): depth first from the
+/// root link, children in document order. Throws ModelError as make_joint does.
+void add_joints(ArmModel& model, const std::string& path, const tinyxml2::XMLDocument& document, const urdf::ModelInterface& urdf,
+                const UrdfExtras& extras, const std::unordered_map<std::string, int>& link_index) {
+  std::vector<std::string> joint_names;
+  std::vector<TreeEdge> edges;
+  for (const tinyxml2::XMLElement* e = document.FirstChildElement("robot")->FirstChildElement("joint"); e != nullptr;
+       e = e->NextSiblingElement("joint")) {
+    const urdf::JointConstSharedPtr source = urdf.getJoint(e->Attribute("name"));
+    joint_names.push_back(source->name);
+    edges.push_back({link_index.at(source->parent_link_name), link_index.at(source->child_link_name)});
+  }
+  for (const int index : calc_tree_order(edges, {model.root_link})) {
+    model.joints.push_back(make_joint(path, *urdf.getJoint(joint_names[index]), edges[index], extras));
+  }
+}
+
+}  // namespace
+
+ArmModel load_urdf_model(const std::string& path) {
+  const std::string xml = read_model_file(path);
+  tinyxml2::XMLDocument document;
+  parse_xml_document(path, xml, document);
+  const UrdfExtras extras = UrdfScanner(path).scan(document);
+  const urdf::ModelInterfaceSharedPtr urdf = parse_urdf(path, xml);
 
   ArmModel model;
   model.name = urdf->getName();
   model.source_file = path;
   model.input_files = {path};  // URDF geometry (meshes) is not read
   model.warnings = extras.warnings;
-  std::unordered_map<std::string, int> link_index;  // name -> index: find_link per joint would make loading quadratic
-  for (const std::string& name : extras.link_order) {
-    link_index.emplace(name, static_cast<int>(model.links.size()));
-    const urdf::LinkConstSharedPtr source = urdf->getLink(name);
-    Link link;
-    link.name = name;
-    if (source->inertial) {
-      const urdf::Inertial& in = *source->inertial;
-      Eigen::Matrix3d inertia;
-      inertia << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-      const Eigen::Isometry3d frame = to_isometry(in.origin);  // inertial frame in the link frame
-      link.inertial.mass = in.mass;
-      link.inertial.com = frame.translation();
-      link.inertial.inertia = frame.linear() * inertia * frame.linear().transpose();
-    }
-    model.links.push_back(link);
-  }
+  const std::unordered_map<std::string, int> link_index = add_links(model, *urdf, extras.link_order);
   model.root_link = link_index.at(urdf->getRoot()->name);
   // Only the root is fixed to the world: a mounted base welded to it by a fixed joint still
   // counts in total_mass(), as in a data sheet's robot mass.
   model.links[model.root_link].fixed_to_world = true;
-
-  // Joints in tree order (calc_tree_order): depth first from the root, children in document order.
-  std::vector<std::string> joint_names;
-  std::vector<TreeEdge> edges;
-  for (const tinyxml2::XMLElement* e = document.FirstChildElement("robot")->FirstChildElement("joint"); e != nullptr;
-       e = e->NextSiblingElement("joint")) {
-    const urdf::JointConstSharedPtr source = urdf->getJoint(e->Attribute("name"));
-    joint_names.push_back(source->name);
-    edges.push_back({link_index.at(source->parent_link_name), link_index.at(source->child_link_name)});
-  }
-  for (const int index : calc_tree_order(edges, {model.root_link})) {
-    const std::string& name = joint_names[index];
-    const urdf::JointConstSharedPtr source = urdf->getJoint(name);
-    const auto where = [&] { return path + ":" + std::to_string(extras.lines.joints.at(name)) + ": joint '" + name + "': "; };
-    Joint joint;
-    joint.name = name;
-    joint.parent_link = edges[index].parent_link;
-    joint.child_link = edges[index].child_link;
-    joint.origin = to_isometry(source->parent_to_joint_origin_transform);
-    joint.axis = Eigen::Vector3d(source->axis.x, source->axis.y, source->axis.z);
-    if (joint.axis.norm() > 0.0) joint.axis.normalize();
-    switch (source->type) {
-      case urdf::Joint::REVOLUTE: joint.type = JointType::revolute; break;
-      case urdf::Joint::CONTINUOUS: joint.type = JointType::continuous; break;
-      case urdf::Joint::PRISMATIC: joint.type = JointType::prismatic; break;
-      case urdf::Joint::FIXED: joint.type = JointType::fixed; break;
-      default: throw ModelError(where() + "only revolute, continuous, prismatic and fixed joints are supported");
-    }
-    joint.effort_limit = kInfinity;
-    joint.velocity_limit = kInfinity;
-    if (source->limits) {
-      // URDF writes 0 (or nothing) for "no limit given"; negative values are kept and rejected.
-      if (source->limits->effort != 0.0) joint.effort_limit = source->limits->effort;
-      if (source->limits->velocity != 0.0) joint.velocity_limit = source->limits->velocity;
-      if (joint.type == JointType::revolute || joint.type == JointType::prismatic) {
-        joint.has_position_limits = true;
-        joint.lower = source->limits->lower;
-        joint.upper = source->limits->upper;
-      }
-    }
-    if (source->dynamics) {
-      joint.damping = source->dynamics->damping;
-      joint.friction = source->dynamics->friction;
-    }
-    if (const auto it = extras.armature.find(name); it != extras.armature.end()) joint.armature = it->second;
-    if (const auto it = extras.start_position.find(name); it != extras.start_position.end()) {
-      joint.start_position = it->second;
-      joint.start_position_from_file = true;
-    } else {
-      joint.start_position = calc_default_start_position(joint);
-    }
-    model.joints.push_back(joint);
-  }
+  add_joints(model, path, document, *urdf, extras, link_index);
 
   // The file's end effector, if it names one; otherwise choose_end_effector decides.
   if (!extras.end_effector_link.empty()) {

@@ -2,11 +2,17 @@
 #include "engine/model/arm_reach.hpp"
 #include "engine/model/model_loading.hpp"
 #include "tests/engine/model/model_test_helpers.hpp"
+#include "support/scratch_file.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <limits>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace armfarm {
 namespace {
@@ -94,6 +100,75 @@ TEST(UrdfLoading, PlanarArmMatchesItsDocumentedNumbers) {
   for (int j : model.movable_joints()) EXPECT_LT((model.joints[j].axis - Eigen::Vector3d::UnitY()).norm(), 1e-15);
   const Link& link_2 = model.links[model.find_link("link_2")];
   EXPECT_NEAR(link_2.inertial.inertia(1, 1), 1.5 * (3 * 0.02 * 0.02 + 0.64) / 12.0, 1e-9);
+}
+
+// A two-joint arm (lines 1-14), then `extensions` (from line 15) and </robot>.
+std::string write_urdf(const std::string& joint_limits, const std::string& extensions) {
+  const std::string inertial =
+      "<inertial><mass value=\"1\"/><inertia ixx=\"0.01\" ixy=\"0\" ixz=\"0\" iyy=\"0.01\" iyz=\"0\" izz=\"0.01\"/></inertial>";
+  const std::string path = test_support::scratch_file("steps.urdf");
+  std::ofstream(path, std::ios::binary) << "<robot name=\"steps\" xmlns:armfarm=\"https://armfarm.invalid/urdf-extensions\">\n"
+                                           "<link name=\"base\"/>\n"
+                                           "<joint name=\"shoulder\" type=\"revolute\">\n"
+                                           "  <parent link=\"base\"/><child link=\"upper\"/>\n"
+                                           "  <axis xyz=\"0 0 1\"/>\n"
+                                           "  " + joint_limits + "\n"
+                                           "</joint>\n"
+                                           "<link name=\"upper\">" + inertial + "</link>\n"
+                                           "<joint name=\"wrist\" type=\"continuous\">\n"
+                                           "  <parent link=\"upper\"/><child link=\"hand\"/>\n"
+                                           "  <origin xyz=\"0 0 0.3\"/><axis xyz=\"0 1 0\"/>\n"
+                                           "  <limit lower=\"-2\" upper=\"2\" effort=\"5\" velocity=\"0\"/>\n"
+                                           "</joint>\n"
+                                           "<link name=\"hand\">" + inertial + "</link>\n" +
+                                               extensions + "</robot>\n";
+  return path;
+}
+
+TEST(UrdfLoading, ZeroEffortOrVelocityIsNoLimitAndOnlyRevoluteOrPrismaticJointsKeepPositionLimits) {
+  const std::string path = write_urdf("<limit lower=\"-1\" upper=\"1.5\" effort=\"0\" velocity=\"2\"/>", "");
+  const ArmModel model = load_arm_model(path);
+  std::remove(path.c_str());
+  const Joint& shoulder = model.joints[model.find_joint("shoulder")];
+  EXPECT_EQ(shoulder.type, JointType::revolute);
+  EXPECT_EQ(shoulder.effort_limit, std::numeric_limits<double>::infinity());  // effort="0": none given
+  EXPECT_DOUBLE_EQ(shoulder.velocity_limit, 2.0);
+  EXPECT_TRUE(shoulder.has_position_limits);
+  EXPECT_DOUBLE_EQ(shoulder.lower, -1.0);
+  EXPECT_DOUBLE_EQ(shoulder.upper, 1.5);
+  // A continuous joint's <limit> gives its effort (and velocity), never position limits.
+  const Joint& wrist = model.joints[model.find_joint("wrist")];
+  EXPECT_EQ(wrist.type, JointType::continuous);
+  EXPECT_DOUBLE_EQ(wrist.effort_limit, 5.0);
+  EXPECT_EQ(wrist.velocity_limit, std::numeric_limits<double>::infinity());
+  EXPECT_FALSE(wrist.has_position_limits);
+  EXPECT_LT((wrist.origin.translation() - Eigen::Vector3d(0, 0, 0.3)).norm(), 1e-15);
+}
+
+TEST(UrdfLoading, ArmfarmExtensionsThatRepeatOrReferToNothingNameTheirLine) {
+  const std::string limits = "<limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"2\"/>";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"<armfarm:end_effector link=\"hand\"/>\n<armfarm:end_effector link=\"upper\"/>\n", ":16: second <armfarm:end_effector>"},
+      {"<armfarm:end_effector link=\"elbow\"/>\n", ":15: <armfarm:end_effector>: unknown link 'elbow'"},
+      {"<armfarm:start_position joint=\"wrist\" value=\"0.1\"/>\n<armfarm:start_position joint=\"wrist\" value=\"0.2\"/>\n",
+       ":16: second start position for joint 'wrist'"},
+      {"<armfarm:start_position joint=\"elbow\" value=\"0.1\"/>\n", ":15: <armfarm:start_position>: unknown joint 'elbow'"},
+  };
+  for (const auto& [extensions, problem] : cases) {
+    const std::string path = write_urdf(limits, extensions);
+    EXPECT_EQ(test::load_error(path), path + problem) << extensions;
+    std::remove(path.c_str());
+  }
+  // Given once, they are the joint's start and the end effector.
+  const std::string path =
+      write_urdf(limits, "<armfarm:start_position joint=\"wrist\" value=\"0.25\"/>\n"
+                         "<armfarm:end_effector link=\"upper\" offset=\"0 0 0.1\"/>\n");
+  const ArmModel model = load_arm_model(path);
+  std::remove(path.c_str());
+  EXPECT_DOUBLE_EQ(model.joints[model.find_joint("wrist")].start_position, 0.25);
+  EXPECT_TRUE(model.joints[model.find_joint("wrist")].start_position_from_file);
+  EXPECT_EQ(model.links[model.end_effector.link].name, "upper");
+  EXPECT_EQ(model.end_effector.offset, Eigen::Vector3d(0, 0, 0.1));
 }
 
 }  // namespace
