@@ -33,6 +33,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <utility>
 
 namespace armfarm {
 namespace {
@@ -329,77 +330,109 @@ class DcgBuilder {
     return it == e.tags.end() ? nullptr : &it->second;
   }
 
+  /// Body entry `e` as the next link: its shape, its mass properties (from the shape at the
+  /// density m(...), or the mass w(...), overridden by X(...) and I(...)), its end effector ee(...).
   void add_body(const Entry& e) {
     check_tags(e, body_tags());
     const std::string what = "body '" + e.name + "'";
+    register_body(e);
+    Link link;
+    link.name = e.name;
+    link.fixed_to_world = find(e, "fix") != nullptr;
+    LinkShape shape;
+    const Inertial unit = read_shape(e, what, shape);
+    link.inertial = calc_body_inertial(e, what, unit, link.fixed_to_world);
+    link.shapes.push_back(shape);
+    read_end_effector(e, what, static_cast<int>(model_.links.size()));
+    model_.links.push_back(link);
+  }
+
+  /// The body's name, unique and not "world", with its line and entry (joints refer to it).
+  void register_body(const Entry& e) {
     if (e.name == "world") fail(e.line, "the body name 'world' is reserved for the synthetic root");
     if (!link_index_.emplace(e.name, static_cast<int>(model_.links.size())).second) {
       fail(e.line, "duplicate body name '" + e.name + "'");
     }
-    Link link;
-    link.name = e.name;
-    link.fixed_to_world = find(e, "fix") != nullptr;
     lines_.links[e.name] = e.line;
     body_entries_[e.name] = e;
+  }
 
+  /// The body's shape from o(type), s(...) or f[file.obj], and c(r g b); returns the shape's
+  /// mass properties at density 1 (mass = volume in m³, inertia in m⁵).
+  Inertial read_shape(const Entry& e, const std::string& what, LinkShape& shape) {
     const Tag* type = find(e, "o");
     if (type == nullptr) fail(e.line, what + ": no object type o(0 sphere | 1 box | 2 capped cylinder | 3 trimesh)");
     const double code = type->numbers[0];
-    LinkShape shape;
     if (const Tag* c = find(e, "c")) shape.colour = Eigen::Vector3d(c->numbers[0], c->numbers[1], c->numbers[2]);
     const Tag* size = find(e, "s");
     const Tag* file = find(e, "f");
     if (code != 3 && file != nullptr) fail(file->line, what + ": f[...] names a mesh but the body is not a trimesh o(3)");
     if (code == 3 && size != nullptr) fail(size->line, what + ": s(...) has no effect on a trimesh o(3); remove it");
     if (code != 3 && size == nullptr) fail(e.line, what + ": no size s(...)");
+    if (code == 0 || code == 1 || code == 2) return read_primitive(code, what, *size, shape);
+    if (code == 3) return read_mesh(e, what, file, shape);
+    fail(type->line, what + ": unknown object type o(" + std::to_string(code) + ") (0 sphere, 1 box, 2 capped cylinder, 3 trimesh)");
+  }
 
-    Inertial unit;  // the shape's mass properties at density 1
-    double volume = 0.0;
+  /// A sphere o(0), box o(1) or capped cylinder o(2) from its sizes s(...) (m, positive; also the
+  /// thesis's four-number forms); returns its mass properties at density 1.
+  Inertial read_primitive(double code, const std::string& what, const Tag& size, LinkShape& shape) const {
     const auto size_at = [&](int index) {
-      const double value = size->numbers[index];
-      if (!(value > 0.0)) fail(size->line, what + ": sizes must be positive (s(...) has " + std::to_string(value) + ")");
+      const double value = size.numbers[index];
+      if (!(value > 0.0)) fail(size.line, what + ": sizes must be positive (s(...) has " + std::to_string(value) + ")");
       return value;
     };
-    const int n = size == nullptr ? 0 : static_cast<int>(size->numbers.size());
+    const int n = static_cast<int>(size.numbers.size());
     if (code == 0) {  // sphere: s(r), or MT's s(sx sy sz r)
-      if (n != 1 && n != 4) fail(size->line, what + ": a sphere takes s(radius) or s(sx sy sz radius)");
+      if (n != 1 && n != 4) fail(size.line, what + ": a sphere takes s(radius) or s(sx sy sz radius)");
       const double r = size_at(n == 1 ? 0 : 3);
       shape.kind = LinkShape::Kind::sphere;
       shape.size = Eigen::Vector3d(r, 0, 0);
-      unit = calc_sphere_inertial(1.0, r);
-    } else if (code == 1) {  // box: s(sx sy sz) or s(sx sy sz r)
-      if (n != 3 && n != 4) fail(size->line, what + ": a box takes s(sx sy sz)");
+      return calc_sphere_inertial(1.0, r);
+    }
+    if (code == 1) {  // box: s(sx sy sz) or s(sx sy sz r)
+      if (n != 3 && n != 4) fail(size.line, what + ": a box takes s(sx sy sz)");
       shape.kind = LinkShape::Kind::box;
       shape.size = Eigen::Vector3d(size_at(0), size_at(1), size_at(2));
-      unit = calc_box_inertial(1.0, shape.size);
-    } else if (code == 2) {  // capped cylinder: s(r length) or s(sx sy length r)
-      if (n != 2 && n != 4) fail(size->line, what + ": a capped cylinder takes s(radius length) or s(sx sy length radius)");
-      const double r = size_at(n == 2 ? 0 : 3);
-      const double length = size_at(n == 2 ? 1 : 2);
-      shape.kind = LinkShape::Kind::capped_cylinder;
-      shape.size = Eigen::Vector3d(r, length, 0);
-      unit = calc_capped_cylinder_inertial(1.0, r, length);
-    } else if (code == 3) {
-      if (file == nullptr) fail(e.line, what + ": a trimesh o(3) needs f[file.obj]");
-      shape.kind = LinkShape::Kind::mesh;
-      try {
-        shape.mesh_file = resolve_confined_path(directory_, file->text);
-        check_real_path_inside(directory_, shape.mesh_file, file->text);
-      } catch (const InputFileError& error) {
-        fail(file->line, what + ": f[...]: " + error.what());
-      }
-      if (mesh_files_.insert(shape.mesh_file).second) model_.input_files.push_back(shape.mesh_file);
-      try {
-        const MeshMassProperties mesh = calc_mesh_mass_properties(load_obj_mesh(shape.mesh_file));
-        unit = calc_mesh_inertial_for_mass(mesh, mesh.volume);
-      } catch (const ModelError& error) {
-        fail(file->line, what + ": " + error.what());
-      }
-    } else {
-      fail(type->line, what + ": unknown object type o(" + std::to_string(code) + ") (0 sphere, 1 box, 2 capped cylinder, 3 trimesh)");
+      return calc_box_inertial(1.0, shape.size);
     }
-    volume = unit.mass;  // density 1
+    // capped cylinder: s(r length) or s(sx sy length r)
+    if (n != 2 && n != 4) fail(size.line, what + ": a capped cylinder takes s(radius length) or s(sx sy length radius)");
+    const double r = size_at(n == 2 ? 0 : 3);
+    const double length = size_at(n == 2 ? 1 : 2);
+    shape.kind = LinkShape::Kind::capped_cylinder;
+    shape.size = Eigen::Vector3d(r, length, 0);
+    return calc_capped_cylinder_inertial(1.0, r, length);
+  }
 
+  /// A trimesh o(3) from f[file.obj], a path inside the model file's folder (added to the
+  /// model's input files once); returns the closed mesh's mass properties at density 1.
+  Inertial read_mesh(const Entry& e, const std::string& what, const Tag* file, LinkShape& shape) {
+    if (file == nullptr) fail(e.line, what + ": a trimesh o(3) needs f[file.obj]");
+    shape.kind = LinkShape::Kind::mesh;
+    try {
+      shape.mesh_file = resolve_confined_path(directory_, file->text);
+      check_real_path_inside(directory_, shape.mesh_file, file->text);
+    } catch (const InputFileError& error) {
+      fail(file->line, what + ": f[...]: " + error.what());
+    }
+    if (mesh_files_.insert(shape.mesh_file).second) model_.input_files.push_back(shape.mesh_file);
+    Inertial unit;
+    try {
+      const MeshMassProperties mesh = calc_mesh_mass_properties(load_obj_mesh(shape.mesh_file));
+      unit = calc_mesh_inertial_for_mass(mesh, mesh.volume);
+    } catch (const ModelError& error) {
+      fail(file->line, what + ": " + error.what());
+    }
+    return unit;
+  }
+
+  /// The body's mass properties from the shape's at density 1 (`unit`): the mass w(kg), else the
+  /// density m(kg/m³) times the volume, else 0 for a fixed body; the inertia scaled with the
+  /// mass; then the centre of mass X(m) and the inertia I(kg·m², diagonal or 3×3 row-major)
+  /// as given. A massless fixed body has no mass properties at all.
+  Inertial calc_body_inertial(const Entry& e, const std::string& what, const Inertial& unit, bool fixed_to_world) const {
+    const double volume = unit.mass;  // density 1
     const Tag* density = find(e, "m");
     const Tag* mass = find(e, "w");
     Inertial inertial = unit;
@@ -407,7 +440,7 @@ class DcgBuilder {
       inertial.mass = mass->numbers[0];
     } else if (density != nullptr) {
       inertial.mass = density->numbers[0] * volume;
-    } else if (link.fixed_to_world) {
+    } else if (fixed_to_world) {
       inertial.mass = 0.0;  // a fixed body needs no mass
     } else {
       fail(e.line, what + ": no density m(...) or mass w(...)");
@@ -419,22 +452,43 @@ class DcgBuilder {
       inertial.inertia = v.size() == 3 ? Eigen::Matrix3d(Eigen::Vector3d(v[0], v[1], v[2]).asDiagonal())
                                        : Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(v.data());
     }
-    if (link.fixed_to_world && inertial.mass == 0.0) inertial = Inertial{};
-    link.inertial = inertial;
-    link.shapes.push_back(shape);
-    if (const Tag* ee = find(e, "ee")) {
-      if (ee_line_ != 0) fail(ee->line, what + ": a second end effector ee(...) (the first is on line " + std::to_string(ee_line_) + ")");
-      ee_line_ = ee->line;
-      model_.end_effector.link = static_cast<int>(model_.links.size());
-      model_.end_effector.offset = Eigen::Vector3d(ee->numbers[0], ee->numbers[1], ee->numbers[2]);
-    }
-    model_.links.push_back(link);
+    if (fixed_to_world && inertial.mass == 0.0) inertial = Inertial{};
+    return inertial;
   }
 
+  /// ee(x y z): the end effector on link `link` at that offset (m, in the body frame); one per file.
+  void read_end_effector(const Entry& e, const std::string& what, int link) {
+    const Tag* ee = find(e, "ee");
+    if (ee == nullptr) return;
+    if (ee_line_ != 0) fail(ee->line, what + ": a second end effector ee(...) (the first is on line " + std::to_string(ee_line_) + ")");
+    ee_line_ = ee->line;
+    model_.end_effector.link = link;
+    model_.end_effector.offset = Eigen::Vector3d(ee->numbers[0], ee->numbers[1], ee->numbers[2]);
+  }
+
+  /// Joint entry `e` between two bodies (named <parent>-<child>): its type, frames, limits and
+  /// tags, checked against its child body, kept in file order for order_joints.
   void read_joint(const Entry& e) {
     check_tags(e, joint_tags());
     const std::string what = "joint '" + e.name + "'";
-    // The name is <parent>-<child>; body names may contain '-', so exactly one split must fit.
+    const std::pair<std::string, std::string> bodies = split_joint_name(e, what);
+    Joint joint;
+    joint.name = e.name;
+    joint.parent_link = link_index_.at(bodies.first);
+    joint.child_link = link_index_.at(bodies.second);
+    joint.origin = e.before;
+    joint.child_offset = e.after;
+    joint.axis = Eigen::Vector3d::UnitX();
+    joint.effort_limit = std::numeric_limits<double>::infinity();
+    joint.velocity_limit = std::numeric_limits<double>::infinity();
+    joint.type = read_joint_type(e, what);
+    read_joint_tags(e, what, joint);
+    attach_joint(e, what, joint, body_entries_.at(bodies.second));
+  }
+
+  /// The joint's (parent, child) bodies: body names may contain '-', so exactly one split of
+  /// the name at a '-' must name two defined bodies.
+  std::pair<std::string, std::string> split_joint_name(const Entry& e, const std::string& what) const {
     std::vector<std::pair<std::string, std::string>> splits;
     for (std::size_t dash = e.name.find('-'); dash != std::string::npos; dash = e.name.find('-', dash + 1)) {
       const std::string parent = e.name.substr(0, dash);
@@ -445,15 +499,13 @@ class DcgBuilder {
       fail(e.line, what + ": the name must be <parent>-<child> of two defined bodies (" +
                        (splits.empty() ? "no such bodies" : "ambiguous") + ")");
     }
-    Joint joint;
-    joint.name = e.name;
-    joint.parent_link = link_index_.at(splits[0].first);
-    joint.child_link = link_index_.at(splits[0].second);
-    joint.origin = e.before;
-    joint.child_offset = e.after;
-    joint.axis = Eigen::Vector3d::UnitX();
-    joint.effort_limit = std::numeric_limits<double>::infinity();
-    joint.velocity_limit = std::numeric_limits<double>::infinity();
+    return splits[0];
+  }
+
+  /// The joint type of j(code), ODE's numbering: 2 hinge (the default), 3 slider, 7 fixed; the
+  /// ball, universal and hinge-2 joints (1, 5, 6) and others are refused. A hinge without p(...)
+  /// becomes continuous in read_joint_tags.
+  JointType read_joint_type(const Entry& e, const std::string& what) const {
     int code = 2;  // ODE's dJointTypeHinge
     if (const Tag* t = find(e, "j")) code = static_cast<int>(t->numbers[0]);
     const Tag* type_tag = find(e, "j");
@@ -461,15 +513,21 @@ class DcgBuilder {
       fail(type_tag->line, what + ": j(...) needs an integer joint type");
     }
     switch (code) {
-      case 2: joint.type = JointType::revolute; break;
-      case 3: joint.type = JointType::prismatic; break;
-      case 7: joint.type = JointType::fixed; break;
+      case 2: return JointType::revolute;
+      case 3: return JointType::prismatic;
+      case 7: return JointType::fixed;
       case 1: case 5: case 6:
         fail(type_tag->line, what + ": j(" + std::to_string(code) + ") (" + (code == 1 ? "ball" : code == 5 ? "universal" : "hinge-2") +
                                  ") is not supported: armfarm joints have one degree of freedom (j(2) hinge, j(3) slider, j(7) fixed)");
       default:
         fail(type_tag->line, what + ": unknown joint type j(" + std::to_string(code) + ") (j(2) hinge, j(3) slider, j(7) fixed)");
     }
+  }
+
+  /// The joint's tags, hinges in degrees and sliders in metres: limits p(lower upper) (a hinge
+  /// without them is continuous, appendix B), start a(...), effort (N·m or N), vel (per second),
+  /// damp, fric, arm (kg·m²). A fixed joint j(7) takes none of them.
+  void read_joint_tags(const Entry& e, const std::string& what, Joint& joint) const {
     const bool angular = joint.type == JointType::revolute;
     const double unit = angular ? kDegree : 1.0;  // hinges in degrees, sliders in metres
     if (const Tag* t = find(e, "p")) {
@@ -495,8 +553,11 @@ class DcgBuilder {
         if (const Tag* t = find(e, name)) fail(t->line, what + ": tag " + name + " makes no sense on a fixed joint j(7)");
       }
     }
+  }
 
-    const Entry& child = body_entries_.at(splits[0].second);
+  /// The joint as its child body's one parent: the child must be movable (not fix) and placed by
+  /// the joint alone (an empty group <>). Records the joint's line and keeps it (file order).
+  void attach_joint(const Entry& e, const std::string& what, const Joint& joint, const Entry& child) {
     if (model_.links[joint.child_link].fixed_to_world) {
       fail(e.line, what + ": its child '" + child.name + "' is fixed (fix); a fixed body cannot be moved by a joint");
     }

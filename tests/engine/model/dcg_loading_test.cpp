@@ -14,6 +14,8 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace armfarm {
 namespace {
@@ -224,6 +226,146 @@ TEST(DcgLoading, NanInfHexAndOverflowAreRefused) {
             ":3: tag s: value 2: '1e-400' underflows to zero (below 4.9e-324, the smallest double, in magnitude)");
   EXPECT_EQ(dcg_problem("0x1p-3 0.2 0.3"), ":3: tag s: value 1 is not a finite number (a 6-byte token, not shown)");
   EXPECT_EQ(dcg_problem("0.1m 0.2 0.3"), ":3: tag s: value 1 is not a finite number (a 4-byte token, not shown)");
+}
+
+}  // namespace
+}  // namespace armfarm
+
+// ------------------------------------------------------------------------------------------------
+// The builder's steps, one DCG file each (lines 1-2 are <DCGraph> and a fixed body 'ground', the
+// entries under test start on line 3): the shapes' size forms, where a body's mass properties
+// come from, and the place and wording of each refusal of a body or a joint entry.
+
+namespace armfarm {
+namespace {
+
+std::string write_dcg(const std::string& entries) {
+  const std::string path = test_support::scratch_file("steps.dcg");
+  std::ofstream(path, std::ios::binary) << "<DCGraph>\nB ground <t(0 0 0)> o(1) s(1 1 0.1) fix;\n" + entries + "</DCGraph>\n";
+  return path;
+}
+
+/// The ModelError of loading those entries after the file name, or "(loaded)".
+std::string dcg_entries_problem(const std::string& entries) {
+  const std::string path = write_dcg(entries);
+  std::string problem = "(loaded)";
+  try {
+    load_arm_model(path);
+  } catch (const ModelError& error) {
+    problem = std::string(error.what()).substr(path.size());
+  }
+  std::remove(path.c_str());
+  return problem;
+}
+
+ArmModel load_dcg_entries(const std::string& entries) {
+  const std::string path = write_dcg(entries);
+  ArmModel model = load_arm_model(path);
+  std::remove(path.c_str());
+  return model;
+}
+
+TEST(DcgLoading, FourNumberSizesOfTheThesisTakeTheRadiusLast) {
+  // Sphere s(sx sy sz r), box s(sx sy sz r), capped cylinder s(sx sy length r): MT's forms.
+  const ArmModel model = load_dcg_entries(
+      "B ball <> o(0) s(9 9 9 0.1) m(1000);\nJ ground-ball <t(0 0 0.1)>;\n"
+      "B brick <> o(1) s(0.1 0.2 0.3 7) m(500);\nJ ball-brick <t(0 0 0.1)>;\n"
+      "B pill <> o(2) s(9 9 0.2 0.05) m(800) ee(0 0 0);\nJ brick-pill <t(0 0 0.15)>;\n");
+  const Link& ball = model.links[model.find_link("ball")];
+  EXPECT_EQ(ball.shapes.at(0).kind, LinkShape::Kind::sphere);
+  EXPECT_EQ(ball.shapes.at(0).size, Eigen::Vector3d(0.1, 0, 0));
+  EXPECT_NEAR(ball.inertial.mass, 1000.0 * 4.0 / 3.0 * kPi * 0.001, 1e-12);
+  const Link& brick = model.links[model.find_link("brick")];
+  EXPECT_EQ(brick.shapes.at(0).size, Eigen::Vector3d(0.1, 0.2, 0.3));  // the fourth number is not a size
+  EXPECT_NEAR(brick.inertial.mass, 500.0 * 0.1 * 0.2 * 0.3, 1e-12);
+  const Link& pill = model.links[model.find_link("pill")];
+  EXPECT_EQ(pill.shapes.at(0).kind, LinkShape::Kind::capped_cylinder);
+  EXPECT_EQ(pill.shapes.at(0).size, Eigen::Vector3d(0.05, 0.2, 0));  // (radius, length)
+  const double r = 0.05, l = 0.2;
+  EXPECT_NEAR(pill.inertial.mass, 800.0 * (kPi * r * r * l + 4.0 / 3.0 * kPi * r * r * r), 1e-12);
+}
+
+TEST(DcgLoading, MassTagBeatsDensityAndExplicitTagsOverrideTheShape) {
+  const ArmModel model = load_dcg_entries(
+      "B brick <> o(1) s(0.1 0.2 0.3) w(6) m(1000);\nJ ground-brick <t(0 0 0.1)>;\n"
+      "B plate <> o(1) s(0.1 0.1 0.1) w(2) X(0.1 0.2 0.3) I(0.3 0.01 0.02 0.01 0.4 0.03 0.02 0.03 0.5) ee(0 0 0);\n"
+      "J brick-plate <t(0 0 0.2)>;\n"
+      "B stand <t(1 0 0)> o(1) s(0.1 0.1 0.1) X(1 2 3) fix;\n");
+  // w(6) wins over m(1000); the box's inertia scales with the mass: m (b² + c²) / 12, ...
+  const Link& brick = model.links[model.find_link("brick")];
+  EXPECT_DOUBLE_EQ(brick.inertial.mass, 6.0);
+  EXPECT_NEAR(brick.inertial.inertia(0, 0), 6.0 * (0.04 + 0.09) / 12.0, 1e-14);
+  EXPECT_NEAR(brick.inertial.inertia(1, 1), 6.0 * (0.01 + 0.09) / 12.0, 1e-14);
+  EXPECT_NEAR(brick.inertial.inertia(2, 2), 6.0 * (0.01 + 0.04) / 12.0, 1e-14);
+  // X and a nine-number I replace the shape's centre of mass and inertia.
+  const Link& plate = model.links[model.find_link("plate")];
+  EXPECT_DOUBLE_EQ(plate.inertial.mass, 2.0);
+  EXPECT_EQ(plate.inertial.com, Eigen::Vector3d(0.1, 0.2, 0.3));
+  Eigen::Matrix3d inertia;
+  inertia << 0.3, 0.01, 0.02, 0.01, 0.4, 0.03, 0.02, 0.03, 0.5;
+  EXPECT_EQ(plate.inertial.inertia, inertia);
+  // A fixed body without mass or density carries nothing, not even its X(...).
+  const Link& stand = model.links[model.find_link("stand")];
+  EXPECT_TRUE(stand.fixed_to_world);
+  EXPECT_EQ(stand.inertial.mass, 0.0);
+  EXPECT_EQ(stand.inertial.com, Eigen::Vector3d::Zero());
+  EXPECT_EQ(stand.inertial.inertia, Eigen::Matrix3d::Zero());
+}
+
+TEST(DcgLoading, BodiesThatCannotBeBuiltNameTheLineAndTheBody) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"B world <> o(1) s(1 1 1) w(1);\n", ":3: the body name 'world' is reserved for the synthetic root"},
+      {"B ground <> o(1) s(1 1 1) w(1);\n", ":3: duplicate body name 'ground'"},
+      {"B arm <> s(1 1 1) w(1);\n", ":3: body 'arm': no object type o(0 sphere | 1 box | 2 capped cylinder | 3 trimesh)"},
+      {"B arm <> o(4) s(1 1 1) w(1);\n",
+       ":3: body 'arm': unknown object type o(4.000000) (0 sphere, 1 box, 2 capped cylinder, 3 trimesh)"},
+      {"B arm <> o(1) s(1 1 1)\n f[arm.obj] w(1);\n", ":4: body 'arm': f[...] names a mesh but the body is not a trimesh o(3)"},
+      {"B arm <> o(3)\n s(1 1 1) w(1);\n", ":4: body 'arm': s(...) has no effect on a trimesh o(3); remove it"},
+      {"B arm <> o(3) w(1);\n", ":3: body 'arm': a trimesh o(3) needs f[file.obj]"},
+      {"B arm <> o(1) w(1);\n", ":3: body 'arm': no size s(...)"},
+      {"B arm <> o(1) s(1 0 1) w(1);\n", ":3: body 'arm': sizes must be positive (s(...) has 0.000000)"},
+      {"B arm <> o(0) s(1 2) w(1);\n", ":3: body 'arm': a sphere takes s(radius) or s(sx sy sz radius)"},
+      {"B arm <> o(1) s(1 2) w(1);\n", ":3: body 'arm': a box takes s(sx sy sz)"},
+      {"B arm <> o(2) s(1) w(1);\n", ":3: body 'arm': a capped cylinder takes s(radius length) or s(sx sy length radius)"},
+      {"B arm <> o(1) s(1 1 1);\n", ":3: body 'arm': no density m(...) or mass w(...)"},
+      {"B arm <> o(1) s(1 1 1) w(1) ee(0 0 0);\nB hand <> o(1) s(1 1 1) w(1) ee(0 0 0);\n",
+       ":4: body 'hand': a second end effector ee(...) (the first is on line 3)"},
+  };
+  for (const auto& [entries, problem] : cases) EXPECT_EQ(dcg_entries_problem(entries), problem) << entries;
+}
+
+TEST(DcgLoading, JointsThatCannotBeBuiltNameTheLineAndTheJoint) {
+  const std::string arm = "B arm <> o(1) s(0.1 0.1 0.1) w(1) ee(0 0 0);\n";  // line 3; the joint on line 4
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {arm + "J ground-arm <> j(2.5);\n", ":4: joint 'ground-arm': j(...) needs an integer joint type"},
+      {arm + "J ground-arm <> j(1);\n",
+       ":4: joint 'ground-arm': j(1) (ball) is not supported: armfarm joints have one degree of freedom (j(2) hinge, "
+       "j(3) slider, j(7) fixed)"},
+      {arm + "J ground-arm <> j(6);\n",
+       ":4: joint 'ground-arm': j(6) (hinge-2) is not supported: armfarm joints have one degree of freedom (j(2) hinge, "
+       "j(3) slider, j(7) fixed)"},
+      {arm + "J ground-arm <> j(4);\n", ":4: joint 'ground-arm': unknown joint type j(4) (j(2) hinge, j(3) slider, j(7) fixed)"},
+      {arm + "J ground-arm <> j(7) damp(1);\n", ":4: joint 'ground-arm': tag damp makes no sense on a fixed joint j(7)"},
+      {arm + "J ground-hand <>;\n", ":4: joint 'ground-hand': the name must be <parent>-<child> of two defined bodies (no such bodies)"},
+      {arm + "J arm-ground <>;\n",
+       ":4: joint 'arm-ground': its child 'ground' is fixed (fix); a fixed body cannot be moved by a joint"},
+      {"B arm <t(0 0 1)> o(1) s(0.1 0.1 0.1) w(1);\nJ ground-arm <>;\n",
+       ":3: body 'arm': has its own transforms <...> but joint 'ground-arm' places it; leave the body's group empty <>"},
+      {"B post <t(1 0 0)> o(1) s(0.1 0.1 0.1) fix;\n" + arm + "J ground-arm <>;\nJ post-arm <>;\n",
+       ":6: joint 'post-arm': body 'arm' has several parents (also joint 'ground-arm')"},
+      // "p-q-r" splits as p + q-r and as p-q + r: both pairs are bodies.
+      {"B p <> o(1) s(1 1 1) fix;\nB p-q <> o(1) s(1 1 1) fix;\nB q-r <> o(1) s(1 1 1) w(1);\nB r <> o(1) s(1 1 1) w(1);\n"
+       "J p-q-r <>;\n",
+       ":7: joint 'p-q-r': the name must be <parent>-<child> of two defined bodies (ambiguous)"},
+  };
+  for (const auto& [entries, problem] : cases) EXPECT_EQ(dcg_entries_problem(entries), problem) << entries;
+}
+
+TEST(DcgLoading, BodyNamesWithDashesSplitWhereOnlyOnePairIsDefined) {
+  const ArmModel model = load_dcg_entries("B upper-arm <> o(1) s(0.1 0.1 0.1) w(1) ee(0 0 0);\nJ ground-upper-arm <t(0 0 0.1)>;\n");
+  const Joint& joint = model.joints[model.find_joint("ground-upper-arm")];
+  EXPECT_EQ(model.links[joint.parent_link].name, "ground");
+  EXPECT_EQ(model.links[joint.child_link].name, "upper-arm");
 }
 
 }  // namespace
