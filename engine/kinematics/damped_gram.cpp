@@ -5,65 +5,60 @@
 #include <utility>
 
 namespace armfarm {
-namespace {
-
-/// The lower triangle of J Jᵀ + λ² I into m: each sum over J's columns in order, first term first.
-void form_lower_gram(const Eigen::Matrix3Xd& jacobian, double lambda_squared, double (&m)[3][3]) {
+void DampedGram::factor(const Eigen::Matrix3Xd& jacobian, double lambda_squared) {
+  // The lower triangle of J Jᵀ in one pass over J's columns, each sum in column order, first term first.
   const Eigen::Index n = jacobian.cols();
   const double* j = jacobian.data();  // column-major: J(r, k) = j[3k + r]
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c <= r; ++c) {
-      double sum = n > 0 ? j[r] * j[c] : 0.0;
-      for (Eigen::Index k = 1; k < n; ++k) sum += j[3 * k + r] * j[3 * k + c];
-      m[r][c] = sum;
-    }
-    m[r][r] += lambda_squared;
+  double g00 = 0.0, g10 = 0.0, g11 = 0.0, g20 = 0.0, g21 = 0.0, g22 = 0.0;
+  if (n > 0) {
+    g00 = j[0] * j[0], g10 = j[1] * j[0], g11 = j[1] * j[1], g20 = j[2] * j[0], g21 = j[2] * j[1], g22 = j[2] * j[2];
   }
-}
-
-/// Moves the largest remaining |diagonal| (the first of equals) to position k of the lower
-/// triangle, as ldlt_inplace<Lower> does; returns its former index.
-int pivot_largest_diagonal(int k, double (&m)[3][3]) {
-  int big = k;
-  double biggest = std::abs(m[k][k]);
-  for (int i = k + 1; i < 3; ++i) {
-    if (std::abs(m[i][i]) > biggest) {
-      biggest = std::abs(m[i][i]);
-      big = i;
-    }
+  for (Eigen::Index k = 1; k < n; ++k) {
+    const double x = j[3 * k], y = j[3 * k + 1], z = j[3 * k + 2];
+    g00 += x * x;
+    g10 += y * x;
+    g11 += y * y;
+    g20 += z * x;
+    g21 += z * y;
+    g22 += z * z;
   }
-  if (big == k) return big;
-  for (int c = 0; c < k; ++c) std::swap(m[k][c], m[big][c]);
-  for (int r = big + 1; r < 3; ++r) std::swap(m[r][k], m[r][big]);
-  std::swap(m[k][k], m[big][big]);
-  for (int i = k + 1; i < big; ++i) std::swap(m[i][k], m[big][i]);
-  return big;
-}
-
-}  // namespace
-
-void DampedGram::factor(const Eigen::Matrix3Xd& jacobian, double lambda_squared) {
-  form_lower_gram(jacobian, lambda_squared, m_);
-  for (int k = 0; k < 3; ++k) {
-    transpositions_[k] = pivot_largest_diagonal(k, m_);
-    if (k > 0) {
-      // Row k of L times D, taken off the pivot and (at k = 1) off the entry below it.
-      double scaled[2] = {m_[0][0] * m_[k][0], k > 1 ? m_[1][1] * m_[k][1] : 0.0};
-      const double dot = k > 1 ? m_[k][0] * scaled[0] + m_[k][1] * scaled[1] : m_[k][0] * scaled[0];
-      m_[k][k] -= dot;
-      if (k == 1) m_[2][1] -= m_[2][0] * scaled[0];
-    }
-    const double pivot = m_[k][k];
-    const bool valid = std::abs(pivot) > 0.0;
-    if (k == 0 && !valid) {
-      // A zero diagonal: Eigen keeps the matrix as it is, with no permutation.
-      for (int i = 0; i < 3; ++i) transpositions_[i] = i;
-      return;
-    }
-    if (valid) {
-      for (int r = k + 1; r < 3; ++r) m_[r][k] /= pivot;
-    }
+  g00 += lambda_squared;
+  g11 += lambda_squared;
+  g22 += lambda_squared;
+  // ldlt_inplace<Lower>, k = 0: the largest |diagonal| (the first of equals) to the front.
+  transpositions_[0] = 0, transpositions_[1] = 1, transpositions_[2] = 2;
+  double biggest = std::abs(g00);
+  if (std::abs(g11) > biggest) transpositions_[0] = 1, biggest = std::abs(g11);
+  if (std::abs(g22) > biggest) transpositions_[0] = 2;
+  if (transpositions_[0] == 1) {
+    std::swap(g20, g21);
+    std::swap(g00, g11);
+  } else if (transpositions_[0] == 2) {
+    std::swap(g00, g22);
+    std::swap(g10, g21);
   }
+  if (!(std::abs(g00) > 0.0)) {
+    // A zero diagonal: Eigen keeps the matrix as it is, with no permutation.
+    transpositions_[0] = 0;
+    store(g00, g10, g11, g20, g21, g22);
+    return;
+  }
+  g10 /= g00;
+  g20 /= g00;
+  // k = 1: pivot, then row 1 of L times D off the pivot and off the entry below it.
+  if (std::abs(g22) > std::abs(g11)) {
+    transpositions_[1] = 2;
+    std::swap(g10, g20);
+    std::swap(g11, g22);
+  }
+  const double t0 = g00 * g10;
+  g11 -= g10 * t0;
+  g21 -= g20 * t0;
+  if (std::abs(g11) > 0.0) g21 /= g11;
+  // k = 2: row 2 of L times D off the last pivot.
+  const double u0 = g00 * g20, u1 = g11 * g21;
+  g22 -= g20 * u0 + g21 * u1;
+  store(g00, g10, g11, g20, g21, g22);
 }
 
 Eigen::Vector3d DampedGram::solve(const Eigen::Vector3d& b) const {
