@@ -225,8 +225,11 @@ class JointDynamicsForce : public SimTK::Force::Custom::Implementation {
     arm.matter.calcM(state, scratch.mass);
     const int n = static_cast<int>(arm.active_bodies.size());
     result.resize(n, n);
+    // An owner Matrix is one column-major block: read it directly, not through an element call each.
+    const int nu = scratch.mass.nrow();
+    const double* mass = scratch.mass.getContiguousScalarData();
     for (int j = 0; j < n; ++j) {
-      for (int i = 0; i < n; ++i) result(i, j) = scratch.mass(arm.mobility_of_active[i], arm.mobility_of_active[j]);
+      for (int i = 0; i < n; ++i) result(i, j) = mass[arm.mobility_of_active[i] + nu * arm.mobility_of_active[j]];
     }
   }
 

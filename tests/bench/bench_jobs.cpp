@@ -13,8 +13,8 @@
 //    the one job.
 // After the table the program prints issue 26's two job figures against their goals, in words
 // (JobFigures below): the 30-reach 7-DOF online job's real-time factor (BM_Job/2/7/7) and the
-// 1000-reach 3-DOF job's seconds at init_D 2 (BM_Reaching1000/7/200); "not run" when a
-// --benchmark_filter left one out.
+// 1000-reach 3-DOF job's seconds at init_D 2 (BM_Reaching1000/integrator:7/init_D_x100:200);
+// "not run" when a --benchmark_filter left one out.
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/model/model_loading.hpp"
@@ -97,11 +97,11 @@ void print_job_figures(const JobFigures& figures) {
     std::printf("  30-reach 7-DOF online job (BM_Job/2/7/7): not run (--benchmark_filter)\n");
   }
   if (figures.reaching1000_ran) {
-    std::printf("  1000-reach 3-DOF online job at init_D 2 (BM_Reaching1000/7/200): %.1f CPU s (%.1f wall s; %.0f receptive fields), goal <= 20 s: %s\n",
+    std::printf("  1000-reach 3-DOF online job at init_D 2 (BM_Reaching1000/integrator:7/init_D_x100:200): %.1f CPU s (%.1f wall s; %.0f receptive fields), goal <= 20 s: %s\n",
                 figures.reaching1000_cpu_s, figures.reaching1000_wall_s, figures.reaching1000_fields,
                 figures.reaching1000_cpu_s <= 20.0 ? "met" : "not met");
   } else {
-    std::printf("  1000-reach 3-DOF online job at init_D 2 (BM_Reaching1000/7/200): not run (--benchmark_filter)\n");
+    std::printf("  1000-reach 3-DOF online job at init_D 2 (BM_Reaching1000/integrator:7/init_D_x100:200): not run (--benchmark_filter)\n");
   }
 }
 
