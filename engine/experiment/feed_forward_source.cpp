@@ -49,14 +49,24 @@ FeedForwardTerm FeedForwardProvider::calc(const Eigen::VectorXd& q_desired, cons
     return term;
   }
   const auto start = std::chrono::steady_clock::now();
-  const Prediction prediction = learner_->predict(make_learner_input(q_desired, qd_desired, qdd_desired), *workspace_);
+  input_.resize(q_desired.size() + qd_desired.size() + qdd_desired.size());
+  input_ << q_desired, qd_desired, qdd_desired;  // make_learner_input's (q, q̇, q̈), into the kept vector
+  learner_->predict_into(input_, *workspace_, prediction_);
+  const Prediction& prediction = prediction_;
   if (clock_) {
     clock_->predict_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     ++clock_->predictions;
   }
   term.from_learner = true;
-  term.torque = calc_trusted_part(prediction);
-  for (Eigen::Index j = 0; j < term.torque.size(); ++j) term.output_trusted.push_back(is_output_trusted(prediction, static_cast<int>(j)));
+  // calc_trusted_part's values (an untrusted output's torque is 0), with the flags beside them.
+  term.torque.resize(prediction.value.size());
+  term.torque.setZero();
+  term.output_trusted.resize(static_cast<std::size_t>(prediction.value.size()));
+  for (Eigen::Index j = 0; j < prediction.value.size(); ++j) {
+    const bool trusted = is_output_trusted(prediction, static_cast<int>(j));
+    term.output_trusted[static_cast<std::size_t>(j)] = trusted;
+    if (trusted) term.torque[j] = prediction.value[j];
+  }
   return term;
 }
 

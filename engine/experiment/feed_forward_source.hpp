@@ -49,6 +49,10 @@ class FeedForwardProvider {
   const Learner* learner_;
   LearnerClock* clock_;
   std::unique_ptr<PredictionWorkspace> workspace_;
+  /// The learner's input and its prediction, kept across ticks: predict_into reuses their
+  /// vectors, so a learner feed-forward allocates nothing of its own per tick.
+  Eigen::VectorXd input_;
+  Prediction prediction_;
   bool active_;
 };
 

@@ -1,5 +1,7 @@
 #include "engine/kinematics/inverse_kinematics.hpp"
 
+#include "engine/kinematics/damped_gram.hpp"
+
 #include <Eigen/Dense>
 
 #include <cmath>
@@ -7,6 +9,32 @@
 #include <string>
 
 namespace armfarm {
+namespace {
+
+/// G = J Jᵀ + λ² I factored: by DampedGram up to its column limit (Eigen's bits, a quarter of the
+/// instructions), by Eigen's product and LDLT beyond it.
+class GramFactor {
+ public:
+  void compute(const Eigen::Matrix3Xd& jacobian, double lambda_squared) {
+    small_ = jacobian.cols() <= DampedGram::kMaxColumns;
+    if (small_) {
+      damped_.factor(jacobian, lambda_squared);
+      return;
+    }
+    gram_.noalias() = jacobian * jacobian.transpose();
+    gram_.diagonal().array() += lambda_squared;
+    ldlt_.compute(gram_);
+  }
+  Eigen::Vector3d solve(const Eigen::Vector3d& b) const { return small_ ? damped_.solve(b) : Eigen::Vector3d(ldlt_.solve(b)); }
+
+ private:
+  bool small_ = true;
+  DampedGram damped_;
+  Eigen::Matrix3d gram_;
+  Eigen::LDLT<Eigen::Matrix3d> ldlt_;
+};
+
+}  // namespace
 
 InverseKinematicsResult solve_inverse_kinematics(const SerialChain& chain, const Eigen::Vector3d& target,
                                                  const Eigen::VectorXd& initial, const Eigen::VectorXd& rest_posture,
@@ -25,18 +53,15 @@ InverseKinematicsResult solve_inverse_kinematics(const SerialChain& chain, const
   Eigen::Vector3d position;
   Eigen::Matrix3Xd jacobian(3, n);
   Eigen::VectorXd to_rest(n), null_step(n), previous(n);
-  Eigen::Matrix3d gram;
-  Eigen::LDLT<Eigen::Matrix3d> gram_factor;
+  GramFactor gram_factor;
   for (result.iterations = 0; result.iterations < options.max_iterations; ++result.iterations) {
     chain.calc_position_and_jacobian(result.q, position, jacobian);
     const Eigen::Vector3d error = target - position;
     result.error = error.norm();
     // Damped least squares: J⁺ = Jᵀ (J Jᵀ + λ² I)⁻¹ stays bounded near singular postures.
-    gram.noalias() = jacobian * jacobian.transpose();
-    gram.diagonal().array() += lambda_squared;
-    gram_factor.compute(gram);
+    gram_factor.compute(jacobian, lambda_squared);
     to_rest = rest_posture - result.q;
-    const Eigen::Vector3d task_rest = gram_factor.solve(jacobian * to_rest);
+    const Eigen::Vector3d task_rest = gram_factor.solve(Eigen::Vector3d(jacobian * to_rest));
     null_step = to_rest;
     null_step.noalias() -= jacobian.transpose() * task_rest;
     null_step *= options.null_space_gain;
@@ -65,9 +90,8 @@ InverseKinematicsResult solve_inverse_kinematics(const SerialChain& chain, const
       const Eigen::Vector3d error = target - position;
       result.error = error.norm();
       if (result.error < options.tolerance) break;
-      gram.noalias() = jacobian * jacobian.transpose();
-      gram.diagonal().array() += lambda_squared;
-      result.q = (result.q + jacobian.transpose() * gram.ldlt().solve(error)).cwiseMax(lower).cwiseMin(upper);
+      gram_factor.compute(jacobian, lambda_squared);
+      result.q = (result.q + jacobian.transpose() * gram_factor.solve(error)).cwiseMax(lower).cwiseMin(upper);
     }
     result.error = (target - chain.calc_position(result.q)).norm();
     result.converged = result.error < options.tolerance;

@@ -24,7 +24,7 @@ int find_coordinate_axis(const Eigen::Vector3d& axis) {
 
 /// origin += rotation · t, the terms of t's zero components left out (each would add an exact
 /// zero to the sum; the others are added in Eigen's order, column 0 first).
-void add_rotated(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& t, Eigen::Vector3d& origin) {
+inline void add_rotated(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& t, Eigen::Vector3d& origin) {
   Eigen::Vector3d sum;
   bool any = false;
   for (int k = 0; k < 3; ++k) {
@@ -42,7 +42,7 @@ void add_rotated(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& t, Eige
 /// rotation ← rotation · R, R = AngleAxisd(angle, e_a).toRotationMatrix(): with (p, r) the
 /// other two axes in cyclic order, R has c at (p, p) and (r, r), s at (r, p), −s at (p, r),
 /// (1 − c) + c at (a, a) (Eigen's diagonal formula) and exact zeros elsewhere.
-void rotate_about_coordinate_axis(Eigen::Matrix3d& rotation, int a, double angle) {
+inline void rotate_about_coordinate_axis(Eigen::Matrix3d& rotation, int a, double angle) {
   const int p = (a + 1) % 3, r = (a + 2) % 3;
   const double s = std::sin(angle), c = std::cos(angle);
   const Eigen::Vector3d column_p = rotation.col(p) * c + rotation.col(r) * s;

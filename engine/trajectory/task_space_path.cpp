@@ -9,8 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace armfarm {
 namespace {
@@ -118,42 +120,109 @@ JointTrajectory build_figure_eight(const FigureEightConfig& config, Differentiat
   return trajectory;
 }
 
-JointTrajectory build_reaching(const ReachingConfig& config, Differentiation method, ArmDynamics& dynamics, double dt,
-                               std::uint64_t seed) {
-  if (config.points_per_reach < 2) throw std::invalid_argument("trajectory.reaching.points_per_reach: must be at least 2");
-  if (config.reaches < 1) throw std::invalid_argument("trajectory.reaching.reaches: must be at least 1");
-  const ReachingBox box = calc_reaching_box(config, calc_reach(dynamics.model()));
+namespace {
+
+/// The box the reaching targets are drawn from (m, world frame), each maximum checked to exceed its minimum.
+ReachingBox make_checked_reaching_box(const ReachingConfig& config, const ArmModel& model) {
+  const ReachingBox box = calc_reaching_box(config, calc_reach(model));
   for (int axis = 0; axis < 3; ++axis) {
     if (!(box.min[axis] < box.max[axis])) {
       throw std::invalid_argument("trajectory.reaching.box_max[" + std::to_string(axis) + "]: must exceed box_min (" +
                                   std::to_string(box.max[axis]) + " m against " + std::to_string(box.min[axis]) + " m)");
     }
   }
-  RandomStream target_draws(seed, "trajectory.reaching.targets");
-  const SerialChain chain = make_end_effector_chain(dynamics);
-  const Eigen::VectorXd& rest = chain.start_positions();
-  // A target counts when the IK reaches it from the rest posture.
-  auto draw_target = [&](int index) {
+  return box;
+}
+
+/// One reach as planned: its points + 1 task-space targets and joint angles (the last row is the
+/// next reach's start), and the target it ends at.
+struct PlannedReach {
+  Eigen::MatrixXd targets, joints;
+  Eigen::Vector3d to;
+};
+
+/// Plans build_reaching's reaches: targets drawn uniformly in the box from one seeded stream (a
+/// target counts when the IK reaches it from the rest posture), each reach's joint path by the
+/// warm-started IK along its profile, kept only within 80 % of the joint velocity limits.
+class ReachPlanner {
+ public:
+  ReachPlanner(const ReachingConfig& config, const ReachingBox& box, ArmDynamics& dynamics, double dt, std::uint64_t seed)
+      : config_(config),
+        box_(box),
+        dt_(dt),
+        draws_(seed, "trajectory.reaching.targets"),
+        chain_(make_end_effector_chain(dynamics)),
+        speed_limit_(0.8 * dynamics.velocity_limits()) {}
+
+  const SerialChain& chain() const { return chain_; }
+
+  /// The next reachable target of the stream, for reach `index` (its error message's number).
+  Eigen::Vector3d draw_target(int index) {
+    const Eigen::VectorXd& rest = chain_.start_positions();
     for (int attempt = 0; attempt < 100; ++attempt) {
       Eigen::Vector3d target;
       for (int axis = 0; axis < 3; ++axis) {
-        target[axis] = target_draws.uniform(box.min[axis], box.max[axis]);
+        target[axis] = draws_.uniform(box_.min[axis], box_.max[axis]);
       }
-      if (solve_inverse_kinematics(chain, target, rest, rest).error <= kMaxTargetError * 0.1) return target;
+      if (solve_inverse_kinematics(chain_, target, rest, rest).error <= kMaxTargetError * 0.1) return target;
     }
     throw std::runtime_error("trajectory.reaching: no reachable target found in the box for reach " + std::to_string(index) +
                              " after 100 draws");
-  };
+  }
+
+  /// Reach `reach` (0-based) from `from` at joint angles `q`: the first of up to 100 drawn targets
+  /// whose joint path the IK finds and that stays within the speed limit; none when no draw does.
+  std::optional<PlannedReach> plan(const Eigen::Vector3d& from, const Eigen::VectorXd& q, int reach) {
+    const int points = config_.points_per_reach;
+    PlannedReach planned{Eigen::MatrixXd(points + 1, 3), Eigen::MatrixXd(), Eigen::Vector3d::Zero()};
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      planned.to = draw_target(reach + 1);
+      for (int i = 0; i <= points; ++i) {
+        const double s = static_cast<double>(i) / points;
+        planned.targets.row(i) =
+            (from + (planned.to - from) * calc_profile(config_.profile, config_.sigmoid_steepness, s)[0]).transpose();
+      }
+      try {
+        planned.joints = calc_joint_path(chain_, planned.targets, q, "trajectory.reaching");
+      } catch (const std::runtime_error&) {
+        continue;
+      }
+      if (within_speed_limit(planned.joints)) return planned;
+    }
+    return std::nullopt;
+  }
+
+ private:
+  /// Whether every step of the joint path moves each joint at most speed_limit_ · dt.
+  bool within_speed_limit(const Eigen::MatrixXd& joints) const {
+    for (Eigen::Index i = 0; i + 1 < joints.rows(); ++i) {
+      const Eigen::VectorXd speed = (joints.row(i + 1) - joints.row(i)).transpose().cwiseAbs() / dt_;
+      if (!(speed.array() <= speed_limit_.array()).all()) return false;
+    }
+    return true;
+  }
+
+  const ReachingConfig& config_;
+  const ReachingBox box_;
+  const double dt_;
+  RandomStream draws_;
+  const SerialChain chain_;
+  const Eigen::VectorXd speed_limit_;  ///< rad/s, 80 % of the velocity limits
+};
+
+}  // namespace
+
+JointTrajectory build_reaching(const ReachingConfig& config, Differentiation method, ArmDynamics& dynamics, double dt,
+                               std::uint64_t seed) {
+  if (config.points_per_reach < 2) throw std::invalid_argument("trajectory.reaching.points_per_reach: must be at least 2");
+  if (config.reaches < 1) throw std::invalid_argument("trajectory.reaching.reaches: must be at least 1");
+  ReachPlanner planner(config, make_checked_reaching_box(config, dynamics.model()), dynamics, dt, seed);
+  const Eigen::VectorXd& rest = planner.chain().start_positions();
   const int points = config.points_per_reach;
   Eigen::MatrixXd targets(config.reaches * points, 3);
   Eigen::MatrixXd joints(config.reaches * points, dynamics.dof());
-  // A reach is kept only if its joint path stays within 80 % of the velocity limits (a path
-  // near a singularity or a limit would demand more than the motors give); otherwise its
-  // target is redrawn.
-  const Eigen::VectorXd speed_limit = 0.8 * dynamics.velocity_limits();
-  const double reach_time = points * dt;
-  Eigen::Vector3d from = draw_target(0);
-  Eigen::VectorXd q = solve_inverse_kinematics(chain, from, rest, rest).q;
+  Eigen::Vector3d from = planner.draw_target(0);
+  Eigen::VectorXd q = solve_inverse_kinematics(planner.chain(), from, rest, rest).q;
   JointTrajectory trajectory;
   trajectory.dt = dt;
   // The redraw rule: when no target of 100 draws is feasible from the posture the previous reach
@@ -167,27 +236,8 @@ JointTrajectory build_reaching(const ReachingConfig& config, Differentiation met
   for (int reach = 0; reach < config.reaches;) {
     reach_from[static_cast<std::size_t>(reach)] = from;
     reach_q[static_cast<std::size_t>(reach)] = q;
-    Eigen::MatrixXd segment_targets(points + 1, 3), segment;
-    bool feasible = false;
-    for (int attempt = 0; attempt < 100 && !feasible; ++attempt) {
-      const Eigen::Vector3d to = draw_target(reach + 1);
-      for (int i = 0; i <= points; ++i) {
-        const double s = static_cast<double>(i) / points;
-        segment_targets.row(i) = (from + (to - from) * calc_profile(config.profile, config.sigmoid_steepness, s)[0]).transpose();
-      }
-      try {
-        segment = calc_joint_path(chain, segment_targets, q, "trajectory.reaching");
-      } catch (const std::runtime_error&) {
-        continue;
-      }
-      feasible = true;
-      for (int i = 0; i < points && feasible; ++i) {
-        const Eigen::VectorXd speed = (segment.row(i + 1) - segment.row(i)).transpose().cwiseAbs() / dt;
-        feasible = (speed.array() <= speed_limit.array()).all();
-      }
-      if (feasible) from = to;
-    }
-    if (!feasible && reach > 0 && take_backs < kMaxTakeBacks) {
+    std::optional<PlannedReach> planned = planner.plan(from, q, reach);
+    if (!planned && reach > 0 && take_backs < kMaxTakeBacks) {
       ++take_backs;
       --reach;  // take the previous reach back; its rows are overwritten when it is redrawn
       from = reach_from[static_cast<std::size_t>(reach)];
@@ -195,14 +245,16 @@ JointTrajectory build_reaching(const ReachingConfig& config, Differentiation met
       trajectory.segment_starts.pop_back();
       continue;
     }
-    if (!feasible) {
+    if (!planned) {
       throw std::runtime_error("trajectory.reaching: no target for reach " + std::to_string(reach + 1) +
-                               " can be reached within the joint velocity limits in " + std::to_string(reach_time) + " s after " +
-                               std::to_string(take_backs) + " redrawn earlier reaches (raise points_per_reach or shrink the box)");
+                               " can be reached within the joint velocity limits in " + std::to_string(points * dt) +
+                               " s after " + std::to_string(take_backs) +
+                               " redrawn earlier reaches (raise points_per_reach or shrink the box)");
     }
-    targets.middleRows(reach * points, points) = segment_targets.topRows(points);
-    joints.middleRows(reach * points, points) = segment.topRows(points);
-    q = segment.row(points).transpose();
+    from = planned->to;
+    targets.middleRows(reach * points, points) = planned->targets.topRows(points);
+    joints.middleRows(reach * points, points) = planned->joints.topRows(points);
+    q = planned->joints.row(points).transpose();
     trajectory.segment_starts.push_back(reach * points);
     ++reach;
   }

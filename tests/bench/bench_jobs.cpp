@@ -11,12 +11,17 @@
 //    job, gain scale 0.2, seed 0, with active_joints [1, 2, 4] and 1000 reaches) at init_D 0.05
 //    (the jobs' default) and at init_D 2 (the issue's 20 s goal); counters wall_s and cpu_s of
 //    the one job.
+// After the table the program prints issue 26's two job figures against their goals, in words
+// (JobFigures below): the 30-reach 7-DOF online job's real-time factor (BM_Job/2/7/7) and the
+// 1000-reach 3-DOF job's seconds at init_D 2 (BM_Reaching1000/integrator:7/init_D_x100:200);
+// "not run" when a --benchmark_filter left one out.
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/model/model_loading.hpp"
 
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
 #include <ctime>
 
 #include <chrono>
@@ -64,6 +69,42 @@ JobConfig make_job(int kind, int dof, int integrator) {
   return config;
 }
 
+/// What the summary lines print: filled by the two benchmarks the goals are about, when they run.
+struct JobFigures {
+  bool reaching7_ran = false;
+  double reaching7_sim_s = 0.0, reaching7_cpu_s = 0.0, reaching7_wall_s = 0.0;
+  bool reaching1000_ran = false;
+  double reaching1000_cpu_s = 0.0, reaching1000_wall_s = 0.0, reaching1000_fields = 0.0;
+};
+JobFigures& job_figures() {
+  static JobFigures figures;
+  return figures;
+}
+
+double wall_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// The goal lines of issue 26 ("Jobs"), after Google Benchmark's table.
+void print_job_figures(const JobFigures& figures) {
+  std::printf("\nissue 26 job figures (goals: the 30-reach 7-DOF online job at >= 100x real time, the 1000-reach 3-DOF job at init_D 2 in <= 20 s):\n");
+  if (figures.reaching7_ran) {
+    const double cpu_factor = figures.reaching7_sim_s / figures.reaching7_cpu_s;
+    const double wall_factor = figures.reaching7_sim_s / figures.reaching7_wall_s;
+    std::printf("  30-reach 7-DOF online job (BM_Job/2/7/7): %.1fx real time per CPU second (%.1fx per wall second; %.1f simulated s in %.3f CPU s), goal >= 100x: %s\n",
+                cpu_factor, wall_factor, figures.reaching7_sim_s, figures.reaching7_cpu_s, cpu_factor >= 100.0 ? "met" : "not met");
+  } else {
+    std::printf("  30-reach 7-DOF online job (BM_Job/2/7/7): not run (--benchmark_filter)\n");
+  }
+  if (figures.reaching1000_ran) {
+    std::printf("  1000-reach 3-DOF online job at init_D 2 (BM_Reaching1000/integrator:7/init_D_x100:200): %.1f CPU s (%.1f wall s; %.0f receptive fields), goal <= 20 s: %s\n",
+                figures.reaching1000_cpu_s, figures.reaching1000_wall_s, figures.reaching1000_fields,
+                figures.reaching1000_cpu_s <= 20.0 ? "met" : "not met");
+  } else {
+    std::printf("  1000-reach 3-DOF online job at init_D 2 (BM_Reaching1000/integrator:7/init_D_x100:200): not run (--benchmark_filter)\n");
+  }
+}
+
 std::map<std::string, double> job_metrics(const JobOutcome& outcome) {
   std::map<std::string, double> values;
   for (const Metric& metric : outcome.metrics) {
@@ -77,9 +118,10 @@ void BM_Job(benchmark::State& state) {
   const int dof = static_cast<int>(state.range(1));
   const int integrator = static_cast<int>(state.range(2));
   const JobConfig config = make_job(kind, dof, integrator);
-  double simulated = 0.0, cpu = 0.0;
+  double simulated = 0.0, cpu = 0.0, wall = 0.0;
   std::map<std::string, double> metrics;
   for (auto _ : state) {
+    const double wall_start = wall_seconds();
     const double start = cpu_seconds();
     JobOutcome outcome;
     try {
@@ -89,11 +131,18 @@ void BM_Job(benchmark::State& state) {
       return;
     }
     cpu += cpu_seconds() - start;
+    wall += wall_seconds() - wall_start;
     if (outcome.status != JobStatus::done) state.SkipWithError(outcome.message.c_str());
     metrics = job_metrics(outcome);
     simulated += metrics[metric_names::simulated_seconds];
   }
   state.counters["sim_s_per_cpu_s"] = simulated / cpu;
+  if (!state.error_occurred() && kind == 2 && dof == 7 && integrator == static_cast<int>(IntegratorKind::runge_kutta_4)) {
+    job_figures().reaching7_ran = true;
+    job_figures().reaching7_sim_s = simulated;
+    job_figures().reaching7_cpu_s = cpu;
+    job_figures().reaching7_wall_s = wall;
+  }
   const double total = metrics[metric_names::tick_us_total];
   state.counters["tick_us"] = total;
   namespace n = metric_names;
@@ -141,9 +190,22 @@ void BM_Reaching1000(benchmark::State& state) {
   }
   state.counters["wall_s"] = wall;
   state.counters["cpu_s"] = cpu;
+  if (!state.error_occurred() && state.range(0) == static_cast<int>(IntegratorKind::runge_kutta_4) && state.range(1) == 200) {
+    job_figures().reaching1000_ran = true;
+    job_figures().reaching1000_cpu_s = cpu;
+    job_figures().reaching1000_wall_s = wall;
+    job_figures().reaching1000_fields = state.counters["fields"];
+  }
 }
 BENCHMARK(BM_Reaching1000)->ArgNames({"integrator", "init_D_x100"})->Args({static_cast<int>(IntegratorKind::runge_kutta_4), 5})->Args({static_cast<int>(IntegratorKind::runge_kutta_4), 200})->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  print_job_figures(job_figures());
+  return 0;
+}
