@@ -104,21 +104,31 @@ class LwprModel final : public Learner {
                                                         FieldScratch& scratch, std::vector<ActiveField>& active) const;
   // Whether every output's scan data (centres, metrics, trust flags) are the same.
   bool calc_scans_identical() const;
-  // Appends field `i` of `output` to that output's scan data.
+  // Appends a field to `output`'s scan data (as its last field).
   void append_to_scan(int output, const ReceptiveField& rf);
-  // Writes the field's metric in the scan layout (metric_stride_ doubles) at `to`.
-  void write_scan_metric(const ReceptiveField& rf, double* to) const;
-  // The activation of field i of `output` at the normalised x, given as x_padded (zero-padded to
-  // stride_), 0 at or below the cutoff.
-  __attribute__((always_inline)) inline double calc_field_activation(int output, std::size_t i, const double* x_padded,
-                                                                     FieldScratch& scratch) const;
+  // Writes field i's metric into `output`'s scan data (group layout for a diagonal, the factor's
+  // upper triangle row by row for a full metric).
+  void write_scan_metric(int output, std::size_t i, const ReceptiveField& rf);
+  // Removes field `victim` from `output`'s scan data (later fields move down one place).
+  void erase_from_scan(int output, std::size_t victim);
+  // Where field i's element 0 is in the group layout (element k at + k·kScanGroup).
+  std::size_t calc_group_offset(std::size_t i) const;
+  // The activation of field i (full metric) of `output` at the normalised x, given as x_padded
+  // (zero-padded to stride_), 0 at or below the cutoff.
+  __attribute__((always_inline)) inline double calc_full_activation(int output, std::size_t i, const double* x_padded,
+                                                                    FieldScratch& scratch) const;
+  // The diagonal scan: kScanGroup fields at a time, one per vector lane.
+  __attribute__((always_inline)) inline void scan_diagonal_groups(int output, const double* x_padded, bool trusted_only,
+                                                                  std::vector<ActiveField>& active) const;
 
   // The activation scan's data of one output, in the order of fields_[o] and kept in step with it
-  // on every create, update and prune: the centres, one block of stride_ doubles per field,
-  // zero-padded; the metrics, one block of metric_stride_ doubles per field (a diagonal metric's
-  // diagonal zero-padded to stride_, or a full metric's factor M as its upper triangle row by row,
-  // n(n+1)/2); and the trust flags. Contiguous, so the scan over hundreds of fields streams through
-  // memory instead of chasing each field's heap blocks.
+  // on every create, update and prune. Centres (and diagonal metrics) in the group layout: groups
+  // of kScanGroup (4) fields, each group stride_ × kScanGroup doubles with element k of the
+  // group's field l at [k·kScanGroup + l], zero-padded (elements past n_in, lanes past the last
+  // field), so that one vector operation serves four fields. A full metric's factor M per field,
+  // its upper triangle row by row (metric_stride_ = n(n+1)/2 doubles). And the trust flags.
+  // Contiguous, so the scan over hundreds of fields streams through memory instead of chasing
+  // each field's heap blocks.
   struct ScanData {
     std::vector<double> centres;
     std::vector<double> metrics;
