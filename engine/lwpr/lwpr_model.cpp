@@ -360,23 +360,70 @@ std::unique_ptr<PredictionWorkspace> LwprModel::make_workspace() const {
 
 Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace) const {
   Prediction prediction;
-  predict_with(x, workspace, nullptr, prediction);
+  predict_with(x, workspace, nullptr, true, prediction);
   return prediction;
 }
 
 Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace,
                               LwprPredictionDetail& detail) const {
   Prediction prediction;
-  predict_with(x, workspace, &detail, prediction);
+  predict_with(x, workspace, &detail, true, prediction);
   return prediction;
 }
 
 void LwprModel::predict_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const {
-  predict_with(x, workspace, nullptr, out);
+  predict_with(x, workspace, nullptr, true, out);
 }
 
+void LwprModel::predict_values_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const {
+  predict_with(x, workspace, nullptr, false, out);
+}
+
+namespace {
+
+// One output's prediction from its active fields: the weighted sums of the blend and the most
+// active field's prediction; the noise variances (and so the confidence) only `with_bounds`.
+struct OutputBlend {
+  double sum_w = 0.0, sum_wy = 0.0, sum_wyy = 0.0, sum_wvar = 0.0;
+  double w_best = 0.0, y_best = 0.0, var_best = 0.0;
+};
+
+OutputBlend blend_fields(const LwprParams& params, const std::vector<ReceptiveField>& fields,
+                         const std::vector<ActiveField>& active, const Eigen::VectorXd& xn, bool with_bounds,
+                         FieldScratch& scratch) {
+  OutputBlend b;
+  for (const ActiveField& a : active) {
+    const double w = a.w;
+    const ReceptiveField& rf = fields[a.index];
+    double y = 0.0, variance = 0.0;
+    if (with_bounds) {
+      double leverage = 0.0;
+      y = predict_receptive_field(rf, xn, leverage, scratch);
+      variance = calc_field_noise_variance(rf) * (1.0 + w * leverage);
+    } else {
+      y = predict_receptive_field_value(rf, xn, scratch);
+    }
+    if (params.blend) {
+      b.sum_w += w;
+      b.sum_wy += w * y;
+      if (with_bounds) {
+        b.sum_wyy += w * y * y;
+        b.sum_wvar += w * variance;
+      }
+    }
+    if (w > b.w_best) {
+      b.w_best = w;
+      b.y_best = y;
+      b.var_best = variance;
+    }
+  }
+  return b;
+}
+
+}  // namespace
+
 void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail,
-                             Prediction& prediction) const {
+                             bool with_bounds, Prediction& prediction) const {
   require_vector(x, n_in_, "x");
   auto* ws = dynamic_cast<LwprWorkspace*>(&workspace);
   if (ws == nullptr) throw std::invalid_argument("LWPR: predict() needs a workspace from make_workspace()");
@@ -386,7 +433,11 @@ void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& work
   std::copy(xn.data(), xn.data() + n_in_, ws->x_padded.begin());
 
   prediction.value.setZero(n_out_);  // no allocation when the sizes are already n_out
-  prediction.confidence.setConstant(n_out_, std::numeric_limits<double>::infinity());
+  if (with_bounds) {
+    prediction.confidence.setConstant(n_out_, std::numeric_limits<double>::infinity());
+  } else {
+    prediction.confidence.resize(0);
+  }
   prediction.trustworthy = true;
   prediction.output_trusted.assign(n_out_, false);
   if (detail != nullptr) {
@@ -396,44 +447,22 @@ void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& work
   double min_of_max = std::numeric_limits<double>::infinity();
 
   for (int o = 0; o < n_out_; ++o) {
-    double sum_w = 0.0, sum_wy = 0.0, sum_wyy = 0.0, sum_wvar = 0.0;
-    double w_best = 0.0, y_best = 0.0, var_best = 0.0;
     if (o == 0 || !shared_scan_) scan_active(o, ws->x_padded.data(), true, ws->scratch, ws->active);
-    for (const ActiveField& a : ws->active) {
-      const std::size_t i = a.index;
-      const double w = a.w;
-      const ReceptiveField& rf = fields_[o][i];
-      double leverage = 0.0;
-      const double y = predict_receptive_field(rf, xn, leverage, ws->scratch);
-      const double variance = calc_field_noise_variance(rf) * (1.0 + w * leverage);
-      if (params_.blend) {
-        sum_w += w;
-        sum_wy += w * y;
-        sum_wyy += w * y * y;
-        sum_wvar += w * variance;
-      }
-      if (w > w_best) {
-        w_best = w;
-        y_best = y;
-        var_best = variance;
-      }
-    }
-    if (detail != nullptr) detail->max_activation(o) = w_best;
-    min_of_max = std::min(min_of_max, w_best);
-    if (w_best <= 0.0) {
+    const OutputBlend b = blend_fields(params_, fields_[o], ws->active, xn, with_bounds, ws->scratch);
+    if (detail != nullptr) detail->max_activation(o) = b.w_best;
+    min_of_max = std::min(min_of_max, b.w_best);
+    if (b.w_best <= 0.0) {
       prediction.trustworthy = false;
       continue;
     }
     if (detail != nullptr) detail->trustworthy[o] = true;
     prediction.output_trusted[o] = true;
-    double mean = y_best;
-    double variance = var_best;
-    if (params_.blend) {
-      mean = sum_wy / sum_w;
-      // Mean of the fields' noise variances plus their disagreement about the mean.
-      variance = (sum_wvar + std::max(0.0, sum_wyy - sum_w * mean * mean)) / sum_w;
-    }
+    const double mean = params_.blend ? b.sum_wy / b.sum_w : b.y_best;
     prediction.value(o) = mean * norm_out_(o);
+    if (!with_bounds) continue;
+    // Blended: the mean of the fields' noise variances plus their disagreement about the mean.
+    const double variance =
+        params_.blend ? (b.sum_wvar + std::max(0.0, b.sum_wyy - b.sum_w * mean * mean)) / b.sum_w : b.var_best;
     prediction.confidence(o) = std::sqrt(std::max(0.0, variance)) * norm_out_(o);
   }
   prediction.max_activation = n_out_ > 0 ? min_of_max : 0.0;

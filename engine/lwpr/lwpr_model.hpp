@@ -71,6 +71,10 @@ class LwprModel final : public Learner {
   /// predict() into `out`: no allocation once out's vectors have n_out elements.
   void predict_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const override;
 
+  /// predict_into() without confidence bounds (out.confidence empty): the same values, trust flags
+  /// and max_activation, bit for bit, without the fields' leverages and noise variances.
+  void predict_values_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const override;
+
   /// Receptive fields summed over outputs.
   std::size_t size() const override;
 
@@ -88,10 +92,11 @@ class LwprModel final : public Learner {
   // Updates output `output` with y (normalised) given the fields active at x (every field with
   // w > 0, in field order), creating and pruning as update() says.
   void update_output(int output, double y, const std::vector<ActiveField>& active);
-  // Every predict(): writes `prediction`; `detail` (may be null: then nothing of it is allocated)
-  // receives the per-output activations and trust flags.
+  // Every predict(): writes `prediction` (its confidence only `with_bounds`, else left empty);
+  // `detail` (may be null: then nothing of it is allocated) receives the per-output activations
+  // and trust flags.
   void predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail,
-                    Prediction& prediction) const;
+                    bool with_bounds, Prediction& prediction) const;
   // The fields of `output`'s scan active at x_padded (w > 0), in field order; only trustworthy
   // ones when `trusted_only`.
   void scan_active(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
