@@ -118,6 +118,20 @@ std::size_t LwprModel::calc_group_offset(std::size_t i) const {
   return (i / kScanGroup) * static_cast<std::size_t>(stride_) * kScanGroup + i % kScanGroup;
 }
 
+inline void LwprModel::write_scan_metric(int output, std::size_t i, const ReceptiveField& rf) {
+  ScanData& scan = scan_[output];
+  if (diagonal_scan_) {
+    double* to = scan.metrics.data() + calc_group_offset(i);
+    for (int k = 0; k < n_in_; ++k) to[k * kScanGroup] = rf.metric(k, 0);
+    return;
+  }
+  double* to = scan.metrics.data() + i * metric_stride_;
+  const Eigen::MatrixXd& M = rf.metric_factor;
+  for (int r = 0; r < n_in_; ++r) {
+    for (int k = r; k < n_in_; ++k) *to++ = M(r, k);
+  }
+}
+
 void LwprModel::append_to_scan(int output, const ReceptiveField& rf) {
   ScanData& scan = scan_[output];
   const std::size_t i = scan.trusted.size();
@@ -131,20 +145,6 @@ void LwprModel::append_to_scan(int output, const ReceptiveField& rf) {
   double* centre = scan.centres.data() + calc_group_offset(i);
   for (int k = 0; k < n_in_; ++k) centre[k * kScanGroup] = rf.center(k);
   write_scan_metric(output, i, rf);
-}
-
-void LwprModel::write_scan_metric(int output, std::size_t i, const ReceptiveField& rf) {
-  ScanData& scan = scan_[output];
-  if (diagonal_scan_) {
-    double* to = scan.metrics.data() + calc_group_offset(i);
-    for (int k = 0; k < n_in_; ++k) to[k * kScanGroup] = rf.metric(k, 0);
-    return;
-  }
-  double* to = scan.metrics.data() + i * metric_stride_;
-  const Eigen::MatrixXd& M = rf.metric_factor;
-  for (int r = 0; r < n_in_; ++r) {
-    for (int k = r; k < n_in_; ++k) *to++ = M(r, k);
-  }
 }
 
 void LwprModel::erase_from_scan(int output, std::size_t victim) {
@@ -172,11 +172,8 @@ void LwprModel::erase_from_scan(int output, std::size_t victim) {
   scan.trusted.erase(scan.trusted.begin() + static_cast<std::ptrdiff_t>(victim));
 }
 
-inline double LwprModel::calc_full_activation(int output, std::size_t i, const double* x_padded,
+inline double LwprModel::calc_full_activation(const double* centre, const double* metric, const double* x_padded,
                                               FieldScratch& scratch) const {
-  const ScanData& scan = scan_[output];
-  const double* centre = scan.centres.data() + calc_group_offset(i);
-  const double* metric = scan.metrics.data() + i * metric_stride_;
   double q;
   if (n_in_ == 2) {
     q = calc_full_distance<2>(x_padded, centre, metric, 2, q_limit_, scratch.diff.data());
@@ -249,16 +246,22 @@ void LwprModel::scan_active_avx2(int output, const double* x_padded, bool truste
 inline void LwprModel::scan_active_loop(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
                                         std::vector<ActiveField>& active) const {
   active.clear();
-  const std::vector<unsigned char>& trusted = scan_[output].trusted;
-  if (!diagonal_scan_) {
-    for (std::size_t i = 0; i < trusted.size(); ++i) {
-      if (trusted_only && trusted[i] == 0) continue;
-      const double w = calc_full_activation(output, i, x_padded, scratch);
-      if (w > 0.0) active.push_back({i, w});
-    }
+  if (diagonal_scan_) {
+    scan_diagonal_groups(output, x_padded, trusted_only, active);
     return;
   }
-  scan_diagonal_groups(output, x_padded, trusted_only, active);
+  const ScanData& scan = scan_[output];
+  const std::size_t count = scan.trusted.size();
+  for (std::size_t first = 0; first < count; first += kScanGroup) {  // field by field, a group's centres together
+    const double* group = scan.centres.data() + first * stride_;  // calc_group_offset(first)
+    const std::size_t lanes = std::min<std::size_t>(kScanGroup, count - first);
+    for (std::size_t l = 0; l < lanes; ++l) {
+      const std::size_t i = first + l;
+      if (trusted_only && scan.trusted[i] == 0) continue;
+      const double w = calc_full_activation(group + l, scan.metrics.data() + i * metric_stride_, x_padded, scratch);
+      if (w > 0.0) active.push_back({i, w});
+    }
+  }
 }
 
 inline void LwprModel::scan_diagonal_groups(int output, const double* x_padded, bool trusted_only,

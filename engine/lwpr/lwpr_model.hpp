@@ -113,14 +113,16 @@ class LwprModel final : public Learner {
   void append_to_scan(int output, const ReceptiveField& rf);
   // Writes field i's metric into `output`'s scan data (group layout for a diagonal, the factor's
   // upper triangle row by row for a full metric).
-  void write_scan_metric(int output, std::size_t i, const ReceptiveField& rf);
+  __attribute__((always_inline)) inline void write_scan_metric(int output, std::size_t i, const ReceptiveField& rf);
   // Removes field `victim` from `output`'s scan data (later fields move down one place).
   void erase_from_scan(int output, std::size_t victim);
   // Where field i's element 0 is in the group layout (element k at + k·kScanGroup).
   std::size_t calc_group_offset(std::size_t i) const;
-  // The activation of field i (full metric) of `output` at the normalised x, given as x_padded
-  // (zero-padded to stride_), 0 at or below the cutoff.
-  __attribute__((always_inline)) inline double calc_full_activation(int output, std::size_t i, const double* x_padded,
+  // The activation of a field with a full metric (its centre in the group layout, its factor's
+  // upper triangle at `metric`) at the normalised x, given as x_padded (zero-padded to stride_),
+  // 0 at or below the cutoff.
+  __attribute__((always_inline)) inline double calc_full_activation(const double* centre, const double* metric,
+                                                                    const double* x_padded,
                                                                     FieldScratch& scratch) const;
   // The diagonal scan: kScanGroup fields at a time, one per vector lane.
   __attribute__((always_inline)) inline void scan_diagonal_groups(int output, const double* x_padded, bool trusted_only,
