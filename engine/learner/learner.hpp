@@ -64,6 +64,14 @@ class Learner {
   virtual void predict_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const {
     out = predict(x, workspace);
   }
+  /// predict_into() without the confidence bounds, for callers that read only the values, the
+  /// trust flags and max_activation: `out.confidence` is left with 0 elements, every other member
+  /// is what predict_into() writes. A learner that overrides it skips the bounds' work (LWPR: the
+  /// fields' leverages and noise variances); the default computes them and drops them.
+  virtual void predict_values_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const {
+    predict_into(x, workspace, out);
+    out.confidence.resize(0);
+  }
 
   /// Number of local models (LWPR: receptive fields summed over outputs).
   virtual std::size_t size() const = 0;

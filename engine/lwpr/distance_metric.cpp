@@ -90,42 +90,51 @@ void calc_full_gradient(const LwprParams& params, const ReceptiveField& rf, cons
   }
 }
 
-// One gradient (or IDBD) step on a full factor: the general step below for the upper triangle,
-// then D = MᵀM; the metric is kept if the gradient or the new D is not finite.
+// Step 1 of a full metric's update: scratch.grad (and with meta learning scratch.curvature) =
+// the gradient of J w.r.t. M at the sample, from md = M·(x − c) (scratch.md).
 template <int N>
-void update_full_metric(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
-                        double dJ1_dw, double transient, ReceptiveField& rf, FieldScratch& scratch) {
+void calc_full_metric_gradient(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
+                               double dJ1_dw, const ReceptiveField& rf, FieldScratch& scratch) {
   const int n = dim<N>(rf.input_dim());
   const double d2J1_dw2 = 2.0 * sample.e_cv.head(rf.n_reg()).squaredNorm() / (sample.W * sample.W);
   scratch.grad.resize(n, n);
-  scratch.old_factor.resize(n, n);
-  scratch.new_metric.resize(n, n);
   if (params.meta) scratch.curvature.resize(n, n);
   scratch.md.resize(n);
-  double* m = rf.metric_factor.data();
   double* md = scratch.md.data();
   if (N > 0 || n <= kTrmvPanel) {
-    multiply_factor<N>(m, diff.data(), n, md);
+    multiply_factor<N>(rf.metric_factor.data(), diff.data(), n, md);
   } else {
     scratch.md.noalias() = rf.metric_factor.triangularView<Eigen::Upper>() * diff;
   }
-  double* g = scratch.grad.data();
   double* curvature = params.meta ? scratch.curvature.data() : nullptr;
-  calc_full_gradient<N>(params, rf, diff.data(), md, sample, dJ1_dw, d2J1_dw2, g, curvature);
+  calc_full_gradient<N>(params, rf, diff.data(), md, sample, dJ1_dw, d2J1_dw2, scratch.grad.data(), curvature);
+}
 
+// Step 2: whether the gradient's upper triangle is finite, and max|M| over the upper triangle
+// (the step safeguard's scale).
+template <int N>
+bool check_full_gradient(const double* g, const double* m, int n_runtime, double& max_abs) {
+  const int n = dim<N>(n_runtime);
   bool finite = true;
-  double max_abs = 0.0;
+  max_abs = 0.0;
   for (int col = 0; col < n; ++col) {
     for (int row = 0; row <= col; ++row) {
       finite = finite && std::isfinite(g[row + col * n]);
       max_abs = std::max(max_abs, std::abs(m[row + col * n]));
     }
   }
-  if (!finite) return;  // a degenerate sample: keep the metric as it is
+  return finite;
+}
 
-  double* old = scratch.old_factor.data();
-  for (int i = 0; i < n * n; ++i) old[i] = m[i];
-  const double bound = 0.1 * max_abs;
+// Step 3: the gradient (or IDBD) step on M's upper triangle. Each element's rate α = exp(log α)
+// (with meta learning log α first moves against the gradient's correlation with the trace); an
+// element whose step would exceed `bound` is skipped and its rate halved (the library's
+// safeguard); with meta learning the trace decays by the curvature and takes the applied step.
+template <int N>
+void step_full_factor(const LwprParams& params, const double* g, const double* curvature, double transient,
+                      double bound, int n_runtime, ReceptiveField& rf) {
+  const int n = dim<N>(n_runtime);
+  double* m = rf.metric_factor.data();
   const double log_half = std::log(0.5);
   double* log_alpha_data = rf.log_alpha.data();
   double* trace = rf.meta_trace.data();
@@ -162,18 +171,48 @@ void update_full_metric(const LwprParams& params, const Eigen::VectorXd& diff, c
       }
     }
   }
+}
+
+// Step 4: D = MᵀM for the stepped factor; if it or M is not finite, M goes back to `old` (a
+// field never keeps a NaN metric), else D becomes the field's metric.
+template <int N>
+void accept_full_metric(const double* old, ReceptiveField& rf, FieldScratch& scratch) {
+  const int n = dim<N>(rf.input_dim());
+  double* m = rf.metric_factor.data();
+  scratch.new_metric.resize(n, n);
   double* D_new = scratch.new_metric.data();
   if (N > 0 || n <= kOrderedProductMax) {
     multiply_factor_transposed<N>(m, n, D_new);
   } else {
     scratch.new_metric.noalias() = rf.metric_factor.transpose() * rf.metric_factor;
   }
+  bool finite = true;
   for (int i = 0; i < n * n; ++i) finite = finite && std::isfinite(D_new[i]) && std::isfinite(m[i]);
   if (!finite) {
-    for (int i = 0; i < n * n; ++i) m[i] = old[i];  // never leave a field with a NaN metric
+    for (int i = 0; i < n * n; ++i) m[i] = old[i];
     return;
   }
   rf.metric.swap(scratch.new_metric);
+}
+
+// One gradient (or IDBD) step on a full factor: the gradient (step 1); nothing more if it is not
+// finite (a degenerate sample keeps the metric); the step on the upper triangle, bounded by a
+// tenth of max|M| (steps 2–3); D = MᵀM, kept only if finite (step 4).
+template <int N>
+void update_full_metric(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
+                        double dJ1_dw, double transient, ReceptiveField& rf, FieldScratch& scratch) {
+  const int n = dim<N>(rf.input_dim());
+  calc_full_metric_gradient<N>(params, diff, sample, dJ1_dw, rf, scratch);
+  const double* g = scratch.grad.data();
+  double max_abs = 0.0;
+  if (!check_full_gradient<N>(g, rf.metric_factor.data(), n, max_abs)) return;
+  scratch.old_factor.resize(n, n);
+  double* old = scratch.old_factor.data();
+  const double* m = rf.metric_factor.data();
+  for (int i = 0; i < n * n; ++i) old[i] = m[i];
+  const double* curvature = params.meta ? scratch.curvature.data() : nullptr;
+  step_full_factor<N>(params, g, curvature, transient, 0.1 * max_abs, n, rf);
+  accept_full_metric<N>(old, rf, scratch);
 }
 
 }  // namespace

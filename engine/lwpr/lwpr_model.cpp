@@ -28,47 +28,60 @@ double calc_trace(const ReceptiveField& rf) {
   return rf.diagonal() ? rf.metric.sum() : rf.metric.trace();
 }
 
-constexpr int kScanBlock = 8;  // doubles per block of the distance scan (one AVX-512 / two AVX2 vectors)
+// The diagonal scan sums each field's q in blocks of kScanBlock input elements (the early exit
+// is checked once per block) and runs kScanGroup fields side by side, one per vector lane.
+constexpr int kScanBlock = 8;
+constexpr int kScanGroup = 4;
 
-// Eight doubles operated on lane by lane (a GCC/Clang vector extension): the compiler maps it to
-// the vector units the build targets (4 SSE2 operations portably, one AVX-512 operation with
-// ARMFARM_NATIVE) with the same result in every lane.
-typedef double ScanBlock __attribute__((vector_size(kScanBlock * sizeof(double))));
+// One double per field of a scan group, operated on lane by lane (a GCC/Clang vector extension:
+// the compiler maps it to the vector units the build targets, two SSE2 operations portably, one
+// in the AVX2 copy), with the same result in every lane; and the lane mask a comparison gives.
+typedef double GroupLanes __attribute__((vector_size(kScanGroup * sizeof(double))));
+typedef decltype(GroupLanes{} >= GroupLanes{}) GroupMask;
 
-// q = Σ_i d_i (x_i − c_i)² over `stride` elements (a multiple of kScanBlock, zero-padded), or +∞
-// as soon as a block ends with q ≥ q_limit. Each block's eight products are added in a fixed tree
-// order, so q does not depend on the vector width.
-__attribute__((always_inline)) inline double calc_diagonal_distance(const double* x, const double* c, const double* d,
-                                                                     int stride, double q_limit) {
-  double q = 0.0;
-  for (int b = 0; b < stride; b += kScanBlock) {
-    ScanBlock xv, cv, dv;
-    std::memcpy(&xv, x + b, sizeof xv);
-    std::memcpy(&cv, c + b, sizeof cv);
-    std::memcpy(&dv, d + b, sizeof dv);
-    const ScanBlock diff = xv - cv;
-    const ScanBlock part = dv * diff * diff;
-    q += ((part[0] + part[1]) + (part[2] + part[3])) + ((part[4] + part[5]) + (part[6] + part[7]));
-    if (q >= q_limit) return std::numeric_limits<double>::infinity();
-  }
-  return q;
+inline bool all_lanes(const GroupMask& m) {
+  bool all = true;
+  for (int l = 0; l < kScanGroup; ++l) all = all && m[l] != 0;
+  return all;
 }
 
-void copy_padded(const double* from, int n, double* to, int stride) {
-  std::copy(from, from + n, to);
-  std::fill(to + n, to + stride, 0.0);
+// q_l = Σ_i d_l,i (x_i − c_l,i)² for the kScanGroup fields of one group (lane l: field l), c and d
+// in the group layout (element i of lane l at [i·kScanGroup + l]), `stride` a multiple of
+// kScanBlock (zero-padded). Lane l's q is summed in one order whatever the vector width: each
+// block's eight products in a fixed tree, the blocks in order. `out` holds the lanes
+// already excluded on entry and gets every lane whose q reached q_limit at the end of a block
+// (there one field's scan stopped and returned +∞); the loop stops once every lane is out. The
+// vectors go by reference (a vector returned by value can change the call ABI between builds).
+__attribute__((always_inline)) inline void calc_group_distances(const double* x, const double* c, const double* d,
+                                                                int stride, double q_limit, GroupLanes& q,
+                                                                GroupMask& out) {
+  q = GroupLanes{};
+  const GroupLanes limit = GroupLanes{} + q_limit;
+  for (int b = 0; b < stride; b += kScanBlock) {
+    GroupLanes part[kScanBlock];
+    for (int k = 0; k < kScanBlock; ++k) {
+      GroupLanes cv, dv;
+      std::memcpy(&cv, c + (b + k) * kScanGroup, sizeof cv);
+      std::memcpy(&dv, d + (b + k) * kScanGroup, sizeof dv);
+      const GroupLanes diff = x[b + k] - cv;
+      part[k] = dv * diff * diff;
+    }
+    q += ((part[0] + part[1]) + (part[2] + part[3])) + ((part[4] + part[5]) + (part[6] + part[7]));
+    out |= q >= limit;
+    if (all_lanes(out)) break;
+  }
 }
 
 // q = |M(x − c)|² for a full metric's upper triangular factor M stored row by row (row r holds
 // M_r,r … M_r,n−1: n(n+1)/2 doubles), or +∞ as soon as a row ends with q ≥ q_limit. Each row's
 // product is summed in ascending column order, as the field-wise calc_activation_within() does,
 // so both give the same bits. N > 0 fixes n at compile time (unrolled), N = 0 takes n_runtime;
-// `diff` is scratch for x − c (n).
+// c_k is at c[k·kScanGroup] (the group layout); `diff` is scratch for x − c (n).
 template <int N>
 inline double calc_full_distance(const double* x, const double* c, const double* m, int n_runtime, double q_limit,
                                  double* diff) {
   const int n = N > 0 ? N : n_runtime;
-  for (int k = 0; k < n; ++k) diff[k] = x[k] - c[k];
+  for (int k = 0; k < n; ++k) diff[k] = x[k] - c[k * kScanGroup];
   double q = 0.0;
   for (int r = 0; r < n; ++r) {
     double v = m[0] * diff[r];
@@ -101,38 +114,67 @@ LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
   shared_scan_ = !params_.update_D;
 }
 
-void LwprModel::append_to_scan(int output, const ReceptiveField& rf) {
-  ScanData& scan = scan_[output];
-  scan.centres.resize(scan.centres.size() + stride_);
-  copy_padded(rf.center.data(), n_in_, scan.centres.data() + scan.centres.size() - stride_, stride_);
-  scan.metrics.resize(scan.metrics.size() + metric_stride_);
-  write_scan_metric(rf, scan.metrics.data() + scan.metrics.size() - metric_stride_);
-  scan.trusted.push_back(rf.trustworthy ? 1 : 0);
+std::size_t LwprModel::calc_group_offset(std::size_t i) const {
+  return (i / kScanGroup) * static_cast<std::size_t>(stride_) * kScanGroup + i % kScanGroup;
 }
 
-void LwprModel::write_scan_metric(const ReceptiveField& rf, double* to) const {
+inline void LwprModel::write_scan_metric(int output, std::size_t i, const ReceptiveField& rf) {
+  ScanData& scan = scan_[output];
   if (diagonal_scan_) {
-    copy_padded(rf.metric.data(), n_in_, to, stride_);
+    double* to = scan.metrics.data() + calc_group_offset(i);
+    for (int k = 0; k < n_in_; ++k) to[k * kScanGroup] = rf.metric(k, 0);
     return;
   }
+  double* to = scan.metrics.data() + i * metric_stride_;
   const Eigen::MatrixXd& M = rf.metric_factor;
   for (int r = 0; r < n_in_; ++r) {
     for (int k = r; k < n_in_; ++k) *to++ = M(r, k);
   }
 }
 
-inline double LwprModel::calc_field_activation(int output, std::size_t i, const double* x_padded,
-                                               FieldScratch& scratch) const {
-  const ScanData& scan = scan_[output];
-  const double* centre = scan.centres.data() + i * stride_;
-  double q;
-  if (diagonal_scan_) {  // metric_stride_ = stride_
-    q = calc_diagonal_distance(x_padded, centre, scan.metrics.data() + i * stride_, stride_, q_limit_);
-    if (q >= q_limit_) return 0.0;
-    const double w = calc_kernel(params_.kernel, q);
-    return w <= params_.cutoff ? 0.0 : w;
+void LwprModel::append_to_scan(int output, const ReceptiveField& rf) {
+  ScanData& scan = scan_[output];
+  const std::size_t i = scan.trusted.size();
+  const std::size_t group_doubles = static_cast<std::size_t>(stride_) * kScanGroup;
+  if (i % kScanGroup == 0) {  // a new group, zero-filled: padding lanes and elements stay 0
+    scan.centres.resize(scan.centres.size() + group_doubles, 0.0);
+    if (diagonal_scan_) scan.metrics.resize(scan.metrics.size() + group_doubles, 0.0);
   }
-  const double* metric = scan.metrics.data() + i * metric_stride_;
+  if (!diagonal_scan_) scan.metrics.resize(scan.metrics.size() + metric_stride_);
+  scan.trusted.push_back(rf.trustworthy ? 1 : 0);
+  double* centre = scan.centres.data() + calc_group_offset(i);
+  for (int k = 0; k < n_in_; ++k) centre[k * kScanGroup] = rf.center(k);
+  write_scan_metric(output, i, rf);
+}
+
+void LwprModel::erase_from_scan(int output, std::size_t victim) {
+  ScanData& scan = scan_[output];
+  const std::size_t last = scan.trusted.size() - 1;
+  // The group layout: every later field moves down one lane, the last slot is cleared, and an
+  // emptied group is dropped.
+  auto shift_down = [&](std::vector<double>& data) {
+    for (std::size_t j = victim; j < last; ++j) {
+      const double* from = data.data() + calc_group_offset(j + 1);
+      double* to = data.data() + calc_group_offset(j);
+      for (int k = 0; k < stride_; ++k) to[k * kScanGroup] = from[k * kScanGroup];
+    }
+    double* cleared = data.data() + calc_group_offset(last);
+    for (int k = 0; k < stride_; ++k) cleared[k * kScanGroup] = 0.0;
+    if (last % kScanGroup == 0) data.resize(data.size() - static_cast<std::size_t>(stride_) * kScanGroup);
+  };
+  shift_down(scan.centres);
+  if (diagonal_scan_) {
+    shift_down(scan.metrics);
+  } else {
+    const auto block = static_cast<std::ptrdiff_t>(victim) * metric_stride_;
+    scan.metrics.erase(scan.metrics.begin() + block, scan.metrics.begin() + block + metric_stride_);
+  }
+  scan.trusted.erase(scan.trusted.begin() + static_cast<std::ptrdiff_t>(victim));
+}
+
+inline double LwprModel::calc_full_activation(const double* centre, const double* metric, const double* x_padded,
+                                              FieldScratch& scratch) const {
+  double q;
   if (n_in_ == 2) {
     q = calc_full_distance<2>(x_padded, centre, metric, 2, q_limit_, scratch.diff.data());
   } else if (n_in_ == 3) {
@@ -204,11 +246,46 @@ void LwprModel::scan_active_avx2(int output, const double* x_padded, bool truste
 inline void LwprModel::scan_active_loop(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
                                         std::vector<ActiveField>& active) const {
   active.clear();
-  const std::vector<unsigned char>& trusted = scan_[output].trusted;
-  for (std::size_t i = 0; i < trusted.size(); ++i) {
-    if (trusted_only && trusted[i] == 0) continue;
-    const double w = calc_field_activation(output, i, x_padded, scratch);
-    if (w > 0.0) active.push_back({i, w});
+  if (diagonal_scan_) {
+    scan_diagonal_groups(output, x_padded, trusted_only, active);
+    return;
+  }
+  const ScanData& scan = scan_[output];
+  const std::size_t count = scan.trusted.size();
+  for (std::size_t first = 0; first < count; first += kScanGroup) {  // field by field, a group's centres together
+    const double* group = scan.centres.data() + first * stride_;  // calc_group_offset(first)
+    const std::size_t lanes = std::min<std::size_t>(kScanGroup, count - first);
+    for (std::size_t l = 0; l < lanes; ++l) {
+      const std::size_t i = first + l;
+      if (trusted_only && scan.trusted[i] == 0) continue;
+      const double w = calc_full_activation(group + l, scan.metrics.data() + i * metric_stride_, x_padded, scratch);
+      if (w > 0.0) active.push_back({i, w});
+    }
+  }
+}
+
+inline void LwprModel::scan_diagonal_groups(int output, const double* x_padded, bool trusted_only,
+                                            std::vector<ActiveField>& active) const {
+  const ScanData& scan = scan_[output];
+  const std::size_t count = scan.trusted.size();
+  for (std::size_t first = 0; first < count; first += kScanGroup) {
+    GroupMask out = {};  // lanes past the last field, or untrusted ones when only trusted ones count
+    if (trusted_only || first + kScanGroup > count) {
+      for (int l = 0; l < kScanGroup; ++l) {
+        const std::size_t i = first + l;
+        out[l] = i >= count || (trusted_only && scan.trusted[i] == 0) ? -1 : 0;
+      }
+      if (all_lanes(out)) continue;
+    }
+    const std::size_t offset = first * stride_;  // calc_group_offset(first): first is a group's first field
+    GroupLanes q;
+    calc_group_distances(x_padded, scan.centres.data() + offset, scan.metrics.data() + offset, stride_, q_limit_, q,
+                         out);
+    for (int l = 0; l < kScanGroup; ++l) {
+      if (out[l] != 0) continue;
+      const double w = calc_kernel(params_.kernel, q[l]);
+      if (!(w <= params_.cutoff) && w > 0.0) active.push_back({first + l, w});
+    }
   }
 }
 
@@ -249,7 +326,7 @@ void LwprModel::update_output(int output, double y, const std::vector<ActiveFiel
       }
     }
     update_receptive_field(params_, trust_n_data_, x, y, w, rf, scratch_);
-    if (params_.update_D) write_scan_metric(rf, &scan.metrics[i * metric_stride_]);
+    if (params_.update_D) write_scan_metric(output, i, rf);
     scan.trusted[i] = rf.trustworthy ? 1 : 0;
   }
 
@@ -271,11 +348,7 @@ void LwprModel::update_output(int output, double y, const std::vector<ActiveFiel
   if (prune_b >= 0) {
     const int victim = calc_trace(fields[prune_a]) >= calc_trace(fields[prune_b]) ? prune_a : prune_b;
     fields.erase(fields.begin() + victim);
-    const auto block = static_cast<std::ptrdiff_t>(victim) * stride_;
-    scan.centres.erase(scan.centres.begin() + block, scan.centres.begin() + block + stride_);
-    const auto metric_block = static_cast<std::ptrdiff_t>(victim) * metric_stride_;
-    scan.metrics.erase(scan.metrics.begin() + metric_block, scan.metrics.begin() + metric_block + metric_stride_);
-    scan.trusted.erase(scan.trusted.begin() + victim);
+    erase_from_scan(output, static_cast<std::size_t>(victim));
   }
 }
 
@@ -290,23 +363,70 @@ std::unique_ptr<PredictionWorkspace> LwprModel::make_workspace() const {
 
 Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace) const {
   Prediction prediction;
-  predict_with(x, workspace, nullptr, prediction);
+  predict_with(x, workspace, nullptr, true, prediction);
   return prediction;
 }
 
 Prediction LwprModel::predict(const Eigen::VectorXd& x, PredictionWorkspace& workspace,
                               LwprPredictionDetail& detail) const {
   Prediction prediction;
-  predict_with(x, workspace, &detail, prediction);
+  predict_with(x, workspace, &detail, true, prediction);
   return prediction;
 }
 
 void LwprModel::predict_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const {
-  predict_with(x, workspace, nullptr, out);
+  predict_with(x, workspace, nullptr, true, out);
 }
 
+void LwprModel::predict_values_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const {
+  predict_with(x, workspace, nullptr, false, out);
+}
+
+namespace {
+
+// One output's prediction from its active fields: the weighted sums of the blend and the most
+// active field's prediction; the noise variances (and so the confidence) only `with_bounds`.
+struct OutputBlend {
+  double sum_w = 0.0, sum_wy = 0.0, sum_wyy = 0.0, sum_wvar = 0.0;
+  double w_best = 0.0, y_best = 0.0, var_best = 0.0;
+};
+
+OutputBlend blend_fields(const LwprParams& params, const std::vector<ReceptiveField>& fields,
+                         const std::vector<ActiveField>& active, const Eigen::VectorXd& xn, bool with_bounds,
+                         FieldScratch& scratch) {
+  OutputBlend b;
+  for (const ActiveField& a : active) {
+    const double w = a.w;
+    const ReceptiveField& rf = fields[a.index];
+    double y = 0.0, variance = 0.0;
+    if (with_bounds) {
+      double leverage = 0.0;
+      y = predict_receptive_field(rf, xn, leverage, scratch);
+      variance = calc_field_noise_variance(rf) * (1.0 + w * leverage);
+    } else {
+      y = predict_receptive_field_value(rf, xn, scratch);
+    }
+    if (params.blend) {
+      b.sum_w += w;
+      b.sum_wy += w * y;
+      if (with_bounds) {
+        b.sum_wyy += w * y * y;
+        b.sum_wvar += w * variance;
+      }
+    }
+    if (w > b.w_best) {
+      b.w_best = w;
+      b.y_best = y;
+      b.var_best = variance;
+    }
+  }
+  return b;
+}
+
+}  // namespace
+
 void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail,
-                             Prediction& prediction) const {
+                             bool with_bounds, Prediction& prediction) const {
   require_vector(x, n_in_, "x");
   auto* ws = dynamic_cast<LwprWorkspace*>(&workspace);
   if (ws == nullptr) throw std::invalid_argument("LWPR: predict() needs a workspace from make_workspace()");
@@ -316,7 +436,11 @@ void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& work
   std::copy(xn.data(), xn.data() + n_in_, ws->x_padded.begin());
 
   prediction.value.setZero(n_out_);  // no allocation when the sizes are already n_out
-  prediction.confidence.setConstant(n_out_, std::numeric_limits<double>::infinity());
+  if (with_bounds) {
+    prediction.confidence.setConstant(n_out_, std::numeric_limits<double>::infinity());
+  } else {
+    prediction.confidence.resize(0);
+  }
   prediction.trustworthy = true;
   prediction.output_trusted.assign(n_out_, false);
   if (detail != nullptr) {
@@ -326,44 +450,22 @@ void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& work
   double min_of_max = std::numeric_limits<double>::infinity();
 
   for (int o = 0; o < n_out_; ++o) {
-    double sum_w = 0.0, sum_wy = 0.0, sum_wyy = 0.0, sum_wvar = 0.0;
-    double w_best = 0.0, y_best = 0.0, var_best = 0.0;
     if (o == 0 || !shared_scan_) scan_active(o, ws->x_padded.data(), true, ws->scratch, ws->active);
-    for (const ActiveField& a : ws->active) {
-      const std::size_t i = a.index;
-      const double w = a.w;
-      const ReceptiveField& rf = fields_[o][i];
-      double leverage = 0.0;
-      const double y = predict_receptive_field(rf, xn, leverage, ws->scratch);
-      const double variance = calc_field_noise_variance(rf) * (1.0 + w * leverage);
-      if (params_.blend) {
-        sum_w += w;
-        sum_wy += w * y;
-        sum_wyy += w * y * y;
-        sum_wvar += w * variance;
-      }
-      if (w > w_best) {
-        w_best = w;
-        y_best = y;
-        var_best = variance;
-      }
-    }
-    if (detail != nullptr) detail->max_activation(o) = w_best;
-    min_of_max = std::min(min_of_max, w_best);
-    if (w_best <= 0.0) {
+    const OutputBlend b = blend_fields(params_, fields_[o], ws->active, xn, with_bounds, ws->scratch);
+    if (detail != nullptr) detail->max_activation(o) = b.w_best;
+    min_of_max = std::min(min_of_max, b.w_best);
+    if (b.w_best <= 0.0) {
       prediction.trustworthy = false;
       continue;
     }
     if (detail != nullptr) detail->trustworthy[o] = true;
     prediction.output_trusted[o] = true;
-    double mean = y_best;
-    double variance = var_best;
-    if (params_.blend) {
-      mean = sum_wy / sum_w;
-      // Mean of the fields' noise variances plus their disagreement about the mean.
-      variance = (sum_wvar + std::max(0.0, sum_wyy - sum_w * mean * mean)) / sum_w;
-    }
+    const double mean = params_.blend ? b.sum_wy / b.sum_w : b.y_best;
     prediction.value(o) = mean * norm_out_(o);
+    if (!with_bounds) continue;
+    // Blended: the mean of the fields' noise variances plus their disagreement about the mean.
+    const double variance =
+        params_.blend ? (b.sum_wvar + std::max(0.0, b.sum_wyy - b.sum_w * mean * mean)) / b.sum_w : b.var_best;
     prediction.confidence(o) = std::sqrt(std::max(0.0, variance)) * norm_out_(o);
   }
   prediction.max_activation = n_out_ > 0 ? min_of_max : 0.0;
@@ -388,8 +490,10 @@ std::size_t LwprModel::calc_memory_bytes() const {
       doubles += 5;  // lambda, beta0, sum_e2, press_E and the trust flag counted as a number
     }
   }
+  // The scan's numbers per field (a centre and a metric, padded to the scan stride), not the
+  // group layout's padding lanes: the metric stays the same whatever the layout.
   for (const ScanData& scan : scan_) {
-    doubles += scan.centres.size() + scan.metrics.size();
+    doubles += scan.trusted.size() * static_cast<std::size_t>(stride_ + metric_stride_);
     flags += scan.trusted.size();
   }
   return sizeof(double) * doubles + flags;

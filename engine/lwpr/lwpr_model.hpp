@@ -71,6 +71,10 @@ class LwprModel final : public Learner {
   /// predict() into `out`: no allocation once out's vectors have n_out elements.
   void predict_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const override;
 
+  /// predict_into() without confidence bounds (out.confidence empty): the same values, trust flags
+  /// and max_activation, bit for bit, without the fields' leverages and noise variances.
+  void predict_values_into(const Eigen::VectorXd& x, PredictionWorkspace& workspace, Prediction& out) const override;
+
   /// Receptive fields summed over outputs.
   std::size_t size() const override;
 
@@ -88,10 +92,11 @@ class LwprModel final : public Learner {
   // Updates output `output` with y (normalised) given the fields active at x (every field with
   // w > 0, in field order), creating and pruning as update() says.
   void update_output(int output, double y, const std::vector<ActiveField>& active);
-  // Every predict(): writes `prediction`; `detail` (may be null: then nothing of it is allocated)
-  // receives the per-output activations and trust flags.
+  // Every predict(): writes `prediction` (its confidence only `with_bounds`, else left empty);
+  // `detail` (may be null: then nothing of it is allocated) receives the per-output activations
+  // and trust flags.
   void predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail,
-                    Prediction& prediction) const;
+                    bool with_bounds, Prediction& prediction) const;
   // The fields of `output`'s scan active at x_padded (w > 0), in field order; only trustworthy
   // ones when `trusted_only`.
   void scan_active(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
@@ -104,21 +109,33 @@ class LwprModel final : public Learner {
                                                         FieldScratch& scratch, std::vector<ActiveField>& active) const;
   // Whether every output's scan data (centres, metrics, trust flags) are the same.
   bool calc_scans_identical() const;
-  // Appends field `i` of `output` to that output's scan data.
+  // Appends a field to `output`'s scan data (as its last field).
   void append_to_scan(int output, const ReceptiveField& rf);
-  // Writes the field's metric in the scan layout (metric_stride_ doubles) at `to`.
-  void write_scan_metric(const ReceptiveField& rf, double* to) const;
-  // The activation of field i of `output` at the normalised x, given as x_padded (zero-padded to
-  // stride_), 0 at or below the cutoff.
-  __attribute__((always_inline)) inline double calc_field_activation(int output, std::size_t i, const double* x_padded,
-                                                                     FieldScratch& scratch) const;
+  // Writes field i's metric into `output`'s scan data (group layout for a diagonal, the factor's
+  // upper triangle row by row for a full metric).
+  __attribute__((always_inline)) inline void write_scan_metric(int output, std::size_t i, const ReceptiveField& rf);
+  // Removes field `victim` from `output`'s scan data (later fields move down one place).
+  void erase_from_scan(int output, std::size_t victim);
+  // Where field i's element 0 is in the group layout (element k at + k·kScanGroup).
+  std::size_t calc_group_offset(std::size_t i) const;
+  // The activation of a field with a full metric (its centre in the group layout, its factor's
+  // upper triangle at `metric`) at the normalised x, given as x_padded (zero-padded to stride_),
+  // 0 at or below the cutoff.
+  __attribute__((always_inline)) inline double calc_full_activation(const double* centre, const double* metric,
+                                                                    const double* x_padded,
+                                                                    FieldScratch& scratch) const;
+  // The diagonal scan: kScanGroup fields at a time, one per vector lane.
+  __attribute__((always_inline)) inline void scan_diagonal_groups(int output, const double* x_padded, bool trusted_only,
+                                                                  std::vector<ActiveField>& active) const;
 
   // The activation scan's data of one output, in the order of fields_[o] and kept in step with it
-  // on every create, update and prune: the centres, one block of stride_ doubles per field,
-  // zero-padded; the metrics, one block of metric_stride_ doubles per field (a diagonal metric's
-  // diagonal zero-padded to stride_, or a full metric's factor M as its upper triangle row by row,
-  // n(n+1)/2); and the trust flags. Contiguous, so the scan over hundreds of fields streams through
-  // memory instead of chasing each field's heap blocks.
+  // on every create, update and prune. Centres (and diagonal metrics) in the group layout: groups
+  // of kScanGroup (4) fields, each group stride_ × kScanGroup doubles with element k of the
+  // group's field l at [k·kScanGroup + l], zero-padded (elements past n_in, lanes past the last
+  // field), so that one vector operation serves four fields. A full metric's factor M per field,
+  // its upper triangle row by row (metric_stride_ = n(n+1)/2 doubles). And the trust flags.
+  // Contiguous, so the scan over hundreds of fields streams through memory instead of chasing
+  // each field's heap blocks.
   struct ScanData {
     std::vector<double> centres;
     std::vector<double> metrics;

@@ -209,8 +209,9 @@ double calc_activation_within(const ReceptiveField& rf, Kernel kernel, const Eig
 namespace {
 
 // predict_receptive_field() on vectors V (Pair or Quad, as update_statistics below): one pass per
-// projection, projection r's deflation fused with projection r+1's dot product.
-template <class V>
+// projection, projection r's deflation fused with projection r+1's dot product. With Leverage
+// false the leverage is not computed (and not written); y is the same either way.
+template <class V, bool Leverage>
 __attribute__((always_inline)) inline double predict_field(const ReceptiveField& rf, const Eigen::VectorXd& x,
                                                            double& leverage, FieldScratch& scratch) {
   constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
@@ -245,11 +246,11 @@ __attribute__((always_inline)) inline double predict_field(const ReceptiveField&
   if (i + 2 < n) first_tail(2);
   double s = sum_lanes(part);
   double y = rf.beta0;
-  leverage = 0.0;
+  if (Leverage) leverage = 0.0;
   const int n_reg = rf.n_reg();
   for (int r = 0;; ++r) {
     y += rf.beta(r) * s;
-    leverage += s * s / rf.ss2(r);
+    if (Leverage) leverage += s * s / rf.ss2(r);
     if (r + 1 == n_reg) break;
     const double* p = rf.loadings.col(r).data();
     const double* u_next = rf.directions.col(r + 1).data();
@@ -279,12 +280,14 @@ __attribute__((always_inline)) inline double predict_field(const ReceptiveField&
   return y;
 }
 
+template <bool Leverage>
 double predict_field_sse2(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage, FieldScratch& scratch) {
-  return predict_field<Pair>(rf, x, leverage, scratch);
+  return predict_field<Pair, Leverage>(rf, x, leverage, scratch);
 }
+template <bool Leverage>
 __attribute__((target("avx2"))) double predict_field_avx2(const ReceptiveField& rf, const Eigen::VectorXd& x,
                                                           double& leverage, FieldScratch& scratch) {
-  return predict_field<Quad>(rf, x, leverage, scratch);
+  return predict_field<Quad, Leverage>(rf, x, leverage, scratch);
 }
 
 }  // namespace
@@ -292,8 +295,14 @@ __attribute__((target("avx2"))) double predict_field_avx2(const ReceptiveField& 
 double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage,
                                FieldScratch& scratch) {
   // Below kLanes inputs no block runs, and the two copies are the same scalar code.
-  if (scratch.use_avx2 && rf.input_dim() >= kLanes) return predict_field_avx2(rf, x, leverage, scratch);
-  return predict_field_sse2(rf, x, leverage, scratch);
+  if (scratch.use_avx2 && rf.input_dim() >= kLanes) return predict_field_avx2<true>(rf, x, leverage, scratch);
+  return predict_field_sse2<true>(rf, x, leverage, scratch);
+}
+
+double predict_receptive_field_value(const ReceptiveField& rf, const Eigen::VectorXd& x, FieldScratch& scratch) {
+  double unused = 0.0;
+  if (scratch.use_avx2 && rf.input_dim() >= kLanes) return predict_field_avx2<false>(rf, x, unused, scratch);
+  return predict_field_sse2<false>(rf, x, unused, scratch);
 }
 
 double calc_field_noise_variance(const ReceptiveField& rf) {
@@ -486,13 +495,19 @@ __attribute__((always_inline)) inline void update_statistics(const Eigen::Vector
 
 // update_statistics<0> (input dimensions above 3) for SSE2 and for AVX2: the same operations in
 // the same order on the same lanes, without FMA contraction (AVX2 alone does not enable FMA), so
-// the same bits; AVX2 does each block of kLanes in one instruction instead of two.
+// the same bits; AVX2 does each block of kLanes in one instruction instead of two. AVX2 also has
+// a copy for 21 inputs, the 7-DOF arm's (q, q̇, q̈): its loops unroll and its tails are resolved
+// at compile time (12 % fewer instructions per update at the reference point, 3 % less time).
 void update_statistics_sse2(const Eigen::VectorXd& x, double y, double w, ReceptiveField& rf, FieldScratch& scratch) {
   update_statistics<0, Pair>(x, y, w, rf, scratch);
 }
 __attribute__((target("avx2"))) void update_statistics_avx2(const Eigen::VectorXd& x, double y, double w,
                                                            ReceptiveField& rf, FieldScratch& scratch) {
-  update_statistics<0, Quad>(x, y, w, rf, scratch);
+  if (rf.input_dim() == 21) {
+    update_statistics<21, Quad>(x, y, w, rf, scratch);
+  } else {
+    update_statistics<0, Quad>(x, y, w, rf, scratch);
+  }
 }
 
 }  // namespace

@@ -106,6 +106,9 @@ double calc_activation_within(const ReceptiveField& rf, Kernel kernel, const Eig
 double predict_receptive_field(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage,
                                FieldScratch& scratch);
 
+/// predict_receptive_field() without the leverage: the same prediction, bit for bit.
+double predict_receptive_field_value(const ReceptiveField& rf, const Eigen::VectorXd& x, FieldScratch& scratch);
+
 /// The field's leave-one-out estimate of the output noise variance (normalised units²).
 double calc_field_noise_variance(const ReceptiveField& rf);
 

@@ -172,10 +172,10 @@ TestPredictions predict_test_rows(const Learner& learner, const FitData& data) {
   Eigen::VectorXd x(data.n_in);
   const auto start = std::chrono::steady_clock::now();
   const double cpu_start = thread_cpu_seconds();
-  Prediction p;  // one for all rows: predict_into reuses its vectors
+  Prediction p;  // one for all rows, its vectors reused; values only: the fit reads no confidence
   for (Eigen::Index i = 0; i < data.x_test.rows(); ++i) {
     x = data.x_test.row(i).transpose();
-    learner.predict_into(x, *workspace, p);
+    learner.predict_values_into(x, *workspace, p);
     out.values.row(i) = p.value.transpose();
     if (!p.trustworthy) ++out.untrusted;
   }

@@ -194,7 +194,7 @@ int main() {
                 "run this program again with LWPR_REF_FIT=OUT/ref_fit.\n");
   }
   std::printf("LWPR on the robot 21->7 stream (%s; nMSE mean over 7 outputs; us = thread CPU us per update and per\n"
-              "predict (the reference predicts without confidence bounds, armfarm with); ratio = armfarm/reference nMSE,\n"
+              "predict (both predict values without confidence bounds); ratio = armfarm/reference nMSE,\n"
               "speed-up = reference time / armfarm time)\n",
               data.c_str());
   std::printf("%-34s %10s %10s %6s %6s %6s %9s %9s %9s %9s %7s %7s\n", "point", "ref nMSE", "nMSE", "ratio", "refRF",

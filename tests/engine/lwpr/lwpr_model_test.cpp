@@ -378,6 +378,56 @@ TEST(LwprModel, PredictIntoMatchesPredictAndReusesTheVectors) {
   EXPECT_LT(untrusted, 100);
 }
 
+// predict_values_into() gives predict()'s values, trust flags and max_activation, bit for bit,
+// with an empty confidence, from a stale Prediction on, reusing its value vector; blended (n = 3,
+// the portable field prediction) and winner-take-all (n = 6, AVX2's where the CPU has it).
+TEST(LwprModel, PredictValuesIntoMatchesPredictWithoutTheBounds) {
+  for (const bool blend : {true, false}) {
+    const int n = blend ? 3 : 6;
+    LwprParams params;
+    params.init_D = Eigen::MatrixXd::Constant(1, 1, 6.0 / n * 3.0);
+    params.w_gen = 0.3;
+    params.blend = blend;
+    LwprModel model(n, 2, params);
+    std::mt19937_64 rng(43 + n);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    auto draw = [&] { return Eigen::VectorXd(Eigen::VectorXd::NullaryExpr(n, [&] { return uniform(rng); })); };
+    for (int i = 0; i < 2000; ++i) {
+      const Eigen::VectorXd x = draw();
+      model.update(x, Eigen::Vector2d(std::sin(2.0 * x(0)) + x(n - 1), x(0) * x(1)));
+    }
+    auto ws_a = model.make_workspace(), ws_b = model.make_workspace();
+    Prediction reused;
+    reused.value = Eigen::VectorXd::Constant(5, 7.0);
+    reused.confidence = Eigen::VectorXd::Constant(2, -1.0);
+    reused.output_trusted.assign(4, true);
+    reused.max_activation = 9.0;
+    const double* value_storage = nullptr;
+    int untrusted = 0, trusted_outputs = 0;
+    for (int i = 0; i < 300; ++i) {
+      Eigen::VectorXd x = draw();
+      if (i % 10 == 0) x(0) *= 40.0;  // far outside the data: no trustworthy field
+      const Prediction expected = model.predict(x, *ws_a);
+      model.predict_values_into(x, *ws_b, reused);
+      ASSERT_EQ(reused.value.size(), 2);
+      EXPECT_EQ(reused.confidence.size(), 0) << "sample " << i;
+      for (int o = 0; o < 2; ++o) {
+        EXPECT_EQ(std::memcmp(&expected.value(o), &reused.value(o), sizeof(double)), 0)
+            << "blend " << blend << ", sample " << i;
+        trusted_outputs += expected.output_trusted[o] ? 1 : 0;
+      }
+      EXPECT_EQ(expected.output_trusted, reused.output_trusted) << "sample " << i;
+      EXPECT_EQ(expected.trustworthy, reused.trustworthy) << "sample " << i;
+      EXPECT_EQ(std::memcmp(&expected.max_activation, &reused.max_activation, sizeof(double)), 0) << "sample " << i;
+      untrusted += expected.trustworthy ? 0 : 1;
+      if (i == 0) value_storage = reused.value.data();
+      EXPECT_EQ(reused.value.data(), value_storage) << "sample " << i << ": the value vector was reallocated";
+    }
+    EXPECT_GE(untrusted, 25) << "blend " << blend;  // the far points
+    EXPECT_GT(trusted_outputs, 400) << "blend " << blend;
+  }
+}
+
 // Without update_D the PRESS memory terms (press_E, press_H, press_R) and Σλw e² feed nothing: the
 // metric never moves, so the field update leaves them at 0, and a model restored with arbitrary
 // values there learns and predicts the same bits as one restored without. With update_D the same
@@ -519,6 +569,58 @@ void check_scan_data_follows_fields(bool diag_only) {
 
 TEST(LwprModel, ScanDataFollowsFieldsThroughUpdatesAndPruning) { check_scan_data_follows_fields(true); }
 TEST(LwprModel, ScanDataFollowsFullMetricFieldsThroughUpdatesAndPruning) { check_scan_data_follows_fields(false); }
+
+// The scan's group layout (four fields per vector, LwprModel::ScanData) after creates and prunes
+// that cross group boundaries must hold what appending the surviving fields afresh gives: a model
+// restored from the trained model's fields (its scan built by appends only) predicts the same
+// bits, with the same per-output largest activations, on both the portable and the AVX2 scan.
+void check_pruned_scan_matches_restored_model(bool diag_only, int n) {
+  std::mt19937_64 rng(static_cast<unsigned>(17 + n));
+  LwprParams params;
+  params.diag_only = diag_only;
+  params.update_D = true;
+  params.init_D = Eigen::MatrixXd::Constant(1, 1, 60.0 / n);  // narrow enough to create, wide enough to prune
+  params.w_prune = 0.2;
+  LwprModel model(n, 2, params);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  auto draw = [&] { return Eigen::VectorXd(Eigen::VectorXd::NullaryExpr(n, [&] { return uniform(rng); })); };
+  int prunes = 0, odd_sizes = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::VectorXd x = draw();
+    const std::size_t before = model.fields(0).size();
+    model.update(x, Eigen::Vector2d(std::sin(3.0 * x(0)) * x(n - 1), x(0) * x(0)));
+    prunes += model.fields(0).size() < before ? 1 : 0;
+    odd_sizes += model.fields(0).size() % 4 != 0 ? 1 : 0;
+  }
+  ASSERT_GT(prunes, 10) << "n = " << n;
+  ASSERT_GT(odd_sizes, 10) << "n = " << n;
+  const LwprModel restored(n, 2, params, {model.fields(0), model.fields(1)}, model.n_updates());
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !has_avx2()) continue;
+    auto wa = model.make_workspace(), wb = restored.make_workspace();
+    static_cast<LwprWorkspace&>(*wa).scratch.use_avx2 = avx2;
+    static_cast<LwprWorkspace&>(*wb).scratch.use_avx2 = avx2;
+    int trusted = 0;
+    for (int k = 0; k < 400; ++k) {
+      const Eigen::VectorXd x = draw();
+      LwprPredictionDetail da, db;
+      const Prediction a = model.predict(x, *wa, da);
+      const Prediction b = restored.predict(x, *wb, db);
+      for (int o = 0; o < 2; ++o) {
+        EXPECT_EQ(std::memcmp(&a.value(o), &b.value(o), sizeof(double)), 0) << "n = " << n << ", point " << k;
+        EXPECT_EQ(std::memcmp(&da.max_activation(o), &db.max_activation(o), sizeof(double)), 0) << "n = " << n;
+        trusted += da.trustworthy[o] ? 1 : 0;
+      }
+    }
+    EXPECT_GT(trusted, 400) << "n = " << n;
+  }
+}
+
+TEST(LwprModel, PrunedGroupScanMatchesARestoredModelBitForBit) {
+  check_pruned_scan_matches_restored_model(true, 3);
+  check_pruned_scan_matches_restored_model(true, 9);
+  check_pruned_scan_matches_restored_model(false, 2);
+}
 
 TEST(LwprModel, FlagsPredictionsWithoutTrustworthyFields) {
   LwprModel model(2, 2, cross_params(2));

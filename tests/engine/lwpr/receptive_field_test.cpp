@@ -265,7 +265,7 @@ TEST(ReceptiveField, Avx2FieldUpdateMatchesSse2BitForBit) {
 // The field update's PLS statistics, means and cached directions against a plain scalar loop written
 // here from the algorithm (Vijayakumar et al. 2005, table 2) with the summation order the field update
 // documents (element i in partial sum i mod 4, added as (p0 + p1) + (p2 + p3)): the same bits at every
-// remainder n mod 4, on both copies (SSE2 pairs, AVX2) and at the fixed sizes 2 and 3.
+// remainder n mod 4, on both copies (SSE2 pairs, AVX2) and at the fixed sizes 2, 3 and (AVX2) 21.
 TEST(ReceptiveField, FieldUpdateMatchesAPlainScalarLoopBitForBit) {
   struct Plain {  // the reference state: n inputs, R projections
     std::vector<double> mean_x, sxy, sxs, u, p, sum_w, ss2, sys, beta;
