@@ -311,9 +311,12 @@ std::string describe_empty_pool(const CellPool& pool, const ThesisMapping& mappi
   }
   if (pool.joint_missing == pool.done) return "the jobs move fewer than " + std::to_string(*mapping.active_joint) + " joints";
   if (pool.undefined > 0) {
-    return "undefined in " + std::to_string(pool.undefined) + " job(s)" + (pool.undefined_reason.empty() ? "" : ": " + pool.undefined_reason);
+    return "undefined in " + std::to_string(pool.undefined) + " job(s)" +
+           (pool.undefined_reason.empty() ? "" : ": " + pool.undefined_reason);
   }
-  if (mapping.checkpoint) return "no checkpoint " + format_table_number(*mapping.checkpoint) + " of " + *mapping.metric + " in the database";
+  if (mapping.checkpoint) {
+    return "no checkpoint " + format_table_number(*mapping.checkpoint) + " of " + *mapping.metric + " in the database";
+  }
   return "metric " + make_metric_label(MetricId{*mapping.metric, mapping.active_joint}) + " absent";
 }
 
