@@ -72,10 +72,6 @@ std::string make_metric_axis_label(const MetricInfoTable& info, const MetricId& 
   return unit.empty() || unit == "1" ? label : label + " (" + unit + ")";
 }
 
-namespace {
-
-// The element `text` (a configuration path, base/config_path.hpp) names in `config`, or nullptr
-// when it names none or does not parse.
 const nlohmann::json* find_config_value(const nlohmann::json& config, const std::string& text) {
   ConfigPath path;
   try {
@@ -97,6 +93,8 @@ const nlohmann::json* find_config_value(const nlohmann::json& config, const std:
   }
   return node;
 }
+
+namespace {
 
 // list_config_leaf_paths below `prefix`, into `paths`.
 void add_config_leaf_paths(const nlohmann::json& node, const ConfigPath& prefix, std::vector<ConfigPath>& paths) {

@@ -71,6 +71,10 @@ struct SweepData {
 /// by dotted path ("control.kp[1]"); null when the configuration has no such element.
 nlohmann::json find_param_value(const JobResult& job, const std::string& path);
 
+/// The element of `document` that `path` (a configuration path, base/config_path.hpp: keys and
+/// 0-based "[i]") names, or nullptr when it names none or does not parse.
+const nlohmann::json* find_config_value(const nlohmann::json& document, const std::string& path);
+
 /// The path of every element of `config` that is not an object (an array is one element: its
 /// items are not listed), in key order; none when `config` is not an object.
 std::vector<ConfigPath> list_config_leaf_paths(const nlohmann::json& config);

@@ -230,92 +230,125 @@ std::string find_differing_params(const SweepData& data, const std::vector<const
   return names;
 }
 
+// Marks a cell whose mapping names no sweep or no metric (unmapped, or armfarm has no metric);
+// false when the mapping names both.
+bool mark_unmapped(const ThesisMapping& mapping, ComparedCell& result) {
+  if (!mapping.sweep) {
+    result.state = CellState::unmapped;
+    result.reason = "no sweep mapped";
+  } else if (mapping.metric_given && !mapping.metric) {
+    result.state = CellState::no_metric;
+    result.reason = "armfarm has no metric for this cell";
+  } else if (!mapping.metric) {
+    result.state = CellState::unmapped;
+    result.reason = "no metric mapped";
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// The jobs of a sweep that a cell's mapping selects, counted by outcome, and the finite values
+// of its metric (with their jobs and seeds).
+struct CellPool {
+  int matching = 0, done = 0, failed = 0, unfinished = 0, joint_missing = 0, undefined = 0;
+  std::string undefined_reason;  ///< the first stored reason of an undefined value
+  std::vector<double> values;
+  std::vector<const JobResult*> jobs;      ///< the job of each value
+  std::map<std::int64_t, double> by_seed;  ///< the first value of each seed
+};
+
+// The metric id a done job holds the cell's value under; empty when the job moves fewer joints
+// than the cell's active_joint.
+std::optional<MetricId> find_cell_metric_id(const JobResult& job, const ThesisMapping& mapping) {
+  MetricId id{*mapping.metric, std::nullopt};
+  if (mapping.active_joint) {
+    id.joint = resolve_thesis_joint(job, *mapping.active_joint);
+    if (!id.joint) return std::nullopt;
+  }
+  if (mapping.checkpoint) id.checkpoint = static_cast<std::int64_t>(std::llround(*mapping.checkpoint));
+  return id;
+}
+
+CellPool pool_cell_jobs(const SweepData& sweep, const ThesisMapping& mapping) {
+  CellPool pool;
+  for (const JobResult& job : sweep.jobs) {
+    if (!matches_thesis_where(job, mapping)) continue;
+    ++pool.matching;
+    if (job.status != "done") {
+      (job.status == "pending" || job.status == "running" ? pool.unfinished : pool.failed) += 1;
+      continue;
+    }
+    ++pool.done;
+    const std::optional<MetricId> id = find_cell_metric_id(job, mapping);
+    if (!id) {
+      ++pool.joint_missing;
+      continue;
+    }
+    auto metric = job.metrics.find(*id);
+    if (metric == job.metrics.end()) continue;
+    if (std::isfinite(metric->second)) {
+      pool.values.push_back(metric->second);
+      pool.by_seed.emplace(job.seed, metric->second);
+      pool.jobs.push_back(&job);
+    } else {
+      ++pool.undefined;  // stored NULL: the metric is undefined for this job (its reason is in the store)
+      auto reason = job.reasons.find(*id);
+      if (reason != job.reasons.end() && pool.undefined_reason.empty()) pool.undefined_reason = reason->second;
+    }
+  }
+  return pool;
+}
+
+// Why a pool has no value: no matching job, none done, too few joints, undefined or absent metric.
+std::string describe_empty_pool(const CellPool& pool, const ThesisMapping& mapping) {
+  if (pool.matching == 0) {
+    const std::string filter = describe_where(mapping);
+    return "no job of " + *mapping.sweep + (filter.empty() ? "" : " with " + filter);
+  }
+  if (pool.done == 0) {
+    return "0 done, " + std::to_string(pool.failed) + " failed, " + std::to_string(pool.unfinished) + " unfinished";
+  }
+  if (pool.joint_missing == pool.done) return "the jobs move fewer than " + std::to_string(*mapping.active_joint) + " joints";
+  if (pool.undefined > 0) {
+    return "undefined in " + std::to_string(pool.undefined) + " job(s)" +
+           (pool.undefined_reason.empty() ? "" : ": " + pool.undefined_reason);
+  }
+  if (mapping.checkpoint) {
+    return "no checkpoint " + format_table_number(*mapping.checkpoint) + " of " + *mapping.metric + " in the database";
+  }
+  return "metric " + make_metric_label(MetricId{*mapping.metric, mapping.active_joint}) + " absent";
+}
+
+// Why a pool with values is not a set of repeats (its jobs differ in more than their seed, or
+// two share a seed); empty when it is.
+std::string find_pooling_problem(const SweepData& sweep, const CellPool& pool) {
+  const std::string differing = find_differing_params(sweep, pool.jobs);
+  if (!differing.empty()) return "the matching jobs differ in " + differing + ", not only in their seed; narrow the cell's where";
+  if (pool.by_seed.size() != pool.values.size()) return "two matching jobs share a seed";
+  return "";
+}
+
 ComparedCell compare_cell(const ThesisCell& cell, const std::map<std::string, SweepData>& sweeps, Aggregate aggregate) {
   ComparedCell result;
   result.thesis = &cell;
   const ThesisMapping& mapping = cell.mapping;
-  if (!mapping.sweep) {
-    result.state = CellState::unmapped;
-    result.reason = "no sweep mapped";
-    return result;
-  }
-  if (mapping.metric_given && !mapping.metric) {
-    result.state = CellState::no_metric;
-    result.reason = "armfarm has no metric for this cell";
-    return result;
-  }
-  if (!mapping.metric) {
-    result.state = CellState::unmapped;
-    result.reason = "no metric mapped";
-    return result;
-  }
+  if (mark_unmapped(mapping, result)) return result;
   auto sweep = sweeps.find(*mapping.sweep);
   if (sweep == sweeps.end()) {
     result.reason = "sweep " + *mapping.sweep + " absent";
     return result;
   }
-  int matching = 0, done = 0, failed = 0, unfinished = 0, joint_missing = 0, undefined = 0;
-  std::string undefined_reason;
-  std::vector<double> values;
-  std::vector<const JobResult*> pooled;
-  for (const JobResult& job : sweep->second.jobs) {
-    if (!matches_thesis_where(job, mapping)) continue;
-    ++matching;
-    if (job.status != "done") {
-      (job.status == "pending" || job.status == "running" ? unfinished : failed) += 1;
-      continue;
-    }
-    ++done;
-    MetricId id{*mapping.metric, std::nullopt};
-    if (mapping.active_joint) {
-      id.joint = resolve_thesis_joint(job, *mapping.active_joint);
-      if (!id.joint) {
-        ++joint_missing;
-        continue;
-      }
-    }
-    if (mapping.checkpoint) id.checkpoint = static_cast<std::int64_t>(std::llround(*mapping.checkpoint));
-    auto metric = job.metrics.find(id);
-    if (metric == job.metrics.end()) continue;
-    if (std::isfinite(metric->second)) {
-      values.push_back(metric->second);
-      result.by_seed.emplace(job.seed, metric->second);
-      pooled.push_back(&job);
-    } else {
-      ++undefined;  // stored NULL: the metric is undefined for this job (its reason is in the store)
-      auto reason = job.reasons.find(id);
-      if (reason != job.reasons.end() && undefined_reason.empty()) undefined_reason = reason->second;
-    }
-  }
-  const std::string filter = describe_where(mapping);
-  if (matching == 0) {
-    result.reason = "no job of " + *mapping.sweep + (filter.empty() ? "" : " with " + filter);
-  } else if (done == 0) {
-    result.reason = "0 done, " + std::to_string(failed) + " failed, " + std::to_string(unfinished) + " unfinished";
-  } else if (values.empty() && joint_missing == done) {
-    result.reason = "the jobs move fewer than " + std::to_string(*mapping.active_joint) + " joints";
-  } else if (values.empty() && undefined > 0) {
-    result.reason = "undefined in " + std::to_string(undefined) + " job(s)" + (undefined_reason.empty() ? "" : ": " + undefined_reason);
-  } else if (values.empty() && mapping.checkpoint) {
-    result.reason = "no checkpoint " + format_table_number(*mapping.checkpoint) + " of " + *mapping.metric + " in the database";
-  } else if (values.empty()) {
-    result.reason = "metric " + make_metric_label(MetricId{*mapping.metric, mapping.active_joint}) + " absent";
-  }
-  if (values.empty()) return result;
-  // Repeats only: the pooled jobs may differ in their seed and nothing else.
-  const std::string differing = find_differing_params(sweep->second, pooled);
-  if (!differing.empty()) {
-    result.by_seed.clear();
-    result.reason = "the matching jobs differ in " + differing + ", not only in their seed; narrow the cell's where";
+  CellPool pool = pool_cell_jobs(sweep->second, mapping);
+  if (pool.values.empty()) {
+    result.reason = describe_empty_pool(pool, mapping);
     return result;
   }
-  if (result.by_seed.size() != values.size()) {
-    result.by_seed.clear();
-    result.reason = "two matching jobs share a seed";
-    return result;
-  }
+  result.reason = find_pooling_problem(sweep->second, pool);  // repeats only: the jobs may differ in their seed alone
+  if (!result.reason.empty()) return result;
+  result.by_seed = std::move(pool.by_seed);
   result.state = CellState::compared;
-  result.armfarm = calc_summary_statistics(values);
+  result.armfarm = calc_summary_statistics(pool.values);
   result.armfarm_value = result.armfarm.value(aggregate);
   if (cell.value != 0.0) result.ratio = result.armfarm_value / cell.value;
   return result;
@@ -361,113 +394,247 @@ const char* to_string(CellState state) {
   return "unknown";
 }
 
-}  // namespace
-
-ThesisResults parse_thesis_results(const nlohmann::json& document, const std::string& path) {
-  const Reader reader(path);
-  if (!document.is_object()) reader.fail("(top level)", "expected an object with a 'tables' array");
+// The document's "tables", each id once.
+void parse_tables(const Reader& reader, const json& document, ThesisResults& results) {
   const json& tables = reader.member(document, "(top level)", "tables");
   if (!tables.is_array()) reader.fail("tables", "expected an array");
-  ThesisResults results;
-  results.path = path;
   std::set<std::string> ids;
   for (std::size_t i = 0; i < tables.size(); ++i) {
     const std::string where = "tables[" + std::to_string(i) + "]";
     results.tables.push_back(parse_table(reader, tables[i], where));
     if (!ids.insert(results.tables.back().id).second) reader.fail(where + ".id", "'" + results.tables.back().id + "' appears twice");
   }
-  if (auto figures = document.find("figures"); figures != document.end() && !figures->is_null()) {
-    if (!figures->is_array()) reader.fail("figures", "expected an array");
-    for (std::size_t i = 0; i < figures->size(); ++i) {
-      const std::string where = "figures[" + std::to_string(i) + "]";
-      const json& figure = (*figures)[i];
-      if (!figure.is_object()) reader.fail(where, "expected an object");
-      const std::string number = reader.string(figure, where, "number");
-      ThesisFigure drawn;
-      drawn.number = number;
-      drawn.caption = reader.string(figure, where, "caption");
-      drawn.page = reader.optional_positive_int(figure, where, "page");
-      if (auto facts = figure.find("facts"); facts != figure.end()) drawn.facts = *facts;
-      drawn.mapping = reader.mapping(figure, where);
-      results.figures.push_back(std::move(drawn));
-      if (auto mapping = figure.find("armfarm"); mapping != figure.end() && mapping->is_object()) {
-        if (auto sweep = mapping->find("sweep"); sweep != mapping->end() && sweep->is_string()) {
-          results.figure_sweeps[sweep->get<std::string>()].push_back(number);
-        }
-      }
-      auto fact_cells = figure.find("fact_cells");
-      if (fact_cells == figure.end() || fact_cells->is_null()) continue;
-      if (!fact_cells->is_array()) reader.fail(where + ".fact_cells", "expected an array");
-      ThesisTable table;
-      table.id = "fig" + number;
-      std::replace(table.id.begin(), table.id.end(), '.', '_');
-      table.caption = "Figure " + number + ": " + reader.string(figure, where, "caption") + " (stated facts)";
-      table.page = reader.optional_positive_int(figure, where, "page");
-      const ThesisMapping figure_mapping = reader.mapping(figure, where);
-      const json& facts = reader.member(figure, where, "facts");
-      for (std::size_t c = 0; c < fact_cells->size(); ++c) {
-        const std::string cell_where = where + ".fact_cells[" + std::to_string(c) + "]";
-        const json& node = (*fact_cells)[c];
-        if (!node.is_object()) reader.fail(cell_where, "expected an object {fact, label, armfarm}");
-        ThesisCell cell;
-        const std::string fact = reader.string(node, cell_where, "fact");
-        cell.row = reader.string(node, cell_where, "label");
-        cell.column = "fact";
-        const json* value = &facts;
-        for (std::size_t start = 0; start <= fact.size();) {
-          const std::size_t dot = std::min(fact.find('.', start), fact.size());
-          const std::string key = fact.substr(start, dot - start);
-          if (!value->is_object() || !value->contains(key)) reader.fail(cell_where + ".fact", "no fact '" + fact + "' in " + where + ".facts");
-          value = &(*value)[key];
-          start = dot + 1;
-        }
-        if (!value->is_number()) reader.fail(cell_where + ".fact", "'" + fact + "' is not a number");
-        cell.value = value->get<double>();
-        cell.printed = value->dump();
-        merge_into(cell.mapping, figure_mapping);
-        merge_into(cell.mapping, reader.mapping(node, cell_where));
-        table.cells.push_back(std::move(cell));
-      }
-      for (const ThesisTable& other : results.tables) {
-        if (other.id == table.id) reader.fail(where + ".number", "figure table '" + table.id + "' appears twice");
-      }
-      results.tables.push_back(std::move(table));
-    }
+}
+
+// A figure as the file states it (number, caption, page, facts, mapping).
+ThesisFigure parse_figure(const Reader& reader, const json& figure, const std::string& where) {
+  ThesisFigure drawn;
+  drawn.number = reader.string(figure, where, "number");
+  drawn.caption = reader.string(figure, where, "caption");
+  drawn.page = reader.optional_positive_int(figure, where, "page");
+  if (auto facts = figure.find("facts"); facts != figure.end()) drawn.facts = *facts;
+  drawn.mapping = reader.mapping(figure, where);
+  return drawn;
+}
+
+// The sweep a figure's mapping names, if it names one by a string.
+std::optional<std::string> find_figure_sweep(const json& figure) {
+  auto mapping = figure.find("armfarm");
+  if (mapping == figure.end() || !mapping->is_object()) return std::nullopt;
+  auto sweep = mapping->find("sweep");
+  if (sweep == mapping->end() || !sweep->is_string()) return std::nullopt;
+  return sweep->get<std::string>();
+}
+
+// One stated number of a figure: the `facts` element its "fact" (a path, base/config_path.hpp) names.
+// Its mapping is the figure's, then the cell's own.
+ThesisCell parse_fact_cell(const Reader& reader, const json& node, const std::string& cell_where, const json& facts,
+                           const std::string& facts_where, const ThesisMapping& figure_mapping) {
+  if (!node.is_object()) reader.fail(cell_where, "expected an object {fact, label, armfarm}");
+  ThesisCell cell;
+  const std::string fact = reader.string(node, cell_where, "fact");
+  cell.row = reader.string(node, cell_where, "label");
+  cell.column = "fact";
+  const json* value = find_config_value(facts, fact);
+  if (value == nullptr) reader.fail(cell_where + ".fact", "no fact '" + fact + "' in " + facts_where);
+  if (!value->is_number()) reader.fail(cell_where + ".fact", "'" + fact + "' is not a number");
+  cell.value = value->get<double>();
+  cell.printed = value->dump();
+  merge_into(cell.mapping, figure_mapping);
+  merge_into(cell.mapping, reader.mapping(node, cell_where));
+  return cell;
+}
+
+// A figure's `fact_cells` as a table (id "fig6_7", column "fact"), the figure's mapping under each cell's.
+ThesisTable parse_fact_table(const Reader& reader, const json& figure, const json& fact_cells, const std::string& where,
+                             const std::string& number) {
+  if (!fact_cells.is_array()) reader.fail(where + ".fact_cells", "expected an array");
+  ThesisTable table;
+  table.id = "fig" + number;
+  std::replace(table.id.begin(), table.id.end(), '.', '_');
+  table.caption = "Figure " + number + ": " + reader.string(figure, where, "caption") + " (stated facts)";
+  table.page = reader.optional_positive_int(figure, where, "page");
+  const ThesisMapping figure_mapping = reader.mapping(figure, where);
+  const json& facts = reader.member(figure, where, "facts");
+  for (std::size_t c = 0; c < fact_cells.size(); ++c) {
+    const std::string cell_where = where + ".fact_cells[" + std::to_string(c) + "]";
+    table.cells.push_back(parse_fact_cell(reader, fact_cells[c], cell_where, facts, where + ".facts", figure_mapping));
   }
+  return table;
+}
+
+// The document's "figures" (optional): each figure, the sweeps they name, and a table per figure
+// with fact cells (its id unique among the tables).
+void parse_figures(const Reader& reader, const json& document, ThesisResults& results) {
+  auto figures = document.find("figures");
+  if (figures == document.end() || figures->is_null()) return;
+  if (!figures->is_array()) reader.fail("figures", "expected an array");
+  for (std::size_t i = 0; i < figures->size(); ++i) {
+    const std::string where = "figures[" + std::to_string(i) + "]";
+    const json& figure = (*figures)[i];
+    if (!figure.is_object()) reader.fail(where, "expected an object");
+    results.figures.push_back(parse_figure(reader, figure, where));
+    const std::string& number = results.figures.back().number;
+    if (auto sweep = find_figure_sweep(figure)) results.figure_sweeps[*sweep].push_back(number);
+    auto fact_cells = figure.find("fact_cells");
+    if (fact_cells == figure.end() || fact_cells->is_null()) continue;
+    ThesisTable table = parse_fact_table(reader, figure, *fact_cells, where, number);
+    for (const ThesisTable& other : results.tables) {
+      if (other.id == table.id) reader.fail(where + ".number", "figure table '" + table.id + "' appears twice");
+    }
+    results.tables.push_back(std::move(table));
+  }
+}
+
+// The cell `key` ("greater" or "less") of a comparison names, with the thesis's value there.
+std::pair<ThesisCellRef, double> read_cell_ref(const Reader& reader, const ThesisResults& results, const json& node,
+                                               const std::string& where, const std::string& key) {
+  const std::string ref_where = where + "." + key;
+  const json& ref_node = reader.member(node, where, key);
+  if (!ref_node.is_object()) reader.fail(ref_where, "expected an object {table, row, column}");
+  ThesisCellRef ref{reader.string(ref_node, ref_where, "table"), reader.string(ref_node, ref_where, "row"),
+                    reader.string(ref_node, ref_where, "column")};
+  for (const ThesisTable& table : results.tables) {
+    if (table.id != ref.table) continue;
+    for (const ThesisCell& cell : table.cells) {
+      if (cell.row == ref.row && cell.column == ref.column) return {ref, cell.value};
+    }
+    reader.fail(ref_where, "table '" + ref.table + "' has no cell '" + ref.row + "' / '" + ref.column + "'");
+  }
+  reader.fail(ref_where + ".table", "no table '" + ref.table + "'");
+}
+
+// One comparison: `greater` above `less`, which the thesis's own values must agree with.
+ThesisClaim parse_comparison(const Reader& reader, const ThesisResults& results, const json& node, const std::string& where) {
+  if (!node.is_object()) reader.fail(where, "expected an object {claim, greater, less}");
+  ThesisClaim claim;
+  claim.claim = reader.string(node, where, "claim");
+  const auto [greater, greater_value] = read_cell_ref(reader, results, node, where, "greater");
+  const auto [less, less_value] = read_cell_ref(reader, results, node, where, "less");
+  if (!(greater_value > less_value)) {
+    reader.fail(where, "the thesis's own values (" + format_table_number(greater_value, 6) + " and " + format_table_number(less_value, 6) +
+                           ") do not have greater above less");
+  }
+  claim.greater = greater;
+  claim.less = less;
+  return claim;
+}
+
+// The document's "comparisons" (optional), over the tables and figure tables read before.
+void parse_comparisons(const Reader& reader, const json& document, ThesisResults& results) {
   auto comparisons = document.find("comparisons");
-  if (comparisons == document.end() || comparisons->is_null()) return results;
+  if (comparisons == document.end() || comparisons->is_null()) return;
   if (!comparisons->is_array()) reader.fail("comparisons", "expected an array");
   for (std::size_t i = 0; i < comparisons->size(); ++i) {
     const std::string where = "comparisons[" + std::to_string(i) + "]";
-    const json& node = (*comparisons)[i];
-    if (!node.is_object()) reader.fail(where, "expected an object {claim, greater, less}");
-    ThesisClaim claim;
-    claim.claim = reader.string(node, where, "claim");
-    auto read_ref = [&](const std::string& key) -> std::pair<ThesisCellRef, double> {
-      const std::string ref_where = where + "." + key;
-      const json& ref_node = reader.member(node, where, key);
-      if (!ref_node.is_object()) reader.fail(ref_where, "expected an object {table, row, column}");
-      ThesisCellRef ref{reader.string(ref_node, ref_where, "table"), reader.string(ref_node, ref_where, "row"),
-                        reader.string(ref_node, ref_where, "column")};
-      for (const ThesisTable& table : results.tables) {
-        if (table.id != ref.table) continue;
-        for (const ThesisCell& cell : table.cells) {
-          if (cell.row == ref.row && cell.column == ref.column) return {ref, cell.value};
-        }
-        reader.fail(ref_where, "table '" + ref.table + "' has no cell '" + ref.row + "' / '" + ref.column + "'");
-      }
-      reader.fail(ref_where + ".table", "no table '" + ref.table + "'");
-    };
-    const auto [greater, greater_value] = read_ref("greater");
-    const auto [less, less_value] = read_ref("less");
-    if (!(greater_value > less_value)) {
-      reader.fail(where, "the thesis's own values (" + format_table_number(greater_value, 6) + " and " + format_table_number(less_value, 6) +
-                             ") do not have greater above less");
-    }
-    claim.greater = greater;
-    claim.less = less;
-    results.comparisons.push_back(std::move(claim));
+    results.comparisons.push_back(parse_comparison(reader, results, (*comparisons)[i], where));
   }
+}
+
+json make_compared_cell_json(const ComparedCell& cell) {
+  json entry = {{"row", cell.thesis->row}, {"column", cell.thesis->column}, {"thesis", cell.thesis->value},
+                {"printed", cell.thesis->printed}, {"state", to_string(cell.state)}};
+  entry["armfarm"] = cell.state == CellState::compared ? json(cell.armfarm_value) : json(nullptr);
+  entry["ratio"] = cell.ratio ? json(*cell.ratio) : json(nullptr);
+  entry["n"] = cell.armfarm.count;
+  if (cell.state == CellState::compared) {
+    entry["mean"] = cell.armfarm.mean;
+    entry["std"] = cell.armfarm.std_dev;
+    entry["ci95"] = cell.armfarm.has_ci() ? json::array({cell.armfarm.ci_low, cell.armfarm.ci_high}) : json(nullptr);
+  }
+  entry["verdict"] = cell.verdict == Verdict::none ? json(nullptr) : json(to_string(cell.verdict));
+  if (!cell.verdict_note.empty()) entry["verdict_note"] = cell.verdict_note;
+  if (!cell.reason.empty()) entry["reason"] = cell.reason;
+  return entry;
+}
+
+// One array of tables, each with its cells (the note is not printed).
+std::string format_comparison_json(const ThesisComparison& comparison, Aggregate aggregate) {
+  json tables = json::array();
+  for (const ComparedTable& table : comparison.tables) {
+    json cells = json::array();
+    for (const ComparedCell& cell : table.cells) cells.push_back(make_compared_cell_json(cell));
+    tables.push_back({{"id", table.thesis->id},
+                      {"number", table.thesis->number ? json(*table.thesis->number) : json(nullptr)},
+                      {"caption", table.thesis->caption},
+                      {"page", table.thesis->page ? json(*table.thesis->page) : json(nullptr)},
+                      {"sweeps", table.sweeps},
+                      {"aggregate", to_string(aggregate)},
+                      {"cells", cells}});
+  }
+  return tables.dump(2) + "\n";
+}
+
+// One header, then a line per cell of every table (the note is not printed).
+std::string format_comparison_csv(const ThesisComparison& comparison) {
+  std::ostringstream out;
+  out << "table,row,column,thesis,armfarm,ci95_low,ci95_high,ratio,n,verdict,state,reason\n";
+  for (const ComparedTable& table : comparison.tables) {
+    for (const ComparedCell& cell : table.cells) {
+      const bool ci = cell.state == CellState::compared && cell.armfarm.has_ci();
+      out << csv_field(table.thesis->id) << "," << csv_field(cell.thesis->row) << "," << csv_field(cell.thesis->column) << ","
+          << cell.thesis->printed << ","
+          << (cell.state == CellState::compared ? format_table_number(cell.armfarm_value, 6) : "") << ","
+          << (ci ? format_table_number(cell.armfarm.ci_low, 6) : "") << "," << (ci ? format_table_number(cell.armfarm.ci_high, 6) : "") << ","
+          << (cell.ratio ? format_table_number(*cell.ratio, 6) : "") << "," << cell.armfarm.count << ","
+          << (cell.verdict == Verdict::none ? "" : to_string(cell.verdict)) << "," << to_string(cell.state) << ","
+          << csv_field(cell.reason) << "\n";
+    }
+  }
+  return out.str();
+}
+
+// "Verdicts over N cells: a matches, b same direction, …" over every table.
+std::string format_verdict_counts(const ThesisComparison& comparison) {
+  std::map<std::string, int> counts;
+  int cells = 0;
+  for (const ComparedTable& table : comparison.tables) {
+    for (const ComparedCell& cell : table.cells) {
+      ++cells;
+      ++counts[cell.verdict == Verdict::none ? "not compared" : to_string(cell.verdict)];
+    }
+  }
+  std::string text = "Verdicts over " + std::to_string(cells) + " cells:";
+  bool first = true;
+  for (const char* word : {"matches", "same direction", "differs", "one seed", "not compared"}) {
+    text += (first ? " " : ", ") + std::to_string(counts[word]) + " " + word;
+    first = false;
+  }
+  return text + "\n";
+}
+
+// The note, then per table its title, what armfarm pooled and a row per cell; the verdict counts last.
+std::string format_comparison_markdown(const ThesisComparison& comparison, Aggregate aggregate) {
+  std::ostringstream out;
+  if (!comparison.note.empty()) out << comparison.note << "\n\n";
+  for (const ComparedTable& table : comparison.tables) {
+    std::string sweeps;
+    for (const std::string& sweep : table.sweeps) sweeps += (sweeps.empty() ? "" : ", ") + sweep;
+    out << "### " << table_title(*table.thesis) << "\n\n"
+        << "armfarm: sweep " << (sweeps.empty() ? "(none mapped)" : sweeps) << ", " << to_string(aggregate)
+        << (aggregate == Aggregate::mean ? " [95 % Student-t interval] (n seeds)" : " (n seeds)")
+        << " over done jobs; verdicts by the rule of sweeps/thesis/README.md\n\n"
+        << "| row | column | thesis | armfarm | armfarm/thesis | verdict |\n|---|---|---|---|---|---|\n";
+    for (const ComparedCell& cell : table.cells) {
+      out << "| " << cell.thesis->row << " | " << cell.thesis->column << " | " << cell.thesis->printed << " | "
+          << format_armfarm(cell, aggregate) << " | " << format_compared_ratio(cell) << " | " << format_verdict(cell) << " |\n";
+    }
+    out << "\n";
+  }
+  out << format_verdict_counts(comparison);
+  return out.str();
+}
+
+}  // namespace
+
+ThesisResults parse_thesis_results(const nlohmann::json& document, const std::string& path) {
+  const Reader reader(path);
+  if (!document.is_object()) reader.fail("(top level)", "expected an object with a 'tables' array");
+  ThesisResults results;
+  results.path = path;
+  parse_tables(reader, document, results);
+  parse_figures(reader, document, results);
+  parse_comparisons(reader, document, results);
   return results;
 }
 
@@ -629,87 +796,10 @@ std::string format_compared_value(const ComparedCell& cell, Aggregate aggregate)
 std::string format_compared_ratio(const ComparedCell& cell) { return cell.ratio ? format_table_number(*cell.ratio) : "—"; }
 
 std::string format_thesis_comparison(const ThesisComparison& comparison, TableFormat format, Aggregate aggregate) {
-  std::ostringstream out;
   if (format == TableFormat::latex) throw AnalysisError("--against prints md, csv or json, not latex");
-  if (!comparison.note.empty() && format == TableFormat::markdown) out << comparison.note << "\n\n";
-  if (format == TableFormat::json) {
-    json tables = json::array();
-    for (const ComparedTable& table : comparison.tables) {
-      json cells = json::array();
-      for (const ComparedCell& cell : table.cells) {
-        json entry = {{"row", cell.thesis->row}, {"column", cell.thesis->column}, {"thesis", cell.thesis->value},
-                      {"printed", cell.thesis->printed}, {"state", to_string(cell.state)}};
-        entry["armfarm"] = cell.state == CellState::compared ? json(cell.armfarm_value) : json(nullptr);
-        entry["ratio"] = cell.ratio ? json(*cell.ratio) : json(nullptr);
-        entry["n"] = cell.armfarm.count;
-        if (cell.state == CellState::compared) {
-          entry["mean"] = cell.armfarm.mean;
-          entry["std"] = cell.armfarm.std_dev;
-          entry["ci95"] = cell.armfarm.has_ci() ? json::array({cell.armfarm.ci_low, cell.armfarm.ci_high}) : json(nullptr);
-        }
-        entry["verdict"] = cell.verdict == Verdict::none ? json(nullptr) : json(to_string(cell.verdict));
-        if (!cell.verdict_note.empty()) entry["verdict_note"] = cell.verdict_note;
-        if (!cell.reason.empty()) entry["reason"] = cell.reason;
-        cells.push_back(entry);
-      }
-      tables.push_back({{"id", table.thesis->id},
-                        {"number", table.thesis->number ? json(*table.thesis->number) : json(nullptr)},
-                        {"caption", table.thesis->caption},
-                        {"page", table.thesis->page ? json(*table.thesis->page) : json(nullptr)},
-                        {"sweeps", table.sweeps},
-                        {"aggregate", to_string(aggregate)},
-                        {"cells", cells}});
-    }
-    out << tables.dump(2) << "\n";
-    return out.str();
-  }
-  if (format == TableFormat::csv) out << "table,row,column,thesis,armfarm,ci95_low,ci95_high,ratio,n,verdict,state,reason\n";
-  for (const ComparedTable& table : comparison.tables) {
-    std::string sweeps;
-    for (const std::string& sweep : table.sweeps) sweeps += (sweeps.empty() ? "" : ", ") + sweep;
-    if (format == TableFormat::markdown) {
-      out << "### " << table_title(*table.thesis) << "\n\n"
-          << "armfarm: sweep " << (sweeps.empty() ? "(none mapped)" : sweeps) << ", " << to_string(aggregate)
-          << (aggregate == Aggregate::mean ? " [95 % Student-t interval] (n seeds)" : " (n seeds)")
-          << " over done jobs; verdicts by the rule of sweeps/thesis/README.md\n\n"
-          << "| row | column | thesis | armfarm | armfarm/thesis | verdict |\n|---|---|---|---|---|---|\n";
-    }
-    for (const ComparedCell& cell : table.cells) {
-      const std::string ratio = format_compared_ratio(cell);
-      if (format == TableFormat::markdown) {
-        out << "| " << cell.thesis->row << " | " << cell.thesis->column << " | " << cell.thesis->printed << " | "
-            << format_armfarm(cell, aggregate) << " | " << ratio << " | " << format_verdict(cell) << " |\n";
-      } else {
-        const bool ci = cell.state == CellState::compared && cell.armfarm.has_ci();
-        out << csv_field(table.thesis->id) << "," << csv_field(cell.thesis->row) << "," << csv_field(cell.thesis->column) << ","
-            << cell.thesis->printed << ","
-            << (cell.state == CellState::compared ? format_table_number(cell.armfarm_value, 6) : "") << ","
-            << (ci ? format_table_number(cell.armfarm.ci_low, 6) : "") << "," << (ci ? format_table_number(cell.armfarm.ci_high, 6) : "") << ","
-            << (cell.ratio ? format_table_number(*cell.ratio, 6) : "") << "," << cell.armfarm.count << ","
-            << (cell.verdict == Verdict::none ? "" : to_string(cell.verdict)) << "," << to_string(cell.state) << ","
-            << csv_field(cell.reason) << "\n";
-      }
-    }
-    if (format == TableFormat::markdown) out << "\n";
-  }
-  if (format == TableFormat::markdown) {
-    std::map<std::string, int> counts;
-    int cells = 0;
-    for (const ComparedTable& table : comparison.tables) {
-      for (const ComparedCell& cell : table.cells) {
-        ++cells;
-        ++counts[cell.verdict == Verdict::none ? "not compared" : to_string(cell.verdict)];
-      }
-    }
-    out << "Verdicts over " << cells << " cells:";
-    bool first = true;
-    for (const char* word : {"matches", "same direction", "differs", "one seed", "not compared"}) {
-      out << (first ? " " : ", ") << counts[word] << " " << word;
-      first = false;
-    }
-    out << "\n";
-  }
-  return out.str();
+  if (format == TableFormat::json) return format_comparison_json(comparison, aggregate);
+  if (format == TableFormat::markdown) return format_comparison_markdown(comparison, aggregate);
+  return format_comparison_csv(comparison);
 }
 
 }  // namespace armfarm

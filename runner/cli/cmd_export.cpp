@@ -63,6 +63,94 @@ int write_job_series(const ResultsStore& store, const ExportOptions& options, st
   return 0;
 }
 
+// Refuses option combinations CLI11 cannot express; 0, or 2 after a one-line error.
+int check_export_options(const ExportOptions& options) {
+  if (options.job.empty() && options.sweep.empty() && !options.metrics) {
+    std::cerr << "armfarm: export: give --job KEY --series NAME, --sweep NAME or --metrics\n";
+    return 2;
+  }
+  if (options.metrics && !options.series.empty()) {
+    std::cerr << "armfarm: export: --metrics writes scalar metrics; --series is for the recorded series\n";
+    return 2;
+  }
+  if (!options.job.empty() && options.series.size() != 1) {
+    std::cerr << "armfarm: export: --job needs exactly one --series\n";
+    return 2;
+  }
+  return 0;
+}
+
+// Writes a sweep's scalar metrics (the only sweep when none is named) and its counts to stderr.
+void write_metrics(const ResultsStore& store, const ExportOptions& options, std::ostream& out) {
+  const std::string name = choose_sweep(store, options.sweep.empty() ? std::nullopt : std::optional<std::string>(options.sweep));
+  const MetricExportCounts counts = write_sweep_metrics_csv(store, name, out);
+  std::cerr << "sweep " << name << ": " << counts.rows << " metric rows from " << counts.jobs << " jobs"
+            << (counts.jobs_without_metrics ? " (" + std::to_string(counts.jobs_without_metrics) + " jobs without metrics)" : "")
+            << "\n";
+}
+
+// Writes a sweep's series as one long-form table and its counts to stderr.
+void write_sweep_series(const ResultsStore& store, const ExportOptions& options, std::ostream& out) {
+  const std::string name = choose_sweep(store, options.sweep);
+  const SweepExportCounts counts = write_sweep_long_csv(store, name, options.series, out);
+  std::cerr << "sweep " << name << ": " << counts.rows << " rows from " << counts.jobs << " done jobs"
+            << (counts.jobs_skipped ? " (" + std::to_string(counts.jobs_skipped) + " jobs not done, left out)" : "") << "\n";
+}
+
+// Writes what the options ask for and checks the stream; 0, or 2 after a one-line error.
+int write_export(const ResultsStore& store, const ExportOptions& options, std::ostream& out) {
+  int status = 0;
+  try {
+    if (!options.job.empty()) {
+      status = write_job_series(store, options, out);
+    } else if (options.metrics) {
+      write_metrics(store, options, out);
+    } else {
+      write_sweep_series(store, options, out);
+    }
+  } catch (const std::exception& e) {  // a bad name, or no such sweep: no file is left behind
+    std::cerr << "armfarm: " << options.db << ": " << e.what() << "\n";
+    status = 2;
+  }
+  out.flush();
+  if (status == 0 && !out) {
+    std::cerr << "armfarm: " << (options.output.empty() ? "standard output" : options.output) << ": cannot write the CSV\n";
+    status = 2;
+  }
+  return status;
+}
+
+// Gives the complete file its name, or removes the partial one after a failure; the final status.
+int finish_output_file(std::ofstream& file, const std::string& temporary, const std::string& output, int status) {
+  file.close();
+  std::error_code error;
+  if (status == 0) {
+    std::filesystem::rename(temporary, output, error);
+    if (error) {
+      std::cerr << "armfarm: " << output << ": cannot write: " << error.message() << "\n";
+      status = 2;
+    }
+  }
+  if (status != 0) std::filesystem::remove(temporary, error);
+  return status;
+}
+
+// The export: to standard output, or to OUTPUT.partial renamed to OUTPUT once complete.
+int run_export(const ExportOptions& options) {
+  if (const int refused = check_export_options(options)) return refused;
+  const ResultsStore store = ResultsStore::open(options.db, ResultsStore::Mode::read_only);
+  verify_readable(store);  // damaged rows and series are an error, not a quiet export
+  if (options.output.empty()) return write_export(store, options, std::cout);
+  const std::string temporary = options.output + ".partial";
+  std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
+  if (!file) {
+    std::cerr << "armfarm: " << options.output << ": cannot write\n";
+    return 2;
+  }
+  const int status = write_export(store, options, file);
+  return finish_output_file(file, temporary, options.output, status);
+}
+
 }  // namespace
 
 RunFunction setup_export(CLI::App& parent) {
@@ -87,75 +175,7 @@ RunFunction setup_export(CLI::App& parent) {
       ->check(CLI::IsMember({"csv"}))
       ->capture_default_str();
   app->add_option("-o,--output", options->output, "Output file, written complete or not at all (default: standard output)");
-
-  return [options] {
-    if (options->job.empty() && options->sweep.empty() && !options->metrics) {
-      std::cerr << "armfarm: export: give --job KEY --series NAME, --sweep NAME or --metrics\n";
-      return 2;
-    }
-    if (options->metrics && !options->series.empty()) {
-      std::cerr << "armfarm: export: --metrics writes scalar metrics; --series is for the recorded series\n";
-      return 2;
-    }
-    if (!options->job.empty() && options->series.size() != 1) {
-      std::cerr << "armfarm: export: --job needs exactly one --series\n";
-      return 2;
-    }
-    const ResultsStore store = ResultsStore::open(options->db, ResultsStore::Mode::read_only);
-    verify_readable(store);  // damaged rows and series are an error, not a quiet export
-    const std::string temporary = options->output.empty() ? "" : options->output + ".partial";
-    std::ofstream file;
-    if (!options->output.empty()) {
-      file.open(temporary, std::ios::binary | std::ios::trunc);
-      if (!file) {
-        std::cerr << "armfarm: " << options->output << ": cannot write\n";
-        return 2;
-      }
-    }
-    std::ostream& out = options->output.empty() ? std::cout : file;
-    int status = 0;
-    try {
-      if (!options->job.empty()) {
-        status = write_job_series(store, *options, out);
-      } else if (options->metrics) {
-        const std::string name =
-            choose_sweep(store, options->sweep.empty() ? std::nullopt : std::optional<std::string>(options->sweep));
-        const MetricExportCounts counts = write_sweep_metrics_csv(store, name, out);
-        std::cerr << "sweep " << name << ": " << counts.rows << " metric rows from " << counts.jobs << " jobs"
-                  << (counts.jobs_without_metrics
-                          ? " (" + std::to_string(counts.jobs_without_metrics) + " jobs without metrics)"
-                          : "")
-                  << "\n";
-      } else {
-        const std::string name = choose_sweep(store, options->sweep);
-        const SweepExportCounts counts = write_sweep_long_csv(store, name, options->series, out);
-        std::cerr << "sweep " << name << ": " << counts.rows << " rows from " << counts.jobs << " done jobs"
-                  << (counts.jobs_skipped ? " (" + std::to_string(counts.jobs_skipped) + " jobs not done, left out)" : "")
-                  << "\n";
-      }
-    } catch (const std::exception& e) {  // a bad name, or no such sweep: no file is left behind
-      std::cerr << "armfarm: " << options->db << ": " << e.what() << "\n";
-      status = 2;
-    }
-    out.flush();
-    if (status == 0 && !out) {
-      std::cerr << "armfarm: " << (options->output.empty() ? "standard output" : options->output) << ": cannot write the CSV\n";
-      status = 2;
-    }
-    if (!options->output.empty()) {
-      file.close();
-      std::error_code error;
-      if (status == 0) {
-        std::filesystem::rename(temporary, options->output, error);
-        if (error) {
-          std::cerr << "armfarm: " << options->output << ": cannot write: " << error.message() << "\n";
-          status = 2;
-        }
-      }
-      if (status != 0) std::filesystem::remove(temporary, error);
-    }
-    return status;
-  };
+  return [options] { return run_export(*options); };
 }
 
 }  // namespace armfarm::cli

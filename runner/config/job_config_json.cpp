@@ -130,6 +130,21 @@ void check_recorded_hash(const std::string& path, const std::string& bytes, cons
   if (now != hash) throw std::runtime_error(make_input_changed_text(path, hash, now));
 }
 
+// Records that `recorded`'s samples and lines (of content `hash`) are lent to the configuration
+// being parsed: nothing is held until they come back.
+void lend_recorded(JobFileContents& contents, const std::string& hash, const RecordedTrajectoryConfig& recorded) {
+  contents.recorded_hash.clear();
+  contents.recorded_samples = Eigen::MatrixXd();
+  contents.recorded_lines = std::vector<int>();
+  contents.lent_recorded = {hash, recorded.samples.data()};
+}
+
+void lend_model(JobFileContents& contents, const std::string& hash, const std::string& bytes) {
+  contents.model_hash.clear();
+  contents.model_bytes = std::string();
+  contents.lent_model = {hash, bytes.data()};
+}
+
 // parse_job_config with each key's value found by `lookup(key, path)` (nullptr: the default).
 // `recorded`: the recorded configuration, whose input hashes every file read is checked
 // against; `contents`: a cache of those files keyed by their hashes (nullptr: read every file).
@@ -137,6 +152,10 @@ template <typename Lookup>
 ValidJobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
                      const std::function<std::string(const std::string& hash)>& stored_model_bytes,
                      const json* recorded_config = nullptr, JobFileContents* contents = nullptr) {
+  if (contents) {  // what an earlier call lent and was not returned is not taken back
+    contents->lent_recorded = {};
+    contents->lent_model = {};
+  }
   JobConfig config;
   const std::vector<JobConfigKey>& keys = job_config_keys();
   for (std::size_t i = 0; i < keys.size(); ++i) {
@@ -153,20 +172,16 @@ ValidJobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
     const std::string hash = recorded_config ? find_recorded_input_hash(*recorded_config, "trajectory.recorded.file") : "";
     try {
       if (contents && !hash.empty() && hash == contents->recorded_hash) {
-        recorded.samples = contents->recorded_samples;
-        recorded.sample_lines = contents->recorded_lines;
+        recorded.samples.swap(contents->recorded_samples);  // lent, until return_job_file_contents
+        recorded.sample_lines.swap(contents->recorded_lines);
       } else {
         const std::string bytes = read_input_file(recorded.file, InputFileKind::table);
         check_recorded_hash(recorded.file, bytes, hash);
         io::CsvTable table = io::parse_csv(bytes, recorded.file);
         recorded.samples = std::move(table.values);
         recorded.sample_lines = std::move(table.lines);
-        if (contents && !hash.empty()) {
-          contents->recorded_hash = hash;
-          contents->recorded_samples = recorded.samples;
-          contents->recorded_lines = recorded.sample_lines;
-        }
       }
+      if (contents && !hash.empty()) lend_recorded(*contents, hash, recorded);
     } catch (const std::exception& error) {
       throw ConfigError("trajectory.recorded.file", error.what());
     }
@@ -181,15 +196,12 @@ ValidJobConfig parse_with(const Lookup& lookup, const ModelFacts& facts,
       } else {
         const std::string hash = recorded_config ? find_recorded_input_hash(*recorded_config, "learning.initial_model") : "";
         if (contents && !hash.empty() && hash == contents->model_hash) {
-          config.learning.initial_model_bytes = contents->model_bytes;
+          config.learning.initial_model_bytes.swap(contents->model_bytes);  // lent, until return_job_file_contents
         } else {
           config.learning.initial_model_bytes = read_input_file(initial, InputFileKind::learner_model);
           check_recorded_hash(initial, config.learning.initial_model_bytes, hash);
-          if (contents && !hash.empty()) {
-            contents->model_hash = hash;
-            contents->model_bytes = config.learning.initial_model_bytes;
-          }
         }
+        if (contents && !hash.empty()) lend_model(*contents, hash, config.learning.initial_model_bytes);
       }
     } catch (const std::exception& error) {
       throw ConfigError("learning.initial_model", error.what());
@@ -226,6 +238,24 @@ ValidJobConfig parse_recorded_job_config(const nlohmann::json& recorded, const M
         return finder.find(path);
       },
       facts, stored_model_bytes, &recorded, contents);
+}
+
+void return_job_file_contents(ValidJobConfig&& valid, JobFileContents& contents) {
+  // `valid` is given up (an rvalue the caller no longer reads), so its file fields may be moved out.
+  JobConfig& config = const_cast<JobConfig&>(valid.get());
+  RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
+  if (!contents.lent_recorded.hash.empty() && contents.lent_recorded.storage == recorded.samples.data()) {
+    contents.recorded_hash = std::move(contents.lent_recorded.hash);
+    contents.recorded_samples.swap(recorded.samples);
+    contents.recorded_lines.swap(recorded.sample_lines);
+  }
+  contents.lent_recorded = {};
+  std::string& bytes = config.learning.initial_model_bytes;
+  if (!contents.lent_model.hash.empty() && contents.lent_model.storage == bytes.data()) {
+    contents.model_hash = std::move(contents.lent_model.hash);
+    contents.model_bytes.swap(bytes);
+  }
+  contents.lent_model = {};
 }
 
 }  // namespace armfarm

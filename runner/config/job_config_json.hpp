@@ -58,16 +58,35 @@ ValidJobConfig parse_job_config(const nlohmann::json& config, const ModelFacts& 
 /// from), the last one of each kind kept by the content hash its configuration records: the jobs
 /// of a sweep mostly name the same files, which are then read and parsed once for the sweep's
 /// check instead of once a job. Holds at most one file of each kind; not thread-safe.
+///
+/// The contents are lent, not copied: parse_recorded_job_config moves a kept file's contents
+/// into the configuration it returns (a sweep's recorded samples were copied once a job), and
+/// return_job_file_contents moves them back once the caller is done with that configuration.
+/// While lent, nothing is kept: a check that throws, or a configuration never returned, leaves
+/// the next job to read the file again.
 struct JobFileContents {
-  std::string recorded_hash;
+  std::string recorded_hash;  ///< of the samples and lines held; "" = none held
   Eigen::MatrixXd recorded_samples;
   std::vector<int> recorded_lines;
-  std::string model_hash;
+  std::string model_hash;  ///< of the model bytes held; "" = none held
   std::string model_bytes;
+  /// The file lent to the last configuration returned: its hash and where its storage is, so
+  /// that only that configuration's contents are taken back.
+  struct Lent {
+    std::string hash;
+    const void* storage = nullptr;
+  };
+  Lent lent_recorded;
+  Lent lent_model;
 };
 
 ValidJobConfig parse_recorded_job_config(const nlohmann::json& recorded, const ModelFacts& facts,
                                     const std::function<std::string(const std::string& hash)>& stored_model_bytes = {},
                                     JobFileContents* contents = nullptr);
+
+/// Takes back into `contents` the file contents that the last parse_recorded_job_config with
+/// `contents` lent to `valid` (nothing when `valid` is another configuration). `valid` is given
+/// up: its recorded samples, lines and initial model bytes are left empty.
+void return_job_file_contents(ValidJobConfig&& valid, JobFileContents& contents);
 
 }  // namespace armfarm

@@ -105,7 +105,7 @@ struct SweepCheckShare {
 std::shared_ptr<const CheckedExperimentJob> check_config(const nlohmann::json& recorded, JobModels& models,
                                                          const std::shared_ptr<StoredModels>& stored, SweepCheckShare* share) {
   const std::string path = find_model_path(recorded);
-  const ValidJobConfig job =
+  ValidJobConfig job =
       parse_recorded_job_config(recorded, *models.get_facts(path), make_stored_model_reader(stored), share ? &share->contents : nullptr);
   models.get(path, job);
   std::shared_ptr<const std::string> model_path = share && share->model_path && *share->model_path == path
@@ -115,6 +115,7 @@ std::shared_ptr<const CheckedExperimentJob> check_config(const nlohmann::json& r
   if (share) {
     share->model_path = model_path;
     share->files = packed.files();
+    return_job_file_contents(std::move(job), share->contents);  // packed: the next job borrows them
   }
   return std::make_shared<const CheckedExperimentJob>(std::move(packed), std::move(model_path));
 }

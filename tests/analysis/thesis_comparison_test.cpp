@@ -422,6 +422,30 @@ TEST(ThesisResults, MalformedFilesNameTheJsonPath) {
             ": tables[0]: missing key 'page'");
 }
 
+
+// A figure's "fact" is a path into its `facts` read by the one path parser (base/config_path.hpp,
+// through find_config_value): keys by '.', array elements by 0-based "[i]"; a path that names
+// nothing, or does not parse, is "no fact".
+TEST(ThesisResults, AFactIsAPathIntoTheFiguresFacts) {
+  auto figure_with_fact = [](const std::string& fact) {
+    return R"({"tables": [], "figures": [{"number": "6.7", "caption": "c", "page": null,
+      "facts": {"fields": {"200": 173}, "box": {"x": [20, 70]}, "source": "text"},
+      "fact_cells": [{"fact": ")" + fact + R"(", "label": "L"}]}]})";
+  };
+  testing::TemporaryDirectory dir;
+  const std::string path = dir.file("thesis.json");
+  std::ofstream(path) << figure_with_fact("fields.200");
+  EXPECT_EQ(load_thesis_results(path).tables.at(0).cells.at(0).value, 173);
+  std::ofstream(path) << figure_with_fact("box.x[1]");
+  const ThesisResults element = load_thesis_results(path);
+  EXPECT_EQ(element.tables.at(0).id, "fig6_7");
+  EXPECT_EQ(element.tables.at(0).cells.at(0).value, 70);
+  EXPECT_EQ(element.tables.at(0).cells.at(0).printed, "70");
+  for (const std::string fact : {"fields.201", "box.x[2]", "fields..200", "", "box[0]"}) {
+    EXPECT_EQ(error_of(figure_with_fact(fact)), ": figures[0].fact_cells[0].fact: no fact '" + fact + "' in figures[0].facts") << fact;
+  }
+  EXPECT_EQ(error_of(figure_with_fact("source")), ": figures[0].fact_cells[0].fact: 'source' is not a number");
+}
 TEST(ThesisComparison, ArmfarmTableAgainstPrintsEveryThesisCell) {
   testing::TemporaryDirectory dir;
   const std::string db = dir.file("results.db");

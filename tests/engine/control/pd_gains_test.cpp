@@ -7,7 +7,7 @@
 // (margin 2) lifts a controller scaled far below it to 2·m·g0·l, where it holds.
 #include "engine/control/pd_gains.hpp"
 #include "engine/physics/arm_simulation.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>

@@ -7,7 +7,7 @@
 // and the criterion must call the same side stable.
 #include "engine/control/step_stability.hpp"
 #include "engine/physics/arm_simulation.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <gtest/gtest.h>
 

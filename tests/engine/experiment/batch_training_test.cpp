@@ -5,7 +5,7 @@
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/learning/learner_factory.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 #include "engine/experiment/job_setup.hpp"
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/learning/learner_factory.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <gtest/gtest.h>
 

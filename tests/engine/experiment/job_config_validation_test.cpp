@@ -3,7 +3,7 @@
 #include "engine/experiment/job_config_validation.hpp"
 #include "engine/experiment/heldout_evaluation.hpp"
 #include "engine/trajectory/trajectory.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 #include "engine/model/model_loading.hpp"
 
 #include <gtest/gtest.h>

@@ -8,7 +8,7 @@
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/model/model_loading.hpp"
 #include "engine/control/pd_gains.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // Checked against Simbody's own forward dynamics of the plant (an independent computation).
 #include "engine/experiment/nominal_inverse_dynamics.hpp"
 #include "engine/random/random_stream.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <gtest/gtest.h>
 

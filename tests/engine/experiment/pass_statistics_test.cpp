@@ -5,7 +5,7 @@
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/experiment/pass_statistics.hpp"
 #include "engine/experiment/run_experiment.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 #include "job_metrics.hpp"
 
 #include <gtest/gtest.h>

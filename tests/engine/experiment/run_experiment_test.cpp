@@ -3,7 +3,7 @@
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/experiment/run_experiment.hpp"
 #include "engine/experiment/tick_recording.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 #include "job_metrics.hpp"
 #include "engine/learning/learner_model_file.hpp"
 #include "engine/experiment/job_config_validation.hpp"

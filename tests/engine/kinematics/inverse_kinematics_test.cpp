@@ -3,7 +3,7 @@
 #include "engine/kinematics/inverse_kinematics.hpp"
 #include "engine/physics/arm_simulation.hpp"
 #include "engine/random/random_stream.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <gtest/gtest.h>
 

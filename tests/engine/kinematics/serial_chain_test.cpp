@@ -6,7 +6,7 @@
 #include "engine/model/model_loading.hpp"
 #include "engine/physics/arm_simulation.hpp"
 #include "engine/random/random_stream.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <gtest/gtest.h>
 

@@ -5,7 +5,7 @@
 #include "engine/physics/arm_simulation.hpp"
 #include "engine/random/random_stream.hpp"
 #include "recursive_newton_euler.hpp"
-#include "test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <gtest/gtest.h>
 

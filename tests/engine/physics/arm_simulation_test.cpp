@@ -2,7 +2,7 @@
 // without damping, a payload adds its closed-form gravity torque, and sample-and-hold PD at
 // the thesis's 10 ms tick is stable on the LWR thanks to the joints' armature.
 #include "engine/physics/arm_simulation.hpp"
-#include "test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <gtest/gtest.h>
 

@@ -5,7 +5,7 @@
 // and the 3-DOF arm driven into a soft joint limit; plus fourth-order convergence in the step
 // and q̈ equal to the exact forward dynamics.
 #include "engine/physics/arm_simulation.hpp"
-#include "test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <gtest/gtest.h>
 

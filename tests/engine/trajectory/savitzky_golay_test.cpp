@@ -3,7 +3,7 @@
 #include "engine/trajectory/savitzky_golay.hpp"
 #include "engine/physics/arm_simulation.hpp"
 #include "engine/trajectory/trajectory.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include "engine/model/arm_reach.hpp"
 

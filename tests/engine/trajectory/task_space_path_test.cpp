@@ -2,7 +2,7 @@
 // path at every sample, and each loop ends where it started (within 1e-3 rad).
 #include "engine/physics/arm_simulation.hpp"
 #include "engine/trajectory/trajectory.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include "engine/model/arm_reach.hpp"
 

@@ -11,8 +11,10 @@
 //   runner/    anything below; inside it runner/spec (sweep specs, expansion, job keys, and the
 //              schema interface a job kind fills in) on none of runner/config, runner/execution
 //              or runner/cli, runner/config (the experiment job's configuration as JSON) on
-//              runner/spec but not on runner/execution or runner/cli, runner/search (the
-//              samplers) on none of the runner's other folders, the store, JSON, SQLite or TBB.
+//              runner/spec but not on runner/execution or runner/cli, runner/execution not on
+//              runner/cli, runner/io (CSV reading and writing) on none of the runner's other
+//              folders, runner/search (the samplers) on none of the runner's other folders, the
+//              store, JSON, SQLite or TBB.
 // A fixture tree with deliberately wrong includes proves the check fails (and its includes of
 // base/ from results/ and analysis/, and of runner/spec from runner/config, that it passes).
 #include <gtest/gtest.h>
@@ -44,6 +46,9 @@ const std::vector<Rule>& layering_rules() {
       {"runner/spec/", {"runner/config/"},
        "spec expansion sees a job's configuration only through its schema (runner/spec/config_schema.hpp)"},
       {"runner/config/", {"runner/execution/", "runner/cli/"}, "configuration does not know how jobs run"},
+      {"runner/execution/", {"runner/cli/"}, "execution does not know the command line above it"},
+      {"runner/io/", {"runner/spec/", "runner/config/", "runner/execution/", "runner/cli/", "runner/search/"},
+       "the CSV layer uses none of the runner's other folders"},
       {"runner/search/", {"runner/execution/", "runner/cli/", "runner/spec/", "runner/config/", "results/", "analysis/", "nlohmann/", "sqlite3.h", "tbb/"},
        "the samplers are pure: no spec, store, JSON, SQLite or threads"},
   };
@@ -173,6 +178,9 @@ TEST(LayeringTest, FixtureWithWrongIncludesFails) {
       "engine/ssgpr/ssgpr_model.hpp:3: includes engine/lwpr/lwpr_params.hpp: engine/ssgpr/ includes only engine/{learner, random}/ (the engine's inner arrows)",
       "results/store.cpp:2: includes engine/model/arm_model.hpp: results/ depends on base/ only",
       "runner/config/reader.cpp:3: includes runner/execution/job_kind.hpp: configuration does not know how jobs run",
+      "runner/execution/runner.cpp:4: includes runner/cli/subcommand.hpp: execution does not know the command line above it",
+      "runner/io/table_writer.cpp:4: includes runner/spec/sweep_spec.hpp: the CSV layer uses none of the runner's other folders",
+      "runner/io/table_writer.cpp:5: includes runner/execution/job_kind.hpp: the CSV layer uses none of the runner's other folders",
       "runner/search/sampler.cpp:3: includes nlohmann/json.hpp: the samplers are pure: no spec, store, JSON, SQLite or threads",
       "runner/spec/expand.cpp:2: includes runner/execution/job_executor.hpp: spec expansion does not know how jobs run",
       "runner/spec/expand.cpp:4: includes runner/config/job_config_json.hpp: spec expansion sees a job's configuration only through its schema (runner/spec/config_schema.hpp)",

@@ -4,6 +4,7 @@
 // result. Below, folded in: its progress output and full-disk truth, and sweeps over an arm with
 // two end effectors.
 #include "results/results_store.hpp"
+#include "support/armfarm_process.hpp"
 #include "support/command_line.hpp"
 #include "support/scratch_file.hpp"
 
@@ -12,7 +13,6 @@
 
 #include <signal.h>
 #include <sys/mount.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -41,19 +41,10 @@ CommandResult run_command(const std::string& arguments) {
   return run_command_line(command);
 }
 
-// Starts `armfarm run` in its own process, output discarded; returns its pid.
-pid_t start_run(const std::vector<std::string>& arguments) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    freopen("/dev/null", "w", stdout);
-    freopen("/dev/null", "w", stderr);
-    std::vector<char*> argv = {const_cast<char*>(ARMFARM_FAKE_JOBS_BINARY), const_cast<char*>("run")};
-    for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(ARMFARM_FAKE_JOBS_BINARY, argv.data());
-    _exit(127);
-  }
-  return pid;
+// Starts `armfarm run` (fake jobs) in its own process, output discarded.
+test_support::ArmfarmProcess start_run(std::vector<std::string> arguments) {
+  arguments.insert(arguments.begin(), "run");
+  return test_support::start_armfarm(arguments, "/dev/null");
 }
 
 int count_done(const std::string& db) {
@@ -91,15 +82,13 @@ class CmdRunTest : public test_support::ScratchFolderTest {
 
 TEST_F(CmdRunTest, SigkillMidSweepLosesNoFinishedJobAndResumesToTheSameMetrics) {
   const std::string db = path("killed.db");
-  const pid_t pid = start_run({path("killme.json"), "--db", db, "-j", "2"});
+  const test_support::ArmfarmProcess run = start_run({path("killme.json"), "--db", db, "-j", "2"});
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (count_done(db) < 6 && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  kill(pid, SIGKILL);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFSIGNALED(status)) << "the sweep ended before it could be killed";
+  kill(run.pid, SIGKILL);
+  ASSERT_EQ(test_support::wait_armfarm(run), 128 + SIGKILL) << "the sweep ended before it could be killed";
 
   const auto before = read_results(db);
   int done_before = 0;
@@ -127,16 +116,13 @@ TEST_F(CmdRunTest, SigkillMidSweepLosesNoFinishedJobAndResumesToTheSameMetrics) 
 
 TEST_F(CmdRunTest, SigintStopsCleanlyAndTheNextRunResumes) {
   const std::string db = path("int.db");
-  const pid_t pid = start_run({path("killme.json"), "--db", db, "-j", "2"});
+  const test_support::ArmfarmProcess run = start_run({path("killme.json"), "--db", db, "-j", "2"});
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (count_done(db) < 4 && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 1);
+  kill(run.pid, SIGINT);
+  EXPECT_EQ(test_support::wait_armfarm(run), 1);
   {
     const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
     const auto counts = store.count_jobs_by_status("killme");

@@ -214,8 +214,8 @@ TEST(JobConfigJson, MultiShapeKeysAcceptNumbersAndListsInSpecs) {
 // ------------------------------------------------------------------------------------------------
 // Folded in from runner/config/job_file_contents_test.cpp:
 // A sweep's check reads a recorded trajectory once (JobFileContents, keyed by the content hash
-// the configuration records), not once a job; a configuration that records another content,
-// or none, reads its file.
+// the configuration records), not once a job, and lends the samples to each job's check instead
+// of copying them; a configuration that records another content, or none, reads its file.
 
 namespace armfarm {
 namespace {
@@ -243,20 +243,40 @@ TEST(JobFileContents, ARecordedTrajectoryIsReadOncePerContent) {
   const ModelFacts facts{7, {}, {}};
 
   JobFileContents contents;
-  const JobConfig first = parse_recorded_job_config(config, facts, {}, &contents);
-  ASSERT_GT(first.trajectory.recorded.samples.rows(), 10);
-  EXPECT_EQ(contents.recorded_hash, config["inputs"]["trajectory.recorded.file"]["hash"]);
+  const std::string hash = config["inputs"]["trajectory.recorded.file"]["hash"];
+  ValidJobConfig first = parse_recorded_job_config(config, facts, {}, &contents);
+  ASSERT_GT(first.get().trajectory.recorded.samples.rows(), 10);
+  const Eigen::MatrixXd samples = first.get().trajectory.recorded.samples;
+  const std::vector<int> lines = first.get().trajectory.recorded.sample_lines;
+  const double* storage = first.get().trajectory.recorded.samples.data();
+  EXPECT_EQ(contents.recorded_hash, "");  // lent to `first`: nothing is held
+  return_job_file_contents(std::move(first), contents);
+  EXPECT_EQ(contents.recorded_hash, hash);
+  EXPECT_EQ(contents.recorded_samples.data(), storage);
 
-  // The file is gone: the same content is served from what the first job read...
+  // The file is gone: the same content is served from what the first job read, lent (the same
+  // storage, not a copy)...
   fs::remove(csv);
-  const JobConfig second = parse_recorded_job_config(config, facts, {}, &contents);
-  EXPECT_EQ(second.trajectory.recorded.samples, first.trajectory.recorded.samples);
-  EXPECT_EQ(second.trajectory.recorded.sample_lines, first.trajectory.recorded.sample_lines);
+  ValidJobConfig second = parse_recorded_job_config(config, facts, {}, &contents);
+  EXPECT_EQ(second.get().trajectory.recorded.samples, samples);
+  EXPECT_EQ(second.get().trajectory.recorded.sample_lines, lines);
+  EXPECT_EQ(second.get().trajectory.recorded.samples.data(), storage);
+  // ...while lent, the next check reads the file; and what an earlier check lent is not taken
+  // back after a later one.
+  EXPECT_THROW(parse_recorded_job_config(config, facts, {}, &contents), ConfigError);
+  return_job_file_contents(std::move(second), contents);
+  EXPECT_EQ(contents.recorded_hash, "");
+  EXPECT_EQ(contents.recorded_samples.size(), 0);
   // ...but another recorded content, and a check without the contents, read the file.
   nlohmann::json other = config;
   other["inputs"]["trajectory.recorded.file"]["hash"] = "00000000000000000000000000000000";
   EXPECT_THROW(parse_recorded_job_config(other, facts, {}, &contents), ConfigError);
   EXPECT_THROW(parse_recorded_job_config(config, facts, {}, nullptr), ConfigError);
+  // Returned, the contents serve the next job again.
+  fs::copy_file(fs::path(ARMFARM_SOURCE_DIR) / "sweeps/thesis/data/picking_synthetic.csv", csv);
+  return_job_file_contents(parse_recorded_job_config(config, facts, {}, &contents), contents);
+  fs::remove(csv);
+  EXPECT_EQ(parse_recorded_job_config(config, facts, {}, &contents).get().trajectory.recorded.samples, samples);
   fs::remove_all(dir);
 }
 

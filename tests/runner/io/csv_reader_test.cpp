@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/command_line.hpp"
 #include "support/scratch_file.hpp"
 #include "support/text_file.hpp"
 
@@ -187,8 +188,9 @@ TEST(SyntheticRecordings, GeneratorReproducesTheCommittedFiles) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("armfarm-recordings-test-" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   const std::string command = "python3 " + std::string(ARMFARM_SOURCE_DIR) + "/sweeps/thesis/tools/make_recordings.py " +
-                              dir.string() + " > /dev/null";
-  ASSERT_EQ(std::system(command.c_str()), 0) << command;
+                              dir.string();
+  const test_support::CommandResult generated = test_support::run_command_line(command);
+  ASSERT_EQ(generated.exit_code, 0) << command << "\n" << generated.output;
   for (const Recording& recording : kRecordings) {
     SCOPED_TRACE(recording.file);
     const std::string fresh = test_support::read_text_file((dir / recording.file).string());

@@ -1,6 +1,7 @@
 #pragma once
-// Arms for the physics tests: a 2-link planar arm built inline (its closed-form dynamics are in
-// arm_dynamics_test.cpp), a one-link arm, and the shipped 7-DOF LWR III model.
+// Arms for the engine tests (physics, kinematics, trajectories, control, experiments): a 2-link
+// planar arm built inline (its closed-form dynamics: tests/engine/physics/arm_dynamics_test.cpp), a
+// one-link arm, and the shipped 7-DOF LWR III model.
 #include "engine/model/arm_model.hpp"
 #include "engine/model/model_loading.hpp"
 
