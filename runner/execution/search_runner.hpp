@@ -22,7 +22,11 @@
 // good-group cap and candidates, TPE's rule: joint or per axis) it takes from the row, so runners
 // of different builds continue one search alike. A row of schema version 6 lacks the last ones:
 // the runner's are written, except TPE's rule, which a row of schema 6 or 7 lacks as NULL and
-// which is read as the per-axis rule those builds used (and written so).
+// which is read as the per-axis rule those builds used (and written so). The joint rule's
+// constants (TPE's prior weight, bandwidth fraction and liar bandwidth factor, schema 9) are not
+// adopted but compared: a joint search recorded with other constants than this build's is
+// refused (one line naming the database and the search, exit 2, nothing written), a NULL (a row
+// of schema 8) read as the schema-8 build's constants, which are today's.
 //
 // Rungs are short jobs; promotions rerun. A step to rung r below the last is a job that learns
 // exactly to rung r's checkpoint (SpecSearch::length_path: learning.epochs for batch jobs,
