@@ -230,6 +230,9 @@ void adopt_stored_search(const SweepSpec& spec, const std::string& db_path, sear
   if (stored->max_trials) differs("max_trials", std::to_string(*stored->max_trials), std::to_string(*wanted.max_trials));
   if (stored->bracket_size) differs("bracket_size", std::to_string(*stored->bracket_size), std::to_string(*wanted.bracket_size));
   if (stored->space) differs("space", *stored->space, *wanted.space);
+  if (spec.search->tpe_rule_given && uses_tpe(settings)) {
+    differs("tpe_rule", stored->tpe_rule.value_or("per_axis"), wanted.tpe_rule.value_or("per_axis"));
+  }
   if (stored->tpe_startup && spec.search->tpe_startup != 0) {
     differs("tpe_startup", std::to_string(*stored->tpe_startup), std::to_string(spec.search->tpe_startup));
   }

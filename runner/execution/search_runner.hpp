@@ -16,10 +16,10 @@
 // Settings in the file. The `searches` row holds everything a decision depends on
 // (results/search_store.hpp). Before its first round a runner that finds its search in the file
 // (a resume, or a second runner that started later) compares what the spec decides (method,
-// sampler, seed, η, slots, limits, budget, objective, rungs, space, an explicit tpe_startup) and
-// refuses any difference, one line each, before anything is written (SpecError, exit 2); what
-// the build decides (each rung's estimated cost, TPE's start-up by the budget rule, TPE's γ,
-// good-group cap and candidates, TPE's rule: joint or per axis) it takes from the row, so runners
+// sampler, seed, η, slots, limits, budget, objective, rungs, space, an explicit tpe_startup or
+// tpe_rule) and refuses any difference, one line each, before anything is written (SpecError,
+// exit 2); what the build decides (each rung's estimated cost, TPE's start-up by the budget rule,
+// TPE's γ, good-group cap and candidates, TPE's rule where the spec gives none) it takes from the row, so runners
 // of different builds continue one search alike. A row of schema version 6 lacks the last ones:
 // the runner's are written, except TPE's rule, which a row of schema 6 or 7 lacks as NULL and
 // which is read as the per-axis rule those builds used (and written so). The joint rule's

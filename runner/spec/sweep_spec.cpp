@@ -408,8 +408,8 @@ class SpecParser {
       error(at, "expected an object {\"method\": ..., \"objective\": {...}, \"space\": {...}, \"budget\": {...}}");
       return;
     }
-    check_keys(block, at, {"method", "sampler", "seed", "eta", "slots", "max_trials", "bracket_size", "tpe_startup", "objective", "space",
-                            "budget", "comment"});
+    check_keys(block, at, {"method", "sampler", "seed", "eta", "slots", "max_trials", "bracket_size", "tpe_startup", "tpe_rule",
+                            "objective", "space", "budget", "comment"});
     SpecSearch result;
     search::SearchSettings& settings = result.settings;
     const std::vector<std::string> methods = {"random", "tpe", "asha", "successive_halving", "hyperband"};
@@ -457,15 +457,32 @@ class SpecParser {
         settings.method != search::SearchMethod::random && settings.method != search::SearchMethod::tpe) {
       error(at + ".max_trials", "applies to random, tpe and asha (brackets fix their own sizes)");
     }
-    if (block.contains("tpe_startup") && settings.method != search::SearchMethod::tpe &&
-        settings.sampler != search::SearchSampler::tpe) {
-      error(at + ".tpe_startup", "applies to TPE proposals only (method \"tpe\" or sampler \"tpe\")");
-    }
-    result.tpe_startup = read_count(block, at, "tpe_startup", 2, 1000000, 0);
+    read_search_tpe(block, at, result);
     read_search_budget(block, at, result);
     read_search_objective(block, at, result, multi_rung);
     read_search_space(block, at, result);
     spec.search = std::move(result);
+  }
+
+  // The keys of TPE's proposals (method "tpe" or sampler "tpe"): tpe_startup and tpe_rule.
+  void read_search_tpe(const nlohmann::json& block, const std::string& at, SpecSearch& result) {
+    search::SearchSettings& settings = result.settings;
+    const bool tpe = settings.method == search::SearchMethod::tpe || settings.sampler == search::SearchSampler::tpe;
+    for (const char* key : {"tpe_startup", "tpe_rule"}) {
+      if (block.contains(key) && !tpe) error(at + "." + key, "applies to TPE proposals only (method \"tpe\" or sampler \"tpe\")");
+    }
+    result.tpe_startup = read_count(block, at, "tpe_startup", 2, 1000000, 0);
+    if (!block.contains("tpe_rule") || !tpe) return;
+    const nlohmann::json& rule = block["tpe_rule"];
+    const std::vector<std::string> rules = {"joint", "per_axis"};
+    if (!rule.is_string() || std::find(rules.begin(), rules.end(), rule.get<std::string>()) == rules.end()) {
+      const std::string text = rule.is_string() ? "'" + rule.get<std::string>() + "'" : rule.dump();
+      error(at + ".tpe_rule", "expected \"joint\" (the default) or \"per_axis\", not " + text +
+                                  (rule.is_string() ? make_did_you_mean(rule.get<std::string>(), rules) : ""));
+      return;
+    }
+    settings.tpe.joint = rule == "joint";
+    result.tpe_rule_given = true;
   }
 
   void read_search_budget(const nlohmann::json& block, const std::string& at, SpecSearch& result) {

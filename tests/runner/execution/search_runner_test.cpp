@@ -205,7 +205,7 @@ TEST_F(CmdRunSearchTest, ASearchRecordedWithoutATpeRuleResumesWithThePerAxisRule
   const std::string slow = "\"sleep_ms\": 80";
   text.replace(text.find(slow), slow.size(), "\"sleep_ms\": 1");
   std::ofstream(path("rule.json")) << text;
-  // The per-axis run, in this process: the spec has no key for the rule, so it is set here.
+  // The per-axis run, in this process, the rule set on the settings (the spec's tpe_rule below).
   {
     const JobKind kind = make_job_kind();
     SweepSpec spec = load_sweep_spec(path("rule.json"), kind.schema);
@@ -258,6 +258,25 @@ TEST_F(CmdRunSearchTest, ASearchRecordedWithoutATpeRuleResumesWithThePerAxisRule
   EXPECT_EQ(std::vector<std::string>(relabelled.begin(), relabelled.begin() + 6), std::vector<std::string>(per_axis.begin(), per_axis.begin() + 6));
   EXPECT_NE(relabelled, per_axis);
   EXPECT_NE(query_rows(path("joint_label.db"), "SELECT count(*) FROM jobs"), std::vector<std::string>{"14"});
+
+  // The spec's tpe_rule chooses the rule: "per_axis" through the CLI takes the in-process
+  // per-axis run's steps. Against a search recorded with the other rule it is refused.
+  std::string per_axis_text = text;
+  per_axis_text.insert(per_axis_text.find("\"method\": \"tpe\""), "\"tpe_rule\": \"per_axis\", ");
+  std::ofstream(path("per_axis.json")) << per_axis_text;
+  const test_support::CommandResult chosen =
+      test_support::run_armfarm_with_fake_jobs("run " + path("per_axis.json") + " --db " + path("chosen.db") + " -j 2 -q");
+  ASSERT_EQ(chosen.exit_code, 0) << chosen.output;
+  EXPECT_EQ(query_rows(path("chosen.db"), kSteps), per_axis);
+  const test_support::CommandResult against =
+      test_support::run_armfarm_with_fake_jobs("run " + path("per_axis.json") + " --db " + path("joint.db") + " -j 2 -q");
+  EXPECT_EQ(against.exit_code, 2) << against.output;
+  EXPECT_NE(against.output.find("armfarm: " + path("per_axis.json") + ": sweep.search.tpe_rule: " + path("joint.db") +
+                                " holds search 'fake search' with tpe_rule joint, the spec gives per_axis; a search cannot "
+                                "change under its name"),
+            std::string::npos)
+      << against.output;
+  EXPECT_EQ(query_rows(path("joint.db"), kSteps), joint);
 }
 
 TEST_F(CmdRunSearchTest, AJointSearchOfSchemaEightResumesAndOneWithOtherConstantsIsRefused) {
