@@ -25,7 +25,7 @@ namespace armfarm {
 class SqliteConnection;
 
 /// The schema version this build writes and reads (PRAGMA user_version).
-inline constexpr int kResultsSchemaVersion = 8;
+inline constexpr int kResultsSchemaVersion = 9;
 
 /// Where a sweep's results came from: the armfarm build and the machine.
 struct Provenance {

@@ -5,6 +5,9 @@
 #include "results/store_error.hpp"
 #include "results/store_internal.hpp"
 
+#include <cstdio>
+#include <utility>
+
 namespace armfarm {
 
 namespace search_store_sql {
@@ -82,7 +85,24 @@ const char* const kTpeRuleMigration = R"sql(
 ALTER TABLE searches ADD COLUMN tpe_rule TEXT CHECK (tpe_rule IN ('joint', 'per_axis'));
 )sql";
 
+// The joint rule's constants: the prior's weight w, the bandwidth fraction h and the liar's
+// bandwidth factor λ (runner/search/tpe_sampler.hpp, TpeSettings), written where TPE proposes
+// with the joint rule. NULL in a row migrated from version 8 means the constants of the version-8
+// build, w 1, h 0.2, λ 0.7 (kTpeConstantsOfVersion8), which equal those of the build that added
+// this migration; a build with other constants refuses to resume or merge such a search.
+const char* const kTpeConstantsMigration = R"sql(
+ALTER TABLE searches ADD COLUMN tpe_prior_weight REAL CHECK (tpe_prior_weight > 0);
+ALTER TABLE searches ADD COLUMN tpe_bandwidth REAL CHECK (tpe_bandwidth > 0);
+ALTER TABLE searches ADD COLUMN tpe_liar_bandwidth REAL CHECK (tpe_liar_bandwidth > 0);
+)sql";
+
 }  // namespace search_store_sql
+
+TpeJointConstants read_tpe_constants(const SearchRecord& search) {
+  return {search.tpe_prior_weight.value_or(kTpeConstantsOfVersion8.prior_weight),
+          search.tpe_bandwidth.value_or(kTpeConstantsOfVersion8.bandwidth),
+          search.tpe_liar_bandwidth.value_or(kTpeConstantsOfVersion8.liar_bandwidth)};
+}
 
 namespace {
 
@@ -112,7 +132,9 @@ void ResultsStore::insert_search(const SearchRecord& search) {
            "UPDATE searches SET max_trials = COALESCE(max_trials, ?1), bracket_size = COALESCE(bracket_size, ?2), "
            "tpe_startup = COALESCE(tpe_startup, ?3), tpe_gamma = COALESCE(tpe_gamma, ?4), "
            "tpe_max_good = COALESCE(tpe_max_good, ?5), tpe_candidates = COALESCE(tpe_candidates, ?6), "
-           "space = COALESCE(space, ?7), tpe_rule = COALESCE(tpe_rule, ?9) WHERE id = ?8")
+           "space = COALESCE(space, ?7), tpe_rule = COALESCE(tpe_rule, ?9), "
+           "tpe_prior_weight = COALESCE(tpe_prior_weight, ?10), tpe_bandwidth = COALESCE(tpe_bandwidth, ?11), "
+           "tpe_liar_bandwidth = COALESCE(tpe_liar_bandwidth, ?12) WHERE id = ?8")
         .bind(1, search.max_trials)
         .bind(2, search.bracket_size)
         .bind(3, search.tpe_startup)
@@ -122,6 +144,9 @@ void ResultsStore::insert_search(const SearchRecord& search) {
         .bind(7, search.space)
         .bind(8, id)
         .bind(9, search.tpe_rule)
+        .bind(10, search.tpe_prior_weight)
+        .bind(11, search.tpe_bandwidth)
+        .bind(12, search.tpe_liar_bandwidth)
         .execute();
     transaction.commit();
     return;
@@ -129,8 +154,10 @@ void ResultsStore::insert_search(const SearchRecord& search) {
   db_->prepare(
          "INSERT INTO searches (sweep_id, method, sampler, seed, eta, slots, budget_unit, budget, resumable, "
          "objective_metric, objective_direction, objective_joint, objective_checkpoint, max_trials, bracket_size, "
-         "tpe_startup, tpe_gamma, tpe_max_good, tpe_candidates, space, tpe_rule) "
-         "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20, ?21)")
+         "tpe_startup, tpe_gamma, tpe_max_good, tpe_candidates, space, tpe_rule, tpe_prior_weight, tpe_bandwidth, "
+         "tpe_liar_bandwidth) "
+         "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20, ?21, ?22, ?23, "
+         "?24)")
       .bind(1, sweep_id)
       .bind(2, search.method)
       .bind(3, search.sampler)
@@ -152,6 +179,9 @@ void ResultsStore::insert_search(const SearchRecord& search) {
       .bind(19, search.tpe_candidates)
       .bind(20, search.space)
       .bind(21, search.tpe_rule)
+      .bind(22, search.tpe_prior_weight)
+      .bind(23, search.tpe_bandwidth)
+      .bind(24, search.tpe_liar_bandwidth)
       .execute();
   const std::int64_t id = db_->last_insert_rowid();
   SqliteStatement rung = db_->prepare("INSERT INTO search_rungs (search_id, rung, checkpoint, cost) VALUES (?, ?, ?, ?)");
@@ -166,7 +196,8 @@ std::optional<SearchRecord> ResultsStore::find_search(const std::string& sweep) 
   SqliteStatement query = db_->prepare(
       "SELECT se.id, se.method, se.sampler, se.seed, se.eta, se.slots, se.budget_unit, se.budget, se.resumable, "
       "se.objective_metric, se.objective_direction, se.objective_joint, se.objective_checkpoint, se.max_trials, "
-      "se.bracket_size, se.tpe_startup, se.tpe_gamma, se.tpe_max_good, se.tpe_candidates, se.space, se.tpe_rule "
+      "se.bracket_size, se.tpe_startup, se.tpe_gamma, se.tpe_max_good, se.tpe_candidates, se.space, se.tpe_rule, "
+      "se.tpe_prior_weight, se.tpe_bandwidth, se.tpe_liar_bandwidth "
       "FROM searches se JOIN sweeps s ON s.id = se.sweep_id WHERE s.name = ?");
   query.bind(1, sweep);
   if (!query.step()) return std::nullopt;
@@ -193,6 +224,9 @@ std::optional<SearchRecord> ResultsStore::find_search(const std::string& sweep) 
   if (!query.is_null(18)) r.tpe_candidates = query.column_int(18);
   r.space = query.column_optional_text(19);
   r.tpe_rule = query.column_optional_text(20);
+  r.tpe_prior_weight = query.column_optional_double(21);
+  r.tpe_bandwidth = query.column_optional_double(22);
+  r.tpe_liar_bandwidth = query.column_optional_double(23);
   SqliteStatement rungs = db_->prepare("SELECT rung, checkpoint, cost FROM search_rungs WHERE search_id = ? ORDER BY rung");
   rungs.bind(1, id);
   while (rungs.step()) {
@@ -306,11 +340,29 @@ namespace {
 constexpr const char* kSearchSettingColumns =
     "method, sampler, seed, eta, slots, budget_unit, budget, resumable, objective_metric, objective_direction, "
     "objective_joint, objective_checkpoint, max_trials, bracket_size, tpe_startup, tpe_gamma, tpe_max_good, "
-    "tpe_candidates, space, tpe_rule";
+    "tpe_candidates, space, tpe_rule, tpe_prior_weight, tpe_bandwidth, tpe_liar_bandwidth";
 // The columns of version 7: NULL in a row migrated from version 6 (not recorded), so a NULL agrees
 // with any value and is filled in from the other file.
 constexpr const char* kSearchDecisionColumns[] = {"max_trials",   "bracket_size",   "tpe_startup", "tpe_gamma",
                                                   "tpe_max_good", "tpe_candidates", "space"};
+
+// The joint rule's constants (version 9) in merge_search_tables's comparison of two rows m and o
+// and its fill-in: where the rule is joint (the rules agree already), each constant read as the
+// version-8 build's where NULL (kTpeConstantsOfVersion8) must be the same in both files.
+void add_tpe_constants_terms(std::string& agree, std::string& fill) {
+  const std::pair<const char*, double> constants[] = {{"tpe_prior_weight", kTpeConstantsOfVersion8.prior_weight},
+                                                      {"tpe_bandwidth", kTpeConstantsOfVersion8.bandwidth},
+                                                      {"tpe_liar_bandwidth", kTpeConstantsOfVersion8.liar_bandwidth}};
+  std::string same;
+  for (const auto& [column, version8] : constants) {
+    const std::string c = column;
+    char value[32];
+    std::snprintf(value, sizeof value, "%.17g", version8);
+    same += std::string(same.empty() ? "" : " AND ") + "COALESCE(m." + c + ", " + value + ") IS COALESCE(o." + c + ", " + value + ")";
+    fill += ", " + c + " = COALESCE(" + c + ", (SELECT " + c + " FROM src.searches WHERE id = ?2))";
+  }
+  agree += " AND ((m.method <> 'tpe' AND m.sampler <> 'tpe') OR COALESCE(m.tpe_rule, 'per_axis') <> 'joint' OR (" + same + "))";
+}
 
 // The part of one search that both files hold, merged; returns the conflict, empty when none.
 std::string merge_one_search(SqliteConnection& db, std::int64_t src_id, std::int64_t main_id,
@@ -407,6 +459,7 @@ void merge_search_tables(SqliteConnection& db, const std::map<std::int64_t, std:
       // agreeing with "joint" would merge steps of two rules), and only where TPE proposes.
       agree += " AND ((m.method <> 'tpe' AND m.sampler <> 'tpe') OR COALESCE(m.tpe_rule, 'per_axis') IS COALESCE(o.tpe_rule, 'per_axis'))";
       fill += ", tpe_rule = COALESCE(tpe_rule, (SELECT tpe_rule FROM src.searches WHERE id = ?2))";
+      add_tpe_constants_terms(agree, fill);
       SqliteStatement same = db.prepare(
           "SELECT count(*) FROM main.searches m, src.searches o WHERE m.id = ?1 AND o.id = ?2 AND "
           "m.method IS o.method AND m.sampler IS o.sampler AND m.seed IS o.seed AND m.eta IS o.eta AND "

@@ -49,7 +49,29 @@ struct SearchRecord {
   // written only where TPE proposes (method tpe, or sampler tpe). NULL in a TPE search's row means "per_axis": every build
   // before version 8 proposed with the per-axis rule. A resumed search adopts it.
   std::optional<std::string> tpe_rule;
+  // Schema version 9: the joint rule's constants (TpeSettings::prior_weight, bandwidth,
+  // liar_bandwidth), written only where TPE proposes with the joint rule. NULL in such a row (one
+  // migrated from version 8) means the constants of the version-8 build, kTpeConstantsOfVersion8.
+  // A resumed search or a merge whose constants differ is refused.
+  std::optional<double> tpe_prior_weight;    ///< w, the prior's weight beside a group's points
+  std::optional<double> tpe_bandwidth;       ///< h, a lone point's bandwidth as a fraction of its axis
+  std::optional<double> tpe_liar_bandwidth;  ///< λ, a liar's bandwidth as a fraction of ℓ's
 };
+
+/// The joint rule's constants as one value (SearchRecord's tpe_prior_weight, tpe_bandwidth,
+/// tpe_liar_bandwidth).
+struct TpeJointConstants {
+  double prior_weight = 0.0;
+  double bandwidth = 0.0;
+  double liar_bandwidth = 0.0;
+};
+
+/// The constants every build of schema version 8 proposed with under the joint rule (w 1, h 0.2,
+/// λ 0.7): what a NULL in a joint search's row of version 8 means.
+inline constexpr TpeJointConstants kTpeConstantsOfVersion8{1.0, 0.2, 0.7};
+
+/// A joint search's recorded constants, a NULL read as kTpeConstantsOfVersion8.
+TpeJointConstants read_tpe_constants(const SearchRecord& search);
 
 struct SearchTrialRecord {
   std::int64_t trial = 0;
@@ -91,6 +113,8 @@ extern const char* const kMigration;
 extern const char* const kSettingsMigration;
 /// The migration step that adds TPE's estimator rule to `searches` (schema version 8).
 extern const char* const kTpeRuleMigration;
+/// The migration step that adds the joint rule's constants to `searches` (schema version 9).
+extern const char* const kTpeConstantsMigration;
 }  // namespace search_store_sql
 
 }  // namespace armfarm

@@ -158,6 +158,8 @@ const std::vector<const char*>& migrations() {
       search_store_sql::kSettingsMigration,
       // 8: TPE's estimator rule, joint or per axis (NULL: per axis, as every TPE search before it).
       search_store_sql::kTpeRuleMigration,
+      // 9: the joint rule's constants w, h, λ (NULL: the version-8 build's, 1, 0.2 and 0.7).
+      search_store_sql::kTpeConstantsMigration,
   };
   return scripts;
 }

@@ -1,5 +1,6 @@
 #include "runner/execution/search_runner.hpp"
 
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -156,7 +157,37 @@ SearchRecord make_search_record(const SweepSpec& spec, const search::SearchSetti
   record.tpe_candidates = static_cast<std::int64_t>(settings.tpe.candidates);
   record.space = make_space_text(search);
   if (uses_tpe(settings)) record.tpe_rule = settings.tpe.joint ? "joint" : "per_axis";
+  if (uses_tpe(settings) && settings.tpe.joint) {
+    record.tpe_prior_weight = settings.tpe.prior_weight;
+    record.tpe_bandwidth = settings.tpe.bandwidth;
+    record.tpe_liar_bandwidth = settings.tpe.liar_bandwidth;
+  }
   return record;
+}
+
+// The joint rule's constants (w, h, λ) are this build's, not the file's: a row of a joint search
+// whose constants differ (a NULL read as the schema-8 build's, kTpeConstantsOfVersion8) is
+// refused with one line, since this build would continue it with other proposals.
+void refuse_other_tpe_constants(const SweepSpec& spec, const std::string& db_path, const SearchRecord& stored,
+                                const search::TpeSettings& tpe, std::vector<std::string>& lines) {
+  const TpeJointConstants in_file = read_tpe_constants(stored);
+  if (in_file.prior_weight == tpe.prior_weight && in_file.bandwidth == tpe.bandwidth &&
+      in_file.liar_bandwidth == tpe.liar_bandwidth) {
+    return;
+  }
+  const auto exact = [](double value) {  // the fewest digits that read back as the same double
+    int digits = 1;
+    while (digits < 17 && std::strtod(format_number(value, digits).c_str(), nullptr) != value) ++digits;
+    return format_number(value, digits);
+  };
+  const auto describe = [&](double w, double h, double lambda) {
+    return "prior weight " + exact(w) + ", bandwidth " + exact(h) + " and liar bandwidth " + exact(lambda);
+  };
+  lines.push_back(spec.file + ": sweep.search: " + db_path + " holds search '" + spec.name +
+                  "' proposed by TPE's joint rule with " + describe(in_file.prior_weight, in_file.bandwidth, in_file.liar_bandwidth) +
+                  ", this build's are " + describe(tpe.prior_weight, tpe.bandwidth, tpe.liar_bandwidth) +
+                  "; it would continue with other proposals (resume it with a build of the file's constants, or give the "
+                  "sweep another name, or use another database)");
 }
 
 // A search the file holds already under this sweep's name (a resume, or another runner that
@@ -166,7 +197,8 @@ SearchRecord make_search_record(const SweepSpec& spec, const search::SearchSetti
 // and its rule, joint or per axis) is taken from the file, so a runner of another build
 // continues the same search. A row of schema version 6 lacks some of them (empty): this
 // runner's are used and written. TPE's rule is the exception: NULL (a row of schema 6 or 7) is
-// the per-axis rule those builds proposed with, adopted and then written as "per_axis".
+// the per-axis rule those builds proposed with, adopted and then written as "per_axis". The
+// joint rule's constants are compared, not adopted (refuse_other_tpe_constants).
 void adopt_stored_search(const SweepSpec& spec, const std::string& db_path, search::SearchSettings& settings) {
   if (!std::filesystem::exists(db_path)) return;
   const std::optional<SearchRecord> stored = ResultsStore::open(db_path, ResultsStore::Mode::read_write).find_search(spec.name);
@@ -198,11 +230,17 @@ void adopt_stored_search(const SweepSpec& spec, const std::string& db_path, sear
   if (stored->max_trials) differs("max_trials", std::to_string(*stored->max_trials), std::to_string(*wanted.max_trials));
   if (stored->bracket_size) differs("bracket_size", std::to_string(*stored->bracket_size), std::to_string(*wanted.bracket_size));
   if (stored->space) differs("space", *stored->space, *wanted.space);
+  if (spec.search->tpe_rule_given && uses_tpe(settings)) {
+    differs("tpe_rule", stored->tpe_rule.value_or("per_axis"), wanted.tpe_rule.value_or("per_axis"));
+  }
   if (stored->tpe_startup && spec.search->tpe_startup != 0) {
     differs("tpe_startup", std::to_string(*stored->tpe_startup), std::to_string(spec.search->tpe_startup));
   }
   if (stored->resumable != wanted.resumable) differs("", stored->resumable ? "resumable promotions" : "rerun promotions",
                                                      wanted.resumable ? "resumable promotions" : "rerun promotions");
+  // TPE's rule: NULL is a row of a build before schema version 8, whose TPE was per axis.
+  const bool joint = uses_tpe(settings) && stored->tpe_rule.value_or("per_axis") == "joint";
+  if (joint) refuse_other_tpe_constants(spec, db_path, *stored, settings.tpe, lines);
   if (!lines.empty()) throw SpecError(lines);
   // The build's part, from the file.
   if (stored->rungs.size() == settings.rung_cost.size()) {
@@ -212,8 +250,7 @@ void adopt_stored_search(const SweepSpec& spec, const std::string& db_path, sear
   if (stored->tpe_gamma) settings.tpe.gamma = *stored->tpe_gamma;
   if (stored->tpe_max_good) settings.tpe.max_good = static_cast<std::size_t>(*stored->tpe_max_good);
   if (stored->tpe_candidates) settings.tpe.candidates = static_cast<std::size_t>(*stored->tpe_candidates);
-  // TPE's rule: NULL is a row of a build before schema version 8, whose TPE was per axis.
-  if (uses_tpe(settings)) settings.tpe.joint = stored->tpe_rule.value_or("per_axis") == "joint";
+  if (uses_tpe(settings)) settings.tpe.joint = joint;
 }
 
 // Writes what the store lacks of the replayed search: the search row, new steps, objectives.

@@ -16,13 +16,17 @@
 // Settings in the file. The `searches` row holds everything a decision depends on
 // (results/search_store.hpp). Before its first round a runner that finds its search in the file
 // (a resume, or a second runner that started later) compares what the spec decides (method,
-// sampler, seed, η, slots, limits, budget, objective, rungs, space, an explicit tpe_startup) and
-// refuses any difference, one line each, before anything is written (SpecError, exit 2); what
-// the build decides (each rung's estimated cost, TPE's start-up by the budget rule, TPE's γ,
-// good-group cap and candidates, TPE's rule: joint or per axis) it takes from the row, so runners
+// sampler, seed, η, slots, limits, budget, objective, rungs, space, an explicit tpe_startup or
+// tpe_rule) and refuses any difference, one line each, before anything is written (SpecError,
+// exit 2); what the build decides (each rung's estimated cost, TPE's start-up by the budget rule,
+// TPE's γ, good-group cap and candidates, TPE's rule where the spec gives none) it takes from the row, so runners
 // of different builds continue one search alike. A row of schema version 6 lacks the last ones:
 // the runner's are written, except TPE's rule, which a row of schema 6 or 7 lacks as NULL and
-// which is read as the per-axis rule those builds used (and written so).
+// which is read as the per-axis rule those builds used (and written so). The joint rule's
+// constants (TPE's prior weight, bandwidth fraction and liar bandwidth factor, schema 9) are not
+// adopted but compared: a joint search recorded with other constants than this build's is
+// refused (one line naming the database and the search, exit 2, nothing written), a NULL (a row
+// of schema 8) read as the schema-8 build's constants, which are today's.
 //
 // Rungs are short jobs; promotions rerun. A step to rung r below the last is a job that learns
 // exactly to rung r's checkpoint (SpecSearch::length_path: learning.epochs for batch jobs,

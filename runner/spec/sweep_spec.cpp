@@ -408,8 +408,8 @@ class SpecParser {
       error(at, "expected an object {\"method\": ..., \"objective\": {...}, \"space\": {...}, \"budget\": {...}}");
       return;
     }
-    check_keys(block, at, {"method", "sampler", "seed", "eta", "slots", "max_trials", "bracket_size", "tpe_startup", "objective", "space",
-                            "budget", "comment"});
+    check_keys(block, at, {"method", "sampler", "seed", "eta", "slots", "max_trials", "bracket_size", "tpe_startup", "tpe_rule",
+                            "objective", "space", "budget", "comment"});
     SpecSearch result;
     search::SearchSettings& settings = result.settings;
     const std::vector<std::string> methods = {"random", "tpe", "asha", "successive_halving", "hyperband"};
@@ -457,15 +457,32 @@ class SpecParser {
         settings.method != search::SearchMethod::random && settings.method != search::SearchMethod::tpe) {
       error(at + ".max_trials", "applies to random, tpe and asha (brackets fix their own sizes)");
     }
-    if (block.contains("tpe_startup") && settings.method != search::SearchMethod::tpe &&
-        settings.sampler != search::SearchSampler::tpe) {
-      error(at + ".tpe_startup", "applies to TPE proposals only (method \"tpe\" or sampler \"tpe\")");
-    }
-    result.tpe_startup = read_count(block, at, "tpe_startup", 2, 1000000, 0);
+    read_search_tpe(block, at, result);
     read_search_budget(block, at, result);
     read_search_objective(block, at, result, multi_rung);
     read_search_space(block, at, result);
     spec.search = std::move(result);
+  }
+
+  // The keys of TPE's proposals (method "tpe" or sampler "tpe"): tpe_startup and tpe_rule.
+  void read_search_tpe(const nlohmann::json& block, const std::string& at, SpecSearch& result) {
+    search::SearchSettings& settings = result.settings;
+    const bool tpe = settings.method == search::SearchMethod::tpe || settings.sampler == search::SearchSampler::tpe;
+    for (const char* key : {"tpe_startup", "tpe_rule"}) {
+      if (block.contains(key) && !tpe) error(at + "." + key, "applies to TPE proposals only (method \"tpe\" or sampler \"tpe\")");
+    }
+    result.tpe_startup = read_count(block, at, "tpe_startup", 2, 1000000, 0);
+    if (!block.contains("tpe_rule") || !tpe) return;
+    const nlohmann::json& rule = block["tpe_rule"];
+    const std::vector<std::string> rules = {"joint", "per_axis"};
+    if (!rule.is_string() || std::find(rules.begin(), rules.end(), rule.get<std::string>()) == rules.end()) {
+      const std::string text = rule.is_string() ? "'" + rule.get<std::string>() + "'" : rule.dump();
+      error(at + ".tpe_rule", "expected \"joint\" (the default) or \"per_axis\", not " + text +
+                                  (rule.is_string() ? make_did_you_mean(rule.get<std::string>(), rules) : ""));
+      return;
+    }
+    settings.tpe.joint = rule == "joint";
+    result.tpe_rule_given = true;
   }
 
   void read_search_budget(const nlohmann::json& block, const std::string& at, SpecSearch& result) {
@@ -494,6 +511,8 @@ class SpecParser {
     result.budget = seconds.get<double>();
   }
 
+  // sweep.search.objective: its metric, joint and checkpoint, and from them the rungs and the key
+  // that ends a short rung's learning.
   void read_search_objective(const nlohmann::json& block, const std::string& at, SpecSearch& result, bool multi_rung) {
     const std::string location = at + ".objective";
     if (!block.contains("objective") || !block["objective"].is_object()) {
@@ -502,42 +521,59 @@ class SpecParser {
     }
     const nlohmann::json& objective = block["objective"];
     check_keys(objective, location, {"metric", "joint", "checkpoint"});
+    const MetricInfo* info = read_objective_metric(objective, location);
+    if (info == nullptr) return;
+    result.objective.metric = info->name;
+    result.objective.lower_is_better = info->direction == MetricDirection::lower;
+    read_objective_joint(objective, location, *info, result);
+    if (!read_search_rungs(objective, location, *info, result, multi_rung)) return;
+    set_rung_length_key(result, multi_rung);
+  }
+
+  // The objective's metric: a result metric of the catalog with a direction; null when refused.
+  const MetricInfo* read_objective_metric(const nlohmann::json& objective, const std::string& location) {
     if (!objective.contains("metric") || !objective["metric"].is_string()) {
       error(location + ".metric", "expected the name of a result metric of the catalog");
-      return;
+      return nullptr;
     }
     const std::string name = objective["metric"].get<std::string>();
     std::vector<std::string> names;
     for (const MetricInfo& info : metric_catalog()) names.push_back(info.name);
     if (std::find(names.begin(), names.end(), name) == names.end()) {
       error(location + ".metric", "'" + name + "' is not a metric of the catalog" + make_did_you_mean(name, names));
-      return;
+      return nullptr;
     }
     const MetricInfo& info = find_metric_info(name);
     if (info.direction == MetricDirection::none) {
       error(location + ".metric", "'" + name + "' has no direction of better in the catalog: a search cannot optimise it");
-      return;
+      return nullptr;
     }
     if (info.kind != MetricKind::result) {
       error(location + ".metric", "'" + name + "' is a " + to_string(info.kind) + " metric, not a result: it varies run to run");
-      return;
+      return nullptr;
     }
-    result.objective.metric = name;
-    result.objective.lower_is_better = info.direction == MetricDirection::lower;
+    return &info;
+  }
+
+  // objective.joint: a 1-based joint or "mean" (0, the default), for a per-joint metric only.
+  void read_objective_joint(const nlohmann::json& objective, const std::string& location, const MetricInfo& info,
+                            SpecSearch& result) {
+    if (!objective.contains("joint")) return;
+    const nlohmann::json& joint = objective["joint"];
     const bool per_joint = info.scope == MetricScope::joint || info.scope == MetricScope::checkpoint;
-    if (objective.contains("joint")) {
-      const nlohmann::json& joint = objective["joint"];
-      if (!per_joint) {
-        error(location + ".joint", "'" + name + "' is a " + to_string(info.scope) + " metric, not one per joint");
-      } else if (joint == "mean") {
-        result.objective.joint = 0;
-      } else if (!joint.is_number_integer() || joint.get<long long>() < 1 || joint.get<long long>() > 1000) {
-        error(location + ".joint", "expected a 1-based joint number or \"mean\"");
-      } else {
-        result.objective.joint = joint.get<int>();
-      }
+    if (!per_joint) {
+      error(location + ".joint", "'" + info.name + "' is a " + to_string(info.scope) + " metric, not one per joint");
+    } else if (joint == "mean") {
+      result.objective.joint = 0;
+    } else if (!joint.is_number_integer() || joint.get<long long>() < 1 || joint.get<long long>() > 1000) {
+      error(location + ".joint", "expected a 1-based joint number or \"mean\"");
+    } else {
+      result.objective.joint = joint.get<int>();
     }
-    // Checkpoints: the rungs. A metric without checkpoints has one rung (the whole job).
+  }
+
+  // The base's learning.heldout_checkpoints as integers (empty when it sets none).
+  std::vector<std::int64_t> find_heldout_checkpoints() const {
     std::vector<std::int64_t> checkpoints;
     if (resolved_.contains("learning") && resolved_["learning"].contains("heldout_checkpoints")) {
       for (const nlohmann::json& c : resolved_["learning"]["heldout_checkpoints"]) {
@@ -545,6 +581,16 @@ class SpecParser {
         if (c.is_number() && c.get<double>() == std::floor(c.get<double>())) checkpoints.push_back(static_cast<std::int64_t>(c.get<double>()));
       }
     }
+    return checkpoints;
+  }
+
+  // The rungs: the checkpoints up to objective.checkpoint (default the last). A metric without
+  // checkpoints, or a base without them, has one rung (the whole job). False when the rungs end
+  // there (one rung, or a refused checkpoint): no rung is short, so no length key.
+  bool read_search_rungs(const nlohmann::json& objective, const std::string& location, const MetricInfo& info,
+                         SpecSearch& result, bool multi_rung) {
+    const std::string& name = info.name;
+    const std::vector<std::int64_t> checkpoints = find_heldout_checkpoints();
     if (info.scope != MetricScope::checkpoint) {
       if (objective.contains("checkpoint")) {
         error(location + ".checkpoint", "'" + name + "' is not measured at checkpoints");
@@ -553,7 +599,7 @@ class SpecParser {
         error(location + ".metric", "successive halving needs an objective measured at learning checkpoints (heldout_*), not '" + name + "'");
       }
       result.rungs = {0};
-      return;
+      return false;
     }
     if (checkpoints.empty()) {
       if (multi_rung) {
@@ -563,7 +609,7 @@ class SpecParser {
         error(location + ".checkpoint", "base sets no learning.heldout_checkpoints: only \"last\" exists");
       }
       result.rungs = {0};
-      return;
+      return false;
     }
     std::size_t last = checkpoints.size() - 1;
     if (objective.contains("checkpoint") && objective["checkpoint"] != "last") {
@@ -573,7 +619,7 @@ class SpecParser {
                              : checkpoints.end();
       if (found == checkpoints.end()) {
         error(location + ".checkpoint", "expected \"last\" or one of learning.heldout_checkpoints " + nlohmann::json(checkpoints).dump());
-        return;
+        return false;
       }
       last = static_cast<std::size_t>(found - checkpoints.begin());
     }
@@ -583,7 +629,11 @@ class SpecParser {
     if (multi_rung && result.rungs.size() < 2) {
       error(location + ".checkpoint", "successive halving needs at least two checkpoints up to the objective's");
     }
-    // The key that ends a step's learning at its rung (SpecSearch::length_path).
+    return true;
+  }
+
+  // The key that ends a step's learning at its rung (SpecSearch::length_path).
+  void set_rung_length_key(SpecSearch& result, bool multi_rung) {
     const std::string mode = resolved_["learning"].value("mode", "");
     const std::string trajectory = resolved_.contains("trajectory") ? resolved_["trajectory"].value("kind", "") : "";
     if (multi_rung && mode == "batch") result.length_path = "learning.epochs";

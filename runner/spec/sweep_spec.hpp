@@ -77,6 +77,9 @@ struct SpecSearch {
   /// `tpe_startup`: prior draws before TPE's estimators are used; 0 (not given): the runner sets
   /// search::calc_tpe_startup of what the budget buys (tpe_sampler.hpp).
   std::size_t tpe_startup = 0;
+  /// `tpe_rule` given: TPE's estimator rule (settings.tpe.joint) is the spec's, compared with a
+  /// resumed search's; not given: the default, the joint rule, or a resumed search's recorded rule.
+  bool tpe_rule_given = false;
   /// "learning.heldout_checkpoints": a step to rung r runs the checkpoints rungs[0 … r].
   ConfigPath checkpoint_segments;
   /// The key that makes a job learn exactly to a checkpoint, in the checkpoints' unit, for asha,

@@ -17,6 +17,9 @@
 // did (fig6_1: 4 collection passes, not 53; reaching: 40 points per reach, not 100, and 3
 // held-out transitions, not 9), with the same grids and budgets: for a machine that cannot give
 // the full problems their hours (say so beside the figures).
+// ARMFARM_BENCH_SEARCH_FULL_NORMALISATION=1 normalises every reaching job by the full trajectory
+// (apply_full_normalisation), so that ASHA's short rungs rank as the full jobs' checkpoints do.
+// ARMFARM_BENCH_SEARCH_RUNGS=10,200 sets the reaching problem's checkpoints (ASHA's rungs).
 // ARMFARM_BENCH_SEARCH_SEEDS=N runs seeds 1 … N only (a stated subset, when time is short);
 // --benchmark_filter=KernelWidth or =Reaching runs one problem. Each seed's line is printed as it
 // finishes. Each search runs in a database of its own, so its measured CPU is its own jobs'.
@@ -26,10 +29,15 @@
 // databases and measured CPU in DIR for later runs.
 // BM_SearchCostFactor measures the cost factor of calc_search_cpu_seconds (see there).
 #include "analysis/search_summary.hpp"
+#include "engine/experiment/job_setup.hpp"
+#include "engine/experiment/run_experiment.hpp"
 #include "results/results_store.hpp"
+#include "runner/config/job_config_json.hpp"
 #include "runner/execution/job_kind.hpp"
+#include "runner/execution/job_models.hpp"
 #include "runner/execution/search_runner.hpp"
 #include "runner/execution/sweep_runner.hpp"
+#include "runner/spec/input_files.hpp"
 #include "runner/spec/sweep_stages.hpp"
 
 #include <benchmark/benchmark.h>
@@ -49,6 +57,7 @@
 #include <map>
 #include <optional>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -200,16 +209,83 @@ std::vector<std::size_t> best_indices(const std::vector<double>& values, std::si
   return order;
 }
 
+// The input scale a job with learning.normalize_inputs learns with (calc_trajectory_input_scale
+// of its training trajectory, what run_experiment passes to make_learner), for a configuration
+// with its inputs recorded (an expanded job's).
+Eigen::VectorXd calc_job_input_scale(const nlohmann::json& recorded, JobModels& models) {
+  const nlohmann::json* resolved = find_resolved_input(recorded, "model");
+  const std::string path = (resolved != nullptr ? *resolved : recorded.at("model")).get<std::string>();
+  const ValidJobConfig job = parse_recorded_job_config(recorded, *models.get_facts(path));
+  return calc_trajectory_input_scale(build_job_trajectories(*models.get(path, job), job).training);
+}
+
+// The grid's full jobs' one input scale, as a JSON list (for learning.lwpr.norm_in), or null
+// when the points' scales differ (an axis changes the training trajectory).
+nlohmann::json find_common_input_scale(const ExpandedSweep& grid) {
+  JobModels models;
+  std::optional<Eigen::VectorXd> common;
+  for (const ExpandedJob& job : grid.jobs) {
+    const Eigen::VectorXd scale = calc_job_input_scale(job.config(), models);
+    if (common && (common->size() != scale.size() || *common != scale)) return nullptr;
+    common = scale;
+  }
+  if (!common) return nullptr;
+  return std::vector<double>(common->data(), common->data() + common->size());
+}
+
+// The short jobs of rung k: the grid again with the rung's length and checkpoints (and `extra`
+// merged into base); their objectives at the rung's checkpoint per grid point (`index`: params →
+// point; +∞ where a job failed), their estimated and measured CPU.
+struct ShortRungJobs {
+  std::vector<double> values;
+  std::size_t jobs = 0;
+  double estimated = 0.0, cpu = 0.0;
+};
+
+ShortRungJobs run_short_rung(const Problem& problem, const fs::path& folder, const JobKind& kind, const RunOptions& options,
+                             std::size_t k, const std::string& variant, const nlohmann::json& extra,
+                             const std::map<std::string, std::size_t>& index, const std::atomic<bool>& no_stop) {
+  const std::int64_t c = problem.checkpoints[k];
+  nlohmann::json base = problem.base;
+  base[nlohmann::json::json_pointer("/" + std::regex_replace(problem.length_path, std::regex("\\."), "/"))] = c;
+  base["learning"]["heldout_checkpoints"] =
+      std::vector<std::int64_t>(problem.checkpoints.begin(), problem.checkpoints.begin() + static_cast<std::ptrdiff_t>(k) + 1);
+  base.merge_patch(extra);
+  const std::string file = problem.name + "_rung" + std::to_string(k) + variant;
+  const std::string name = problem.name + " rung " + std::to_string(k) + variant;
+  const std::vector<SweepSpec> spec = load_sweep_stages(
+      write_spec(folder, file, {{"name", name}, {"base", base}, {"sweep", {{"grid", problem.grid}}}}), kind.schema);
+  const ExpandedSweep sweep = expand_sweep(spec.front(), kind.schema);
+  ShortRungJobs out;
+  out.jobs = sweep.jobs.size();
+  for (const ExpandedJob& job : sweep.jobs) out.estimated += calc_search_cpu_seconds(kind, job.config());
+  RunOptions one = options;
+  one.db_path = (folder / (file + ".db")).string();
+  out.cpu = run_grid_once(folder, file, [&] { run_sweep(sweep, kind.executor, one, no_stop); });
+  out.values.assign(index.size(), std::numeric_limits<double>::infinity());
+  const ResultsStore store = ResultsStore::open(one.db_path, ResultsStore::Mode::read_only);
+  for (const JobRecord& job : store.find_jobs(name)) {
+    const auto found = index.find(job.params.dump());
+    const std::optional<double> v = job.status == "done" ? find_objective_at(store, job, problem, c) : std::nullopt;
+    if (found != index.end() && v) out.values[found->second] = *v;
+  }
+  return out;
+}
+
 // How well each rung orders the grid's points as the last rung does: Spearman's ρ
 // (calc_rank_correlation) between the objective at the rung and at the last checkpoint, over the
 // grid's points, (a) at checkpoint c of the grid's own jobs, which run to the end, and (b) of the
 // short job that a search step to that rung runs (length_path = c, the checkpoints up to c): a
-// job of its own, which for online reaching normalises its inputs by its shorter trajectory.
+// job of its own, which for online reaching normalises its inputs by its shorter trajectory, and
+// (c) for an online job, the same short job normalised by the full job's trajectory instead
+// (learning.normalize_inputs false, learning.lwpr.norm_in the full job's input scale,
+// calc_job_input_scale): what a rung job that keeps the full job's normalisation would score.
 // Also, of the last rung's best 1/η (η = 3) of the points, how many are among the rung's best
 // 1/η (what a promotion keeps), and the rung rank of the last rung's best point. Prints the short
 // jobs' estimated and measured CPU, what the budget counts for a rung.
 void measure_rungs(const Problem& problem, const fs::path& folder, const JobKind& kind, const RunOptions& options,
-                   const std::string& grid_db, const std::string& grid_name, const std::atomic<bool>& no_stop) {
+                   const ExpandedSweep& grid, const std::string& grid_db, const std::string& grid_name,
+                   const std::atomic<bool>& no_stop) {
   if (problem.checkpoints.size() < 2) return;
   const std::int64_t last = problem.checkpoints.back();
   std::map<std::string, std::size_t> index;  // params → point
@@ -245,34 +321,29 @@ void measure_rungs(const Problem& problem, const fs::path& folder, const JobKind
                   third, best_rank, n);
     return std::string(text);
   };
+  // (c) only where a job normalises by its training trajectory: online jobs.
+  const bool online = problem.base.at("learning").value("mode", "online") == "online";
+  const nlohmann::json scale = online ? find_common_input_scale(grid) : nlohmann::json();
+  if (online && scale.is_null()) {
+    std::printf("%s: the grid's points have different input scales: no full-normalisation rung jobs\n", problem.name.c_str());
+  }
   for (std::size_t k = 0; k + 1 < problem.checkpoints.size(); ++k) {
     const std::int64_t c = problem.checkpoints[k];
-    // The short jobs of rung k: the grid again with the rung's length and checkpoints.
-    nlohmann::json base = problem.base;
-    base[nlohmann::json::json_pointer("/" + std::regex_replace(problem.length_path, std::regex("\\."), "/"))] = c;
-    base["learning"]["heldout_checkpoints"] =
-        std::vector<std::int64_t>(problem.checkpoints.begin(), problem.checkpoints.begin() + static_cast<std::ptrdiff_t>(k) + 1);
-    const std::string name = problem.name + " rung " + std::to_string(k);
-    const std::vector<SweepSpec> spec = load_sweep_stages(
-        write_spec(folder, problem.name + "_rung", {{"name", name}, {"base", base}, {"sweep", {{"grid", problem.grid}}}}), kind.schema);
-    const ExpandedSweep sweep = expand_sweep(spec.front(), kind.schema);
-    double estimated = 0.0;
-    for (const ExpandedJob& job : sweep.jobs) estimated += calc_search_cpu_seconds(kind, job.config());
-    RunOptions one = options;
-    one.db_path = (folder / (problem.name + "_rung" + std::to_string(k) + ".db")).string();
-    const double cpu =
-        run_grid_once(folder, problem.name + "_rung" + std::to_string(k), [&] { run_sweep(sweep, kind.executor, one, no_stop); });
-    std::vector<double> short_values(n, std::numeric_limits<double>::infinity());
-    const ResultsStore store = ResultsStore::open(one.db_path, ResultsStore::Mode::read_only);
-    for (const JobRecord& job : store.find_jobs(name)) {
-      const auto found = index.find(job.params.dump());
-      const std::optional<double> v = job.status == "done" ? find_objective_at(store, job, problem, c) : std::nullopt;
-      if (found != index.end() && v) short_values[found->second] = *v;
-    }
+    const ShortRungJobs plain = run_short_rung(problem, folder, kind, options, k, "", nlohmann::json::object(), index, no_stop);
     std::printf("%s rung %zu (checkpoint %lld) against checkpoint %lld, %zu points: in the grid's jobs %s; as short jobs %s "
                 "(%zu short jobs: estimated %.4g, measured %.2f CPU s)\n",
                 problem.name.c_str(), k, static_cast<long long>(c), static_cast<long long>(last), n, describe(in_job[k]).c_str(),
-                describe(short_values).c_str(), sweep.jobs.size(), estimated, cpu);
+                describe(plain.values).c_str(), plain.jobs, plain.estimated, plain.cpu);
+    if (!scale.is_null()) {
+      const ShortRungJobs kept = run_short_rung(problem, folder, kind, options, k, "_fullnorm",
+                                                {{"learning", {{"normalize_inputs", false}, {"lwpr", {{"norm_in", scale}}}}}}, index, no_stop);
+      double largest = 0.0;  // the largest relative difference from the grid's own checkpoint
+      for (std::size_t i = 0; i < n; ++i) largest = std::max(largest, std::fabs(kept.values[i] / in_job[k][i] - 1.0));
+      std::printf("%s rung %zu as short jobs normalised by the full job's trajectory: %s; largest relative difference from "
+                  "checkpoint %lld in the grid's jobs %.3g (%zu short jobs: estimated %.4g, measured %.2f CPU s)\n",
+                  problem.name.c_str(), k, describe(kept.values).c_str(), static_cast<long long>(c), largest, kept.jobs,
+                  kept.estimated, kept.cpu);
+    }
     std::fflush(stdout);
   }
 }
@@ -304,7 +375,7 @@ void run_problem(benchmark::State& state, const Problem& problem) {
     }
   }
 
-  measure_rungs(problem, folder, kind, options, grid_db, grid_name, no_stop);
+  measure_rungs(problem, folder, kind, options, grid, grid_db, grid_name, no_stop);
 
   // The searches: the method and random, 25 % of the grid's estimated cost each.
   const double budget = kBudgetFraction * grid_cost;
@@ -527,8 +598,57 @@ void BM_SearchKernelWidth(benchmark::State& state) {
 }
 BENCHMARK(BM_SearchKernelWidth)->Unit(benchmark::kSecond)->Iterations(1);
 
+// ARMFARM_BENCH_SEARCH_FULL_NORMALISATION=1: every job of the reaching problem (grid, searches,
+// rungs) normalises its inputs by the full 200-reach trajectory, as a spec can ask today: base
+// learning.normalize_inputs false and learning.lwpr.norm_in the full job's input scale
+// (calc_job_input_scale; no axis of this problem changes the training trajectory). A full job
+// then learns as with normalize_inputs, and a short rung job as the full job's first reaches do.
+bool is_full_normalisation() {
+  const char* text = std::getenv("ARMFARM_BENCH_SEARCH_FULL_NORMALISATION");
+  return text != nullptr && std::string(text) == "1";
+}
+
+void apply_full_normalisation(Problem& problem, const JobKind& kind, const fs::path& folder) {
+  const std::vector<SweepSpec> spec =
+      load_sweep_stages(write_spec(folder, problem.name + "_base", {{"name", problem.name + " base"}, {"base", problem.base}}), kind.schema);
+  const ExpandedSweep one = expand_sweep(spec.front(), kind.schema);
+  JobModels models;
+  const Eigen::VectorXd scale = calc_job_input_scale(one.jobs.front().config(), models);
+  problem.base["learning"]["normalize_inputs"] = false;
+  problem.base["learning"]["lwpr"]["norm_in"] = std::vector<double>(scale.data(), scale.data() + scale.size());
+  problem.name += "_fullnorm";
+  std::printf("%s: learning.normalize_inputs false, learning.lwpr.norm_in %s\n", problem.name.c_str(),
+              problem.base["learning"]["lwpr"]["norm_in"].dump().c_str());
+}
+
+// ARMFARM_BENCH_SEARCH_RUNGS=10,200 (increasing, ending at 200): the reaching problem's
+// checkpoints, i.e. ASHA's rungs, instead of the 10/50/200.
+void apply_rungs(Problem& problem) {
+  const char* text = std::getenv("ARMFARM_BENCH_SEARCH_RUNGS");
+  if (text == nullptr || *text == '\0') return;
+  std::vector<std::int64_t> rungs;
+  std::string name = problem.name + "_rungs";
+  std::stringstream list(text);
+  for (std::string item; std::getline(list, item, ',');) {
+    rungs.push_back(std::atoll(item.c_str()));
+    name += "_" + std::to_string(rungs.back());
+  }
+  if (rungs.size() < 2 || rungs.back() != 200 || !std::is_sorted(rungs.begin(), rungs.end())) {
+    std::fprintf(stderr, "ARMFARM_BENCH_SEARCH_RUNGS=%s: expected increasing checkpoints ending at 200\n", text);
+    std::exit(2);
+  }
+  problem.checkpoints = rungs;
+  problem.base["learning"]["heldout_checkpoints"] = rungs;
+  problem.name = name;
+}
+
 void BM_SearchReaching(benchmark::State& state) {
-  for (auto _ : state) run_problem(state, make_reaching_problem());
+  for (auto _ : state) {
+    Problem problem = make_reaching_problem();
+    if (is_full_normalisation()) apply_full_normalisation(problem, make_experiment_job_kind(), scratch_folder());
+    apply_rungs(problem);
+    run_problem(state, problem);
+  }
 }
 BENCHMARK(BM_SearchReaching)->Unit(benchmark::kSecond)->Iterations(1);
 

@@ -1,7 +1,8 @@
 // The search tables: a database of schema version 5 (before searches) migrates with its jobs
 // kept; one of version 6 keeps its search, whose version-7 settings are empty until a writer
 // fills them in (and then stay); one of version 7 gains TPE's rule as NULL (read as the per-axis
-// rule; merge compares it so, a NULL against "joint" is a conflict); a search, its rungs, trials and steps round-trip and are what a plain SQL
+// rule; merge compares it so, a NULL against "joint" is a conflict); one of version 8 gains the
+// joint rule's constants as NULL (read as version 8's; merge refuses other constants); a search, its rungs, trials and steps round-trip and are what a plain SQL
 // reader sees (the search_promotions view); a step naming no job is refused; merge copies a
 // search whole, extends one the file already has and refuses a disagreeing one.
 #include "results/results_store.hpp"
@@ -98,7 +99,8 @@ TEST_F(SearchStoreTest, AVersionSixSearchMigratesWithItsNewSettingsEmptyAndTheNe
                             "ALTER TABLE searches DROP COLUMN tpe_startup; ALTER TABLE searches DROP COLUMN tpe_gamma; "
                             "ALTER TABLE searches DROP COLUMN tpe_max_good; ALTER TABLE searches DROP COLUMN tpe_candidates; "
                             "ALTER TABLE searches DROP COLUMN space; ALTER TABLE searches DROP COLUMN tpe_rule; "
-                            "PRAGMA user_version = 6;");
+                            "ALTER TABLE searches DROP COLUMN tpe_prior_weight; ALTER TABLE searches DROP COLUMN tpe_bandwidth; "
+                            "ALTER TABLE searches DROP COLUMN tpe_liar_bandwidth; PRAGMA user_version = 6;");
   ASSERT_EQ(query_rows(path("v6.db"), "SELECT count(*) FROM pragma_table_info('searches')"), std::vector<std::string>{"14"});
   {
     const ResultsStore reader = ResultsStore::open(path("v6.db"), ResultsStore::Mode::read_only);
@@ -212,7 +214,9 @@ TEST_F(SearchStoreTest, AVersionSevenSearchMigratesWithoutATpeRuleAndTheResuming
     store.insert_search(recorded);
     store.insert_search_step("seven", new_step(0, 0, 0, 0, "new", 12.5, "k1"), SearchTrialRecord{0, 0, R"({"x":1})"});
   }
-  query_rows(path("v7.db"), "ALTER TABLE searches DROP COLUMN tpe_rule; PRAGMA user_version = 7;");
+  query_rows(path("v7.db"), "ALTER TABLE searches DROP COLUMN tpe_rule; ALTER TABLE searches DROP COLUMN tpe_prior_weight; "
+                            "ALTER TABLE searches DROP COLUMN tpe_bandwidth; ALTER TABLE searches DROP COLUMN tpe_liar_bandwidth; "
+                            "PRAGMA user_version = 7;");
   ASSERT_EQ(query_rows(path("v7.db"), "SELECT count(*) FROM pragma_table_info('searches')"), std::vector<std::string>{"21"});
   {
     const ResultsStore reader = ResultsStore::open(path("v7.db"), ResultsStore::Mode::read_only);  // a migrated copy
@@ -232,7 +236,7 @@ TEST_F(SearchStoreTest, AVersionSevenSearchMigratesWithoutATpeRuleAndTheResuming
     resumed.tpe_rule = "joint";
     writer.insert_search(resumed);
   }
-  EXPECT_EQ(query_rows(path("v7.db"), "PRAGMA user_version"), std::vector<std::string>{"8"});
+  EXPECT_EQ(query_rows(path("v7.db"), "PRAGMA user_version"), std::vector<std::string>{std::to_string(kResultsSchemaVersion)});
   EXPECT_EQ(query_rows(path("v7.db"), "SELECT count(*), method, tpe_startup, tpe_rule FROM searches"),
             std::vector<std::string>{"1|asha|4|per_axis"});
   EXPECT_EQ(query_rows(path("v7.db"), "SELECT count(*) FROM search_steps"), std::vector<std::string>{"1"});
@@ -261,6 +265,101 @@ TEST_F(SearchStoreTest, MergeReadsANullTpeRuleAsPerAxisAndRefusesItAgainstAJoint
     EXPECT_NE(report.conflicts[0].find("search r: different settings in " + path("joint.db")), std::string::npos) << report.conflicts[0];
   }
   EXPECT_EQ(query_rows(path("null.db"), "SELECT tpe_rule FROM searches"), std::vector<std::string>{"per_axis"});
+}
+
+TEST_F(SearchStoreTest, AVersionEightJointSearchMigratesWithItsConstantsEmptyReadAsThoseOfVersionEight) {
+  // A file of schema version 8 as its builds wrote it: a joint TPE search with every setting
+  // but the joint rule's constants.
+  SearchRecord recorded = make_search("eight");
+  recorded.max_trials = 0;
+  recorded.bracket_size = 0;
+  recorded.tpe_startup = 4;
+  recorded.tpe_gamma = 0.25;
+  recorded.tpe_max_good = 25;
+  recorded.tpe_candidates = 24;
+  recorded.space = R"([{"path":"x"}])";
+  recorded.tpe_rule = "joint";
+  {
+    ResultsStore store = ResultsStore::open(path("v8.db"), ResultsStore::Mode::read_write);
+    store.insert_sweep_run(testing::make_sweep_registration("eight"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}});
+    store.insert_search(recorded);
+    store.insert_search_step("eight", new_step(0, 0, 0, 0, "new", 12.5, "k1"), SearchTrialRecord{0, 0, R"({"x":1})"});
+  }
+  query_rows(path("v8.db"), "ALTER TABLE searches DROP COLUMN tpe_prior_weight; ALTER TABLE searches DROP COLUMN tpe_bandwidth; "
+                            "ALTER TABLE searches DROP COLUMN tpe_liar_bandwidth; PRAGMA user_version = 8;");
+  ASSERT_EQ(query_rows(path("v8.db"), "SELECT count(*) FROM pragma_table_info('searches')"), std::vector<std::string>{"22"});
+  {
+    const ResultsStore reader = ResultsStore::open(path("v8.db"), ResultsStore::Mode::read_only);  // a migrated copy
+    const std::optional<SearchRecord> old = reader.find_search("eight");
+    ASSERT_TRUE(old.has_value());
+    EXPECT_EQ(old->tpe_rule, "joint");
+    EXPECT_FALSE(old->tpe_prior_weight.has_value());
+    EXPECT_FALSE(old->tpe_bandwidth.has_value());
+    EXPECT_FALSE(old->tpe_liar_bandwidth.has_value());
+    // NULL is read as the constants every build of version 8 proposed with.
+    const TpeJointConstants constants = read_tpe_constants(*old);
+    EXPECT_EQ(constants.prior_weight, 1.0);
+    EXPECT_EQ(constants.bandwidth, 0.2);
+    EXPECT_EQ(constants.liar_bandwidth, 0.7);
+    EXPECT_EQ(reader.find_search_steps("eight").size(), 1u);
+  }
+  EXPECT_EQ(query_rows(path("v8.db"), "PRAGMA user_version"), std::vector<std::string>{"8"});  // reading left it so
+  {
+    // The resumed runner writes its constants (equal to version 8's); a later writer's do not replace them.
+    ResultsStore writer = ResultsStore::open(path("v8.db"), ResultsStore::Mode::read_write);
+    SearchRecord resumed = recorded;
+    resumed.tpe_prior_weight = 1.0;
+    resumed.tpe_bandwidth = 0.2;
+    resumed.tpe_liar_bandwidth = 0.7;
+    writer.insert_search(resumed);
+    resumed.tpe_bandwidth = 0.3;
+    writer.insert_search(resumed);
+  }
+  EXPECT_EQ(query_rows(path("v8.db"), "PRAGMA user_version"), std::vector<std::string>{"9"});
+  EXPECT_EQ(query_rows(path("v8.db"), "SELECT count(*), tpe_rule, tpe_prior_weight, tpe_bandwidth, tpe_liar_bandwidth FROM searches"),
+            std::vector<std::string>{"1|joint|1.0|0.2|0.7"});
+  EXPECT_EQ(query_rows(path("v8.db"), "SELECT count(*) FROM search_steps"), std::vector<std::string>{"1"});
+  EXPECT_TRUE(ResultsStore::open(path("v8.db"), ResultsStore::Mode::read_only).check_contents(true).empty());
+  // The columns take positive values only (the CHECK refuses the update; the row keeps its value).
+  query_rows(path("v8.db"), "UPDATE searches SET tpe_bandwidth = 0");
+  query_rows(path("v8.db"), "UPDATE searches SET tpe_liar_bandwidth = -0.7");
+  EXPECT_EQ(query_rows(path("v8.db"), "SELECT tpe_bandwidth, tpe_liar_bandwidth FROM searches"), std::vector<std::string>{"0.2|0.7"});
+}
+
+TEST_F(SearchStoreTest, MergeReadsNullJointConstantsAsVersionEightsAndRefusesOtherConstants) {
+  const auto write = [&](const std::string& file, const std::optional<std::string>& rule, const std::optional<double>& bandwidth) {
+    ResultsStore store = ResultsStore::open(path(file), ResultsStore::Mode::read_write);
+    store.insert_sweep_run(testing::make_sweep_registration("c"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}});
+    SearchRecord search = make_search("c");
+    search.tpe_rule = rule;
+    search.tpe_bandwidth = bandwidth;
+    store.insert_search(search);
+  };
+  write("null.db", std::string("joint"), std::nullopt);        // a joint row of version 8: h is 0.2
+  write("same.db", std::string("joint"), 0.2);                 // the same constant, recorded
+  write("other.db", std::string("joint"), 0.3);                // another build's constant
+  write("axis_null.db", std::string("per_axis"), std::nullopt);
+  write("axis_other.db", std::string("per_axis"), 0.3);        // the per-axis rule does not use it
+  {
+    ResultsStore store = ResultsStore::open(path("null.db"), ResultsStore::Mode::read_write);
+    EXPECT_TRUE(store.merge_from(path("same.db")).conflicts.empty());  // NULL agrees with 0.2 and is filled in
+    const MergeReport report = store.merge_from(path("other.db"));
+    ASSERT_EQ(report.conflicts.size(), 1u);
+    EXPECT_NE(report.conflicts[0].find("search c: different settings in " + path("other.db") + "; kept this file's"), std::string::npos)
+        << report.conflicts[0];
+  }
+  EXPECT_EQ(query_rows(path("null.db"), "SELECT tpe_bandwidth FROM searches"), std::vector<std::string>{"0.2"});
+  write("null2.db", std::string("joint"), std::nullopt);
+  {
+    // A NULL against 0.3 is a conflict too (NULL is 0.2, not "any value").
+    ResultsStore store = ResultsStore::open(path("null2.db"), ResultsStore::Mode::read_write);
+    EXPECT_EQ(store.merge_from(path("other.db")).conflicts.size(), 1u);
+  }
+  EXPECT_EQ(query_rows(path("null2.db"), "SELECT tpe_bandwidth IS NULL FROM searches"), std::vector<std::string>{"1"});
+  {
+    ResultsStore store = ResultsStore::open(path("axis_null.db"), ResultsStore::Mode::read_write);
+    EXPECT_TRUE(store.merge_from(path("axis_other.db")).conflicts.empty());
+  }
 }
 
 TEST_F(SearchStoreTest, MergeCopiesASearchWholeAndExtendsTheSameSearchStepByStep) {

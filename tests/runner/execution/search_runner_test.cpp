@@ -4,7 +4,9 @@
 // whose jobs a TPE search of the same seed already ran still records its sweep and steps; a
 // real job's held-out objective without learning.heldout_checkpoints is read at its default
 // checkpoint (never undefined for every trial); a search recorded by a build before TPE's rule
-// was stored (schema 7, no rule: the per-axis rule) continues with the per-axis rule; an ASHA promotion of a batch job (each rung a
+// was stored (schema 7, no rule: the per-axis rule) continues with the per-axis rule; a joint
+// search of schema 8 (no constants: version 8's) resumes and one recorded with other constants is
+// refused; an ASHA promotion of a batch job (each rung a
 // job that trains to its checkpoint's epoch) scores bit-identically to one straight run.
 #include <gtest/gtest.h>
 
@@ -22,6 +24,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -202,7 +205,7 @@ TEST_F(CmdRunSearchTest, ASearchRecordedWithoutATpeRuleResumesWithThePerAxisRule
   const std::string slow = "\"sleep_ms\": 80";
   text.replace(text.find(slow), slow.size(), "\"sleep_ms\": 1");
   std::ofstream(path("rule.json")) << text;
-  // The per-axis run, in this process: the spec has no key for the rule, so it is set here.
+  // The per-axis run, in this process, the rule set on the settings (the spec's tpe_rule below).
   {
     const JobKind kind = make_job_kind();
     SweepSpec spec = load_sweep_spec(path("rule.json"), kind.schema);
@@ -235,20 +238,102 @@ TEST_F(CmdRunSearchTest, ASearchRecordedWithoutATpeRuleResumesWithThePerAxisRule
                    "DELETE FROM search_trials WHERE trial NOT IN (SELECT trial FROM search_steps); " + rule_sql);
     ASSERT_EQ(query_rows(db, "SELECT count(*) FROM search_steps"), std::vector<std::string>{"6"});
   };
-  cut(path("old.db"), "ALTER TABLE searches DROP COLUMN tpe_rule; PRAGMA user_version = 7;");
+  cut(path("old.db"), "ALTER TABLE searches DROP COLUMN tpe_rule; ALTER TABLE searches DROP COLUMN tpe_prior_weight; "
+                      "ALTER TABLE searches DROP COLUMN tpe_bandwidth; ALTER TABLE searches DROP COLUMN tpe_liar_bandwidth; "
+                      "PRAGMA user_version = 7;");
   cut(path("joint_label.db"), "UPDATE searches SET tpe_rule = 'joint';");
   const test_support::CommandResult resumed = run_rule(path("old.db"));
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   EXPECT_EQ(query_rows(path("old.db"), kSteps), per_axis);
   EXPECT_EQ(query_rows(path("old.db"), "SELECT count(*), sum(attempts) FROM jobs"), std::vector<std::string>{"14|14"});
   EXPECT_EQ(query_rows(path("old.db"), "SELECT tpe_rule FROM searches"), std::vector<std::string>{"per_axis"});  // written so
-  EXPECT_EQ(query_rows(path("old.db"), "PRAGMA user_version"), std::vector<std::string>{"8"});
+  EXPECT_EQ(query_rows(path("old.db"), "PRAGMA user_version"), std::vector<std::string>{"9"});
+  // The per-axis rule uses none of the joint rule's constants: none recorded.
+  EXPECT_EQ(query_rows(path("old.db"), "SELECT count(*) FROM searches WHERE tpe_prior_weight IS NULL AND tpe_bandwidth IS NULL "
+                                       "AND tpe_liar_bandwidth IS NULL"),
+            std::vector<std::string>{"1"});
   ASSERT_EQ(run_rule(path("joint_label.db")).exit_code, 0);
   const std::vector<std::string> relabelled = query_rows(path("joint_label.db"), kSteps);
   ASSERT_EQ(relabelled.size(), 14u);
   EXPECT_EQ(std::vector<std::string>(relabelled.begin(), relabelled.begin() + 6), std::vector<std::string>(per_axis.begin(), per_axis.begin() + 6));
   EXPECT_NE(relabelled, per_axis);
   EXPECT_NE(query_rows(path("joint_label.db"), "SELECT count(*) FROM jobs"), std::vector<std::string>{"14"});
+
+  // The spec's tpe_rule chooses the rule: "per_axis" through the CLI takes the in-process
+  // per-axis run's steps. Against a search recorded with the other rule it is refused.
+  std::string per_axis_text = text;
+  per_axis_text.insert(per_axis_text.find("\"method\": \"tpe\""), "\"tpe_rule\": \"per_axis\", ");
+  std::ofstream(path("per_axis.json")) << per_axis_text;
+  const test_support::CommandResult chosen =
+      test_support::run_armfarm_with_fake_jobs("run " + path("per_axis.json") + " --db " + path("chosen.db") + " -j 2 -q");
+  ASSERT_EQ(chosen.exit_code, 0) << chosen.output;
+  EXPECT_EQ(query_rows(path("chosen.db"), kSteps), per_axis);
+  const test_support::CommandResult against =
+      test_support::run_armfarm_with_fake_jobs("run " + path("per_axis.json") + " --db " + path("joint.db") + " -j 2 -q");
+  EXPECT_EQ(against.exit_code, 2) << against.output;
+  EXPECT_NE(against.output.find("armfarm: " + path("per_axis.json") + ": sweep.search.tpe_rule: " + path("joint.db") +
+                                " holds search 'fake search' with tpe_rule joint, the spec gives per_axis; a search cannot "
+                                "change under its name"),
+            std::string::npos)
+      << against.output;
+  EXPECT_EQ(query_rows(path("joint.db"), kSteps), joint);
+}
+
+TEST_F(CmdRunSearchTest, AJointSearchOfSchemaEightResumesAndOneWithOtherConstantsIsRefused) {
+  // The fixture's search (joint rule, start-up 4 by the budget rule) with 1 ms jobs.
+  std::string text;
+  {
+    std::ifstream in(path("search.json"));
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::string slow = "\"sleep_ms\": 80";
+  text.replace(text.find(slow), slow.size(), "\"sleep_ms\": 1");
+  std::ofstream(path("joint.json")) << text;
+  const auto run_joint = [&](const std::string& db) {
+    return test_support::run_armfarm_with_fake_jobs("run " + path("joint.json") + " --db " + db + " -j 2 -q");
+  };
+  ASSERT_EQ(run_joint(path("joint.db")).exit_code, 0);
+  const std::vector<std::string> joint = query_rows(path("joint.db"), kSteps);
+  ASSERT_EQ(joint.size(), 14u);
+  const std::string constants = "SELECT tpe_rule, tpe_prior_weight, tpe_bandwidth, tpe_liar_bandwidth FROM searches";
+  EXPECT_EQ(query_rows(path("joint.db"), constants), std::vector<std::string>{"joint|1.0|0.2|0.7"});
+  // The search cut after 6 steps (2 of them TPE's). As a build of schema version 8 left it: the
+  // rule recorded, the constants not. Its 14 jobs stay in the file, so a resume that proposed
+  // anything else would run new jobs.
+  const auto cut = [&](const std::string& db, const std::string& sql) {
+    fs::copy_file(path("joint.db"), db);
+    query_rows(db, "DELETE FROM search_steps WHERE step >= 6; "
+                   "DELETE FROM search_trials WHERE trial NOT IN (SELECT trial FROM search_steps); " + sql);
+    ASSERT_EQ(query_rows(db, "SELECT count(*) FROM search_steps"), std::vector<std::string>{"6"});
+  };
+  cut(path("eight.db"), "ALTER TABLE searches DROP COLUMN tpe_prior_weight; ALTER TABLE searches DROP COLUMN tpe_bandwidth; "
+                        "ALTER TABLE searches DROP COLUMN tpe_liar_bandwidth; PRAGMA user_version = 8;");
+  const test_support::CommandResult resumed = run_joint(path("eight.db"));
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_EQ(query_rows(path("eight.db"), kSteps), joint);
+  EXPECT_EQ(query_rows(path("eight.db"), "SELECT count(*), sum(attempts) FROM jobs"), std::vector<std::string>{"14|14"});
+  EXPECT_EQ(query_rows(path("eight.db"), constants), std::vector<std::string>{"joint|1.0|0.2|0.7"});  // written so
+  EXPECT_EQ(query_rows(path("eight.db"), "PRAGMA user_version"), std::vector<std::string>{"9"});
+
+  // A row with another bandwidth fraction, as a build with other constants would write it:
+  // refused in one line naming the database and the search, exit 2, nothing written.
+  cut(path("other.db"), "UPDATE searches SET tpe_bandwidth = 0.3;");
+  const std::string everything = "SELECT (SELECT group_concat(step || ':' || committed) FROM search_steps), "
+                                 "(SELECT count(*) FROM runs), (SELECT sum(attempts) FROM jobs), (SELECT count(*) FROM search_trials)";
+  const std::vector<std::string> before = query_rows(path("other.db"), everything);
+  const test_support::CommandResult refused = run_joint(path("other.db"));
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  const std::string line = "armfarm: " + path("joint.json") + ": sweep.search: " + path("other.db") +
+                           " holds search 'fake search' proposed by TPE's joint rule with prior weight 1, bandwidth 0.3 and liar "
+                           "bandwidth 0.7, this build's are prior weight 1, bandwidth 0.2 and liar bandwidth 0.7; it would continue "
+                           "with other proposals (resume it with a build of the file's constants, or give the sweep another name, "
+                           "or use another database)\n";
+  // The run's headline, then the refusal: one line.
+  ASSERT_GE(refused.output.size(), line.size());
+  EXPECT_EQ(refused.output.substr(refused.output.size() - line.size()), line) << refused.output;
+  EXPECT_EQ(std::count(refused.output.begin(), refused.output.end(), '\n'), 2) << refused.output;
+  EXPECT_EQ(query_rows(path("other.db"), everything), before);
+  EXPECT_EQ(query_rows(path("other.db"), constants), std::vector<std::string>{"joint|1.0|0.3|0.7"});
 }
 
 TEST_F(CmdRunSearchTest, AHeldOutObjectiveWithoutCheckpointsIsReadAtTheDefaultOne) {

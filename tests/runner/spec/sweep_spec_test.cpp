@@ -372,6 +372,18 @@ TEST(SearchBlock, BadBlocksAreRefusedWithTheirJsonPath) {
       {"tpe_startup of one", R"({"method": "tpe", "tpe_startup": 1, "objective": {"metric": "heldout_test_nmse"},
           "space": {"learning.lwpr.init_D": {"uniform": [1, 2]}}, "budget": {"jobs": 9}})",
        "sweep.search.tpe_startup: expected an integer in [2, 1000000]"},
+      {"tpe_rule without tpe", R"({"method": "asha", "tpe_rule": "joint", "objective": {"metric": "heldout_test_nmse"},
+          "space": {"learning.lwpr.init_D": {"uniform": [1, 2]}}, "budget": {"jobs": 9}})",
+       "sweep.search.tpe_rule: applies to TPE proposals only (method \"tpe\" or sampler \"tpe\")"},
+      {"tpe_rule under random", R"({"method": "random", "tpe_rule": "per_axis", "objective": {"metric": "heldout_test_nmse"},
+          "space": {"learning.lwpr.init_D": {"uniform": [1, 2]}}, "budget": {"jobs": 9}})",
+       "sweep.search.tpe_rule: applies to TPE proposals only"},
+      {"unknown tpe_rule", R"({"method": "tpe", "tpe_rule": "per_axes", "objective": {"metric": "heldout_test_nmse"},
+          "space": {"learning.lwpr.init_D": {"uniform": [1, 2]}}, "budget": {"jobs": 9}})",
+       "sweep.search.tpe_rule: expected \"joint\" (the default) or \"per_axis\", not 'per_axes' (did you mean 'per_axis'?)"},
+      {"tpe_rule not a string", R"({"method": "asha", "sampler": "tpe", "tpe_rule": true, "objective": {"metric": "heldout_test_nmse"},
+          "space": {"learning.lwpr.init_D": {"uniform": [1, 2]}}, "budget": {"jobs": 9}})",
+       "sweep.search.tpe_rule: expected \"joint\" (the default) or \"per_axis\", not true"},
   };
   for (const BadBlock& b : bad) {
     const std::vector<std::string> errors = collect_search_errors(make_spec(b.block));
@@ -410,6 +422,31 @@ TEST(SearchBlock, TpeStartupIsReadAndDefaultsToTheBudgetRule) {
   EXPECT_EQ(parse_sweep_spec(make_spec(block), "spec.json", ".", schema).search->tpe_startup, 0u);  // the rule
   block.insert(1, R"("tpe_startup": 5, )");
   EXPECT_EQ(parse_sweep_spec(make_spec(block), "spec.json", ".", schema).search->tpe_startup, 5u);
+}
+
+TEST(SearchBlock, TpeRuleChoosesTheEstimatorRuleAndDefaultsToJoint) {
+  const JobConfigSchema schema = make_experiment_config_schema();
+  const auto parse = [&](const std::string& block) { return *parse_sweep_spec(make_spec(block), "spec.json", ".", schema).search; };
+  const std::string tpe = R"({"method": "tpe", RULE"objective": {"metric": "heldout_test_nmse"},
+      "space": {"learning.lwpr.init_D": {"uniform": [1, 2]}}, "budget": {"jobs": 9}})";
+  const auto with = [&](const std::string& block, const std::string& rule) {
+    std::string text = block;
+    return parse(text.replace(text.find("RULE"), 4, rule));
+  };
+  const SpecSearch plain = with(tpe, "");
+  EXPECT_TRUE(plain.settings.tpe.joint);  // the default
+  EXPECT_FALSE(plain.tpe_rule_given);
+  const SpecSearch per_axis = with(tpe, R"("tpe_rule": "per_axis", )");
+  EXPECT_FALSE(per_axis.settings.tpe.joint);
+  EXPECT_TRUE(per_axis.tpe_rule_given);
+  const SpecSearch joint = with(tpe, R"("tpe_rule": "joint", )");
+  EXPECT_TRUE(joint.settings.tpe.joint);
+  EXPECT_TRUE(joint.tpe_rule_given);
+  // The sampler of asha proposes with TPE too.
+  std::string asha = kGood;
+  ASSERT_NE(asha.find(R"("sampler": "tpe")"), std::string::npos);
+  asha.insert(1, R"("tpe_rule": "per_axis", )");
+  EXPECT_FALSE(parse(asha).settings.tpe.joint);
 }
 
 TEST(SearchBlock, ASearchDoesNotCombineWithGridAxes) {
