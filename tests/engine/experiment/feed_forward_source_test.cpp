@@ -6,7 +6,7 @@
 #include "engine/learning/learner_factory.hpp"
 #include "engine/learning/learning_config.hpp"
 #include "engine/random/random_stream.hpp"
-#include "../physics/test_arms.hpp"
+#include "support/test_arms.hpp"
 
 #include <gtest/gtest.h>
 
