@@ -1,19 +1,15 @@
 #include "engine/experiment/batch_training.hpp"
 
 #include "engine/experiment/signal_statistics.hpp"
+#include "engine/experiment/tick_timer.hpp"
 #include "engine/random/random_stream.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <string>
 
 namespace armfarm {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 /// The result of a stop during training: `where` says how far it got.
 PassResult make_stopped(BatchTrainingResult& result, const std::string& where) {
@@ -47,9 +43,11 @@ PassResult train_in_batch(Learner& learner, const std::vector<Sample>& samples, 
                                         std::to_string(i) + " of " + std::to_string(train.size()) + " training samples learnt");
       }
       const std::size_t index = train[i];
-      const auto start = std::chrono::steady_clock::now();
-      learner.update(samples[index].x, samples[index].y);
-      if (clock) clock->update_seconds += seconds_since(start), ++clock->updates;
+      {
+        ScopedSeconds timed(clock ? &clock->update_seconds : nullptr);
+        learner.update(samples[index].x, samples[index].y);
+      }
+      if (clock) ++clock->updates;
     }
     if (after_epoch) {
       PassResult checkpoint = after_epoch(epoch);
@@ -65,9 +63,12 @@ PassResult train_in_batch(Learner& learner, const std::vector<Sample>& samples, 
       return make_stopped(result, "scoring, " + std::to_string(i) + " of " + std::to_string(test.size()) + " test samples predicted");
     }
     const std::size_t index = test[i];
-    const auto start = std::chrono::steady_clock::now();
-    const Prediction prediction = learner.predict(samples[index].x, *workspace);
-    if (clock) clock->predict_seconds += seconds_since(start), ++clock->predictions;
+    Prediction prediction;
+    {
+      ScopedSeconds timed(clock ? &clock->predict_seconds : nullptr);
+      prediction = learner.predict(samples[index].x, *workspace);
+    }
+    if (clock) ++clock->predictions;
     accuracy.add(samples[index].y, calc_trusted_part(prediction));
   }
   result.same_run_test = accuracy;

@@ -1,7 +1,8 @@
 #pragma once
 // Wall-clock timers of a control pass, kept out of its physics: TickLaps splits one tick's wall
 // time among the TickClock stages (control_pass.hpp), ScopedSeconds adds a scope's duration to a
-// counter. Both do nothing when given no clock. Seconds, std::chrono::steady_clock.
+// counter (the pass's learner updates, and batch training's updates and predictions,
+// batch_training.cpp). Both do nothing when given no clock. Seconds, std::chrono::steady_clock.
 #include "engine/experiment/control_pass.hpp"
 
 #include <chrono>

@@ -51,101 +51,120 @@ void write_kernel_width_sweep(const std::string& db) {
   testing::write_test_sweep(db, "fig6_1_kernel_width", jobs);
 }
 
-class PlotTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    db_ = directory_.file("results.db");
-    std::vector<testing::TestJob> kernel_jobs;
-    for (bool update_d : {false, true}) {
-      for (double init_d : {1.0, 10.0, 100.0}) {
-        for (int seed = 1; seed <= 2; ++seed) {
-          testing::TestJob job;
-          job.params = {{"learning.lwpr.init_D", init_d}, {"learning.lwpr.update_D", update_d}, {"seed", seed}};
-          const double nmse = 0.1 / std::sqrt(init_d) + (update_d ? 0.02 : 0.0) + 0.001 * seed;
-          job.metrics = {{0, "same_run_test_nmse", 1, nmse, ""}, {0, "same_run_test_nmse", 2, 2 * nmse, ""},
-                         {0, "n_receptive_fields", std::nullopt, 5 * init_d + (update_d ? 10 : 0), ""}};
-          kernel_jobs.push_back(job);
-        }
-      }
-    }
-    testing::write_test_sweep(db_, "kernel", kernel_jobs);
-
-    std::vector<testing::TestJob> tracking_jobs;
-    for (const char* mode : {"feedback", "composite"}) {
-      testing::TestJob job;
-      job.params = {{"control.mode", mode}};
-      const double error = std::string(mode) == "feedback" ? 0.05 : 0.005;
-      constexpr int n = 200;  // a constant: read inside the lambda without a capture
-      auto time = [](int r) { return 4.0 * r / n; };
-      job.series.push_back(make_series("POS_D", {"t", "x", "y", "z"}, n, [&](int r, int c) {
-        const double t = time(r);
-        return c == 0 ? t : c == 1 ? 0.5 : c == 2 ? 0.2 * std::sin(M_PI * t) : 0.4 + 0.1 * std::sin(2 * M_PI * t);
-      }));
-      job.series.push_back(make_series("POS", {"t", "x", "y", "z"}, n, [&](int r, int c) {
-        const double t = time(r);
-        return c == 0 ? t : c == 1 ? 0.5 : c == 2 ? 0.2 * std::sin(M_PI * t) + error : 0.4 + 0.1 * std::sin(2 * M_PI * t) - error;
-      }));
-      for (const char* name : {"F", "FF", "TOR"}) {
-        job.series.push_back(make_series(name, {"t", "joint 1", "joint 2"}, n, [&](int r, int c) {
-          return c == 0 ? time(r) : (std::string(name) == "F" ? 0.1 : 1.0) * std::cos(time(r) * c);
-        }));
-      }
-      job.series.push_back(make_series("RF", {"trial", "n_receptive_fields"}, 20, [](int r, int c) {
-        return c == 0 ? r + 1 : 40.0 * (1 - std::exp(-0.2 * (r + 1)));
-      }));
-      job.metrics = {{0, "ff_fb_ratio_avg", 1, std::string(mode) == "feedback" ? 0.0 : 0.9, ""}};
-      tracking_jobs.push_back(job);
-    }
-    testing::write_test_sweep(db_, "tracking", tracking_jobs);
-
-    // update_D fixed (in every config, not swept), one job diverged, a held-out metric at checkpoints.
-    std::vector<testing::TestJob> fixed_jobs;
+// Sweep "kernel": init_D 1, 10, 100 against update_D, 2 seeds; nMSE of two joints and receptive fields.
+void write_kernel_sweep(const std::string& db) {
+  std::vector<testing::TestJob> kernel_jobs;
+  for (bool update_d : {false, true}) {
     for (double init_d : {1.0, 10.0, 100.0}) {
       for (int seed = 1; seed <= 2; ++seed) {
         testing::TestJob job;
-        job.params = {{"learning.lwpr.init_D", init_d}, {"seed", seed}};
-        const double nmse = 0.1 / std::sqrt(init_d) + 0.001 * seed;
-        job.metrics = {{0, "same_run_test_nmse", 1, nmse, ""}, {0, "n_receptive_fields", std::nullopt, 5 * init_d, ""}};
-        MetricRecord heldout{0, "heldout_test_nmse", 1, nmse / 2, ""};
-        heldout.checkpoint = 1;
-        job.metrics.push_back(heldout);
-        if (init_d == 100.0 && seed == 2) {
-          job.status = "diverged";
-          job.metrics.clear();
-        }
-        fixed_jobs.push_back(job);
+        job.params = {{"learning.lwpr.init_D", init_d}, {"learning.lwpr.update_D", update_d}, {"seed", seed}};
+        const double nmse = 0.1 / std::sqrt(init_d) + (update_d ? 0.02 : 0.0) + 0.001 * seed;
+        job.metrics = {{0, "same_run_test_nmse", 1, nmse, ""}, {0, "same_run_test_nmse", 2, 2 * nmse, ""},
+                       {0, "n_receptive_fields", std::nullopt, 5 * init_d + (update_d ? 10 : 0), ""}};
+        kernel_jobs.push_back(job);
       }
     }
-    testing::write_test_sweep(db_, "fixed", fixed_jobs);
+  }
+  testing::write_test_sweep(db, "kernel", kernel_jobs);
+}
 
-    // A 7-joint arm: seven panels of nMSE and torques, long legend entries, narrow tick spacing.
-    std::vector<testing::TestJob> seven_jobs;
-    for (const char* mode : {"online", "batch"}) {
-      for (double init_d : {0.5, 5.0, 50.0, 500.0}) {
-        testing::TestJob job;
-        job.params = {{"learning.mode", mode}, {"learning.lwpr.init_D", init_d}};
-        for (int j = 1; j <= 7; ++j) job.metrics.push_back({0, "same_run_test_nmse", j, 0.01 * j / std::sqrt(init_d), ""});
-        job.metrics.push_back({0, "n_receptive_fields", std::nullopt, 3 * init_d, ""});
-        std::vector<std::string> columns{"t"};
-        for (int j = 1; j <= 7; ++j) columns.push_back("joint " + std::to_string(j));
-        for (const char* name : {"F", "FF", "TOR"}) {
-          job.series.push_back(make_series(name, columns, 120, [&](int r, int c) {
-            return c == 0 ? 0.24 + 0.0004 * r : 12.5 * std::sin(0.05 * r * c) / c;
-          }));
-        }
-        job.series.push_back(make_series("POS_D", {"t", "x", "y", "z"}, 120, [](int r, int c) {
-          return c == 0 ? 0.01 * r : c == 2 ? 0.2 * std::sin(0.05 * r) : c == 3 ? 0.4 + 0.1 * std::cos(0.05 * r) : 0.5;
-        }));
-        job.series.push_back(make_series("POS", {"t", "x", "y", "z"}, 120, [&](int r, int c) {
-          return c == 0 ? 0.01 * r : c == 2 ? 0.2 * std::sin(0.05 * r) + 0.001 * init_d : c == 3 ? 0.4 + 0.1 * std::cos(0.05 * r) : 0.5;
-        }));
-        job.series.push_back(make_series("RF", {"trial", "n_receptive_fields"}, 20, [&](int r, int c) {
-          return c == 0 ? r + 1 : (std::string(mode) == "online" ? r * init_d : init_d);
-        }));
-        seven_jobs.push_back(job);
-      }
+// Sweep "tracking": feedback against composite control, one job each, with desired and actual
+// paths (200 rows), the torque series F, FF and TOR, receptive fields per trial and ff_fb_ratio_avg.
+void write_tracking_sweep(const std::string& db) {
+  std::vector<testing::TestJob> tracking_jobs;
+  for (const char* mode : {"feedback", "composite"}) {
+    testing::TestJob job;
+    job.params = {{"control.mode", mode}};
+    const double error = std::string(mode) == "feedback" ? 0.05 : 0.005;
+    constexpr int n = 200;  // a constant: read inside the lambda without a capture
+    auto time = [](int r) { return 4.0 * r / n; };
+    job.series.push_back(make_series("POS_D", {"t", "x", "y", "z"}, n, [&](int r, int c) {
+      const double t = time(r);
+      return c == 0 ? t : c == 1 ? 0.5 : c == 2 ? 0.2 * std::sin(M_PI * t) : 0.4 + 0.1 * std::sin(2 * M_PI * t);
+    }));
+    job.series.push_back(make_series("POS", {"t", "x", "y", "z"}, n, [&](int r, int c) {
+      const double t = time(r);
+      return c == 0 ? t : c == 1 ? 0.5 : c == 2 ? 0.2 * std::sin(M_PI * t) + error : 0.4 + 0.1 * std::sin(2 * M_PI * t) - error;
+    }));
+    for (const char* name : {"F", "FF", "TOR"}) {
+      job.series.push_back(make_series(name, {"t", "joint 1", "joint 2"}, n, [&](int r, int c) {
+        return c == 0 ? time(r) : (std::string(name) == "F" ? 0.1 : 1.0) * std::cos(time(r) * c);
+      }));
     }
-    testing::write_test_sweep(db_, "seven", seven_jobs);
+    job.series.push_back(make_series("RF", {"trial", "n_receptive_fields"}, 20, [](int r, int c) {
+      return c == 0 ? r + 1 : 40.0 * (1 - std::exp(-0.2 * (r + 1)));
+    }));
+    job.metrics = {{0, "ff_fb_ratio_avg", 1, std::string(mode) == "feedback" ? 0.0 : 0.9, ""}};
+    tracking_jobs.push_back(job);
+  }
+  testing::write_test_sweep(db, "tracking", tracking_jobs);
+}
+
+// Sweep "fixed": init_D 1, 10, 100, 2 seeds, update_D fixed (in every config, not swept); one job
+// diverged (no metrics), and a held-out nMSE at checkpoint 1.
+void write_fixed_sweep(const std::string& db) {
+  std::vector<testing::TestJob> fixed_jobs;
+  for (double init_d : {1.0, 10.0, 100.0}) {
+    for (int seed = 1; seed <= 2; ++seed) {
+      testing::TestJob job;
+      job.params = {{"learning.lwpr.init_D", init_d}, {"seed", seed}};
+      const double nmse = 0.1 / std::sqrt(init_d) + 0.001 * seed;
+      job.metrics = {{0, "same_run_test_nmse", 1, nmse, ""}, {0, "n_receptive_fields", std::nullopt, 5 * init_d, ""}};
+      MetricRecord heldout{0, "heldout_test_nmse", 1, nmse / 2, ""};
+      heldout.checkpoint = 1;
+      job.metrics.push_back(heldout);
+      if (init_d == 100.0 && seed == 2) {
+        job.status = "diverged";
+        job.metrics.clear();
+      }
+      fixed_jobs.push_back(job);
+    }
+  }
+  testing::write_test_sweep(db, "fixed", fixed_jobs);
+}
+
+// Sweep "seven": a 7-joint arm, online and batch against four init_D: seven panels of nMSE and
+// torques, long legend entries, narrow tick spacing.
+void write_seven_joint_sweep(const std::string& db) {
+  std::vector<testing::TestJob> seven_jobs;
+  for (const char* mode : {"online", "batch"}) {
+    for (double init_d : {0.5, 5.0, 50.0, 500.0}) {
+      testing::TestJob job;
+      job.params = {{"learning.mode", mode}, {"learning.lwpr.init_D", init_d}};
+      for (int j = 1; j <= 7; ++j) job.metrics.push_back({0, "same_run_test_nmse", j, 0.01 * j / std::sqrt(init_d), ""});
+      job.metrics.push_back({0, "n_receptive_fields", std::nullopt, 3 * init_d, ""});
+      std::vector<std::string> columns{"t"};
+      for (int j = 1; j <= 7; ++j) columns.push_back("joint " + std::to_string(j));
+      for (const char* name : {"F", "FF", "TOR"}) {
+        job.series.push_back(make_series(name, columns, 120, [&](int r, int c) {
+          return c == 0 ? 0.24 + 0.0004 * r : 12.5 * std::sin(0.05 * r * c) / c;
+        }));
+      }
+      job.series.push_back(make_series("POS_D", {"t", "x", "y", "z"}, 120, [](int r, int c) {
+        return c == 0 ? 0.01 * r : c == 2 ? 0.2 * std::sin(0.05 * r) : c == 3 ? 0.4 + 0.1 * std::cos(0.05 * r) : 0.5;
+      }));
+      job.series.push_back(make_series("POS", {"t", "x", "y", "z"}, 120, [&](int r, int c) {
+        return c == 0 ? 0.01 * r : c == 2 ? 0.2 * std::sin(0.05 * r) + 0.001 * init_d : c == 3 ? 0.4 + 0.1 * std::cos(0.05 * r) : 0.5;
+      }));
+      job.series.push_back(make_series("RF", {"trial", "n_receptive_fields"}, 20, [&](int r, int c) {
+        return c == 0 ? r + 1 : (std::string(mode) == "online" ? r * init_d : init_d);
+      }));
+      seven_jobs.push_back(job);
+    }
+  }
+  testing::write_test_sweep(db, "seven", seven_jobs);
+}
+
+class PlotTest : public ::testing::Test {
+ protected:
+  // The four sweeps the plots draw from, in one database.
+  void SetUp() override {
+    db_ = directory_.file("results.db");
+    write_kernel_sweep(db_);
+    write_tracking_sweep(db_);
+    write_fixed_sweep(db_);
+    write_seven_joint_sweep(db_);
   }
 
   std::string render(const std::string& arguments, const std::string& out) {

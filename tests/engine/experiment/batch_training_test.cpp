@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -91,6 +92,37 @@ TEST(BatchTraining, WithoutAStopEveryUpdateAndPredictionIsPolledOnce) {
   EXPECT_EQ(never.calls, 3 * 30 + 10);
   EXPECT_EQ(learner->n_updates(), 90u);
   EXPECT_EQ(result.same_run_test.count(), 10);
+}
+
+TEST(BatchTraining, AClockCountsEachUpdateAndPredictionAndAddsTheirSecondsToWhatItHeld) {
+  const LearningConfig config = make_three_epochs();
+  const auto learner = make_learner(config, 1, 1, Eigen::VectorXd());
+  LearnerClock clock;  // a clock that already holds an earlier pass's figures
+  clock.update_seconds = 1.0, clock.updates = 5;
+  clock.predict_seconds = 2.0, clock.predictions = 7;
+  BatchTrainingResult result;
+  const auto start = std::chrono::steady_clock::now();
+  const PassResult trained = train_in_batch(*learner, make_line_samples(), config, 7, &clock, {}, {}, result);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ASSERT_TRUE(trained.ok()) << trained.message;
+  EXPECT_EQ(clock.updates, 5 + 3 * 30);
+  EXPECT_EQ(clock.predictions, 7 + 10);
+  // Seconds are added, not overwritten, and never more than the call's own wall time.
+  EXPECT_GT(clock.update_seconds, 1.0);
+  EXPECT_GT(clock.predict_seconds, 2.0);
+  EXPECT_LE((clock.update_seconds - 1.0) + (clock.predict_seconds - 2.0), wall);
+
+  // Stopped in epoch 2 after 44 updates: the clock counts those and no prediction.
+  LearnerClock stopped_clock;
+  PollCounter stop;
+  stop.fire_at = 45;
+  const auto stopped_learner = make_learner(config, 1, 1, Eigen::VectorXd());
+  BatchTrainingResult stopped;
+  EXPECT_EQ(train_in_batch(*stopped_learner, make_line_samples(), config, 7, &stopped_clock, {}, stop.make(), stopped).status,
+            JobStatus::timeout);
+  EXPECT_EQ(stopped_clock.updates, 44);
+  EXPECT_EQ(stopped_clock.predictions, 0);
+  EXPECT_EQ(stopped_clock.predict_seconds, 0.0);
 }
 
 /// A batch job whose polls are mostly training ones: 2 s sine (200 ticks a pass), 2 collection

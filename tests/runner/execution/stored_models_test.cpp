@@ -53,6 +53,101 @@ class StoredModelsCli : public test_support::ScratchFolderTest {
     text.replace(text.find("TRAIN_DURATION"), std::string("TRAIN_DURATION").size(), duration);
     std::ofstream(path(name)) << text;
   }
+
+  /// The train stage's job in `db`: its key and the bytes of the model it stored.
+  struct TrainedModel {
+    std::string key;
+    std::string bytes;
+  };
+  static TrainedModel find_trained_model(const std::string& db) {
+    const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
+    const JobRecord train = store.find_jobs("twostage.train").at(0);
+    return {train.key, store.find_job_model(train.id)->data};
+  }
+
+  /// `lwpr export` of the job (by an 8-digit key prefix) writes path("m.lwpr"), byte for byte the stored model.
+  void expect_export_writes_the_stored_bytes(const std::string& db, const TrainedModel& trained) {
+    const CommandResult exported =
+        run_armfarm("lwpr export --db " + db + " --job " + trained.key.substr(0, 8) + " -o " + path("m.lwpr"));
+    ASSERT_EQ(exported.exit_code, 0) << exported.output;
+    std::ifstream in(path("m.lwpr"), std::ios::binary);
+    std::ostringstream file;
+    file << in.rdbuf();
+    EXPECT_EQ(file.str(), trained.bytes);
+  }
+
+  /// `lwpr inspect` of the file (--json) and of the job (text) describe `learner`: its sizes,
+  /// updates and receptive fields.
+  void expect_inspect_describes(const std::string& db, const std::string& key, const Learner& learner) {
+    const CommandResult inspected = run_armfarm("lwpr inspect " + path("m.lwpr") + " --json");
+    ASSERT_EQ(inspected.exit_code, 0) << inspected.output;
+    const nlohmann::json info = nlohmann::json::parse(inspected.output);
+    EXPECT_EQ(info["inputs"], 6);
+    EXPECT_EQ(info["outputs"], 2);
+    EXPECT_EQ(info["n_updates"], learner.n_updates());
+    ASSERT_EQ(info["per_output"].size(), 2u);
+    EXPECT_EQ(info["per_output"][0]["fields"].get<std::size_t>() + info["per_output"][1]["fields"].get<std::size_t>(), learner.size());
+    EXPECT_GT(info["per_output"][0]["n_data"]["max"].get<double>(), 0.0);
+    const CommandResult text = run_armfarm("lwpr inspect --db " + db + " --job " + key);
+    EXPECT_EQ(text.exit_code, 0) << text.output;
+    EXPECT_NE(text.output.find("lwpr model, 6 inputs -> 2 outputs"), std::string::npos) << text.output;
+  }
+
+  /// Predictions at a point of the training sine (q, q̇, q̈ of joints 2 and 4): the CLI prints the
+  /// model's own prediction, to the last bit, from the file and from the database alike, and
+  /// the same row from a CSV of points.
+  void expect_predict_prints_the_models_prediction(const std::string& db, const std::string& key, const Learner& learner) {
+    Eigen::VectorXd x(6);
+    x << 0.1, 0.2, -0.3, 0.05, 0.1, -0.2;
+    auto workspace = learner.make_workspace();
+    const Prediction expected = learner.predict(x, *workspace);
+    const std::string point = "--x 0.1,0.2,-0.3,0.05,0.1,-0.2";
+    const CommandResult from_file = run_armfarm("lwpr predict " + path("m.lwpr") + " " + point);
+    const CommandResult from_db = run_armfarm("lwpr predict --db " + db + " --job " + key + " " + point);
+    ASSERT_EQ(from_file.exit_code, 0) << from_file.output;
+    EXPECT_EQ(from_file.output, from_db.output);
+    std::istringstream lines(from_file.output);
+    std::string header, row;
+    std::getline(lines, header);
+    std::getline(lines, row);
+    EXPECT_EQ(header, "x1,x2,x3,x4,x5,x6,y1,confidence1,y2,confidence2");
+    std::vector<std::string> cells;
+    std::stringstream cell_stream(row);
+    for (std::string cell; std::getline(cell_stream, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 10u) << row;
+    for (int o = 0; o < 2; ++o) {
+      if (!expected.output_trusted[o]) continue;
+      EXPECT_EQ(std::stod(cells[6 + 2 * o]), expected.value(o)) << o;
+      EXPECT_EQ(std::stod(cells[7 + 2 * o]), expected.confidence(o)) << o;
+    }
+    std::ofstream(path("points.csv")) << "q2,q4,qd2,qd4,qdd2,qdd4\n0.1,0.2,-0.3,0.05,0.1,-0.2\n";
+    const CommandResult from_csv = run_armfarm("lwpr predict " + path("m.lwpr") + " --csv " + path("points.csv"));
+    ASSERT_EQ(from_csv.exit_code, 0) << from_csv.output;
+    EXPECT_EQ(from_csv.output.substr(from_csv.output.find('\n')), from_file.output.substr(from_file.output.find('\n')));
+  }
+
+  /// Bad input to the verbs (a point of the wrong size, a key no job has): one line, exit 2.
+  void expect_bad_verb_input_refused(const std::string& db) {
+    const CommandResult wrong_size = run_armfarm("lwpr predict " + path("m.lwpr") + " --x 1,2");
+    EXPECT_EQ(wrong_size.exit_code, 2);
+    EXPECT_NE(wrong_size.output.find("the model has 6 inputs"), std::string::npos) << wrong_size.output;
+    const CommandResult no_job = run_armfarm("lwpr inspect --db " + db + " --job ffffffff");
+    EXPECT_EQ(no_job.exit_code, 2);
+    EXPECT_NE(no_job.output.find("no job with that key"), std::string::npos) << no_job.output;
+  }
+
+  /// The exported file as an input file: a job starting from it (its content hash in the key)
+  /// expands and runs into `db`.
+  void expect_exported_file_runs_as_an_input(const std::string& db) {
+    std::ofstream(path("from_file.json")) << R"({"name": "from_file", "base": {"active_joints": [2, 4],
+      "trajectory": {"kind": "sine", "sine": {"duration": 2}}, "control": {"gain_scale": 0.2},
+      "learning": {"mode": "frozen", "heldout": false, "initial_model": "m.lwpr"}}})";
+    const CommandResult expanded = run_armfarm("expand " + path("from_file.json") + " --json");
+    ASSERT_EQ(expanded.exit_code, 0) << expanded.output;
+    EXPECT_NE(expanded.output.find("\"learning.initial_model\""), std::string::npos) << expanded.output;
+    const CommandResult ran = run_armfarm("run " + path("from_file.json") + " --db " + db);
+    EXPECT_EQ(ran.exit_code, 0) << ran.output;
+  }
 };
 
 TEST_F(StoredModelsCli, TwoStagesRunInOrderFromTheStoredModelAndResume) {
@@ -112,88 +207,21 @@ TEST_F(StoredModelsCli, TwoStagesRunInOrderFromTheStoredModelAndResume) {
       << changed.output;
 }
 
+// Each step stops the test at its first fatal failure, as the one body it was did (a later step
+// reads what an earlier one wrote: m.lwpr).
 TEST_F(StoredModelsCli, LwprVerbsInspectPredictAndExportAStoredModel) {
   write_spec("staged.json", "4");
   const std::string db = path("verbs.db");
   const CommandResult run = run_armfarm("run " + path("staged.json") + " --db " + db + " -j 2");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  std::string key;
-  std::string bytes;
-  {
-    const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
-    const JobRecord train = store.find_jobs("twostage.train").at(0);
-    key = train.key;
-    bytes = store.find_job_model(train.id)->data;
-  }
-  const auto learner = decode_learner_model(bytes);
+  const TrainedModel trained = find_trained_model(db);
+  const auto learner = decode_learner_model(trained.bytes);
 
-  const CommandResult exported = run_armfarm("lwpr export --db " + db + " --job " + key.substr(0, 8) + " -o " + path("m.lwpr"));
-  ASSERT_EQ(exported.exit_code, 0) << exported.output;
-  std::ifstream in(path("m.lwpr"), std::ios::binary);
-  std::ostringstream file;
-  file << in.rdbuf();
-  EXPECT_EQ(file.str(), bytes);
-
-  const CommandResult inspected = run_armfarm("lwpr inspect " + path("m.lwpr") + " --json");
-  ASSERT_EQ(inspected.exit_code, 0) << inspected.output;
-  const nlohmann::json info = nlohmann::json::parse(inspected.output);
-  EXPECT_EQ(info["inputs"], 6);
-  EXPECT_EQ(info["outputs"], 2);
-  EXPECT_EQ(info["n_updates"], learner->n_updates());
-  ASSERT_EQ(info["per_output"].size(), 2u);
-  EXPECT_EQ(info["per_output"][0]["fields"].get<std::size_t>() + info["per_output"][1]["fields"].get<std::size_t>(), learner->size());
-  EXPECT_GT(info["per_output"][0]["n_data"]["max"].get<double>(), 0.0);
-  const CommandResult text = run_armfarm("lwpr inspect --db " + db + " --job " + key);
-  EXPECT_EQ(text.exit_code, 0) << text.output;
-  EXPECT_NE(text.output.find("lwpr model, 6 inputs -> 2 outputs"), std::string::npos) << text.output;
-
-  // Predictions at a point of the training sine (q, q̇, q̈ of joints 2 and 4): the CLI prints the
-  // model's own prediction, to the last bit, from the file and from the database alike.
-  Eigen::VectorXd x(6);
-  x << 0.1, 0.2, -0.3, 0.05, 0.1, -0.2;
-  auto workspace = learner->make_workspace();
-  const Prediction expected = learner->predict(x, *workspace);
-  const std::string point = "--x 0.1,0.2,-0.3,0.05,0.1,-0.2";
-  const CommandResult from_file = run_armfarm("lwpr predict " + path("m.lwpr") + " " + point);
-  const CommandResult from_db = run_armfarm("lwpr predict --db " + db + " --job " + key + " " + point);
-  ASSERT_EQ(from_file.exit_code, 0) << from_file.output;
-  EXPECT_EQ(from_file.output, from_db.output);
-  std::istringstream lines(from_file.output);
-  std::string header, row;
-  std::getline(lines, header);
-  std::getline(lines, row);
-  EXPECT_EQ(header, "x1,x2,x3,x4,x5,x6,y1,confidence1,y2,confidence2");
-  std::vector<std::string> cells;
-  std::stringstream cell_stream(row);
-  for (std::string cell; std::getline(cell_stream, cell, ',');) cells.push_back(cell);
-  ASSERT_EQ(cells.size(), 10u) << row;
-  for (int o = 0; o < 2; ++o) {
-    if (!expected.output_trusted[o]) continue;
-    EXPECT_EQ(std::stod(cells[6 + 2 * o]), expected.value(o)) << o;
-    EXPECT_EQ(std::stod(cells[7 + 2 * o]), expected.confidence(o)) << o;
-  }
-  std::ofstream(path("points.csv")) << "q2,q4,qd2,qd4,qdd2,qdd4\n0.1,0.2,-0.3,0.05,0.1,-0.2\n";
-  const CommandResult from_csv = run_armfarm("lwpr predict " + path("m.lwpr") + " --csv " + path("points.csv"));
-  ASSERT_EQ(from_csv.exit_code, 0) << from_csv.output;
-  EXPECT_EQ(from_csv.output.substr(from_csv.output.find('\n')), from_file.output.substr(from_file.output.find('\n')));
-
-  // Bad input: one line, exit 2.
-  const CommandResult wrong_size = run_armfarm("lwpr predict " + path("m.lwpr") + " --x 1,2");
-  EXPECT_EQ(wrong_size.exit_code, 2);
-  EXPECT_NE(wrong_size.output.find("the model has 6 inputs"), std::string::npos) << wrong_size.output;
-  const CommandResult no_job = run_armfarm("lwpr inspect --db " + db + " --job ffffffff");
-  EXPECT_EQ(no_job.exit_code, 2);
-  EXPECT_NE(no_job.output.find("no job with that key"), std::string::npos) << no_job.output;
-
-  // The exported file as an input file: a job starting from it (its content hash in the key).
-  std::ofstream(path("from_file.json")) << R"({"name": "from_file", "base": {"active_joints": [2, 4],
-      "trajectory": {"kind": "sine", "sine": {"duration": 2}}, "control": {"gain_scale": 0.2},
-      "learning": {"mode": "frozen", "heldout": false, "initial_model": "m.lwpr"}}})";
-  const CommandResult expanded = run_armfarm("expand " + path("from_file.json") + " --json");
-  ASSERT_EQ(expanded.exit_code, 0) << expanded.output;
-  EXPECT_NE(expanded.output.find("\"learning.initial_model\""), std::string::npos) << expanded.output;
-  const CommandResult ran = run_armfarm("run " + path("from_file.json") + " --db " + db);
-  EXPECT_EQ(ran.exit_code, 0) << ran.output;
+  ASSERT_NO_FATAL_FAILURE(expect_export_writes_the_stored_bytes(db, trained));
+  ASSERT_NO_FATAL_FAILURE(expect_inspect_describes(db, trained.key, *learner));
+  ASSERT_NO_FATAL_FAILURE(expect_predict_prints_the_models_prediction(db, trained.key, *learner));
+  expect_bad_verb_input_refused(db);
+  expect_exported_file_runs_as_an_input(db);
 }
 
 TEST_F(StoredModelsCli, BadReferencesAreOneLineErrors) {
