@@ -931,6 +931,17 @@ Figure arrange_for_style(Figure figure, FigureStyle style) {
   return figure;
 }
 
+bool spans_decades(const std::vector<double>& values) {
+  double low = INFINITY, high = 0.0;
+  for (double v : values) {
+    if (!std::isfinite(v)) continue;
+    if (v <= 0.0) return false;
+    low = std::min(low, v);
+    high = std::max(high, v);
+  }
+  return high > 0.0 && high / low >= 20.0;
+}
+
 Figure remove_caption(Figure figure) {
   figure.caption.clear();
   figure.table = {};

@@ -100,6 +100,10 @@ const std::string& figure_edge_mark_colour();
 /// row, since three stacked rows left each plot area 0.6 in of a 5.6 in slide.
 Figure arrange_for_style(Figure figure, FigureStyle style);
 
+/// Whether values want a log axis by default: all finite ones positive, the largest at least 20
+/// times the smallest (non-finite values are skipped). The one automatic rule of every plot kind.
+bool spans_decades(const std::vector<double>& values);
+
 /// `figure` without its caption and table (what FigureOptions::caption = false draws).
 Figure remove_caption(Figure figure);
 

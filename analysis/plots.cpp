@@ -102,18 +102,6 @@ std::string make_param_axis_label(const PlotRequest& request, const std::string&
   return unit.empty() ? path : path + " (" + unit + ")";
 }
 
-// Whether positive values spread over enough decades to want a log axis.
-bool spans_decades(const std::vector<double>& values) {
-  double low = INFINITY, high = 0.0;
-  for (double v : values) {
-    if (!std::isfinite(v)) continue;
-    if (v <= 0.0) return false;
-    low = std::min(low, v);
-    high = std::max(high, v);
-  }
-  return high > 0.0 && high / low >= 20.0;
-}
-
 // Whether swept values want a log axis: positive, and either spanning decades or spaced by
 // steadier ratios than differences (0.02, 0.05, 0.2 is log-spaced; 1, 2, 3 is not).
 bool is_log_spaced(std::vector<double> values) {
@@ -737,7 +725,7 @@ Figure make_tracking(const ResultsStore& store, const SweepData& data, const Plo
 
 Figure make_kind_figure(const ResultsStore& store, const PlotRequest& request) {
   // A search plot spans sweeps (the method beside its random baseline).
-  if (request.kind == PlotKind::search) return make_search_figure(store, request.sweep);
+  if (request.kind == PlotKind::search) return make_search_figure(store, request.sweep, request.log_y);
   const SweepData data = load_sweep_data(store, choose_sweep(store, request.sweep));
   switch (request.kind) {
     case PlotKind::nmse_vs_kernel: return make_nmse_vs_kernel(data, request);

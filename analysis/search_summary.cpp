@@ -266,7 +266,7 @@ std::string describe_search_overlaps(const std::vector<const SearchSummary*>& dr
 
 }  // namespace
 
-Figure make_search_figure(const ResultsStore& store, const std::optional<std::string>& sweep) {
+Figure make_search_figure(const ResultsStore& store, const std::optional<std::string>& sweep, std::optional<bool> log_y) {
   const std::vector<SearchSummary> summaries = select_searches(store, sweep);
   const SearchRecord& first = summaries.front().search;
   Panel panel;  // untitled: a single panel sits right under the figure's title
@@ -281,7 +281,7 @@ Figure make_search_figure(const ResultsStore& store, const std::optional<std::st
   if (drawn.empty()) throw AnalysisError("plot search: no search has an objective at its last rung yet");
   // The legend names the method; the sweep only where two drawn searches share one.
   std::string sources;
-  double low = INFINITY, high = -INFINITY;
+  std::vector<double> bests;
   for (const SearchSummary* summary : drawn) {
     const std::string method = describe_method(summary->search);
     const bool shared = std::count_if(drawn.begin(), drawn.end(), [&](const SearchSummary* other) {
@@ -290,9 +290,9 @@ Figure make_search_figure(const ResultsStore& store, const std::optional<std::st
     panel.curves.push_back(make_search_curve(*summary, shared ? method + " (" + summary->search.sweep + ")" : method));
     sources += (sources.empty() ? "" : "; ") + panel.curves.back().title + ": sweep " + summary->search.sweep +
                (sweep && is_baseline(summary->search) && summary->search.sweep != *sweep ? " (the baseline)" : "");
-    for (double best : panel.curves.back().y) low = std::min(low, best), high = std::max(high, best);
+    bests.insert(bests.end(), panel.curves.back().y.begin(), panel.curves.back().y.end());
   }
-  panel.log_y = low > 0.0 && high / low > 100.0;
+  panel.log_y = log_y.value_or(spans_decades(bests));
   Figure figure;
   figure.title = "Search: " + describe_readable_objective(first) + ", " + first.objective_direction + " is better";
   figure.caption.push_back("searches: " + sources);

@@ -67,8 +67,11 @@ std::string format_search_progress(const SearchSummary& summary);
 /// `armfarm plot search`: the best last-rung objective so far against cumulative estimated
 /// cost, one curve per search. Without `sweep`, every search of the database; with it, that
 /// sweep's search and beside it every random search of the same objective (the baseline).
-/// Throws AnalysisError when there is no such search or no search has a last-rung objective.
-Figure make_search_figure(const ResultsStore& store, const std::optional<std::string>& sweep);
+/// The y axis is logarithmic when `log_y` says so, else when the drawn values span decades
+/// (spans_decades). Throws AnalysisError when there is no such search or no search has a
+/// last-rung objective.
+Figure make_search_figure(const ResultsStore& store, const std::optional<std::string>& sweep,
+                          std::optional<bool> log_y = std::nullopt);
 
 /// Spearman's rank correlation ρ of the pairs (x[i], y[i]): Pearson's correlation of their
 /// ranks, where tied values share the mean of the ranks they span (mid-ranks), so

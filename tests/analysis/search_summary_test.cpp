@@ -15,6 +15,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <tuple>
 #include <string>
 #include <vector>
@@ -190,11 +191,12 @@ class SearchFigureTest : public ::testing::Test {
       add_steps(store, sweep, steps, {0.5, 0.3, 0.4, fourth, 0.35}, 5);
     }
   }
-  Figure make_figure() const {
+  Figure make_figure(std::optional<bool> log_y = std::nullopt) const {
     const ResultsStore store = ResultsStore::open(db(), ResultsStore::Mode::read_only);
     PlotRequest request;
     request.kind = PlotKind::search;
     request.sweep = "tpe_s";
+    request.log_y = log_y;
     return make_plot_figure(store, request);
   }
   std::string db() const { return directory_.file("search.db"); }
@@ -205,6 +207,26 @@ std::string join_caption(const Figure& figure) {
   std::string text;
   for (const std::string& paragraph : figure.caption) text += paragraph + "\n";
   return text;
+}
+
+// `plot search --logy/--liny` were ignored (the search figure did not see the request), and its
+// automatic rule wanted a factor 100 where every other kind takes 20 (spans_decades): a user's
+// reaching search whose random baseline started at 4.6 and ended at 0.07 (a factor 66) drew a
+// linear axis on which both best-so-far curves lay flat on zero.
+TEST_F(SearchFigureTest, TakesTheRequestedYScaleAndOtherwiseTheOneAutomaticRule) {
+  EXPECT_FALSE(make_figure().panels[0].log_y);  // 0.5 down to 0.1: a factor 5
+  EXPECT_TRUE(make_figure(true).panels[0].log_y);
+  EXPECT_FALSE(make_figure(false).panels[0].log_y);
+  {
+    ResultsStore store = ResultsStore::open(db(), ResultsStore::Mode::read_write);
+    store.insert_sweep_run(make_sweep("random_wide"), {});
+    store.insert_search(make_search("random_wide", "random", "tracking_rmse", {{0, std::nullopt, 1.0}}));
+    std::vector<SearchStepRecord> steps;
+    for (std::int64_t s = 0; s < 3; ++s) steps.push_back({s, s, 0, s, "new", 1.0, "random_wide" + std::to_string(s), std::nullopt, "", false});
+    add_steps(store, "random_wide", steps, {4.6, 0.2, 0.07}, 3);
+  }
+  EXPECT_TRUE(make_figure().panels[0].log_y);  // 4.6 down to 0.07 across the drawn curves: a factor 66
+  EXPECT_FALSE(make_figure(false).panels[0].log_y);
 }
 
 // The y label and title were the raw column name ("best heldout_test_nmse (joint 2)"); every
