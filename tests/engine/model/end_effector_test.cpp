@@ -1,8 +1,8 @@
 // Choosing the end effector: the single leaf by default, a named link (config or --ee) on a
 // file with several leaves, the file's own element, and the errors that list the leaves. Also
-// the URDF extension elements a ROS-style file carries, and the shared tree ordering.
+// the URDF extension elements a ROS-style file carries. The shared tree ordering:
+// model_file_test.cpp.
 #include "engine/model/end_effector.hpp"
-#include "engine/model/model_file.hpp"
 #include "engine/model/model_loading.hpp"
 #include "tests/engine/model/model_test_helpers.hpp"
 
@@ -170,16 +170,6 @@ TEST(UrdfExtensions, VendorHabitsBaseFramesAndAxislessFixedJointsLoad) {
   EXPECT_EQ(model.links[leaves[0]].name, "tool0");
   EXPECT_EQ(model.links[model.end_effector.link].name, "tool0");
   std::filesystem::remove_all(folder);
-}
-
-TEST(ModelFile, TreeOrderIsDepthFirstInGivenOrder) {
-  // links: 0 root, 1..5; joints given out of tree order.
-  const std::vector<TreeEdge> joints = {{2, 3}, {0, 1}, {1, 2}, {0, 4}, {1, 5}};
-  EXPECT_EQ(calc_tree_order(joints, {0}), (std::vector<int>{1, 2, 0, 4, 3}));
-  // A cycle away from the root is left out for the caller to report.
-  const std::vector<TreeEdge> cyclic = {{0, 1}, {2, 3}, {3, 2}};
-  EXPECT_EQ(calc_tree_order(cyclic, {0}), (std::vector<int>{0}));
-  EXPECT_THROW(read_model_file("/nonexistent/arm.urdf"), ModelError);
 }
 
 }  // namespace
