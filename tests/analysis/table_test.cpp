@@ -1,12 +1,11 @@
-// Tables: cells equal hand-computed aggregates; failed jobs are counted, never averaged in; through
-// the command line, per-joint rows, suggestions for unknown names, pooling only across seeds and
-// footnoted undefined cells.
+// Tables: cells equal hand-computed aggregates; failed jobs are counted, never averaged in. Through
+// the command line: tests/runner/cli/cmd_table_test.cpp; the aggregates themselves:
+// tests/analysis/summary_statistics_test.cpp.
 #include "analysis/analysis_error.hpp"
 #include "analysis/table.hpp"
 #include "support/test_database.hpp"
 
 #include <gtest/gtest.h>
-#include <sqlite3.h>
 
 #include <algorithm>
 #include <cmath>
@@ -119,52 +118,6 @@ TEST(Table, FormatsCarryTheNumbers) {
   EXPECT_NE(csv.find(",3,-0.048413"), std::string::npos) << csv;
 }
 
-// The interval against a hand computation: 1, 2, 3, 4, 5 have mean 3, std √2.5 = 1.581139,
-// standard error 0.707107; t(0.975, 4) = 2.776445 (printed t tables), so 3 ∓ 1.963243.
-TEST(SummaryStatistics, ConfidenceIntervalEqualsTheHandComputation) {
-  const SummaryStatistics five = calc_summary_statistics({5.0, 1.0, 4.0, 2.0, 3.0});
-  EXPECT_EQ(five.count, 5);
-  ASSERT_TRUE(five.has_ci());
-  EXPECT_NEAR(five.ci_low, 3.0 - 1.963243, 2e-6);
-  EXPECT_NEAR(five.ci_high, 3.0 + 1.963243, 2e-6);
-  // Two values: t(0.975, 1) = tan(0.475π) = 12.706205 in closed form; 0.5 ∓ 12.706205·0.5.
-  const SummaryStatistics two = calc_summary_statistics({0.0, 1.0});
-  EXPECT_NEAR(two.ci_high, 0.5 + 0.5 * std::tan(0.475 * M_PI), 1e-9);
-  EXPECT_NEAR(two.ci_low, 0.5 - 0.5 * std::tan(0.475 * M_PI), 1e-9);
-  // One value has no interval; equal values an empty one.
-  const SummaryStatistics one = calc_summary_statistics({0.7});
-  EXPECT_FALSE(one.has_ci());
-  EXPECT_EQ(format_mean_ci(one), "0.7");
-  const SummaryStatistics same = calc_summary_statistics({0.7, 0.7, 0.7});
-  EXPECT_DOUBLE_EQ(same.ci_low, 0.7);
-  EXPECT_DOUBLE_EQ(same.ci_high, 0.7);
-  EXPECT_EQ(format_mean_ci(five), "3 [1.037, 4.963]");
-}
-
-// The quantile against closed forms (ν = 1: tan(π(p − ½)); ν = 2: (2p − 1)/√(2p(1 − p))) and
-// against printed tables for larger ν (t(0.975, 9) = 2.262157, t(0.975, 29) = 2.045230); it
-// tends to the normal 1.959964.
-TEST(SummaryStatistics, StudentTQuantileMatchesClosedFormsAndTables) {
-  for (double p : {0.6, 0.9, 0.975, 0.995}) {
-    EXPECT_NEAR(calc_student_t_quantile(p, 1), std::tan(M_PI * (p - 0.5)), 1e-9 * std::tan(M_PI * (p - 0.5))) << p;
-    EXPECT_NEAR(calc_student_t_quantile(p, 2), (2 * p - 1) / std::sqrt(2 * p * (1 - p)), 1e-10) << p;
-  }
-  EXPECT_NEAR(calc_student_t_quantile(0.975, 9), 2.262157, 1e-6);
-  EXPECT_NEAR(calc_student_t_quantile(0.975, 29), 2.045230, 1e-6);
-  EXPECT_NEAR(calc_student_t_quantile(0.975, 100000), 1.959964, 1e-4);
-  EXPECT_NEAR(calc_student_t_quantile(0.025, 4), -2.776445, 1e-6);
-  EXPECT_NEAR(calc_student_t_cdf(0.0, 7), 0.5, 1e-15);
-}
-
-// The one-sided sign test: 5 of 5 gives 1/32, 4 of 5 gives 6/32, 9 of 10 gives 11/1024.
-TEST(SummaryStatistics, SignTestIsTheBinomialTail) {
-  EXPECT_NEAR(calc_sign_test_p(5, 5), 1.0 / 32, 1e-15);
-  EXPECT_NEAR(calc_sign_test_p(4, 5), 6.0 / 32, 1e-14);
-  EXPECT_NEAR(calc_sign_test_p(9, 10), 11.0 / 1024, 1e-14);
-  EXPECT_NEAR(calc_sign_test_p(0, 4), 1.0, 1e-14);
-  EXPECT_EQ(calc_sign_test_p(0, 0), 1.0);
-}
-
 TEST(Table, NumbersUseScientificNotationWhereTheThesisDoes) {
   EXPECT_EQ(format_table_number(1.95e-3), "1.950e-03");
   EXPECT_EQ(format_table_number(9.38e-4, 3), "9.38e-04");
@@ -188,11 +141,8 @@ TEST(Table, DefaultTablesFollowTheThesis) {
 }
 
 // Held-out metrics: per joint and as a job-level mean, at checkpoints 0 and 5, for two seeds
-// of two kernel widths; value = init_D + 0.1 × joint + 0.01 × checkpoint + 0.001 × seed, so
-// every cell names the (row, joint, checkpoint) it came from.
-double make_heldout_value(double init_d, std::optional<int> joint, std::int64_t checkpoint, int seed) {
-  return init_d + 0.1 * joint.value_or(0) + 0.01 * static_cast<double>(checkpoint) + 0.001 * seed;
-}
+// of two kernel widths (values: testing::make_heldout_value).
+using testing::make_heldout_value;
 
 SweepData make_heldout_data() {
   SweepData data;
@@ -354,211 +304,6 @@ TEST(Table, DefaultTablesAddTheHeldOutEvaluation) {
   }
 }
 
-// Through the command line on small generated databases: per-joint rows show per-joint values,
-// unknown names are refused with a suggestion, rows pool only across seeds, undefined cells are
-// footnoted with their reason.
-
-// One row of the job_metrics view, read as a user would.
-double query_job_metric(const std::string& db_path, const std::string& sql) {
-  sqlite3* db = nullptr;
-  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
-  sqlite3_stmt* statement = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &statement, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
-  double value = std::nan("");
-  if (sqlite3_step(statement) == SQLITE_ROW) value = sqlite3_column_double(statement, 0);
-  sqlite3_finalize(statement);
-  sqlite3_close(db);
-  return value;
-}
-
-TEST(TableCommand, PerJointRowsShowPerJointValues) {
-  testing::TemporaryDirectory directory;
-  const std::string db = directory.file("r.db");
-  testing::write_test_sweep(db, "gains", testing::make_gain_jobs());
-  const auto result = testing::run_armfarm("table " + db + " --rows control.gain_scale,joint --cols tracking_nmse --format json");
-  ASSERT_EQ(result.exit_code, 0) << result.output;
-  const auto json = nlohmann::json::parse(result.output)["tables"].at(0);
-  ASSERT_EQ(json["rows"].size(), 6u);  // 2 gains × 3 joints
-  for (const auto& row : json["rows"]) {
-    const std::string gain = row["params"]["control.gain_scale"], joint = row["params"]["joint"];
-    const double expected = query_job_metric(
-        db, "SELECT avg(value) FROM job_metrics WHERE sweep = 'gains' AND name = 'tracking_nmse' AND joint = " + joint +
-                " AND json_extract(params, '$.\"control.gain_scale\"') = " + gain);
-    EXPECT_NEAR(row["cells"]["tracking_nmse"]["mean"].get<double>(), expected, 1e-15) << gain << " joint " << joint;
-    EXPECT_EQ(row["cells"]["tracking_nmse"]["n"].get<int>(), 2);
-  }
-  // Different joints, different values (the old table printed the job mean on every row).
-  EXPECT_NE(json["rows"][0]["cells"]["tracking_nmse"]["mean"], json["rows"][1]["cells"]["tracking_nmse"]["mean"]);
-}
-
-TEST(TableCommand, UnknownNamesExitTwoWithASuggestion) {
-  testing::TemporaryDirectory directory;
-  const std::string db = directory.file("r.db");
-  testing::write_test_sweep(db, "gains", testing::make_gain_jobs());
-  const auto where = testing::run_armfarm("table " + db + " --where gain_scale=1");
-  EXPECT_EQ(where.exit_code, 2) << where.output;
-  EXPECT_NE(where.output.find("no parameter 'gain_scale'"), std::string::npos) << where.output;
-  EXPECT_NE(where.output.find("did you mean 'control.gain_scale'"), std::string::npos) << where.output;
-  const auto rows = testing::run_armfarm("table " + db + " --rows control.gain_scal");
-  EXPECT_EQ(rows.exit_code, 2) << rows.output;
-  EXPECT_NE(rows.output.find("did you mean 'control.gain_scale'"), std::string::npos) << rows.output;
-  const auto cols = testing::run_armfarm("table " + db + " --cols tracking_nms");
-  EXPECT_EQ(cols.exit_code, 2) << cols.output;
-  EXPECT_NE(cols.output.find("did you mean 'tracking_nmse'"), std::string::npos) << cols.output;
-  EXPECT_EQ(testing::run_armfarm("table " + db + " --where control.gain_scale=1").exit_code, 0);
-}
-
-TEST(TableCommand, RowsPoolOnlyJobsThatDifferInTheirSeed) {
-  testing::TemporaryDirectory directory;
-  const std::string db = directory.file("r.db");
-  testing::write_test_sweep(db, "gains", testing::make_gain_jobs());
-  // Rows by joint alone would pool both gain scales: refused, naming the parameter.
-  const auto pooled = testing::run_armfarm("table " + db + " --rows joint --cols tracking_nmse");
-  EXPECT_EQ(pooled.exit_code, 2) << pooled.output;
-  EXPECT_NE(pooled.output.find("differ in control.gain_scale"), std::string::npos) << pooled.output;
-  EXPECT_EQ(testing::run_armfarm("table " + db + " --rows joint --cols tracking_nmse --where control.gain_scale=1").exit_code, 0);
-}
-
-TEST(TableCommand, UndefinedCellsPrintADashWithTheirReason) {
-  testing::TemporaryDirectory directory;
-  const std::string db = directory.file("r.db");
-  testing::TestJob job;
-  job.params = {{"control.gain_scale", 0.2}};
-  job.metrics = {{0, "tracking_nmse", 1, 0.02, ""},
-                 {0, "tracking_nmse", 2, std::nullopt, "target std 1e-15 rad is below the nMSE floor 0.006 rad"},
-                 {0, "tracking_nmse", std::nullopt, 0.02, "mean over 1 of 2 joints; left out: joint 2"}};
-  testing::write_test_sweep(db, "still", {job});
-  const auto joints = testing::run_armfarm("table " + db + " --rows joint --cols tracking_nmse");
-  ASSERT_EQ(joints.exit_code, 0) << joints.output;
-  EXPECT_NE(joints.output.find("| 2 | – [1] |"), std::string::npos) << joints.output;
-  EXPECT_NE(joints.output.find("[1] tracking_nmse, joint 2: undefined in 1 of 1 jobs: target std 1e-15 rad"),
-            std::string::npos)
-      << joints.output;
-  const auto mean = testing::run_armfarm("table " + db + " --cols tracking_nmse");
-  ASSERT_EQ(mean.exit_code, 0) << mean.output;
-  EXPECT_NE(mean.output.find("| 0.2 | 0.02 [1] |"), std::string::npos) << mean.output;
-  EXPECT_NE(mean.output.find("[1] tracking_nmse: mean over 1 of 2 joints"), std::string::npos) << mean.output;
-}
-
-TEST(TableCommand, CheckpointRowsMatchTheStoredRows) {
-  testing::TemporaryDirectory directory;
-  const std::string db = directory.file("results.db");
-  std::vector<testing::TestJob> jobs;
-  for (int seed = 1; seed <= 2; ++seed) {
-    testing::TestJob job;
-    job.params = {{"learning.lwpr.init_D", 10.0}, {"seed", seed}};
-    for (std::int64_t checkpoint : {0, 2, 4}) {
-      for (int joint = 1; joint <= 3; ++joint) {
-        job.metrics.push_back({0, "heldout_ff_fb_ratio_avg", joint, make_heldout_value(10, joint, checkpoint, seed), "", checkpoint});
-      }
-    }
-    job.metrics.push_back({0, "fb_abs_avg", 1, 0.01, "", std::nullopt});
-    jobs.push_back(job);
-  }
-  testing::write_test_sweep(db, "heldout", jobs);
-
-  // Expected cells straight from the stored rows: mean over seeds per (checkpoint, joint).
-  std::map<std::pair<std::int64_t, int>, std::vector<double>> stored;
-  {
-    const ResultsStore store = ResultsStore::open(db, ResultsStore::Mode::read_only);
-    const SweepData data = load_sweep_data(store, "heldout");
-    for (const JobResult& job : data.jobs) {
-      for (const auto& [id, value] : job.metrics) {
-        if (id.name == "heldout_ff_fb_ratio_avg") stored[{*id.checkpoint, *id.joint}].push_back(value);
-      }
-    }
-  }
-  ASSERT_EQ(stored.size(), 9u);
-
-  const auto result = testing::run_armfarm("table " + db + " --rows checkpoint,joint --cols heldout_ff_fb_ratio_avg --format json");
-  ASSERT_EQ(result.exit_code, 0) << result.output;
-  const auto json = nlohmann::json::parse(result.output)["tables"].at(0);
-  ASSERT_EQ(json["rows"].size(), 9u);
-  for (const auto& row : json["rows"]) {
-    const std::int64_t checkpoint = std::stoll(row["params"]["checkpoint"].get<std::string>());
-    const int joint = std::stoi(row["params"]["joint"].get<std::string>());
-    const std::vector<double>& values = stored.at({checkpoint, joint});
-    ASSERT_EQ(values.size(), 2u);
-    EXPECT_NEAR(row["cells"]["heldout_ff_fb_ratio_avg"]["mean"].get<double>(), (values[0] + values[1]) / 2, 1e-12);
-    EXPECT_NEAR(row["cells"]["heldout_ff_fb_ratio_avg"]["mean"].get<double>(),
-                make_heldout_value(10, joint, checkpoint, 1) + 0.0005, 1e-12);
-  }
-  EXPECT_EQ(json["rows"][1]["params"]["checkpoint"], "0");
-  EXPECT_EQ(json["rows"][1]["params"]["joint"], "2");
-
-  const auto typo = testing::run_armfarm("table " + db + " --rows checkpoint --cols heldout_ff_fb_ratio_avgg");
-  EXPECT_EQ(typo.exit_code, 2);
-  EXPECT_NE(typo.output.find("did you mean 'heldout_ff_fb_ratio_avg'"), std::string::npos) << typo.output;
-  const auto row_typo = testing::run_armfarm("table " + db + " --rows checkpoint,learning.lwpr.init_DD");
-  EXPECT_EQ(row_typo.exit_code, 2);
-  EXPECT_NE(row_typo.output.find("did you mean 'learning.lwpr.init_D'"), std::string::npos) << row_typo.output;
-}
-
-TEST(TableCommand, ReadsADatabaseAndAggregatesRepeats) {
-  testing::TemporaryDirectory directory;
-  const std::string db = directory.file("results.db");
-  std::vector<testing::TestJob> jobs;
-  for (int seed = 1; seed <= 2; ++seed) {
-    testing::TestJob job;
-    job.params = {{"control.gain_scale", 0.2}, {"seed", seed}};
-    job.metrics = {{0, "ff_fb_ratio_avg", 2, seed == 1 ? 0.8 : 0.9, ""}, {0, "fb_abs_avg", 2, 0.01, ""}};
-    jobs.push_back(job);
-  }
-  testing::write_test_sweep(db, "gains", jobs);
-  const auto result = testing::run_armfarm("table " + db + " --format json");
-  ASSERT_EQ(result.exit_code, 0) << result.output;
-  const auto json = nlohmann::json::parse(result.output)["tables"].at(0);
-  EXPECT_NEAR(json["rows"][0]["cells"]["ff_fb_ratio_avg"]["mean"].get<double>(), 0.85, 1e-12);
-  EXPECT_EQ(json["rows"][0]["cells"]["ff_fb_ratio_avg"]["n"].get<int>(), 2);
-  EXPECT_EQ(json["rows"][0]["params"]["joint"], "2");
-
-  const auto bad = testing::run_armfarm("table " + db + " --cols no_such_metric");
-  EXPECT_EQ(bad.exit_code, 2);
-  EXPECT_NE(bad.output.find("no metric 'no_such_metric'"), std::string::npos) << bad.output;
-  const auto missing = testing::run_armfarm("table " + directory.file("absent.db"));
-  EXPECT_EQ(missing.exit_code, 2) << missing.output;
-}
-
-// Issue 29: several tables printed several JSON documents (one per table), which no JSON
-// reader takes; and a newline in a value ended a Markdown row in the middle.
-TEST(TableCommand, JsonIsOneDocumentForEveryTableAndMarkdownRowsStayOneLine) {
-  testing::TemporaryDirectory directory;
-  const std::string db = directory.file("results.db");
-  std::vector<testing::TestJob> jobs(2);
-  jobs[0].params = {{"trajectory.recorded.file", "two\nlines|piped"}};
-  jobs[0].metrics = {{0, "tracking_nmse", std::nullopt, 0.25, ""}};
-  jobs[1].params = {{"trajectory.recorded.file", "plain"}};
-  jobs[1].metrics = {{0, "tracking_nmse", std::nullopt, 0.5, ""}};
-  testing::write_test_sweep(db, "first", jobs);
-  testing::write_test_sweep(db, "second", jobs);
-
-  const auto json = testing::run_armfarm("table " + db + " --cols tracking_nmse --format json");
-  ASSERT_EQ(json.exit_code, 0) << json.output;
-  const auto document = nlohmann::json::parse(json.output);  // throws on a second document
-  ASSERT_EQ(document["tables"].size(), 2u) << json.output;
-  EXPECT_EQ(document["tables"][0]["sweep"], "first");
-  EXPECT_EQ(document["tables"][1]["sweep"], "second");
-  EXPECT_EQ(document["tables"][1]["rows"].size(), 2u);
-  const auto& rows_of_first = document["tables"][0]["rows"];
-  EXPECT_TRUE(std::any_of(rows_of_first.begin(), rows_of_first.end(), [](const nlohmann::json& row) {
-    return row["params"]["trajectory.recorded.file"] == "two\nlines|piped";  // exact in JSON
-  })) << rows_of_first;
-
-  const auto md = testing::run_armfarm("table " + db + " --sweep first --cols tracking_nmse --format md");
-  ASSERT_EQ(md.exit_code, 0) << md.output;
-  std::istringstream lines(md.output);
-  std::size_t rows = 0;
-  for (std::string line; std::getline(lines, line);) {
-    if (line.empty() || line[0] != '|') {
-      EXPECT_TRUE(line.empty() || line.rfind("### ", 0) == 0) << "a line outside the table: " << line << "\n" << md.output;
-      continue;
-    }
-    ++rows;
-    EXPECT_EQ(line.back(), '|') << line;
-  }
-  EXPECT_EQ(rows, 4u) << md.output;  // header, rule, two rows
-  EXPECT_NE(md.output.find("| two<br>lines\\|piped |"), std::string::npos) << md.output;
-}
-
 }  // namespace
 }  // namespace armfarm
+

@@ -4,9 +4,11 @@
 #include "results/results_store.hpp"
 #include "support/command_line.hpp"
 
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +34,12 @@ inline SeriesRecord make_series(const std::string& name, std::vector<std::string
     for (int c = 0; c < static_cast<int>(series.columns.size()); ++c) series.rows(r, c) = value(r, c);
   }
   return series;
+}
+
+/// A held-out metric's value in the table tests: init_D + 0.1 × joint + 0.01 × checkpoint +
+/// 0.001 × seed, so that every cell names the (row, joint, checkpoint) it came from.
+inline double make_heldout_value(double init_d, std::optional<int> joint, std::int64_t checkpoint, int seed) {
+  return init_d + 0.1 * joint.value_or(0) + 0.01 * static_cast<double>(checkpoint) + 0.001 * seed;
 }
 
 /// A fresh temporary directory, removed when the object goes.

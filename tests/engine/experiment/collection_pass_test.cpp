@@ -10,6 +10,8 @@
 //
 // The configuration is sweeps/thesis/table6_1_figure_eight.json's with fewer repeats.
 // ARMFARM_SAME_RUN_REPEATS=53 gives the spec's own size (the figures in the README; about 90 s).
+// Also: a collection repeat is a different realisation of the run (start spread, sensor noise),
+// not a copy of the first pass.
 #include "engine/experiment/batch_training.hpp"
 #include "engine/experiment/collection_pass.hpp"
 #include "engine/experiment/feed_forward_source.hpp"
@@ -17,6 +19,7 @@
 #include "engine/experiment/job_setup.hpp"
 #include "engine/experiment/signal_statistics.hpp"
 #include "engine/learning/learner_factory.hpp"
+#include "support/learning_job.hpp"
 #include "support/test_arms.hpp"
 
 #include <gtest/gtest.h>
@@ -246,6 +249,61 @@ TEST(SameRunTestError, TheDefaultCollectionHasNoStartTransient) {
   // the eight's own (the transients reached more than 3 x).
   EXPECT_EQ(d.untrusted, 0);
   EXPECT_LT(d.max_abs_qdd, 2.0 * d.max_abs_qdd_desired);
+}
+
+using test_support::make_learning_config;
+
+TEST(CollectionPass, ARepeatDiffersFromTheFirstPass) {
+  const ArmModel model = testing::load_lwr3();
+  JobConfig config = make_learning_config(TrajectoryKind::sine);
+  config.trajectory.sine.duration = 2.0;
+  const auto collect = [&](const JobConfig& c) {
+    JobSetup setup(model, c);
+    const JobTrajectories trajectories = build_job_trajectories(c, setup.nominal());
+    ArmSimulation plant = setup.make_plant();
+    std::vector<Sample> samples;
+    EXPECT_TRUE(collect_samples(setup, plant, CollectionPlan{&trajectories.training, 2, "collection"}, samples, {}).ok());
+    return samples;
+  };
+  const auto first_against_repeat = [](const std::vector<Sample>& samples, std::size_t tick) {
+    const std::size_t half = samples.size() / 2;
+    return (samples[tick].x - samples[half + tick].x).cwiseAbs().maxCoeff();
+  };
+  // The control: without a start perturbation or noise a repeat is an exact copy (what
+  // collect_repeats used to add).
+  JobConfig copies = config;
+  copies.learning.collect_start_spread = 0.0;
+  copies.learning.collect_repeat_noise_q = 0.0;
+  const std::vector<Sample> copied = collect(copies);
+  ASSERT_EQ(copied.size(), 400u);
+  // (The plant's clock runs on between passes, so the adaptive integrator's steps differ in the
+  // last bits.)
+  EXPECT_LT(first_against_repeat(copied, 0), 1e-9);
+  EXPECT_LT(first_against_repeat(copied, 150), 1e-9);
+  // A start spread: the repeat starts off the trajectory by a seeded draw (std 0.05 rad).
+  JobConfig spread = copies;
+  spread.learning.collect_start_spread = 0.05;
+  const std::vector<Sample> perturbed = collect(spread);
+  EXPECT_GT(first_against_repeat(perturbed, 0), 1e-3);
+  EXPECT_GT(first_against_repeat(perturbed, 10), 1e-4);
+  // With sensor noise every sample of the repeat differs, long after the start transient.
+  JobConfig noisy = copies;
+  noisy.learning.collect_noise_q = 1e-4;
+  noisy.learning.collect_noise_qd = 1e-3;
+  const std::vector<Sample> noised = collect(noisy);
+  for (std::size_t tick : {0u, 100u, 199u}) EXPECT_GT(first_against_repeat(noised, tick), 0.0) << tick;
+  // The default: the repeat starts on the trajectory and its measured angles carry
+  // collect_repeat_noise_q (1 mrad), so it differs by about that much all along, while the
+  // first pass is the noise-free one (its angles are the plant's exactly).
+  const std::vector<Sample> realised = collect(config);
+  for (std::size_t tick : {0u, 100u, 199u}) {
+    EXPECT_GT(first_against_repeat(realised, tick), 1e-4) << tick;
+    EXPECT_LT((realised[tick].x - copied[tick].x).cwiseAbs().maxCoeff(), 1e-9) << tick;
+  }
+  std::printf("repeat vs first pass, max |dx|: copies %.3g; start spread %.3g at tick 0, %.3g at tick 10; noise %.3g at tick 199; "
+              "default %.3g at tick 0, %.3g at tick 199\n",
+              first_against_repeat(copied, 0), first_against_repeat(perturbed, 0), first_against_repeat(perturbed, 10),
+              first_against_repeat(noised, 199), first_against_repeat(realised, 0), first_against_repeat(realised, 199));
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // Choosing the end effector: the single leaf by default, a named link (config or --ee) on a
-// file with several leaves, the file's own element, and the errors that list the leaves. Also
-// the URDF extension elements a ROS-style file carries, and the shared tree ordering.
+// file with several leaves, the file's own element, and the errors that list the leaves. The
+// URDF extension elements a ROS-style file carries: urdf_loading_test.cpp; the shared tree
+// ordering: model_file_test.cpp.
 #include "engine/model/end_effector.hpp"
-#include "engine/model/model_file.hpp"
 #include "engine/model/model_loading.hpp"
 #include "tests/engine/model/model_test_helpers.hpp"
 
@@ -17,14 +17,7 @@
 namespace armfarm {
 namespace {
 
-std::string load_error(const std::string& path, const EndEffectorConfig& choice) {
-  try {
-    load_arm_model(path, choice);
-  } catch (const ModelError& error) {
-    return error.what();
-  }
-  return "";
-}
+using test::load_error;
 
 TEST(EndEffector, SeveralLeavesAreRefusedWithTheirNamesAndHowToChoose) {
   const std::string path = test::data_path("two_leaves.urdf");
@@ -95,91 +88,6 @@ TEST(EndEffector, CommandLineText) {
   for (const char* bad : {"", ":1,2,3", "tool0:", "tool0:1,2", "tool0:1,2,3,4", "tool0:1,x,3", "tool0:1,,3", "tool0:nan,0,0"}) {
     EXPECT_THROW(parse_end_effector_text(bad), std::invalid_argument) << bad;
   }
-}
-
-TEST(UrdfExtensions, RosStyleSevenDofFileLoadsWithItsExtensionElements) {
-  // gazebo, transmission with hardware interfaces and drake:rotor_inertia / drake:gear_ratio,
-  // ros2_control, drake:* at the top level and inside <collision>, visual/collision meshes as
-  // package:// URIs (never opened).
-  const std::string path = test::data_path("ros7_arm.urdf");
-  const ArmModel model = load_arm_model(path, {"ee", Eigen::Vector3d::Zero()});
-  EXPECT_EQ(model.movable_joints().size(), 7u);
-  EXPECT_EQ(model.input_files, std::vector<std::string>{path});  // no mesh is read
-  EXPECT_NEAR(model.total_mass(), 5.0 + 4.0 + 4.0 + 3.0 + 2.7 + 1.7 + 1.8 + 0.3, 1e-12);
-  // Armature from Drake's transmission elements: rotor inertia × gear ratio².
-  const std::vector<int> movable = model.movable_joints();
-  for (int n = 0; n < 7; ++n) {
-    EXPECT_NEAR(model.joints[movable[n]].armature, (n < 4 ? 1e-5 : 4e-6) * 160.0 * 160.0, 1e-12) << n;
-  }
-  // Straight up at zero: the ee frame 0.1575 + 0.2025 + 0.2045 + 0.2155 + 0.1845 + 0.2155 + 0.081 + 0.171 m above the base.
-  const test::ForwardKinematics fk = test::calc_forward_kinematics(model, std::vector<double>(7, 0.0));
-  EXPECT_LT((fk.links[model.end_effector.link].translation() - Eigen::Vector3d(0, 0, 1.432)).norm(), 1e-12);
-  EXPECT_NE(load_error(path, {}).find("3 leaf links ('flange', 'tool0', 'ee')"), std::string::npos);
-  // The vendor-style <self_collision_checking> is skipped with a warning; strict reading refuses it.
-  ASSERT_EQ(model.warnings.size(), 1u);
-  EXPECT_EQ(model.warnings[0], path + ":51: <self_collision_checking> in <link> of link 'base_link' is not a URDF element");
-  try {
-    check_strict_model(model);
-    ADD_FAILURE() << "strict reading accepted <self_collision_checking>";
-  } catch (const ModelError& error) {
-    EXPECT_EQ(std::string(error.what()), model.warnings[0] + " (refused under --strict)");
-  }
-  EXPECT_NO_THROW(check_strict_model(load_arm_model(test::models_path("dlr_lwr3.urdf"))));
-}
-
-TEST(UrdfExtensions, NamespacedElementsInsideLinksAndJointsAreSkipped) {
-  const auto folder = std::filesystem::temp_directory_path() / ("armfarm_ee_ext_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(folder);
-  const std::string path = (folder / "ext.urdf").string();
-  std::ofstream(path) << R"(<robot name="ext" xmlns:drake="http://drake.mit.edu">
-  <link name="base"/>
-  <frame name="tcp" link="tip" xyz="0 0 0.1"/>
-  <joint name="j" type="continuous"><parent link="base"/><child link="tip"/><axis xyz="0 0 1"/>
-    <drake:acceleration lower="-10" upper="10"/></joint>
-  <link name="tip"><drake:compliant_hydroelastic/>
-    <inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
-  <sensor name="cam"/>
-</robot>
-)";
-  const ArmModel model = load_arm_model(path);
-  EXPECT_EQ(model.links[model.end_effector.link].name, "tip");
-  std::filesystem::remove_all(folder);
-}
-
-TEST(UrdfExtensions, VendorHabitsBaseFramesAndAxislessFixedJointsLoad) {
-  // Kinova's and Jaco's files write <axis xyz="0 0 0"/> on fixed joints; Drake's UR files weld a
-  // 'base' frame to the base link. Neither frame moves, so it is not a leaf: the tip is chosen.
-  const auto folder = std::filesystem::temp_directory_path() / ("armfarm_ee_vendor_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(folder);
-  const std::string path = (folder / "vendor.urdf").string();
-  std::ofstream(path) << R"(<robot name="vendor">
-  <link name="world"/>
-  <joint name="mount" type="fixed"><parent link="world"/><child link="base_link"/><axis xyz="0 0 0"/></joint>
-  <link name="base_link"><inertial><mass value="2"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
-  <joint name="base_frame" type="fixed"><parent link="base_link"/><child link="base"/><axis xyz="0 0 0"/></joint>
-  <link name="base"/>
-  <joint name="j" type="continuous"><parent link="base_link"/><child link="tip"/><axis xyz="0 0 1"/></joint>
-  <link name="tip"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
-  <joint name="flange" type="fixed"><parent link="tip"/><child link="tool0"/><origin xyz="0 0 0.1"/><axis xyz="0 0 0"/></joint>
-  <link name="tool0"/>
-</robot>
-)";
-  const ArmModel model = load_arm_model(path);
-  const std::vector<int> leaves = find_leaf_links(model);
-  ASSERT_EQ(leaves.size(), 1u);
-  EXPECT_EQ(model.links[leaves[0]].name, "tool0");
-  EXPECT_EQ(model.links[model.end_effector.link].name, "tool0");
-  std::filesystem::remove_all(folder);
-}
-
-TEST(ModelFile, TreeOrderIsDepthFirstInGivenOrder) {
-  // links: 0 root, 1..5; joints given out of tree order.
-  const std::vector<TreeEdge> joints = {{2, 3}, {0, 1}, {1, 2}, {0, 4}, {1, 5}};
-  EXPECT_EQ(calc_tree_order(joints, {0}), (std::vector<int>{1, 2, 0, 4, 3}));
-  // A cycle away from the root is left out for the caller to report.
-  const std::vector<TreeEdge> cyclic = {{0, 1}, {2, 3}, {3, 2}};
-  EXPECT_EQ(calc_tree_order(cyclic, {0}), (std::vector<int>{0}));
-  EXPECT_THROW(read_model_file("/nonexistent/arm.urdf"), ModelError);
 }
 
 }  // namespace

@@ -24,6 +24,17 @@ inline std::string load_error(const std::string& path) {
   return "";
 }
 
+/// The ModelError message of loading `path` with the end effector `choice`, or "" when it loads
+/// (end_effector_test.cpp and urdf_loading_test.cpp).
+inline std::string load_error(const std::string& path, const EndEffectorConfig& choice) {
+  try {
+    load_arm_model(path, choice);
+  } catch (const ModelError& error) {
+    return error.what();
+  }
+  return "";
+}
+
 /// World frames of every link and every joint frame (after `origin`, before the motion) for
 /// movable-joint positions q (in ArmModel::movable_joints order).
 struct ForwardKinematics {

@@ -3,7 +3,6 @@
 // commas and quotes intact; numbers in their shortest round-trip form; CSV fields per RFC 4180.
 #include "results/results_store.hpp"
 #include "runner/io/csv_writing.hpp"
-#include "runner/io/sweep_export.hpp"
 
 #include <gtest/gtest.h>
 
@@ -170,18 +169,6 @@ TEST(CsvWriting, FieldsAreQuotedPerRfc4180) {
   EXPECT_EQ(make_csv_value_field(nlohmann::json(3)), "3");
   EXPECT_EQ(make_csv_value_field(nlohmann::json(0.25)), "0.25");
   EXPECT_EQ(make_csv_value_field(nlohmann::json::array({1, 2})), "\"[1,2]\"");
-}
-
-TEST(LongFormSignal, PerJointColumnsGiveTheJointOthersTheirName) {
-  EXPECT_EQ(make_long_form_signal("PHI", "j3").joint, 3);
-  EXPECT_EQ(make_long_form_signal("PHI", "j3").signal, "PHI");
-  EXPECT_EQ(make_long_form_signal("PHI", "j12").joint, 12);
-  EXPECT_FALSE(make_long_form_signal("POS", "x").joint);
-  EXPECT_EQ(make_long_form_signal("POS", "x").signal, "POS.x");
-  EXPECT_EQ(make_long_form_signal("TRIAL", "fb_abs_avg").signal, "TRIAL.fb_abs_avg");
-  EXPECT_FALSE(make_long_form_signal("X", "j0").joint);
-  EXPECT_FALSE(make_long_form_signal("X", "j").joint);
-  EXPECT_FALSE(make_long_form_signal("X", "jx1").joint);
 }
 
 }  // namespace

@@ -1,8 +1,7 @@
 // Progress a person can read: the ETA against its closed form, the status figures as jobs
-// start and commit, heartbeat lines in a log, the terminal line, the run's headline metric and
-// the cost estimate that weighs the ETA.
+// start and commit, heartbeat lines in a log, the terminal line and the cost estimate that
+// weighs the ETA. The run's headline metric: run_headline_test.cpp.
 #include "runner/execution/progress_reporter.hpp"
-#include "runner/execution/run_headline.hpp"
 
 #include <gtest/gtest.h>
 
@@ -143,34 +142,6 @@ TEST(ProgressReporter, CountsTheRunningJobsPastTheirEstimate) {
   EXPECT_EQ(figures.overdue, 1);
   ASSERT_TRUE(figures.eta_seconds);
   EXPECT_EQ(*figures.eta_seconds, 0.0);
-}
-
-TEST(RunHeadline, TheFirstCatalogResultMetricMostJobsDefineWithItsDirection) {
-  // tracking_nmse (lower) comes before ff_fb_ratio_avg (higher) in the catalog and wins when as common.
-  std::vector<HeadlineJob> jobs = {{"a", {{"tracking_nmse", 0.3}, {"ff_fb_ratio_avg", 0.9}}},
-                                   {"b", {{"tracking_nmse", 0.1}, {"ff_fb_ratio_avg", 0.5}}},
-                                   {"c", {{"tracking_nmse", 0.2}, {"ff_fb_ratio_avg", 0.7}}}};
-  std::optional<RunHeadline> headline = choose_run_headline(jobs);
-  ASSERT_TRUE(headline);
-  EXPECT_EQ(headline->metric, "tracking_nmse");
-  EXPECT_EQ(headline->direction, "lower");
-  EXPECT_EQ(headline->jobs, 3);
-  EXPECT_EQ(headline->best_label, "b");
-  EXPECT_EQ(headline->worst_label, "a");
-  // Undefined (NaN) tracking_nmse in two jobs: ff_fb_ratio_avg, higher is better.
-  jobs[0].metrics["tracking_nmse"] = std::nan("");
-  jobs[1].metrics.erase("tracking_nmse");
-  headline = choose_run_headline(jobs);
-  ASSERT_TRUE(headline);
-  EXPECT_EQ(headline->metric, "ff_fb_ratio_avg");
-  EXPECT_EQ(headline->best_label, "a");
-  EXPECT_DOUBLE_EQ(headline->best, 0.9);
-  EXPECT_EQ(headline->worst_label, "b");
-  EXPECT_NE(make_headline_text(*headline).find("higher is better, 3 jobs): best 0.9 a; worst 0.5 b"), std::string::npos)
-      << make_headline_text(*headline);
-  // Timing metrics and metrics without a direction never lead.
-  EXPECT_FALSE(choose_run_headline({{"a", {{"learner_us_per_update", 3.0}, {"ff_abs_avg", 1.0}}}}));
-  EXPECT_FALSE(choose_run_headline({}));
 }
 
 }  // namespace
