@@ -483,8 +483,7 @@ struct StatisticsRun {
   double ws;
   double inv_ss2;
   __attribute__((always_inline)) void chain() {
-    // u_r = 0 while sxy_r = 0. The division runs either way and the result is selected (1/0 = +∞
-    // is dropped).
+    // u_r = 0 while sxy_r = 0 (then 1/√0 = +∞ is not used).
     const double inv_root = 1.0 / std::sqrt(sums.norm2);
     inv_norm = sums.norm2 > 0.0 ? inv_root : 0.0;
     s = sums.dot * inv_norm;
