@@ -58,15 +58,15 @@ PassResult train_in_batch(Learner& learner, const std::vector<Sample>& samples, 
   const int n_out = learner.output_dim();
   NmseAccumulator accuracy(n_out);
   const std::unique_ptr<PredictionWorkspace> workspace = learner.make_workspace();
+  Prediction prediction;  // kept across samples: values only (the score reads no bounds), no allocation per call
   for (std::size_t i = 0; i < test.size(); ++i) {
     if (stop_requested()) {
       return make_stopped(result, "scoring, " + std::to_string(i) + " of " + std::to_string(test.size()) + " test samples predicted");
     }
     const std::size_t index = test[i];
-    Prediction prediction;
     {
       ScopedSeconds timed(clock ? &clock->predict_seconds : nullptr);
-      prediction = learner.predict(samples[index].x, *workspace);
+      learner.predict_values_into(samples[index].x, *workspace, prediction);
     }
     if (clock) ++clock->predictions;
     accuracy.add(samples[index].y, calc_trusted_part(prediction));

@@ -111,6 +111,7 @@ LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
   x_normalised_.resize(n_in);
   x_padded_.assign(stride_, 0.0);
   scratch_.resize(n_in, params_.diag_only);
+  scratch_pair_.resize(n_in, params_.diag_only);
   shared_scan_ = !params_.update_D;
 }
 
@@ -302,33 +303,58 @@ void LwprModel::update(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
   ++n_updates_;
 }
 
+LwprModel::ActiveSummary LwprModel::update_active_fields(int output, double y, const std::vector<ActiveField>& active) {
+  std::vector<ReceptiveField>& fields = fields_[output];
+  const Eigen::VectorXd& x = x_normalised_;
+  ScanData& scan = scan_[output];
+  ActiveSummary summary;
+  auto note = [&](const ActiveField& a) {
+    const int i = static_cast<int>(a.index);
+    if (a.w > summary.w_max) {
+      summary.w_max = a.w;
+      summary.i_max = i;
+    }
+    if (a.w > params_.w_prune) {
+      if (summary.prune_a < 0) {
+        summary.prune_a = i;
+      } else if (summary.prune_b < 0) {
+        summary.prune_b = i;
+      }
+    }
+  };
+  auto after = [&](std::size_t i) {
+    if (params_.update_D) write_scan_metric(output, i, fields[i]);
+    scan.trusted[i] = fields[i].trustworthy ? 1 : 0;
+  };
+  // Two fields at a time (distinct fields: the scan lists each once), each with its own scratch:
+  // the same bits as one by one (update_receptive_field_pair).
+  std::size_t k = 0;
+  for (; k + 1 < active.size(); k += 2) {
+    const ActiveField& a = active[k];
+    const ActiveField& b = active[k + 1];
+    note(a);
+    note(b);
+    update_receptive_field_pair(params_, trust_n_data_, x, y, a.w, fields[a.index], scratch_, b.w, fields[b.index],
+                                scratch_pair_);
+    after(a.index);
+    after(b.index);
+  }
+  if (k < active.size()) {
+    note(active[k]);
+    update_receptive_field(params_, trust_n_data_, x, y, active[k].w, fields[active[k].index], scratch_);
+    after(active[k].index);
+  }
+  return summary;
+}
+
 void LwprModel::update_output(int output, double y, const std::vector<ActiveField>& active) {
   std::vector<ReceptiveField>& fields = fields_[output];
   const Eigen::VectorXd& x = x_normalised_;
-  double w_max = 0.0;
-  int i_max = -1;
-  int prune_a = -1;
-  int prune_b = -1;
-  ScanData& scan = scan_[output];
-  for (const ActiveField& a : active) {
-    const std::size_t i = a.index;
-    const double w = a.w;
-    ReceptiveField& rf = fields[i];
-    if (w > w_max) {
-      w_max = w;
-      i_max = static_cast<int>(i);
-    }
-    if (w > params_.w_prune) {
-      if (prune_a < 0) {
-        prune_a = static_cast<int>(i);
-      } else if (prune_b < 0) {
-        prune_b = static_cast<int>(i);
-      }
-    }
-    update_receptive_field(params_, trust_n_data_, x, y, w, rf, scratch_);
-    if (params_.update_D) write_scan_metric(output, i, rf);
-    scan.trusted[i] = rf.trustworthy ? 1 : 0;
-  }
+  const ActiveSummary summary = update_active_fields(output, y, active);
+  const double w_max = summary.w_max;
+  const int i_max = summary.i_max;
+  const int prune_a = summary.prune_a;
+  const int prune_b = summary.prune_b;
 
   if (w_max <= params_.w_gen && (params_.max_fields == 0 || fields.size() < params_.max_fields)) {
     // Start from the metric of the nearest field if it is trustworthy and not too far away.

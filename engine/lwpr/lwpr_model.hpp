@@ -92,6 +92,15 @@ class LwprModel final : public Learner {
   // Updates output `output` with y (normalised) given the fields active at x (every field with
   // w > 0, in field order), creating and pruning as update() says.
   void update_output(int output, double y, const std::vector<ActiveField>& active);
+  // The active fields' updates of update_output(), two at a time; the most active field and the
+  // first two above w_prune (−1 where none).
+  struct ActiveSummary {
+    double w_max = 0.0;
+    int i_max = -1;
+    int prune_a = -1;
+    int prune_b = -1;
+  };
+  ActiveSummary update_active_fields(int output, double y, const std::vector<ActiveField>& active);
   // Every predict(): writes `prediction` (its confidence only `with_bounds`, else left empty);
   // `detail` (may be null: then nothing of it is allocated) receives the per-output activations
   // and trust flags.
@@ -166,6 +175,7 @@ class LwprModel final : public Learner {
   Eigen::VectorXd x_normalised_;
   std::vector<double> x_padded_;
   FieldScratch scratch_;
+  FieldScratch scratch_pair_;  // the second field's of update_receptive_field_pair
   std::vector<ActiveField> active_;
 };
 

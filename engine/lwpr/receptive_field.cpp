@@ -411,85 +411,174 @@ __attribute__((always_inline)) inline DirectionSums run_direction_pass(int n, do
 // V is the vector the loops run on: Pair (SSE2, two per block of kLanes) or Quad (AVX2, one per
 // block); either way element i is in lane i mod kLanes, so the same bits. Always inlined, so that
 // the AVX2 copy below compiles it, and the helpers above, for AVX2.
+// A run is resumable: start() does the sums, the means and projection 0's pass (1), each step()
+// one projection's scalar chain and pass (2) fused with the next projection's pass (1), so that
+// two fields' runs can alternate step by step (update_statistics_pair) with each field's
+// operations in the same order as alone.
 template <int N, class V>
-__attribute__((always_inline)) inline void update_statistics(const Eigen::VectorXd& x, double y, double w,
-                                                             ReceptiveField& rf, FieldScratch& scratch) {
-  const double lambda = rf.lambda;
-  const double lambda_slow = 1.0 - (1.0 - lambda) / 10.0;  // PLS directions forget more slowly
-  const int n_reg = rf.n_reg();
-  const int n = N > 0 ? N : rf.input_dim();
+struct StatisticsRun {
+  const Eigen::VectorXd& x;
+  double w;
+  ReceptiveField& rf;
+  FieldScratch& scratch;
+  double lambda;
+  double lambda_slow;
+  int n_reg;
+  int n;
+  double* z;
+  double res;
+  DirectionSums sums;
+  int r = 0;
+
+  __attribute__((always_inline)) StatisticsRun(const Eigen::VectorXd& x_in, double w_in, ReceptiveField& rf_in,
+                                               FieldScratch& scratch_in)
+      : x(x_in),
+        w(w_in),
+        rf(rf_in),
+        scratch(scratch_in),
+        lambda(rf_in.lambda),
+        lambda_slow(1.0 - (1.0 - rf_in.lambda) / 10.0),  // PLS directions forget more slowly
+        n_reg(rf_in.n_reg()),
+        n(N > 0 ? N : rf_in.input_dim()),
+        z(scratch_in.z.data()) {}
 
   // Forgetting-weighted sums: Σλw (the weights, for the means and the MSE normalisation) and
   // n_data = Σλ·1, the discounted number of samples each projection has seen (the algorithm counts
   // samples, whatever their activation: a narrow field in 21-D sees small w but must still reach
-  // the trust count and the add-projection test).
-  const double w_old = lambda * rf.sum_w(0);
-  for (int r = 0; r < n_reg; ++r) {
-    rf.sum_w(r) = lambda * rf.sum_w(r) + w;
-    rf.n_data(r) = lambda * rf.n_data(r) + 1.0;
+  // the trust count and the add-projection test); β₀, x₀, z = x − x₀ and projection 0's pass (1).
+  __attribute__((always_inline)) void start(double y) {
+    const double w_old = lambda * rf.sum_w(0);
+    const double inv_w_new = 1.0 / (w_old + w);  // 1/Σλw of projection 0, as stored below
+    for (int k = 0; k < n_reg; ++k) {
+      rf.sum_w(k) = lambda * rf.sum_w(k) + w;
+      rf.n_data(k) = lambda * rf.n_data(k) + 1.0;
+    }
+    rf.beta0 = (w_old * rf.beta0 + w * y) * inv_w_new;
+    double* mean_x = rf.mean_x.data();
+    const double* xp = x.data();
+    double* zp = z;
+    const double wv = w;
+    res = y - rf.beta0;
+    sums = run_direction_pass<V>(
+        n, rf.sxy.col(0).data(), z, lambda_slow, w * res,
+        [&](int i, V& zv) __attribute__((always_inline)) {
+          update_mean<V>(xp + i, mean_x + i, zp + i, w_old, wv, inv_w_new, zv);
+        },
+        [&](int i) __attribute__((always_inline)) {
+          const double m = (w_old * mean_x[i] + wv * xp[i]) * inv_w_new;
+          mean_x[i] = m;
+          zp[i] = xp[i] - m;
+        });
   }
-  const double inv_w_new = 1.0 / rf.sum_w(0);
-  rf.beta0 = (w_old * rf.beta0 + w * y) * inv_w_new;
 
   // Incremental PLS (Vijayakumar et al. 2005, table 2): each projection regresses the residual
   // left by the previous ones on s_r = u_rᵀz_r and deflates the input by s_r·p_r. Per projection:
-  // (1) u_r's statistics with |·|² and ·z accumulated, (2) the normalised direction, the loadings
-  // and the deflation; one division for 1/|u_r| and one for 1/Σλws_r². Pass (1) of projection 0
-  // runs in one loop with the means x₀ and z = x − x₀, pass (1) of projection r+1 in one loop with
-  // pass (2) of projection r; pass (2) of the last projection does not deflate (nothing reads it).
-  double* z = scratch.z.data();
-  double* mean_x = rf.mean_x.data();
-  const double* xp = x.data();
-  double res = y - rf.beta0;
-  DirectionSums sums = run_direction_pass<V>(
-      n, rf.sxy.col(0).data(), z, lambda_slow, w * res,
-      [&](int i, V& zv) __attribute__((always_inline)) {
-        update_mean<V>(xp + i, mean_x + i, z + i, w_old, w, inv_w_new, zv);
-      },
-      [&](int i) __attribute__((always_inline)) {
-        const double m = (w_old * mean_x[i] + w * xp[i]) * inv_w_new;
-        mean_x[i] = m;
-        z[i] = xp[i] - m;
-      });
-  for (int r = 0;; ++r) {
-    const double inv_norm = sums.norm2 > 0.0 ? 1.0 / std::sqrt(sums.norm2) : 0.0;  // u_r = 0 while sxy_r = 0
-    const double s = sums.dot * inv_norm;
-    const double ws = w * s;
-    rf.ss2(r) = lambda * rf.ss2(r) + ws * s;
-    rf.sys(r) = lambda * rf.sys(r) + ws * res;
-    const double inv_ss2 = 1.0 / rf.ss2(r);
-    rf.beta(r) = rf.sys(r) * inv_ss2;
-    res -= rf.beta(r) * s;
+  // (1) u_r's statistics with |·|² and ·z accumulated (the previous step or start()), (2) the
+  // normalised direction, the loadings and the deflation; one division for 1/|u_r| and one for
+  // 1/Σλws_r². Pass (2) of projection r runs in one loop with pass (1) of projection r+1; pass (2)
+  // of the last projection does not deflate (nothing reads it). Returns whether a projection is left.
+  // The scalar chain of projection r: s_r, the regression, the residual and 1 − h_r.
+  double inv_norm;
+  double s;
+  double ws;
+  double inv_ss2;
+  __attribute__((always_inline)) void chain() {
+    // u_r = 0 while sxy_r = 0 (then 1/√0 = +∞ is not used).
+    const double inv_root = 1.0 / std::sqrt(sums.norm2);
+    inv_norm = sums.norm2 > 0.0 ? inv_root : 0.0;
+    s = sums.dot * inv_norm;
+    ws = w * s;
+    // The chain's values in locals: stored, never read back (a store and reload on the chain
+    // through the two divisions cost a store-forwarding delay per projection).
+    const double ss2 = lambda * rf.ss2(r) + ws * s;
+    const double sys = lambda * rf.sys(r) + ws * res;
+    rf.ss2(r) = ss2;
+    rf.sys(r) = sys;
+    inv_ss2 = 1.0 / ss2;
+    const double beta = sys * inv_ss2;
+    rf.beta(r) = beta;
+    res -= beta * s;
     scratch.s(r) = s;
     scratch.residual(r) = res;
     scratch.one_minus_h(r) = std::max(1.0 - ws * s * inv_ss2, kMinOneMinusH);
+  }
+  // Projection r's pass (2), fused with projection r+1's pass (1) unless r is the last.
+  __attribute__((always_inline)) bool pass() {
+    const double inv_norm = this->inv_norm;
+    const double s = this->s;
+    const double ws = this->ws;
+    const double inv_ss2 = this->inv_ss2;
     const double* sxy = rf.sxy.col(r).data();
     double* sxs = rf.sxs.col(r).data();
     double* u = rf.directions.col(r).data();
     double* p = rf.loadings.col(r).data();
+    double* zp = z;
+    const double lam = lambda;
     auto loadings_tail = [&](int i, bool deflate) __attribute__((always_inline)) {
       u[i] = sxy[i] * inv_norm;
-      const double v = lambda * sxs[i] + ws * z[i];
+      const double v = lam * sxs[i] + ws * zp[i];
       sxs[i] = v;
       p[i] = v * inv_ss2;
-      if (deflate) z[i] -= s * p[i];
+      if (deflate) zp[i] -= s * p[i];
     };
     if (r + 1 == n_reg) {
       constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
       int i = 0;
       for (; i + kWidth <= n; i += kWidth) {
         V zv;
-        update_loadings<false, V>(z + i, sxy + i, sxs + i, u + i, p + i, inv_norm, ws, inv_ss2, s, lambda, zv);
+        update_loadings<false, V>(zp + i, sxy + i, sxs + i, u + i, p + i, inv_norm, ws, inv_ss2, s, lam, zv);
       }
       for (int t = 0; t < kWidth - 1 && i < n; ++t, ++i) loadings_tail(i, false);  // unrolled
-      return;
+      return false;
     }
     sums = run_direction_pass<V>(
         n, rf.sxy.col(r + 1).data(), z, lambda_slow, w * res,
         [&](int i, V& zv) __attribute__((always_inline)) {
-          update_loadings<true, V>(z + i, sxy + i, sxs + i, u + i, p + i, inv_norm, ws, inv_ss2, s, lambda, zv);
+          update_loadings<true, V>(zp + i, sxy + i, sxs + i, u + i, p + i, inv_norm, ws, inv_ss2, s, lam, zv);
         },
         [&](int i) __attribute__((always_inline)) { loadings_tail(i, true); });
+    ++r;
+    return true;
+  }
+};
+
+template <int N, class V>
+__attribute__((always_inline)) inline void update_statistics(const Eigen::VectorXd& x, double y, double w,
+                                                             ReceptiveField& rf, FieldScratch& scratch) {
+  StatisticsRun<N, V> run(x, w, rf, scratch);
+  run.start(y);
+  do {
+    run.chain();
+  } while (run.pass());
+}
+
+// Two fields' statistics for the same sample, their runs alternating projection by projection:
+// each field's chain through √ and the two divisions waits while the other's passes run. Each
+// field's operations are those of update_statistics() in the same order, so the same bits.
+template <int N, class V>
+__attribute__((always_inline)) inline void update_statistics_pair(const Eigen::VectorXd& x, double y, double w_a,
+                                                                  ReceptiveField& rf_a, FieldScratch& scratch_a,
+                                                                  double w_b, ReceptiveField& rf_b,
+                                                                  FieldScratch& scratch_b) {
+  StatisticsRun<N, V> a(x, w_a, rf_a, scratch_a);
+  StatisticsRun<N, V> b(x, w_b, rf_b, scratch_b);
+  a.start(y);
+  b.start(y);
+  bool more_a = true;
+  bool more_b = true;
+  while (more_a && more_b) {
+    a.chain();
+    b.chain();
+    more_a = a.pass();
+    more_b = b.pass();
+  }
+  while (more_a) {
+    a.chain();
+    more_a = a.pass();
+  }
+  while (more_b) {
+    b.chain();
+    more_b = b.pass();
   }
 }
 
@@ -509,7 +598,20 @@ __attribute__((target("avx2"))) void update_statistics_avx2(const Eigen::VectorX
     update_statistics<0, Quad>(x, y, w, rf, scratch);
   }
 }
-
+void update_statistics_pair_sse2(const Eigen::VectorXd& x, double y, double w_a, ReceptiveField& rf_a,
+                                 FieldScratch& scratch_a, double w_b, ReceptiveField& rf_b, FieldScratch& scratch_b) {
+  update_statistics_pair<0, Pair>(x, y, w_a, rf_a, scratch_a, w_b, rf_b, scratch_b);
+}
+__attribute__((target("avx2"))) void update_statistics_pair_avx2(const Eigen::VectorXd& x, double y, double w_a,
+                                                                ReceptiveField& rf_a, FieldScratch& scratch_a,
+                                                                double w_b, ReceptiveField& rf_b,
+                                                                FieldScratch& scratch_b) {
+  if (rf_a.input_dim() == 21) {
+    update_statistics_pair<21, Quad>(x, y, w_a, rf_a, scratch_a, w_b, rf_b, scratch_b);
+  } else {
+    update_statistics_pair<0, Quad>(x, y, w_a, rf_a, scratch_a, w_b, rf_b, scratch_b);
+  }
+}
 }  // namespace
 
 bool has_avx2() {
@@ -517,10 +619,9 @@ bool has_avx2() {
   return supported;
 }
 
-void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
-                            double w, ReceptiveField& rf, FieldScratch& scratch) {
-  const double lambda = rf.lambda;
-  const int n_reg = rf.n_reg();
+namespace {
+
+void update_field_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveField& rf, FieldScratch& scratch) {
   switch (rf.input_dim()) {
     case 2: update_statistics<2, Pair>(x, y, w, rf, scratch); break;
     case 3: update_statistics<3, Pair>(x, y, w, rf, scratch); break;
@@ -532,7 +633,14 @@ void update_receptive_field(const LwprParams& params, double trust_n_data, const
       }
       break;
   }
+}
 
+// What update_receptive_field() does after the statistics: the leave-one-out sums, the metric
+// step, the add-projection test, λ's annealing and the trust flag.
+void finish_field_update(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double w,
+                         ReceptiveField& rf, FieldScratch& scratch) {
+  const double lambda = rf.lambda;
+  const int n_reg = rf.n_reg();
   // Leave-one-out statistics and the metric update wait until the field has some data: the
   // library's rule waits for n_data > 0.1/(1−λ) (100 samples at λ = 0.999); the early rule also
   // accepts 4·(R+1) samples, a few times the local model's parameter count, so D adapts much
@@ -596,6 +704,32 @@ void update_receptive_field(const LwprParams& params, double trust_n_data, const
 
   rf.lambda = params.tau_lambda * lambda + (1.0 - params.tau_lambda) * params.final_lambda;
   rf.trustworthy = rf.n_data(0) >= trust_n_data;
+}
+
+}  // namespace
+
+void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
+                            double w, ReceptiveField& rf, FieldScratch& scratch) {
+  update_field_statistics(x, y, w, rf, scratch);
+  finish_field_update(params, trust_n_data, x, w, rf, scratch);
+}
+
+void update_receptive_field_pair(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
+                                 double w_a, ReceptiveField& rf_a, FieldScratch& scratch_a, double w_b,
+                                 ReceptiveField& rf_b, FieldScratch& scratch_b) {
+  const int n = rf_a.input_dim();
+  if (n > 3 && rf_b.input_dim() == n && scratch_a.use_avx2 == scratch_b.use_avx2) {
+    if (scratch_a.use_avx2) {
+      update_statistics_pair_avx2(x, y, w_a, rf_a, scratch_a, w_b, rf_b, scratch_b);
+    } else {
+      update_statistics_pair_sse2(x, y, w_a, rf_a, scratch_a, w_b, rf_b, scratch_b);
+    }
+  } else {
+    update_field_statistics(x, y, w_a, rf_a, scratch_a);
+    update_field_statistics(x, y, w_b, rf_b, scratch_b);
+  }
+  finish_field_update(params, trust_n_data, x, w_a, rf_a, scratch_a);
+  finish_field_update(params, trust_n_data, x, w_b, rf_b, scratch_b);
 }
 
 }  // namespace armfarm::lwpr

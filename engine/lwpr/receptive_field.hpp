@@ -121,6 +121,14 @@ double calc_field_noise_variance(const ReceptiveField& rf);
 void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x,
                             double y, double w, ReceptiveField& rf, FieldScratch& scratch);
 
+/// update_receptive_field() for two different fields and the same sample (x, y), with their own
+/// activations and scratch: the two fields' PLS statistics run projection by projection in turn,
+/// so that one field's chain through √ and the divisions overlaps the other's passes. Each field
+/// ends with the same bits as update_receptive_field() gives it.
+void update_receptive_field_pair(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
+                                 double w_a, ReceptiveField& rf_a, FieldScratch& scratch_a, double w_b,
+                                 ReceptiveField& rf_b, FieldScratch& scratch_b);
+
 /// Recomputes the cached directions, loadings and β from the sufficient statistics.
 void refresh_receptive_field(ReceptiveField& rf);
 

@@ -262,6 +262,59 @@ TEST(ReceptiveField, Avx2FieldUpdateMatchesSse2BitForBit) {
   }
 }
 
+// update_receptive_field_pair against two update_receptive_field calls: every statistic the same
+// bits, on SSE2 and AVX2, at the fixed sizes (2, 3: sequential) and the run-time ones, with and
+// without update_D. The two fields differ in centre, metric and projection count (one adds
+// projections, the other may not), so the pair's runs end at different steps.
+TEST(ReceptiveField, FieldPairUpdateMatchesTwoSingleUpdatesBitForBit) {
+  for (const int n : {2, 3, 4, 5, 7, 8, 21}) {
+    for (const bool avx2 : {false, true}) {
+      if (avx2 && !has_avx2()) continue;
+      for (const bool update_d : {false, true}) {
+        LwprParams params;
+        params.update_D = update_d;
+        params.init_lambda = 0.99;
+        params.add_threshold = 0.9;  // add projections readily
+        const Eigen::MatrixXd D_a = 2.0 * Eigen::MatrixXd::Identity(n, n);
+        const Eigen::MatrixXd D_b = 0.5 * Eigen::MatrixXd::Identity(n, n);
+        const Eigen::VectorXd c_b = Eigen::VectorXd::Constant(n, 0.2);
+        ReceptiveField single[2] = {make_receptive_field(params, Eigen::VectorXd::Zero(n), D_a),
+                                    make_receptive_field(params, c_b, D_b)};
+        if (n > params.init_n_reg) add_projection(params, single[1]);  // b starts one projection ahead
+        ReceptiveField pair[2] = {single[0], single[1]};
+        FieldScratch scratch[3];
+        for (FieldScratch& sc : scratch) {
+          sc.resize(n, true);
+          sc.use_avx2 = avx2;
+        }
+        std::mt19937_64 rng(static_cast<unsigned>(13 * n + 2 * avx2 + update_d));
+        std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+        int unequal_steps = 0;
+        for (int i = 0; i < 1500; ++i) {
+          const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(n, [&] { return 0.5 * uniform(rng); });
+          const double y = std::sin(3.0 * x(0)) + x(1) * x(n - 1) + 0.05 * uniform(rng);
+          const double w_a = 0.05 + 0.95 * std::abs(uniform(rng));
+          const double w_b = 0.05 + 0.95 * std::abs(uniform(rng));
+          if (pair[0].n_reg() != pair[1].n_reg()) ++unequal_steps;
+          update_receptive_field(params, 2.0 * n, x, y, w_a, single[0], scratch[0]);
+          update_receptive_field(params, 2.0 * n, x, y, w_b, single[1], scratch[0]);
+          update_receptive_field_pair(params, 2.0 * n, x, y, w_a, pair[0], scratch[1], w_b, pair[1], scratch[2]);
+        }
+        if (n > params.init_n_reg) {
+          EXPECT_GT(single[0].n_reg(), params.init_n_reg) << "n = " << n << ": no projection was added";
+          EXPECT_GT(unequal_steps, 50) << "n = " << n << ": too few steps with unequal projection counts";
+        }
+        for (int k = 0; k < 2; ++k) {
+          const std::vector<double> a = flatten_field(single[k]), b = flatten_field(pair[k]);
+          ASSERT_EQ(a.size(), b.size()) << "n = " << n << ", field " << k;
+          EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0)
+              << "n = " << n << ", field " << k << ", AVX2 " << avx2 << ", update_D " << update_d;
+        }
+      }
+    }
+  }
+}
+
 // The field update's PLS statistics, means and cached directions against a plain scalar loop written
 // here from the algorithm (Vijayakumar et al. 2005, table 2) with the summation order the field update
 // documents (element i in partial sum i mod 4, added as (p0 + p1) + (p2 + p3)): the same bits at every
