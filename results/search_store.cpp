@@ -364,6 +364,17 @@ void add_tpe_constants_terms(std::string& agree, std::string& fill) {
   agree += " AND ((m.method <> 'tpe' AND m.sampler <> 'tpe') OR COALESCE(m.tpe_rule, 'per_axis') <> 'joint' OR (" + same + "))";
 }
 
+// The rungs (search_rungs) in merge_search_tables's comparison of two rows m and o: the same
+// rungs with the same checkpoints and costs. A rung's cost is the build's estimate times its
+// cost factor (runner/execution/search_runner.hpp), and the budget's decisions follow it, so two
+// files whose runners had other factors or cost models hold different searches under one name.
+void add_rung_terms(std::string& agree) {
+  agree += " AND (SELECT count(*) FROM main.search_rungs WHERE search_id = m.id) = "
+           "(SELECT count(*) FROM src.search_rungs WHERE search_id = o.id) AND NOT EXISTS (SELECT 1 FROM main.search_rungs mr "
+           "LEFT JOIN src.search_rungs orr ON orr.search_id = o.id AND orr.rung = mr.rung WHERE mr.search_id = m.id AND "
+           "(orr.rung IS NULL OR orr.checkpoint IS NOT mr.checkpoint OR orr.cost IS NOT mr.cost))";
+}
+
 // The part of one search that both files hold, merged; returns the conflict, empty when none.
 std::string merge_one_search(SqliteConnection& db, std::int64_t src_id, std::int64_t main_id,
                              const std::map<std::int64_t, std::int64_t>& job_ids) {
@@ -460,6 +471,7 @@ void merge_search_tables(SqliteConnection& db, const std::map<std::int64_t, std:
       agree += " AND ((m.method <> 'tpe' AND m.sampler <> 'tpe') OR COALESCE(m.tpe_rule, 'per_axis') IS COALESCE(o.tpe_rule, 'per_axis'))";
       fill += ", tpe_rule = COALESCE(tpe_rule, (SELECT tpe_rule FROM src.searches WHERE id = ?2))";
       add_tpe_constants_terms(agree, fill);
+      add_rung_terms(agree);
       SqliteStatement same = db.prepare(
           "SELECT count(*) FROM main.searches m, src.searches o WHERE m.id = ?1 AND o.id = ?2 AND "
           "m.method IS o.method AND m.sampler IS o.sampler AND m.seed IS o.seed AND m.eta IS o.eta AND "

@@ -322,9 +322,12 @@ SearchRunSummary run_search(const SweepSpec& spec, const JobKind& kind, const Ru
       settings.rung_cost[k] = calc_search_cpu_seconds(kind, expand_step(spec, kind.schema, point, k).config());
     }
   }
-  // TPE's start-up: the spec's, or a quarter of the jobs to the last rung the budget buys.
-  settings.tpe.startup =
-      search.tpe_startup != 0 ? search.tpe_startup : search::calc_tpe_startup(settings.budget / settings.rung_cost.back());
+  // TPE's start-up: the spec's, or a quarter of the whole jobs to the last rung the budget buys
+  // (the schedule's budget check, so that 25 % of a grid of 48 equal jobs is 12 jobs, start-up 3,
+  // whichever way budget / cost rounds).
+  settings.tpe.startup = search.tpe_startup != 0
+                             ? search.tpe_startup
+                             : search::calc_tpe_startup(search::calc_whole_jobs(settings.budget, settings.rung_cost.back()));
   adopt_stored_search(spec, options.db_path, settings);
   RunOptions round = options;
   round.rerun_unsuccessful = false;  // a failed or diverged trial is an outcome (+∞), not retried every round

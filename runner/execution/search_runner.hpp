@@ -78,17 +78,21 @@ inline constexpr const char* kSearchNotShardedReason =
     "files would hold, so no shard could take the decisions of the one search; run several runners on one database "
     "(one machine), or on N machines N searches with their own names and seeds, then merge the files";
 
-/// CPU-seconds per joint-second of the experiment job's cost estimate. Measured on 2026-12-03 by
+/// CPU-seconds per joint-second of the experiment job's cost estimate. Measured by
 /// BM_SearchCostFactor of tests/bench/bench_search.cpp: each job of a shipped spec (its first
-/// seed) run alone at -j1, its process CPU over its estimated joint-seconds (2-core machine,
-/// load 5-9): sweeps/quickstart.json 14.25 CPU-s for 4208 (0.0034; per job 0.0015-0.0087),
-/// sweeps/thesis/fig6_1_kernel_width.json 49.94 for 10080 (0.0050), table6_5_7_heldout_reaching
-/// 14.90 for 3574 (0.0042); together 79.09 for 17863, 0.0044. (The previous 0.0038 came from
-/// the reduced benchmark problems, which have shorter jobs.) Stored wall times of the 5-seed
-/// thesis run (-j2, load 2-4) give 0.0029-0.0060 per spec, except the figure-eight tables
-/// 6.1-6.3 (0.012-0.018), whose cost the model underestimates about 3-4 times. The factor
-/// enters no job key or metric: it only converts a cpu_seconds budget into joint-seconds.
-inline constexpr double kSearchCpuSecondsPerJointSecond = 0.0044;
+/// seed) run alone at -j1, its process CPU over its estimated joint-seconds (2-core machine).
+/// On 2026-12-04 (after the LWPR pass-fusion round; load 0.5-0.7): sweeps/quickstart.json 6.92
+/// CPU-s for 4208 joint-s (0.0016), sweeps/thesis/fig6_1_kernel_width.json 23.80 for 10080
+/// (0.0024), table6_5_7_heldout_reaching 6.84 for 3574 (0.0019); together 37.56 for 17863,
+/// 0.0021 (runner/search/README.md, "The cost factor", has the rerun of 2026-12-04 late). It was
+/// 0.0044 (2026-12-03, before that round, load 5-9) and 0.0038 before. Per job it is within a
+/// factor of about 2, and the figure-eight tables 6.1-6.3 cost 3-4 times their estimate (the
+/// model has no term for batch training). The factor enters no job key or metric: it converts a
+/// cpu_seconds budget into joint-seconds. A search records what it decides with it: each rung's
+/// cost (search_rungs.cost, estimate × factor) and TPE's start-up; a resumed search and a second
+/// runner adopt those, and a merge compares them, so a build with another factor continues a
+/// stored search unchanged.
+inline constexpr double kSearchCpuSecondsPerJointSecond = 0.0021;
 
 /// The CPU-seconds a cpu_seconds budget counts for one job configuration: the experiment job's
 /// estimate times kSearchCpuSecondsPerJointSecond; another job kind's (the fake job) estimate as it is.

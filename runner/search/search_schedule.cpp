@@ -1,6 +1,8 @@
 #include "runner/search/search_schedule.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <utility>
 
 #include "runner/search/asha.hpp"
@@ -69,8 +71,18 @@ SearchDecision calc_next_decision(const SearchSettings& settings, const SearchHi
   decision.cost = calc_step_cost(settings, !decision.new_trial, decision.rung);
   // The budget: a decision that does not fit ends the search. (A smaller step might still fit;
   // taking it would make the end depend on which step happened to be next, so none is taken.)
-  if (calc_spent(history) + decision.cost > settings.budget * (1.0 + 1e-12)) return SearchDecision{};
+  if (!fits_budget(calc_spent(history) + decision.cost, settings.budget)) return SearchDecision{};
   return decision;
+}
+
+bool fits_budget(double spent, double budget) { return spent <= budget * (1.0 + 1e-12); }
+
+double calc_whole_jobs(double budget, double cost) {
+  if (!(cost > 0.0) || !std::isfinite(budget)) return std::numeric_limits<double>::infinity();
+  double jobs = std::floor(budget / cost);
+  while (fits_budget((jobs + 1.0) * cost, budget)) jobs += 1.0;   // 11.999… that buys 12
+  while (jobs > 0.0 && !fits_budget(jobs * cost, budget)) jobs -= 1.0;  // 12.000…1 that buys 11
+  return jobs;
 }
 
 void add_step(const SearchDecision& decision, std::size_t visible, SearchHistory& history) {

@@ -109,6 +109,15 @@ double calc_step_cost(const SearchSettings& settings, bool promotion, std::size_
 /// The cost of all steps so far.
 double calc_spent(const SearchHistory& history);
 
+/// Whether steps costing `spent` in all fit `budget`: up to a relative 1e-12, so that a budget
+/// of exactly N jobs' cost buys N jobs however the sums round.
+bool fits_budget(double spent, double budget);
+
+/// How many whole jobs of `cost` a budget of `budget` buys under fits_budget: what TPE's
+/// start-up rule counts (calc_tpe_startup), so that a budget at an exact multiple of the cost
+/// gives the same start-up whichever way its division rounds.
+double calc_whole_jobs(double budget, double cost);
+
 // Helpers shared by the methods (asha.cpp, hyperband.cpp).
 
 /// The trials with a seen loss at `rung`, best first (lower loss; ties: lower trial number),

@@ -9,19 +9,23 @@
 //      18 between) × update_D off/on, 48 jobs, so the budget buys 12 jobs (TPE's start-up by
 //      the budget rule: 3). The shipped 6 × 2 grid leaves a budget of 3 jobs, below any start-up.
 //   2. reaching (the base of sweeps/thesis/table6_5_7_heldout_reaching.json: sigmoid reaches of
-//      100 points, 9 held-out transitions) with the checkpoints after 10/50/200 reaches,
-//      200 reaches: init_D × init_alpha × control.gain_scale, objective the mean heldout_test_nmse
-//      at 200; the method ASHA (η 3) with the TPE sampler. The grid: 4 × 4 × 4 (init_D and
-//      init_alpha log-spaced, gain_scale evenly), 64 jobs.
+//      100 points, 9 held-out transitions), 200 reaches: init_D × init_alpha ×
+//      control.gain_scale, objective the mean heldout_test_nmse at 200; the method ASHA (η 3)
+//      with the TPE sampler. The grid: 4 × 4 × 4 (init_D and init_alpha log-spaced, gain_scale
+//      evenly), 64 jobs. Two layouts of rungs over the checkpoints 10/50/200: 10/200 (as
+//      sweeps/search/reaching_asha.json ships it; BM_SearchReaching) and all three
+//      (BM_SearchReachingAllCheckpoints).
+//   1b. fig6_1_kernel_width with held-out checkpoints after 1 and 5 training epochs, searched by
+//      ASHA (η 3, TPE sampler) over them (BM_SearchKernelWidthAsha).
 // ARMFARM_BENCH_SEARCH_REDUCED=1 runs both problems reduced as the first version of this benchmark
 // did (fig6_1: 4 collection passes, not 53; reaching: 40 points per reach, not 100, and 3
 // held-out transitions, not 9), with the same grids and budgets: for a machine that cannot give
 // the full problems their hours (say so beside the figures).
 // ARMFARM_BENCH_SEARCH_FULL_NORMALISATION=1 normalises every reaching job by the full trajectory
 // (apply_full_normalisation), so that ASHA's short rungs rank as the full jobs' checkpoints do.
-// ARMFARM_BENCH_SEARCH_RUNGS=10,200 sets the reaching problem's checkpoints (ASHA's rungs).
+// ARMFARM_BENCH_SEARCH_RUNGS=10,50,200 sets BM_SearchReaching's checkpoints (ASHA's rungs).
 // ARMFARM_BENCH_SEARCH_SEEDS=N runs seeds 1 … N only (a stated subset, when time is short);
-// --benchmark_filter=KernelWidth or =Reaching runs one problem. Each seed's line is printed as it
+// --benchmark_filter=KernelWidth or =Reaching runs one problem (each with its variant). Each seed's line is printed as it
 // finishes. Each search runs in a database of its own, so its measured CPU is its own jobs'.
 // On a problem with checkpoints the grid is followed by the rung measurement (measure_rungs:
 // Spearman's ρ of each rung against the last, in the grid's jobs and as short rung jobs);
@@ -476,13 +480,14 @@ Problem make_kernel_width_problem() {
   return p;
 }
 
-Problem make_reaching_problem() {
+Problem make_reaching_problem(const std::vector<std::int64_t>& rungs) {
   const nlohmann::json shipped = read_json(fs::path(ARMFARM_SOURCE_DIR) / "sweeps/thesis/table6_5_7_heldout_reaching.json");
   Problem p;
-  p.name = "reaching";
+  p.name = "reaching_rungs";
+  for (std::int64_t c : rungs) p.name += "_" + std::to_string(c);
   p.base = shipped.at("base");  // 100 points per reach, 9 held-out transitions, as shipped
   p.base["trajectory"]["reaching"]["reaches"] = 200;  // the last checkpoint
-  p.base["learning"]["heldout_checkpoints"] = {10, 50, 200};
+  p.base["learning"]["heldout_checkpoints"] = rungs;
   p.base["recording"] = {{"series", nlohmann::json::array()}};
   if (is_reduced()) {
     p.base["trajectory"]["reaching"]["points_per_reach"] = 40;
@@ -499,7 +504,7 @@ Problem make_reaching_problem() {
                 {"control.gain_scale", {{"uniform", {0.2, 1.0}}}}}},
               {"method_settings", {{"method", "asha"}, {"sampler", "tpe"}, {"eta", 3}}}};
   p.metric = "heldout_test_nmse";
-  p.checkpoints = {10, 50, 200};
+  p.checkpoints = rungs;
   p.length_path = "trajectory.reaching.reaches";
   return p;
 }
@@ -598,6 +603,28 @@ void BM_SearchKernelWidth(benchmark::State& state) {
 }
 BENCHMARK(BM_SearchKernelWidth)->Unit(benchmark::kSecond)->Iterations(1);
 
+// fig6_1's batch job has learning checkpoints: held-out evaluation after 1 … 5 epochs (the base's
+// learning.epochs, 5). The same problem and grid with checkpoints after 1 and 5 epochs, searched
+// by ASHA (η 3, TPE sampler): a rung-0 job is the job with learning.epochs 1. Its collection
+// passes are the full job's, and the job-cost model has no term for the training epochs
+// (runner/execution/job_cost.cpp), so the budget counts a rung-0 job as a whole job; the rung
+// lines print the short jobs' estimated and measured CPU.
+Problem make_kernel_width_asha_problem() {
+  Problem p = make_kernel_width_problem();
+  p.name = "fig6_1_kernel_width_asha_epochs_1_5";
+  p.base["learning"]["epochs"] = 5;
+  p.base["learning"]["heldout_checkpoints"] = {1, 5};
+  p.search["method_settings"] = {{"method", "asha"}, {"sampler", "tpe"}, {"eta", 3}};
+  p.checkpoints = {1, 5};
+  p.length_path = "learning.epochs";
+  return p;
+}
+
+void BM_SearchKernelWidthAsha(benchmark::State& state) {
+  for (auto _ : state) run_problem(state, make_kernel_width_asha_problem());
+}
+BENCHMARK(BM_SearchKernelWidthAsha)->Unit(benchmark::kSecond)->Iterations(1);
+
 // ARMFARM_BENCH_SEARCH_FULL_NORMALISATION=1: every job of the reaching problem (grid, searches,
 // rungs) normalises its inputs by the full 200-reach trajectory, as a spec can ask today: base
 // learning.normalize_inputs false and learning.lwpr.norm_in the full job's input scale
@@ -621,36 +648,39 @@ void apply_full_normalisation(Problem& problem, const JobKind& kind, const fs::p
               problem.base["learning"]["lwpr"]["norm_in"].dump().c_str());
 }
 
-// ARMFARM_BENCH_SEARCH_RUNGS=10,200 (increasing, ending at 200): the reaching problem's
-// checkpoints, i.e. ASHA's rungs, instead of the 10/50/200.
-void apply_rungs(Problem& problem) {
+// The reaching problem's rungs: ARMFARM_BENCH_SEARCH_RUNGS=10,200 (increasing, ending at 200)
+// if given, else `shipped`.
+std::vector<std::int64_t> find_rungs(const std::vector<std::int64_t>& shipped) {
   const char* text = std::getenv("ARMFARM_BENCH_SEARCH_RUNGS");
-  if (text == nullptr || *text == '\0') return;
+  if (text == nullptr || *text == '\0') return shipped;
   std::vector<std::int64_t> rungs;
-  std::string name = problem.name + "_rungs";
   std::stringstream list(text);
-  for (std::string item; std::getline(list, item, ',');) {
-    rungs.push_back(std::atoll(item.c_str()));
-    name += "_" + std::to_string(rungs.back());
-  }
+  for (std::string item; std::getline(list, item, ',');) rungs.push_back(std::atoll(item.c_str()));
   if (rungs.size() < 2 || rungs.back() != 200 || !std::is_sorted(rungs.begin(), rungs.end())) {
     std::fprintf(stderr, "ARMFARM_BENCH_SEARCH_RUNGS=%s: expected increasing checkpoints ending at 200\n", text);
     std::exit(2);
   }
-  problem.checkpoints = rungs;
-  problem.base["learning"]["heldout_checkpoints"] = rungs;
-  problem.name = name;
+  return rungs;
 }
 
-void BM_SearchReaching(benchmark::State& state) {
+void run_reaching(benchmark::State& state, const std::vector<std::int64_t>& rungs) {
   for (auto _ : state) {
-    Problem problem = make_reaching_problem();
+    Problem problem = make_reaching_problem(rungs);
     if (is_full_normalisation()) apply_full_normalisation(problem, make_experiment_job_kind(), scratch_folder());
-    apply_rungs(problem);
     run_problem(state, problem);
   }
 }
+
+// Two layouts of ASHA's rungs over the checkpoints 10/50/200. Rungs at 10 and 200 reaches,
+// as sweeps/search/reaching_asha.json ships them (or ARMFARM_BENCH_SEARCH_RUNGS): checkpoint 10
+// orders the grid's points as 200 does (ρ +0.97 in the full jobs, +0.71 as short jobs), 50 does
+// not (ρ +0.39: the learning curves cross there; runner/search/README.md).
+void BM_SearchReaching(benchmark::State& state) { run_reaching(state, find_rungs({10, 200})); }
 BENCHMARK(BM_SearchReaching)->Unit(benchmark::kSecond)->Iterations(1);
+
+// The checkpoints all as rungs, 10/50/200: printed beside the shipped layout.
+void BM_SearchReachingAllCheckpoints(benchmark::State& state) { run_reaching(state, {10, 50, 200}); }
+BENCHMARK(BM_SearchReachingAllCheckpoints)->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 }  // namespace armfarm

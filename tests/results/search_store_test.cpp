@@ -4,7 +4,8 @@
 // rule; merge compares it so, a NULL against "joint" is a conflict); one of version 8 gains the
 // joint rule's constants as NULL (read as version 8's; merge refuses other constants); a search, its rungs, trials and steps round-trip and are what a plain SQL
 // reader sees (the search_promotions view); a step naming no job is refused; merge copies a
-// search whole, extends one the file already has and refuses a disagreeing one.
+// search whole, extends one the file already has and refuses a disagreeing one (its settings,
+// its rungs' checkpoints and costs, or a step).
 #include "results/results_store.hpp"
 
 #include <gtest/gtest.h>
@@ -360,6 +361,38 @@ TEST_F(SearchStoreTest, MergeReadsNullJointConstantsAsVersionEightsAndRefusesOth
     ResultsStore store = ResultsStore::open(path("axis_null.db"), ResultsStore::Mode::read_write);
     EXPECT_TRUE(store.merge_from(path("axis_other.db")).conflicts.empty());
   }
+}
+
+// A rung's cost is the build's estimate times its cost factor: two runners of one search with
+// other factors (or cost models) decided other steps within the budget, so a merge refuses a
+// search whose rungs differ in cost or checkpoint, and accepts the same rungs.
+TEST_F(SearchStoreTest, MergeRefusesASearchWhoseRungsCostOtherwise) {
+  const auto write = [&](const std::string& file, const std::vector<SearchRungRecord>& rungs) {
+    ResultsStore store = ResultsStore::open(path(file), ResultsStore::Mode::read_write);
+    store.insert_sweep_run(testing::make_sweep_registration("c"), {{"k1", {{"a", 1}}, {{"a", 1}}, 0}});
+    SearchRecord search = make_search("c");
+    search.rungs = rungs;
+    store.insert_search(search);
+  };
+  const std::vector<SearchRungRecord> rungs = make_search("c").rungs;  // costs 12.5, 60, 240
+  std::vector<SearchRungRecord> halved = rungs;  // the same jobs at half the factor
+  for (SearchRungRecord& r : halved) r.cost *= 0.5;
+  std::vector<SearchRungRecord> moved = rungs;
+  moved[1].checkpoint = 60;
+  write("mine.db", rungs);
+  write("same.db", rungs);
+  write("halved.db", halved);
+  write("moved.db", moved);
+  write("fewer.db", {rungs[0], rungs[2]});
+  ResultsStore store = ResultsStore::open(path("mine.db"), ResultsStore::Mode::read_write);
+  EXPECT_TRUE(store.merge_from(path("same.db")).conflicts.empty());
+  for (const char* other : {"halved.db", "moved.db", "fewer.db"}) {
+    const MergeReport report = store.merge_from(path(other));
+    ASSERT_EQ(report.conflicts.size(), 1u) << other;
+    EXPECT_EQ(report.conflicts[0], "search c: different settings in " + path(other) + "; kept this file's");
+  }
+  EXPECT_EQ(query_rows(path("mine.db"), "SELECT rung, checkpoint, cost FROM search_rungs ORDER BY rung"),
+            (std::vector<std::string>{"0|10|12.5", "1|50|60.0", "2|200|240.0"}));
 }
 
 TEST_F(SearchStoreTest, MergeCopiesASearchWholeAndExtendsTheSameSearchStepByStep) {

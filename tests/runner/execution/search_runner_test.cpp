@@ -6,7 +6,8 @@
 // checkpoint (never undefined for every trial); a search recorded by a build before TPE's rule
 // was stored (schema 7, no rule: the per-axis rule) continues with the per-axis rule; a joint
 // search of schema 8 (no constants: version 8's) resumes and one recorded with other constants is
-// refused; an ASHA promotion of a batch job (each rung a
+// refused; a cpu_seconds search resumed by a build with another cost factor takes its recorded
+// rung costs and start-up and continues unchanged; an ASHA promotion of a batch job (each rung a
 // job that trains to its checkpoint's epoch) scores bit-identically to one straight run.
 #include <gtest/gtest.h>
 
@@ -334,6 +335,54 @@ TEST_F(CmdRunSearchTest, AJointSearchOfSchemaEightResumesAndOneWithOtherConstant
   EXPECT_EQ(std::count(refused.output.begin(), refused.output.end(), '\n'), 2) << refused.output;
   EXPECT_EQ(query_rows(path("other.db"), everything), before);
   EXPECT_EQ(query_rows(path("other.db"), constants), std::vector<std::string>{"joint|1.0|0.3|0.7"});
+}
+
+// A cpu_seconds budget counts each job as the kind's estimate times the cost factor
+// (calc_search_cpu_seconds; the fake job's estimate as it is). A build with another factor is a
+// kind whose estimates are scaled: here half, as 0.0044 → 0.0021 did. Run afresh, it takes
+// another search (twice the jobs, another start-up); resuming a search of the first build, it
+// adopts the recorded rung cost and start-up and takes that search's steps, running nothing.
+TEST_F(CmdRunSearchTest, ACpuSecondsSearchResumedByABuildWithAnotherCostFactorContinuesUnchanged) {
+  // Fake jobs of 2 joints × 4 s + 1 ms: 8.001 each, so 56.01 buys 7 (and 14 at half the cost).
+  std::ofstream(path("cpu.json")) << R"({"name": "cpu", "base": {"fake": {"sleep_ms": 1}},
+      "sweep": {"search": {"method": "tpe", "seed": 5, "slots": 2,
+        "objective": {"metric": "tracking_nmse", "joint": 1},
+        "space": {"control.gain_scale": {"uniform": [0.5, 50]}, "learning.lwpr.init_D": {"log_uniform": [0.01, 100]}},
+        "budget": {"cpu_seconds": 56.01}}}})";
+  const auto run_with = [&](const std::string& db, double scale) {
+    JobKind kind = make_job_kind();
+    const JobCostFunction estimate = kind.estimate_cost;
+    kind.estimate_cost = [estimate, scale](const nlohmann::json& config, const CheckedConfig* checked) {
+      JobCostEstimate e = estimate(config, checked);
+      e.cost *= scale;
+      return e;
+    };
+    const SweepSpec spec = load_sweep_spec(path("cpu.json"), kind.schema);
+    RunOptions options;
+    options.db_path = db;
+    options.threads = 1;
+    const std::atomic<bool> stop{false};
+    return run_search(spec, kind, options, ExpansionLimits{}, stop);
+  };
+  const char* const kRow = "SELECT r.cost, se.tpe_startup FROM search_rungs r JOIN searches se ON se.id = r.search_id";
+  ASSERT_TRUE(run_with(path("first.db"), 1.0).finished);
+  const std::vector<std::string> first = query_rows(path("first.db"), kSteps);
+  ASSERT_EQ(first.size(), 7u);
+  EXPECT_EQ(query_rows(path("first.db"), kRow), std::vector<std::string>{"8.001|2"});
+  ASSERT_TRUE(run_with(path("halved.db"), 0.5).finished);
+  EXPECT_EQ(query_rows(path("halved.db"), kSteps).size(), 14u);
+  EXPECT_EQ(query_rows(path("halved.db"), kRow), std::vector<std::string>{"4.0005|4"});
+  // The first build's search cut after 3 steps (its 7 jobs stay in the file), resumed at half the factor.
+  fs::copy_file(path("first.db"), path("cut.db"));
+  query_rows(path("cut.db"), "DELETE FROM search_steps WHERE step >= 3; "
+                             "DELETE FROM search_trials WHERE trial NOT IN (SELECT trial FROM search_steps)");
+  ASSERT_EQ(query_rows(path("cut.db"), "SELECT count(*) FROM search_steps"), std::vector<std::string>{"3"});
+  const SearchRunSummary resumed = run_with(path("cut.db"), 0.5);
+  EXPECT_TRUE(resumed.finished);
+  EXPECT_DOUBLE_EQ(resumed.spent, 7 * 8.001);
+  EXPECT_EQ(query_rows(path("cut.db"), kSteps), first);
+  EXPECT_EQ(query_rows(path("cut.db"), kRow), std::vector<std::string>{"8.001|2"});
+  EXPECT_EQ(query_rows(path("cut.db"), "SELECT count(*), sum(attempts) FROM jobs"), std::vector<std::string>{"7|7"});
 }
 
 TEST_F(CmdRunSearchTest, AHeldOutObjectiveWithoutCheckpointsIsReadAtTheDefaultOne) {

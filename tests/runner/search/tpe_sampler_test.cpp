@@ -81,6 +81,22 @@ TEST(Tpe, TheStartupIsAQuarterOfWhatTheBudgetBuysBetweenTwoAndTen) {
   EXPECT_EQ(calc_tpe_startup(std::numeric_limits<double>::infinity()), 10u);
 }
 
+// What the start-up counts: whole jobs under the schedule's budget check. The bench's fig6_1
+// budget (25 % of 48 jobs of 0.2205 CPU-s, as summed and stored) over one job's cost is
+// 12.000000000000002, whose ⌈/4⌉ would be 4; a sum that rounds the other way gives 11.99…, 3.
+TEST(Tpe, TheStartupCountsTheWholeJobsTheBudgetBuysHoweverItsDivisionRounds) {
+  const double cost = 0.22049999999999997, budget = 2.6459999999999999;
+  ASSERT_GT(budget / cost, 12.0);
+  EXPECT_EQ(calc_whole_jobs(budget, cost), 12.0);
+  EXPECT_EQ(calc_whole_jobs(std::nextafter(12.0 * cost, 0.0), cost), 12.0);  // within the check's 1e-12
+  EXPECT_EQ(calc_whole_jobs(11.5 * cost, cost), 11.0);
+  EXPECT_EQ(calc_whole_jobs(0.5 * cost, cost), 0.0);
+  EXPECT_EQ(calc_tpe_startup(calc_whole_jobs(budget, cost)), 3u);
+  // It agrees with the schedule: 12 steps of `cost` fit, 13 do not.
+  EXPECT_TRUE(fits_budget(12.0 * cost, budget));
+  EXPECT_FALSE(fits_budget(13.0 * cost, budget));
+}
+
 TEST(Tpe, WithTheBudgetRuleTwelveTrialsBeatRandom) {
   // The log-uniform quadratic of the test above at 12 trials: with the rule's 3 prior draws TPE
   // has nine proposals of its own. (The fixed 10 is printed beside it: on this one-axis
