@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 namespace armfarm {
 namespace {
 
@@ -103,8 +106,8 @@ TEST(JsonDocument, NonFiniteSpellings) {
 // line after the file name, and nlohmann's "last read" bytes are never printed.
 TEST(JsonDocument, ASyntaxErrorIsWordedAsTheThesisResultsReaderWordsIt) {
   const std::string path = "dir/broken.json";
-  for (const std::string text : {std::string("{\"tables\": [}"), std::string("{\n  \"a\": tru\n}"), std::string("root:x:0:0"),
-                                 std::string("{\"a\": \"\\uZZZZ\"}"), std::string("")}) {
+  const std::vector<std::string> texts = {"{\"tables\": [}", "{\n  \"a\": tru\n}", "root:x:0:0", "{\"a\": \"\\uZZZZ\"}", ""};
+  for (const std::string& text : texts) {
     std::string spec_line, thesis_line;
     try {
       parse_json_document(text, path);
