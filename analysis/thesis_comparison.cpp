@@ -1,6 +1,7 @@
 #include "analysis/thesis_comparison.hpp"
 
 #include "analysis/analysis_error.hpp"
+#include "base/json_syntax_error.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -19,22 +20,8 @@ json parse_json_text(const std::string& text, const std::string& path) {
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
-    std::size_t line = 1, column = 1;
-    for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
-    std::string message = e.what();
-    const std::size_t colon = message.find(": ", message.find("column"));
-    if (colon != std::string::npos) message = message.substr(colon + 2);
-    const std::size_t last_read = message.find("; last read:");  // never quote the file's bytes
-    if (last_read != std::string::npos) message.erase(last_read);
-    throw AnalysisError(path + ": line " + std::to_string(line) + ", column " + std::to_string(column) +
-                        ": not valid JSON: " + message);
+    throw AnalysisError(path + ": " + describe_text_position(text, calc_json_syntax_error_offset(e.byte)) + ": " +
+                        make_json_syntax_reason(e.what()));
   }
 }
 

@@ -99,21 +99,22 @@ std::unique_ptr<SqliteConnection> SqliteConnection::make_memory_copy(const std::
 SqliteConnection::~SqliteConnection() { sqlite3_close_v2(db_); }
 
 void SqliteConnection::fail(const std::string& what) const {
-  throw StoreError(path_ + ": " + what + ": " + sqlite3_errmsg(db_));
+  throw StoreError(path_, what + ": " + sqlite3_errmsg(db_), sqlite3_extended_errcode(db_));
 }
 
 void SqliteConnection::execute(const std::string& sql) {
   char* error = nullptr;
-  if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
+  const int rc = sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error);
+  if (rc != SQLITE_OK) {
     const std::string message = error != nullptr ? error : "unknown error";
     sqlite3_free(error);
-    throw StoreError(path_ + ": " + message);
+    throw StoreError(path_, message, rc);
   }
 }
 
 std::int64_t SqliteConnection::query_int(const std::string& sql) {
   SqliteStatement statement(*this, sql);
-  if (!statement.step()) throw StoreError(path_ + ": no result for " + sql);
+  if (!statement.step()) throw StoreError(path_, "no result for " + sql);
   return statement.column_int(0);
 }
 
@@ -206,8 +207,8 @@ const char* storage_class_name(int type) {
 void SqliteStatement::require_type(int column, bool allowed, const char* wanted) const {
   if (allowed) return;
   const char* name = sqlite3_column_name(statement_, column);
-  throw StoreError(connection_->path() + ": damaged armfarm database: column " + (name ? name : "?") + " holds " +
-                   storage_class_name(sqlite3_column_type(statement_, column)) + " where " + wanted + " belongs");
+  throw StoreError(connection_->path(), std::string("damaged armfarm database: column ") + (name ? name : "?") + " holds " +
+                                            storage_class_name(sqlite3_column_type(statement_, column)) + " where " + wanted + " belongs");
 }
 
 std::int64_t SqliteStatement::column_int(int column) const {

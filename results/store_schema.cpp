@@ -4,6 +4,8 @@
 #include "results/job_claims.hpp"
 #include "results/search_store.hpp"
 
+#include <sqlite3.h>
+
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -255,6 +257,17 @@ void verify_structure(SqliteConnection& db, std::int64_t version) {
   }
 }
 
+namespace {
+
+// True when SQLite refused because another connection holds the file (SQLITE_BUSY, "database is
+// locked", or SQLITE_LOCKED, "database table is locked"; any of their extended codes).
+bool is_lock_conflict(const StoreError& error) {
+  const int primary = error.sqlite_code() & 0xff;
+  return primary == SQLITE_BUSY || primary == SQLITE_LOCKED;
+}
+
+}  // namespace
+
 // Opens the file and checks it is an armfarm database this build can read; migrates when writable.
 std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsStore::Mode mode) {
   const bool read_only = mode == ResultsStore::Mode::read_only;
@@ -277,8 +290,7 @@ std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsS
     n_tables = db->query_int("SELECT count(*) FROM sqlite_master");
     db->execute("COMMIT");
   } catch (const StoreError& e) {
-    throw StoreError(path + ": not a readable SQLite database (" + std::string(e.what()).substr(path.size() + 2) +
-                     ")");
+    throw StoreError(path + ": not a readable SQLite database (" + e.detail() + ")");
   }
   const bool fresh = application_id == 0 && version == 0 && n_tables == 0;
   if (!fresh && application_id != kApplicationId) {
@@ -309,7 +321,7 @@ std::unique_ptr<SqliteConnection> open_checked(const std::string& path, ResultsS
       db->execute("PRAGMA journal_mode = WAL");
       break;
     } catch (const StoreError& e) {
-      if (attempt >= 1000 || std::string(e.what()).find("locked") == std::string::npos) throw;
+      if (attempt >= 1000 || !is_lock_conflict(e)) throw;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }

@@ -8,6 +8,7 @@
 // shared read-only by the jobs that use it (trajectory_cache.hpp).
 #include "engine/experiment/job_config.hpp"
 #include "engine/experiment/run_experiment.hpp"
+#include "engine/io/input_file.hpp"
 #include "engine/model/model_loading.hpp"
 #include "runner/config/job_config_json.hpp"
 #include "runner/execution/checked_experiment_job.hpp"
@@ -19,6 +20,7 @@
 #include "runner/spec/input_files.hpp"
 
 #include <cstdlib>
+#include <exception>
 
 #include <map>
 #include <memory>
@@ -29,6 +31,18 @@
 namespace armfarm {
 namespace {
 
+// True when `error` was thrown for a ModelError (JobModels nests the cause in its ConfigError).
+bool is_caused_by_model_error(const ConfigError& error) {
+  try {
+    std::rethrow_if_nested(error);
+  } catch (const ModelError&) {
+    return true;
+  } catch (...) {
+    return false;
+  }
+  return false;
+}
+
 // The "model" input: the model file and every file it reads (meshes), as `models` loads them.
 InputFileField make_model_field(const std::shared_ptr<JobModels>& models) {
   InputFileField field;
@@ -37,7 +51,11 @@ InputFileField make_model_field(const std::shared_ptr<JobModels>& models) {
     try {
       return models->get_file(resolved)->input_files;
     } catch (const ConfigError& error) {
-      throw std::runtime_error(error.message());  // "FILE: problem", without the "model" path
+      // Without the "model" path. A ModelError from loading `resolved` names it first ("FILE: problem",
+      // model_loading.hpp), which list_files says by throwing InputFileError (runner/spec/input_files.cpp);
+      // other causes do not.
+      if (is_caused_by_model_error(error)) throw InputFileError(error.message());
+      throw std::runtime_error(error.message());
     }
   };
   return field;

@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <exception>
+
 namespace armfarm {
 namespace {
 
@@ -61,7 +63,7 @@ std::shared_ptr<const ArmModel> JobModels::get_file_locked(const std::string& pa
   try {
     model = std::make_shared<const ArmModel>(load_arm_model_file(path));
   } catch (const std::exception& error) {
-    throw ConfigError("model", error.what());
+    std::throw_with_nested(ConfigError("model", error.what()));  // the cause stays readable by its type
   }
   files_.emplace(path, model);
   return model;

@@ -13,6 +13,42 @@
 namespace armfarm {
 namespace {
 
+// Why an input cannot be read (InputFileReader::read): what() is the one-line message, and
+// `names_file` says whether it already begins with the resolved path, as known where it was
+// thrown, so that record_input_files adds the path only where the message lacks it.
+class InputReadError : public std::runtime_error {
+ public:
+  InputReadError(const std::string& message, bool names_file) : std::runtime_error(message), names_file_(names_file) {}
+  bool names_file() const { return names_file_; }
+
+ private:
+  bool names_file_;
+};
+
+// The files `field` reads at `resolved_path`. The contract of a list_files: it throws InputFileError
+// when its message names the resolved file first, any other std::exception when it does not (the
+// model's: runner/execution/experiment_executor.cpp).
+std::vector<std::string> list_input_files(const InputFileField& field, const std::string& resolved_path) {
+  if (!field.list_files) return {resolved_path};
+  try {
+    return field.list_files(resolved_path);
+  } catch (const InputFileError& error) {
+    throw InputReadError(error.what(), true);
+  } catch (const std::exception& error) {
+    throw InputReadError(error.what(), false);
+  }
+}
+
+// calc_file_hash of `absolute`, one of the files of the input at `resolved_path`: its
+// InputFileError names `absolute` ("PATH: problem").
+std::string hash_input_file(const std::string& absolute, const std::string& resolved_path) {
+  try {
+    return calc_file_hash(absolute);
+  } catch (const InputFileError& error) {
+    throw InputReadError(error.what(), absolute == resolved_path);
+  }
+}
+
 // The recorded input fields of `config`: inputs entries that are not includes and whose path
 // names a string element equal to the recorded "path".
 template <typename Visit>
@@ -55,19 +91,18 @@ const InputFileReader::Content& InputFileReader::read(const InputFileField& fiel
   const auto cache_key = std::make_pair(field.path, resolved_path);
   const auto found = cache_.find(cache_key);
   if (found != cache_.end()) return found->second;
-  if (!std::filesystem::exists(resolved_path)) throw std::runtime_error(resolved_path + ": no such file");
-  const std::vector<std::string> files =
-      field.list_files ? field.list_files(resolved_path) : std::vector<std::string>{resolved_path};
+  if (!std::filesystem::exists(resolved_path)) throw InputReadError(resolved_path + ": no such file", true);
+  const std::vector<std::string> files = list_input_files(field, resolved_path);
   Content content;
   content.files = nlohmann::json::array();
   const std::filesystem::path folder = std::filesystem::path(resolved_path).parent_path();
   for (const std::string& file : files) {
     const std::string absolute = calc_resolved_path(file, folder.string());
     content.files.push_back({{"file", std::filesystem::path(absolute).lexically_relative(folder).generic_string()},
-                             {"hash", calc_file_hash(absolute)}});
+                             {"hash", hash_input_file(absolute, resolved_path)}});
   }
   if (content.files.empty()) content.files.push_back({{"file", std::filesystem::path(resolved_path).filename().string()},
-                                                      {"hash", calc_file_hash(resolved_path)}});
+                                                      {"hash", hash_input_file(resolved_path, resolved_path)}});
   // One file: its own hash (what `xxh128sum` prints); several: the hash of the list, whose
   // names are relative to the first file's folder, so moving the tree keeps it.
   content.hash = content.files.size() == 1 ? content.files[0]["hash"].get<std::string>()
@@ -98,10 +133,10 @@ std::vector<InputProblem> record_input_files(nlohmann::json& config, const std::
     try {
       const InputFileReader::Content& content = reader.read(field, resolved);
       inputs[field.path] = {{"path", written}, {"resolved", resolved}, {"hash", content.hash}, {"files", content.files}};
+    } catch (const InputReadError& error) {
+      problems.push_back({field.path, "'" + written + "' resolves to " + (error.names_file() ? "" : resolved + ": ") + error.what()});
     } catch (const std::exception& error) {
-      std::string message = error.what();
-      if (message.rfind(resolved, 0) != 0) message = resolved + ": " + message;
-      problems.push_back({field.path, "'" + written + "' resolves to " + message});
+      problems.push_back({field.path, "'" + written + "' resolves to " + resolved + ": " + error.what()});
     }
   }
   if (inputs.empty()) {

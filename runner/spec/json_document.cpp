@@ -99,16 +99,8 @@ class TrackingSax : public nlohmann::json_sax<nlohmann::json> {
     } else {
       // Syntax errors: the character the reader stopped at, no path (the key may not be read yet).
       const auto* syntax = dynamic_cast<const nlohmann::detail::parse_error*>(&ex);
-      const std::size_t byte = syntax != nullptr ? syntax->byte : position;
-      error_position_ = byte > 0 ? byte - 1 : 0;
-      std::string message = ex.what();
-      const std::size_t colon = message.find(": ", message.find("column"));
-      if (colon != std::string::npos) message = message.substr(colon + 2);
-      // nlohmann ends with "; last read: '<the bytes>'": a file that is not JSON at all (an
-      // include naming /etc/passwd) must not have its content printed; line and column suffice.
-      const std::size_t last_read = message.find("; last read:");
-      if (last_read != std::string::npos) message.erase(last_read);
-      error_message_ = "not valid JSON: " + message;
+      error_position_ = calc_json_syntax_error_offset(syntax != nullptr ? syntax->byte : position);
+      error_message_ = make_json_syntax_reason(ex.what());
     }
     return false;
   }
@@ -266,19 +258,6 @@ class TrackingSax : public nlohmann::json_sax<nlohmann::json> {
 };
 
 }  // namespace
-
-std::string describe_text_position(const std::string& text, std::size_t offset) {
-  std::size_t line = 1, column = 1;
-  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n') {
-      ++line;
-      column = 1;
-    } else {
-      ++column;
-    }
-  }
-  return "line " + std::to_string(line) + ", column " + std::to_string(column);
-}
 
 std::string JsonDocument::make_path(std::size_t index) const {
   std::vector<std::size_t> chain;

@@ -2,6 +2,8 @@
 // Reading a JSON file (sweep spec, include, `armfarm job` configuration) so that every problem
 // names the file, the line and column, and the JSON path: syntax errors, numbers a double
 // cannot hold (1e309), and the position of any value for later messages.
+#include "base/json_syntax_error.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
@@ -39,8 +41,7 @@ struct JsonDocument {
 /// The deepest nesting of arrays and objects a document may have; deeper is refused.
 inline constexpr std::size_t kMaxJsonDepth = 256;
 
-/// "line L, column C" of byte `offset` of `text`.
-std::string describe_text_position(const std::string& text, std::size_t offset);
+// describe_text_position(text, offset): "line L, column C" of byte `offset` (base/json_syntax_error.hpp).
 
 /// Parses `text` (named `file` in messages). Throws SpecError with one line
 /// "FILE: line L, column C: PATH: what" for invalid JSON, numbers out of a double's range,

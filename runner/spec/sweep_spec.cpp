@@ -10,6 +10,7 @@
 #include "runner/spec/input_files.hpp"
 #include "runner/spec/json_document.hpp"
 #include "runner/spec/spec_error.hpp"
+#include "runner/spec/sweep_spec_positions.hpp"
 #include "runner/search/search_sequence.hpp"
 
 #include <cmath>
@@ -51,8 +52,10 @@ std::string normalize_location(const std::string& location) {
   return out;
 }
 
-// "FILE: path: problem (line L, column C)" for a "path: problem" line of calc_checked_value.
-std::string locate_line(const std::string& file, const JsonDocument& document, const std::string& line) {
+// "FILE: path: problem (line L, column C)" for a "path: problem" line of calc_checked_value;
+// "FILE: path: problem" under SpecPositions::omitted.
+std::string locate_line(const std::string& file, const JsonDocument& document, const std::string& line, SpecPositions positions) {
+  if (positions == SpecPositions::omitted) return file + ": " + line;
   const std::size_t colon = line.find(": ");
   std::string where = colon == std::string::npos ? std::string() : document.describe_position(normalize_location(line.substr(0, colon)));
   return file + ": " + line + (where.empty() ? "" : " (" + where + ")");
@@ -62,8 +65,8 @@ std::string quoted(const std::string& parent, const std::string& key) { return p
 
 class SpecParser {
  public:
-  SpecParser(const std::string& file, const std::string& folder, const JobConfigSchema& schema)
-      : file_(file), folder_(folder), schema_(schema) {}
+  SpecParser(const std::string& file, const std::string& folder, const JobConfigSchema& schema, SpecPositions positions)
+      : file_(file), folder_(folder), schema_(schema), positions_(positions) {}
 
   SweepSpec parse(const std::string& text) {
     SweepSpec spec;
@@ -95,7 +98,7 @@ class SpecParser {
     if (root.contains("base")) {
       std::vector<std::string> lines;
       const nlohmann::json base = calc_checked_value(root["base"], schema_.type_reference(), "base", lines);
-      for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line));
+      for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
       if (lines.empty()) merge_config_into(resolved_, base);
     }
     spec.base = resolved_;
@@ -195,7 +198,7 @@ class SpecParser {
       }
       std::vector<std::string> lines;
       const nlohmann::json checked = calc_checked_value(document.value, schema_.type_reference(), "", lines);
-      for (const std::string& line : lines) errors_.push_back(locate_line(path, document, line));
+      for (const std::string& line : lines) errors_.push_back(locate_line(path, document, line, positions_));
       if (!lines.empty()) continue;
       merge_config_into(resolved_, checked);
       const std::string include_folder = std::filesystem::path(path).parent_path().string();
@@ -253,7 +256,7 @@ class SpecParser {
     for (std::size_t i = 0; i < values.size(); ++i) {
       axis.values.push_back(calc_checked_value(values[i], *reference, location + "[" + std::to_string(i) + "]", lines));
     }
-    for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line));
+    for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
     if (!lines.empty()) return std::nullopt;
     return axis;
   }
@@ -358,7 +361,7 @@ class SpecParser {
           param.choices.push_back(
               calc_checked_value(arguments[i], *reference, location + ".choice[" + std::to_string(i) + "]", lines));
         }
-        for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line));
+        for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
         if (lines.empty()) result.params.push_back(std::move(param));
         continue;
       }
@@ -697,7 +700,7 @@ class SpecParser {
         for (std::size_t i = 0; i < arguments.size(); ++i) {
           axis.choices.push_back(calc_checked_value(arguments[i], *reference, where + ".categorical[" + std::to_string(i) + "]", lines));
         }
-        for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line));
+        for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
         if (!lines.empty()) continue;
         sampled.choice_count = axis.choices.size();
       } else {
@@ -809,6 +812,7 @@ class SpecParser {
   const std::string& file_;
   const std::string& folder_;
   const JobConfigSchema& schema_;
+  const SpecPositions positions_;
   JsonDocument document_;
   nlohmann::json resolved_;
   std::vector<SpecInclude> includes_;
@@ -857,7 +861,12 @@ search::SearchHistory calc_initial_search_steps(const SpecSearch& search) {
 
 SweepSpec parse_sweep_spec(const std::string& text, const std::string& file, const std::string& folder,
                            const JobConfigSchema& schema) {
-  return SpecParser(file, folder, schema).parse(text);
+  return SpecParser(file, folder, schema, SpecPositions::given).parse(text);
+}
+
+SweepSpec parse_sweep_spec(const std::string& text, const std::string& file, const std::string& folder,
+                           const JobConfigSchema& schema, SpecPositions positions) {
+  return SpecParser(file, folder, schema, positions).parse(text);
 }
 
 SweepSpec load_sweep_spec(const std::string& path, const JobConfigSchema& schema) {

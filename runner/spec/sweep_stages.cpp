@@ -3,6 +3,7 @@
 #include "engine/io/input_file.hpp"
 #include "runner/spec/json_document.hpp"
 #include "runner/spec/spec_error.hpp"
+#include "runner/spec/sweep_spec_positions.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -46,25 +47,6 @@ void rewrite_stage_references(nlohmann::json& node, const std::string& name, con
   nlohmann::json replaced = {{"sweep", name + "." + node["stage"].get<std::string>()}};
   if (node.contains("params")) replaced["params"] = node["params"];
   node = std::move(replaced);
-}
-
-// `line` without a trailing " (line N, column M)" (json_document.hpp's describe_text_position in
-// parentheses), unchanged when it has none. Written out: std::regex for this one pattern took
-// this file from 6.7 s to 12 s of CPU to compile (g++ 12, -O3, paired runs, 4 December 2026).
-std::string drop_text_position(const std::string& line) {
-  static const std::string head = " (line ", middle = ", column ";
-  const std::size_t start = line.rfind(head);
-  if (start == std::string::npos || line.empty() || line.back() != ')') return line;
-  const auto digits_end = [&line](std::size_t from) {
-    std::size_t at = from;
-    while (at < line.size() && std::isdigit(static_cast<unsigned char>(line[at]))) ++at;
-    return at == from ? std::string::npos : at;
-  };
-  const std::size_t line_end = digits_end(start + head.size());
-  if (line_end == std::string::npos || line.compare(line_end, middle.size(), middle) != 0) return line;
-  const std::size_t column_end = digits_end(line_end + middle.size());
-  if (column_end == std::string::npos || column_end + 1 != line.size()) return line;
-  return line.substr(0, start);
 }
 
 bool is_stage_name(const std::string& name) {
@@ -138,17 +120,17 @@ std::vector<SweepSpec> parse_sweep_stages(const std::string& text, const std::st
   if (!errors.empty()) throw SpecError(errors);
 
   // Each stage is checked as a sweep of its own; its messages name the stage (positions would
-  // point into the merged document, so they are left out).
+  // point into the merged document, so the parser gives none).
   std::vector<SweepSpec> specs;
   for (std::size_t i = 0; i < documents.size(); ++i) {
     const std::string stage_file = file + ": stages[" + std::to_string(i) + "] (" + stages[i]["name"].get<std::string>() +
                                    ", merged with the top-level base)";
     try {
-      SweepSpec spec = parse_sweep_spec(documents[i].dump(2), stage_file, folder, schema);
+      SweepSpec spec = parse_sweep_spec(documents[i].dump(2), stage_file, folder, schema, SpecPositions::omitted);
       spec.text = text;
       specs.push_back(std::move(spec));
     } catch (const SpecError& error) {
-      for (const std::string& line : error.lines()) errors.push_back(drop_text_position(line));
+      errors.insert(errors.end(), error.lines().begin(), error.lines().end());
     }
   }
   if (!errors.empty()) throw SpecError(errors);

@@ -1,6 +1,8 @@
 // Schema version 2 (issue 11): NULL metrics with reasons, metric_info, timing-blind merges,
 // collision-free sweep view names, and a version-1 file that still opens and migrates.
 #include "results/results_store.hpp"
+#include "results/sqlite_connection.hpp"
+#include "results/store_error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +11,10 @@
 #include "support/test_database.hpp"
 #include <sqlite3.h>
 
+#include <chrono>
 #include <filesystem>
+#include <fstream>
+#include <thread>
 
 namespace armfarm {
 namespace {
@@ -177,6 +182,70 @@ TEST_F(ResultsStoreV2Test, VersionOneDatabaseOpensReadOnlyAndMigratesWhenWritten
   EXPECT_EQ(test_support::query_rows_read_only(path("v1.db"), "SELECT tracking_nmse_j1 FROM " + make_sweep_view_name("old-sweep")),
             std::vector<std::string>{"0.25"});
   EXPECT_TRUE(test_support::query_rows_read_only(path("v1.db"), "SELECT name FROM sqlite_master WHERE name = 'sweep_old_sweep'").empty());
+}
+
+// open_checked words a file SQLite cannot read with SQLite's reason, taken from the error's
+// detail field (not cut out of its text): the whole line, byte for byte.
+TEST_F(ResultsStoreV2Test, AFileSqliteCannotReadIsRefusedWithSqlitesReasonInParentheses) {
+  std::ofstream(path("text.db")) << "this is not a database, just some text that is long enough to matter\n"
+                                 << std::string(2000, 'x');
+  for (const ResultsStore::Mode mode : {ResultsStore::Mode::read_write, ResultsStore::Mode::read_only}) {
+    try {
+      ResultsStore::open(path("text.db"), mode);
+      ADD_FAILURE() << "a text file opened as a database";
+    } catch (const StoreError& e) {
+      EXPECT_EQ(std::string(e.what()), path("text.db") + ": not a readable SQLite database (query failed: file is not a database)");
+    }
+  }
+}
+
+// The connection's errors carry the file, the detail and SQLite's result code as fields.
+TEST_F(ResultsStoreV2Test, ASqliteRefusalCarriesItsDetailAndResultCode) {
+  SqliteConnection connection(path("fields.db"), false);
+  try {
+    connection.execute("SELECT * FROM no_such_table");
+    ADD_FAILURE() << "a query of a missing table ran";
+  } catch (const StoreError& e) {
+    EXPECT_EQ(e.detail(), "no such table: no_such_table");
+    EXPECT_EQ(std::string(e.what()), path("fields.db") + ": " + e.detail());
+    EXPECT_EQ(e.sqlite_code(), SQLITE_ERROR);
+  }
+  try {
+    connection.query_int("SELECT 1 WHERE 0");
+    ADD_FAILURE() << "a query without a row gave an integer";
+  } catch (const StoreError& e) {
+    EXPECT_EQ(e.detail(), "no result for SELECT 1 WHERE 0");
+    EXPECT_EQ(e.sqlite_code(), 0);
+  }
+}
+
+// Switching a fresh file to WAL while another connection reads it is refused with SQLITE_BUSY
+// (here at once: the busy timeout is set to 0), the code open_checked's retry tests rather than
+// the words "locked"; the open succeeds once the other connection lets go.
+TEST_F(ResultsStoreV2Test, AFreshFileHeldByAReaderRefusesWalWithBusyAndOpensOnceItIsFree) {
+  const std::string file = path("held.db");
+  sqlite3* reader = nullptr;
+  ASSERT_EQ(sqlite3_open(file.c_str(), &reader), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(reader, "BEGIN; SELECT count(*) FROM sqlite_master;", nullptr, nullptr, nullptr), SQLITE_OK);
+  {
+    SqliteConnection writer(file, false);
+    sqlite3_busy_timeout(writer.handle(), 0);
+    try {
+      writer.execute("PRAGMA journal_mode = WAL");
+      ADD_FAILURE() << "WAL was set while another connection read the file";
+    } catch (const StoreError& e) {
+      EXPECT_EQ(e.sqlite_code() & 0xff, SQLITE_BUSY) << e.what();
+      EXPECT_EQ(std::string(e.what()), file + ": database is locked");
+    }
+  }
+  std::thread release([reader] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    sqlite3_exec(reader, "COMMIT", nullptr, nullptr, nullptr);
+  });
+  EXPECT_NO_THROW(ResultsStore::open(file, ResultsStore::Mode::read_write));
+  release.join();
+  sqlite3_close(reader);
+  EXPECT_EQ(test_support::query_rows_read_only(file, "PRAGMA journal_mode"), std::vector<std::string>{"wal"});
 }
 
 }  // namespace

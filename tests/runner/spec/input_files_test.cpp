@@ -4,6 +4,8 @@
 // an input changed; numbers JSON cannot hold are refused with file, line/column and path.
 // Real experiment jobs on the two-link planar arm, 0.1 s each.
 #include "results/results_store.hpp"
+#include "engine/io/input_file.hpp"
+#include "runner/spec/input_files.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,6 +18,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <stdexcept>
 #include <set>
 #include <sstream>
 
@@ -281,6 +285,44 @@ TEST_F(InputFilesTest, NumbersJsonCannotHoldAreNamedWithFileLineAndPath) {
             std::string::npos)
       << result.output;
   EXPECT_NE(result.output.find("(line 3, column 47)"), std::string::npos) << result.output;
+}
+
+// record_input_files adds the resolved path to a problem only where the message lacks it, as the
+// place that threw knows (not read off the text): a list_files that throws InputFileError names
+// the file, any other exception does not, and a hash's error names the file it hashed.
+TEST_F(InputFilesTest, AnInputsProblemNamesTheResolvedFileOnce) {
+  write_file(root_ / "in/data.txt", "bytes");
+  fs::create_directories(root_ / "in/sub");
+  const std::string resolved = (root_ / "in/data.txt").lexically_normal().string();
+  const auto problem_of = [&](std::function<std::vector<std::string>(const std::string&)> list_files) {
+    InputFileField field;
+    field.path = "file";
+    field.list_files = std::move(list_files);
+    nlohmann::json config = {{"file", "data.txt"}};
+    InputFileReader reader;
+    const std::vector<InputProblem> problems =
+        record_input_files(config, {field}, [&](const std::string&) { return (root_ / "in").string(); }, reader);
+    return problems.size() == 1 ? problems[0].field + ": " + problems[0].message : std::string("no single problem");
+  };
+  EXPECT_EQ(problem_of([](const std::string& path) -> std::vector<std::string> { throw InputFileError(path + ": bad model"); }),
+            "file: 'data.txt' resolves to " + resolved + ": bad model");
+  EXPECT_EQ(problem_of([](const std::string&) -> std::vector<std::string> { throw std::runtime_error("out of memory"); }),
+            "file: 'data.txt' resolves to " + resolved + ": out of memory");
+  const std::string folder = (root_ / "in/sub").string();
+  EXPECT_EQ(problem_of([&](const std::string& path) { return std::vector<std::string>{path, folder}; }),
+            "file: 'data.txt' resolves to " + resolved + ": " + folder + ": is a directory, not a regular file");
+}
+
+// A model that does not load: the loader's message names the resolved model file, once.
+TEST_F(InputFilesTest, AModelThatDoesNotLoadIsNamedOnceInItsProblem) {
+  const fs::path tree = make_tree("broken_model");
+  write_file(tree / "models/planar2.urdf", "<robot name='x'><link name='a'>");
+  const CommandResult result = run_armfarm(tree / "specs", "expand tiny.json");
+  const std::string resolved = fs::weakly_canonical(tree / "models/planar2.urdf").lexically_normal().string();
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("tiny.json: base.model: '../models/planar2.urdf' resolves to " + resolved + ":"), std::string::npos)
+      << result.output;
+  EXPECT_EQ(result.output.find(resolved + ": " + resolved), std::string::npos) << result.output;
 }
 
 }  // namespace

@@ -8,6 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include "support/test_database.hpp"
+
+#include <fstream>
+
 #include <string>
 #include <vector>
 
@@ -57,6 +61,30 @@ TEST(SweepStages, EachStageWithAProblemHasItsLine) {
   ASSERT_EQ(staged.size(), 2u);
   EXPECT_EQ(staged[0], std::string("staged.json: stages[0] (a, merged with the top-level base): ") + kProblem);
   EXPECT_EQ(staged[1], std::string("staged.json: stages[1] (b, merged with the top-level base): ") + kProblem);
+}
+
+// An include's problem has a place in a file the user wrote, and a plain spec gives it; a staged
+// spec's parser gives none for it either (SpecPositions::omitted), as it did when the positions
+// were cut out of the messages afterwards.
+TEST(SweepStages, AnIncludesProblemInAStageHasNoPositionAndIsOtherwiseThePlainLine) {
+  testing::TemporaryDirectory dir;
+  std::ofstream(dir.file("inc.json")) << "{\"control\": {\"gain_scal\": 2}}";
+  const std::string include_line = dir.file("inc.json") + ": control.gain_scal: unknown key (did you mean 'gain_scale'?)";
+  std::vector<std::string> plain, staged;
+  try {
+    parse_sweep_spec(R"({"name": "p", "include": "inc.json"})", "plain.json", dir.path.string(), make_fake_job_config_schema());
+  } catch (const SpecError& error) {
+    plain = error.lines();
+  }
+  try {
+    parse_sweep_stages(R"({"name": "s", "include": "inc.json", "stages": [{"name": "a"}]})", "staged.json", dir.path.string(),
+                       make_fake_job_config_schema());
+  } catch (const SpecError& error) {
+    staged = error.lines();
+  }
+  ASSERT_EQ(plain.size(), 1u);
+  EXPECT_EQ(plain[0], include_line + " (line 1, column 27)");
+  EXPECT_EQ(staged, std::vector<std::string>{include_line});
 }
 
 }  // namespace
