@@ -79,6 +79,10 @@ class ValidJobConfig {
   const JobConfig& get() const { return config_; }
   /// Read like the JobConfig it holds (a copy, where a caller wants one to change).
   operator const JobConfig&() const { return config_; }  // NOLINT(google-explicit-constructor)
+  /// Gives up the proof: the configuration itself, moved out (its storage, such as recorded
+  /// samples and model bytes, keeps its address), for a caller that takes it apart; this
+  /// object is left as a moved-from JobConfig.
+  JobConfig release() && { return std::move(config_); }
 
  private:
   explicit ValidJobConfig(JobConfig config) : config_(std::move(config)) {}
