@@ -2,9 +2,9 @@
 
 #include "analysis/analysis_error.hpp"
 #include "base/config_path.hpp"
+#include "base/number_format.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <map>
 #include <set>
@@ -511,14 +511,6 @@ std::string escape_csv(const std::string& text) {
   return out + "\"";
 }
 
-// The shortest text that reads back to the same double ("0.1", not "0.10000000000000001").
-std::string csv_number(double value) {
-  if (std::isnan(value)) return "nan";
-  if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char buffer[40];
-  return std::string(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
-}
-
 // Markdown: a "###" title, the table, then its footnotes "[k] …" (two spaces: a line break).
 void write_markdown_table(std::ostream& out, const Table& table, Aggregate aggregate) {
   if (!table.title.empty()) out << "### " << escape_markdown_cell(table.title) << "\n\n";  // a heading is one line too
@@ -557,11 +549,11 @@ void write_csv_table(std::ostream& out, const Table& table, Aggregate aggregate,
     first = true;
     for (const std::string& label : row.labels) field(label);
     for (const SummaryStatistics& cell : row.cells) {
-      field(cell.count ? csv_number(cell.value(aggregate)) : "");
-      field(cell.count ? csv_number(cell.std_dev) : "");
+      field(cell.count ? format_shortest_number(cell.value(aggregate)) : "");
+      field(cell.count ? format_shortest_number(cell.std_dev) : "");
       field(std::to_string(cell.count));
-      field(cell.has_ci() ? csv_number(cell.ci_low) : "");
-      field(cell.has_ci() ? csv_number(cell.ci_high) : "");
+      field(cell.has_ci() ? format_shortest_number(cell.ci_low) : "");
+      field(cell.has_ci() ? format_shortest_number(cell.ci_high) : "");
     }
     field(std::to_string(row.jobs_done));
     field(std::to_string(row.jobs_failed));

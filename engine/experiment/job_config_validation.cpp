@@ -398,119 +398,7 @@ void check_cross_fields(const JobConfig& config, int n, Checker& checker) {
   }
 }
 
-/// The key whose value sets the trajectory's length, blamed when a job would be too long.
-const char* length_key(TrajectoryKind kind) {
-  switch (kind) {
-    case TrajectoryKind::sine: return "trajectory.sine.duration";
-    case TrajectoryKind::figure_eight: return "trajectory.figure_eight.loops";
-    case TrajectoryKind::reaching: return "trajectory.reaching.reaches";
-    case TrajectoryKind::recorded: return "trajectory.recorded.loops";
-  }
-  return "trajectory";
-}
-
-void check_cost(const JobConfig& config, int n, const JobCostLimits& limits, Checker& checker) {
-  const double ticks = calc_ticks_per_pass(config);
-  const LearningConfig& learning = config.learning;
-  const bool batch = learning.mode == LearningMode::batch;
-  const double passes = 1.0 + (batch ? learning.collect_repeats : 0);
-  // Held-out evaluation: one collection pass, then one control pass per checkpoint.
-  const double heldout_ticks = calc_heldout_ticks_per_pass(config, n);
-  const double heldout_passes =
-      heldout_ticks > 0.0 ? 1.0 + static_cast<double>(std::max<std::size_t>(1, learning.heldout_checkpoints.size())) : 0.0;
-  const double training_total = passes * ticks;
-  const double total = training_total + heldout_passes * heldout_ticks;
-  const double wall_minutes = total / 4500.0 / 60.0;  // 45 simulated s per wall s at dt = 0.01 s
-  if (!(total <= limits.max_control_ticks)) {
-    const bool heldout_to_blame = training_total <= limits.max_control_ticks;
-    checker.add(heldout_to_blame ? "learning.heldout_checkpoints" : length_key(config.trajectory.kind),
-                "the job would take " + format_number(total) + " control ticks (" + format_number(ticks) + " per pass × " +
-                    format_number(passes) + (passes == 1.0 ? " pass" : " passes") +
-                    (heldout_passes > 0.0 ? " + held-out " + format_number(heldout_ticks) + " per pass × " + format_number(heldout_passes) +
-                                                " passes (collection + one per checkpoint)"
-                                          : std::string()) +
-                    " at dt = " + format_number(config.simulation.dt) + " s, about " + format_number(std::round(wall_minutes)) +
-                    " min of wall time); a job may take at most " + format_number(limits.max_control_ticks) + " ticks: " +
-                    (heldout_to_blame ? "fewer held-out checkpoints, a shorter learning.heldout_segments, or split it into jobs"
-                                      : "shorten the trajectory or split it into jobs"));
-  }
-  double updates = 0.0;
-  if (learning.mode == LearningMode::online) updates = ticks;
-  if (batch) {
-    updates = learning.epochs * std::round(learning.train_fraction * learning.collect_repeats * ticks) +
-              (learning.learn_during_evaluation ? ticks : 0.0);
-  }
-  if (learning.learner == LearnerKind::ssgpr && learning.mode != LearningMode::none && total <= limits.max_control_ticks &&
-      updates <= limits.max_learner_updates) {
-    const double features = 2.0 * learning.ssgpr.params.features;
-    const double fit = static_cast<double>(learning.ssgpr.fit_samples);
-    const double work = updates * features * features + (fit > 0.0 ? fit * fit * fit * learning.ssgpr.fit.iterations : 0.0);
-    if (!(work <= limits.max_ssgpr_work)) {
-      checker.add("learning.ssgpr.features",
-                  "the SSGPR learner would cost " + format_number(work) + " units (" + format_number(updates) + " updates × (2 × " +
-                      format_number(learning.ssgpr.params.features) + " features)² + fit_samples³ × fit_iterations); a job may cost at most " +
-                      format_number(limits.max_ssgpr_work) + ": fewer features, a shorter job or a smaller fit");
-    }
-  }
-  if (total <= limits.max_control_ticks && !(updates <= limits.max_learner_updates)) {
-    checker.add(batch ? "learning.epochs" : length_key(config.trajectory.kind),
-                "the learner would be updated " + format_number(updates) + " times (" +
-                    (batch ? format_number(learning.epochs) + " epochs × " +
-                                 format_number(std::round(learning.train_fraction * learning.collect_repeats * ticks)) +
-                                 " training samples"
-                           : std::string("one per tick")) +
-                    "); a job may make at most " + format_number(limits.max_learner_updates) + " updates");
-  }
-}
-
 }  // namespace
-
-double calc_heldout_ticks_per_pass(const JobConfig& config, int n) {
-  const LearningConfig& learning = config.learning;
-  if (learning.mode == LearningMode::none || !learning.heldout) return 0.0;
-  // The same lengths as make_heldout_config (heldout_evaluation.cpp) picks.
-  JobConfig heldout = config;
-  TrajectoryConfig& t = heldout.trajectory;
-  const int segments = learning.heldout_segments;
-  switch (t.kind) {
-    case TrajectoryKind::sine: {
-      double slowest = 0.0;
-      try {
-        const SineTrajectoryConfig sine = resolve_sine_defaults(t.sine, n, Eigen::VectorXd::Zero(n));
-        for (int j = 0; j < n; ++j) {
-          if (sine.amplitude[j] != 0.0 && sine.frequency[j] > 0.0 && (slowest == 0.0 || sine.frequency[j] < slowest)) {
-            slowest = sine.frequency[j];
-          }
-        }
-      } catch (const std::invalid_argument&) {
-        // Mis-sized amplitude or frequency lists are reported by their keys; keep the duration.
-      }
-      if (slowest > 0.0) t.sine.duration = (segments > 0 ? segments : 1) / slowest;
-      return calc_ticks_per_pass(heldout);
-    }
-    case TrajectoryKind::figure_eight: t.figure_eight.loops = segments > 0 ? segments : 1; return calc_ticks_per_pass(heldout);
-    case TrajectoryKind::reaching: t.reaching.reaches = segments > 0 ? segments : 9; return calc_ticks_per_pass(heldout);
-    case TrajectoryKind::recorded: {
-      // The last heldout_recorded_fraction of one pass over the recording.
-      t.recorded.loops = 1;
-      const double rows = calc_ticks_per_pass(heldout);
-      return rows - std::round((1.0 - learning.heldout_recorded_fraction) * rows);
-    }
-  }
-  return 0.0;
-}
-
-double calc_ticks_per_pass(const JobConfig& config) {
-  const TrajectoryConfig& t = config.trajectory;
-  const double dt = config.simulation.dt;
-  switch (t.kind) {
-    case TrajectoryKind::sine: return std::max(2.0, std::round(t.sine.duration / dt));
-    case TrajectoryKind::figure_eight: return static_cast<double>(t.figure_eight.points_per_loop) * t.figure_eight.loops;
-    case TrajectoryKind::reaching: return static_cast<double>(t.reaching.points_per_reach) * t.reaching.reaches;
-    case TrajectoryKind::recorded: return static_cast<double>(calc_recorded_ticks(t.recorded, dt)) * t.recorded.loops;
-  }
-  return 0.0;
-}
 
 ModelFacts make_model_facts(const ArmModel& model) {
   ModelFacts facts;
@@ -602,7 +490,7 @@ std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& f
   }
   // The cost needs sane counts and a sane dt; a range problem there is reported already.
   if (!has_problem_under(problems, "dt") && !has_problem_under(problems, "trajectory.") && !has_problem_under(problems, "learning.")) {
-    check_cost(config, n, limits, checker);
+    for (ConfigProblem& problem : find_cost_problems(config, n, limits)) problems.push_back(std::move(problem));
   }
   return problems;
 }

@@ -1,11 +1,14 @@
 #pragma once
 // The one validation of a job configuration, run before anything is built or stored: every
 // key's range from the key tables (job_config.hpp), list sizes against the model's joints,
-// the cross-field rules, LWPR's and SSGPR's parameter shapes, and the job's cost bound. The runner calls it
+// the cross-field rules, LWPR's and SSGPR's parameter shapes, and the job's cost bound
+// (job_workload.hpp: find_cost_problems). The runner calls it
 // (through parse_job_config) for every job of a sweep before the database is opened; the
 // engine's run_experiment() takes the ValidJobConfig that check_job_config makes as the proof,
 // and validates only a plain JobConfig (one check at its entry).
+#include "engine/experiment/config_problem.hpp"
 #include "engine/experiment/job_config.hpp"
+#include "engine/experiment/job_workload.hpp"
 #include "engine/model/arm_model.hpp"
 
 #include <functional>
@@ -18,29 +21,6 @@
 #include <vector>
 
 namespace armfarm {
-
-/// One problem: the key path ("trajectory.figure_eight.scale", "control.kp[2]") and what is
-/// wrong, with the value, its unit and the allowed range.
-struct ConfigProblem {
-  std::string path;            ///< a configuration path's text (base/config_path.hpp); "" for the whole
-  std::string message;         ///< what is wrong, without the path
-  std::string unit;            ///< the key's unit ("rad", "s") when the value is outside its range, else ""
-  std::optional<Range> range;  ///< the range the value is outside, else empty
-};
-
-/// A configuration problem found where a value is used rather than in validate() (the start
-/// posture against the model a job runs on): what() is "path: message", and the problem is
-/// carried whole so that a caller never cuts the text up.
-class ConfigProblemError : public std::invalid_argument {
- public:
-  explicit ConfigProblemError(ConfigProblem problem)
-      : std::invalid_argument(problem.path.empty() ? problem.message : problem.path + ": " + problem.message),
-        problem_(std::move(problem)) {}
-  const ConfigProblem& problem() const { return problem_; }
-
- private:
-  ConfigProblem problem_;
-};
 
 class StepCheckMemo;
 
@@ -77,28 +57,6 @@ struct ModelFacts {
 /// stiffness at the start posture, computed once, and the step checks' memo).
 ModelFacts make_model_facts(const ArmModel& model);
 
-/// Bounds on a job's cost, so that a typo cannot occupy a core for days. At the measured
-/// 45 simulated seconds per wall second of the default job (dt = 0.01 s, 7 joints, online LWPR;
-/// sweeps/README.md), 5e6 control ticks take about 20 minutes of wall time.
-struct JobCostLimits {
-  double max_control_ticks = 5e6;    ///< over all passes (batch: collect_repeats + 1; held-out: 1 + one per checkpoint)
-  double max_learner_updates = 2e7;  ///< online ticks, or epochs × training samples (+ evaluation updates)
-  /// SSGPR: updates × (2·features)² + fit_samples³ × fit_iterations. At the measured ~0.5 µs per
-  /// (2D)²/1000 of an update (engine/ssgpr/README.md: 478 µs at D = 500) and ~2.5e9 fit units
-  /// per second, 4e12 is about half an hour of wall time.
-  double max_ssgpr_work = 4e12;
-};
-
-/// Control ticks of one pass over the configured trajectory at `config.simulation.dt`
-/// (sine: duration/dt; figure-eight: points × loops; reaching: points × reaches; recorded:
-/// length/dt × loops, 0 when no samples are loaded). Real-valued so that nothing overflows.
-double calc_ticks_per_pass(const JobConfig& config);
-
-/// Control ticks of one held-out pass over the held-out trajectory of a job with `n` active
-/// joints (engine/experiment/heldout_evaluation.hpp; the job makes one collection pass and one
-/// control pass per checkpoint over it); 0 when the job has no held-out evaluation.
-double calc_heldout_ticks_per_pass(const JobConfig& config, int n);
-
 /// Every problem of `config` (empty: valid).
 std::vector<ConfigProblem> validate(const JobConfig& config, const ModelFacts& facts, const JobCostLimits& limits = {});
 
@@ -121,6 +79,10 @@ class ValidJobConfig {
   const JobConfig& get() const { return config_; }
   /// Read like the JobConfig it holds (a copy, where a caller wants one to change).
   operator const JobConfig&() const { return config_; }  // NOLINT(google-explicit-constructor)
+  /// Gives up the proof: the configuration itself, moved out (its storage, such as recorded
+  /// samples and model bytes, keeps its address), for a caller that takes it apart; this
+  /// object is left as a moved-from JobConfig.
+  JobConfig release() && { return std::move(config_); }
 
  private:
   explicit ValidJobConfig(JobConfig config) : config_(std::move(config)) {}

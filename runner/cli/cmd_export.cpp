@@ -5,6 +5,7 @@
 // table each (runner/io/sweep_export.hpp). Fields are RFC 4180, numbers the shortest text that reads
 // back to the same double. With -o the file appears only once it is complete.
 #include "analysis/sweep_data.hpp"
+#include "base/number_format.hpp"
 #include "results/readable_check.hpp"
 #include "results/results_store.hpp"
 #include "runner/cli/subcommand.hpp"
@@ -56,7 +57,7 @@ int write_job_series(const ResultsStore& store, const ExportOptions& options, st
   out << "\n";
   for (Eigen::Index r = 0; r < series->rows.rows(); ++r) {
     for (Eigen::Index c = 0; c < series->rows.cols(); ++c) {
-      out << (c ? "," : "") << make_shortest_number_text(series->rows(r, c));
+      out << (c ? "," : "") << format_shortest_number(series->rows(r, c));
     }
     out << "\n";
   }

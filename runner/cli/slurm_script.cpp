@@ -1,11 +1,11 @@
 #include "runner/cli/slurm_script.hpp"
 
 #include "analysis/printable_text.hpp"
+#include "base/number_format.hpp"
 #include "runner/cli/subcommand.hpp"
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -46,13 +46,6 @@ void write_setup(std::ostream& out, const SlurmPlan& plan) {
   out << "# Site setup (--setup): module loads, environments.\n"
       << "source " << make_shell_quoted(plan.setup) << " || { echo \"armfarm slurm: the setup file failed: \"" << make_shell_quoted(plan.setup)
       << " >&2; exit 2; }\n";
-}
-
-/// A time in seconds as the shortest decimal text that reads back the same ("60", "90.5").
-std::string make_seconds_text(double seconds) {
-  char text[64];
-  const std::to_chars_result end = std::to_chars(text, text + sizeof text, seconds);
-  return std::string(text, end.ptr);
 }
 
 /// The array's task indices (shard - 1): "0-N" for every shard, else ranges of the listed ones.
@@ -190,7 +183,7 @@ std::string make_array_script(const SlurmPlan& plan) {
       << make_shell_quoted(plan.armfarm) << " run " << make_shell_quoted(plan.spec)
       << " --shard \"$shard/$count\" --db \"$db\" -j \"${SLURM_CPUS_PER_TASK:-" << plan.cpus_per_task << "}\""
       << " --stop-grace " << calc_stop_grace(plan.signal_before);
-  if (plan.job_timeout > 0) out << " --timeout " << make_seconds_text(plan.job_timeout);
+  if (plan.job_timeout > 0) out << " --timeout " << format_shortest_number(plan.job_timeout);
   if (!plan.retry_failed) out << " --keep-failed";
   out << " &\n"
       << "pid=$!\n"

@@ -241,8 +241,8 @@ ValidJobConfig parse_recorded_job_config(const nlohmann::json& recorded, const M
 }
 
 void return_job_file_contents(ValidJobConfig&& valid, JobFileContents& contents) {
-  // `valid` is given up (an rvalue the caller no longer reads), so its file fields may be moved out.
-  JobConfig& config = const_cast<JobConfig&>(valid.get());
+  // `valid` is given up: its configuration is taken apart (moved, its storage keeps its address).
+  JobConfig config = std::move(valid).release();
   RecordedTrajectoryConfig& recorded = config.trajectory.recorded;
   if (!contents.lent_recorded.hash.empty() && contents.lent_recorded.storage == recorded.samples.data()) {
     contents.recorded_hash = std::move(contents.lent_recorded.hash);

@@ -1,6 +1,7 @@
 #include "runner/execution/job_cost.hpp"
 
 #include "engine/experiment/job_config_validation.hpp"
+#include "engine/experiment/job_workload.hpp"
 #include "runner/config/job_config_json.hpp"
 #include "runner/execution/checked_experiment_job.hpp"
 #include "runner/execution/job_models.hpp"
@@ -39,12 +40,8 @@ JobCostFunction make_experiment_cost_function(const JobCostModel& model) {
     const int movable = static_cast<int>(models->get_file(path)->movable_joints().size());
     const int n = job.active_joints.empty() ? movable : static_cast<int>(job.active_joints.size());
     const LearningConfig& learning = job.learning;
-    // Passes as the validation counts them (job_config_validation.cpp: check_cost).
-    const double passes = 1.0 + (learning.mode == LearningMode::batch ? learning.collect_repeats : 0);
-    const double heldout_ticks = calc_heldout_ticks_per_pass(job, n);
-    const double heldout_passes =
-        heldout_ticks > 0.0 ? 1.0 + static_cast<double>(std::max<std::size_t>(1, learning.heldout_checkpoints.size())) : 0.0;
-    const double ticks = std::max(1.0, calc_ticks_per_pass(job) * passes + heldout_ticks * heldout_passes);
+    // The control ticks of every pass, as the cost bound counts them (engine/experiment/job_workload.hpp).
+    const double ticks = std::max(1.0, calc_job_workload(job, n).control_ticks);
     // A frozen learner predicts but never updates: costed as no learning.
     const bool learns = learning.mode == LearningMode::online || learning.mode == LearningMode::batch;
     const double factor = !learns                                ? model.none_factor

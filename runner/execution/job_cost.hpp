@@ -1,8 +1,8 @@
 #pragma once
 // What a job costs, for dealing a sweep's jobs to shards (shard.hpp) so that shards finish
-// together. An estimate from the configuration alone: simulated seconds over all passes ×
-// active joints × a learning-mode factor (the experiment job; the fake job has its own), in
-// "joint-seconds". Calibrated when a reference database of finished jobs is given: a job done
+// together. An estimate from the configuration alone: simulated seconds over all passes (the
+// job-cost model's control ticks, engine/experiment/job_workload.hpp) × active joints × a
+// learning-mode factor (the experiment job; the fake job has its own), in "joint-seconds". Calibrated when a reference database of finished jobs is given: a job done
 // there costs its measured wall time; another job costs its estimate times the measured wall
 // seconds per estimated unit of the finished jobs of its kind (learning mode, trajectory kind,
 // active joints), or of all finished jobs when none is of its kind.

@@ -4,7 +4,7 @@
 // linking one definition of make_job_kind:
 //   - armfarm, the product: the experiment job (runner/cli/experiment_job_kind.cpp);
 //   - armfarm_fakejobs, a test-only binary: the cheap deterministic fake job of the runner's own
-//     tests (runner/execution/fake_job_kind.cpp, runner/execution/fake_job.hpp).
+//     tests (tests/support/fake_job_kind.cpp, tests/support/fake_job.hpp).
 // So the product contains no test double and no switch to one (tests/runner/product_binary).
 #include "runner/execution/job_cost.hpp"
 #include "runner/execution/job_executor.hpp"

@@ -1,5 +1,6 @@
 #include "runner/io/sweep_export.hpp"
 
+#include "base/number_format.hpp"
 #include "runner/io/csv_writing.hpp"
 
 #include <algorithm>
@@ -90,9 +91,9 @@ SweepExportCounts write_sweep_long_csv(const ResultsStore& store, const std::str
                                  make_csv_field(signal.signal));
       }
       for (Eigen::Index r = 0; r < record->rows.rows(); ++r) {
-        const std::string time = t_column < 0 ? std::string() : make_shortest_number_text(record->rows(r, t_column));
+        const std::string time = t_column < 0 ? std::string() : format_shortest_number(record->rows(r, t_column));
         for (const auto& [c, label] : columns) {
-          out << prefix << "," << time << "," << label << "," << make_shortest_number_text(record->rows(r, c)) << "\n";
+          out << prefix << "," << time << "," << label << "," << format_shortest_number(record->rows(r, c)) << "\n";
           ++counts.rows;
         }
       }
@@ -130,7 +131,7 @@ MetricExportCounts write_sweep_metrics_csv(const ResultsStore& store, const std:
       const auto unit = unit_by_name.find(metric->name);
       out << prefix << "," << make_csv_field(metric->name) << "," << (metric->joint ? std::to_string(*metric->joint) : "")
           << "," << (metric->checkpoint ? std::to_string(*metric->checkpoint) : "") << ","
-          << (metric->value ? make_shortest_number_text(*metric->value) : "") << ","
+          << (metric->value ? format_shortest_number(*metric->value) : "") << ","
           << make_csv_field(unit == unit_by_name.end() ? std::string() : unit->second) << ","
           << make_csv_field(metric->value ? metric->reason : describe_undefined_value(metric->reason))
           << "\n";

@@ -4,7 +4,7 @@
 // parses each configuration against the LWR model). Counters: jobs, jobs_per_s and us_per_job
 // (process CPU time, since the machine is shared; wall_s beside it), bytes_per_job (glibc's
 // in-use heap, mallinfo2, after expansion minus before, over the job count).
-#include "runner/execution/fake_job.hpp"
+#include "support/fake_job.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/spec/sweep_expansion.hpp"
 

@@ -2,7 +2,7 @@
 // runner + store overhead per job (fake jobs that do nothing), and database bytes per recorded
 // series against raw float64 bytes.
 #include "results/results_store.hpp"
-#include "runner/execution/fake_job.hpp"
+#include "support/fake_job.hpp"
 #include "runner/execution/sweep_runner.hpp"
 #include "runner/spec/sweep_expansion.hpp"
 

@@ -1,7 +1,7 @@
 // Fuzz target: sweep specs (runner/spec: JSON with positions, the structural check, includes,
 // expansion) against the fake job schema, expansion capped at 1000 jobs so that one input
 // cannot take minutes. A well-formed rejection is a SpecError.
-#include "runner/execution/fake_job.hpp"
+#include "support/fake_job.hpp"
 #include "runner/spec/spec_error.hpp"
 #include "runner/spec/sweep_expansion.hpp"
 #include "runner/spec/sweep_spec.hpp"

@@ -1,4 +1,4 @@
-# The product armfarm contains no test double: no symbol of the fake job (runner/execution/fake_job.hpp)
+# The product armfarm contains no test double: no symbol of the fake job (tests/support/fake_job.hpp)
 # and no name of the environment switch that once chose it. The same checks must find the fake job
 # in the test binary armfarm_fakejobs, so that a check that can no longer see a symbol fails too.
 # cmake -DNM=nm -DPRODUCT=path/armfarm -DTEST_BINARY=path/armfarm_fakejobs -P product_binary_test.cmake
@@ -25,7 +25,7 @@ if(in_test_binary EQUAL 0)
 endif()
 count_symbols(${PRODUCT} "fake_job" in_product)
 if(NOT in_product EQUAL 0)
-  message(FATAL_ERROR "${PRODUCT} contains ${in_product} fake-job symbols (runner/execution/fake_job.cpp belongs to armfarm_fakejobs only)")
+  message(FATAL_ERROR "${PRODUCT} contains ${in_product} fake-job symbols (tests/support/fake_job.cpp belongs to armfarm_fakejobs only)")
 endif()
 file(STRINGS ${PRODUCT} switch REGEX "ARMFARM_FAKE_JOBS")
 if(switch)

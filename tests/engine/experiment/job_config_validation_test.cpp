@@ -1,5 +1,5 @@
 // The one validation of a job configuration: every problem at once with its key path, unit and
-// range; the cost bound computed from the same tick count the trajectory builder produces.
+// range, the cost bound among them (its tick counts: job_workload_test.cpp).
 #include "engine/experiment/job_config_validation.hpp"
 #include "engine/experiment/heldout_evaluation.hpp"
 #include "engine/trajectory/trajectory.hpp"
@@ -98,61 +98,6 @@ TEST(JobConfigValidation, RefusesJobsAboveTheCostBoundSayingWhy) {
   JobCostLimits generous;
   generous.max_learner_updates = 1e8;
   EXPECT_TRUE(validate(config, kLwr3, generous).empty());
-}
-
-TEST(JobConfigValidation, TickCountMatchesTheBuiltTrajectory) {
-  const ArmModel model = testing::load_lwr3();
-  ArmDynamics dynamics(model, {1, 2});
-  JobConfig config;
-  config.active_joints = {2, 3};
-  for (const double duration : {0.5, 2.345, 3.0}) {
-    config.trajectory.sine.duration = duration;
-    const JointTrajectory trajectory = build_trajectory(config.trajectory, dynamics, config.simulation.dt, config.seed);
-    EXPECT_EQ(calc_ticks_per_pass(config), static_cast<double>(trajectory.size())) << duration;
-  }
-  config.trajectory.kind = TrajectoryKind::recorded;
-  config.trajectory.recorded.task_space = false;
-  config.trajectory.recorded.filter = RecordedFilter::none;
-  config.trajectory.recorded.sample_rate = 30.0;
-  config.trajectory.recorded.loops = 2;
-  config.trajectory.recorded.samples = Eigen::MatrixXd::Zero(40, 2);
-  config.trajectory.recorded.samples.col(0) = Eigen::VectorXd::LinSpaced(40, 0.0, 0.3);
-  const JointTrajectory recorded = build_trajectory(config.trajectory, dynamics, config.simulation.dt, config.seed);
-  EXPECT_EQ(calc_ticks_per_pass(config), static_cast<double>(recorded.size()));
-}
-
-TEST(JobConfigValidation, HeldOutTickCountMatchesTheBuiltHeldOutTrajectory) {
-  const ArmModel model = testing::load_lwr3();
-  ArmDynamics dynamics(model, {1, 2});
-  JobConfig config;
-  config.active_joints = {2, 3};
-  config.trajectory.sine.frequency = (Eigen::VectorXd(2) << 0.5, 0.2).finished();  // slowest 0.2 Hz: 5 s a period
-  for (const int segments : {0, 3}) {
-    config.learning.heldout_segments = segments;
-    const JobTrajectories built = build_job_trajectories(config, dynamics);
-    ASSERT_TRUE(built.heldout.has_value());
-    EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), static_cast<double>(built.heldout->size())) << segments;
-  }
-  EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), 1500.0);  // 3 periods of 5 s at dt = 0.01 s
-  config.trajectory.kind = TrajectoryKind::figure_eight;
-  config.trajectory.figure_eight.loops = 5;
-  config.learning.heldout_segments = 2;
-  // (2 joints cannot reach the figure: its count is points × held-out loops.)
-  EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), 2.0 * config.trajectory.figure_eight.points_per_loop);
-  config.trajectory.kind = TrajectoryKind::recorded;
-  config.trajectory.recorded.task_space = false;
-  config.trajectory.recorded.filter = RecordedFilter::none;
-  config.trajectory.recorded.sample_rate = 30.0;
-  config.trajectory.recorded.loops = 2;
-  config.trajectory.recorded.samples = Eigen::MatrixXd::Zero(40, 2);
-  config.trajectory.recorded.samples.col(0) = Eigen::VectorXd::LinSpaced(40, 0.0, 0.3);
-  EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), static_cast<double>(build_job_trajectories(config, dynamics).heldout->size()));
-  config.learning.heldout = false;
-  EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), 0.0);
-  config.learning.heldout = true;
-  config.learning.mode = LearningMode::none;
-  config.control.feed_forward = FeedForwardSource::none;
-  EXPECT_EQ(calc_heldout_ticks_per_pass(config, 2), 0.0);
 }
 
 TEST(JobConfigValidation, CostBoundCountsHeldOutPasses) {

@@ -13,7 +13,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <map>
 
 #include "support/csv_export_check.hpp"
@@ -136,28 +135,6 @@ TEST(ExportSweep, ALongFormCsvReadsBackInPythonWithEveryValueEqualToTheDatabase)
   EXPECT_EQ(test_support::run_armfarm_with_fake_jobs("export " + db + " --sweep nope").exit_code, 2);
   EXPECT_EQ(test_support::run_armfarm_with_fake_jobs("export " + db).exit_code, 2);
   fs::remove_all(folder);
-}
-
-TEST(CsvWriting, ShortestNumbersReadBackExactly) {
-  EXPECT_EQ(make_shortest_number_text(0.1), "0.1");
-  EXPECT_EQ(make_shortest_number_text(0.1 + 0.2), "0.30000000000000004");
-  EXPECT_EQ(make_shortest_number_text(3.0 * 0.1 / 3.0 - 1e-17), make_shortest_number_text(3.0 * 0.1 / 3.0 - 1e-17));
-  EXPECT_EQ(make_shortest_number_text(1e-300), "1e-300");
-  EXPECT_EQ(make_shortest_number_text(-0.0), "-0");
-  EXPECT_EQ(make_shortest_number_text(std::nan("")), "nan");
-  EXPECT_EQ(make_shortest_number_text(-HUGE_VAL), "-inf");
-  std::mt19937_64 bits(42);  // test data only
-  for (int i = 0; i < 20000; ++i) {
-    std::uint64_t word = bits();
-    double value;
-    std::memcpy(&value, &word, sizeof value);
-    if (!std::isfinite(value)) continue;
-    const std::string text = make_shortest_number_text(value);
-    EXPECT_EQ(std::strtod(text.c_str(), nullptr), value) << text;
-    char longest[40];
-    std::snprintf(longest, sizeof longest, "%.17g", value);
-    EXPECT_LE(text.size(), std::string(longest).size() + 1) << text << " vs " << longest;  // +1: to_chars may add "e+"
-  }
 }
 
 TEST(CsvWriting, FieldsAreQuotedPerRfc4180) {

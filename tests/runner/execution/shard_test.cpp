@@ -3,7 +3,7 @@
 // experiment estimate against its closed form; reference-database calibration.
 #include "runner/execution/shard.hpp"
 
-#include "runner/execution/fake_job.hpp"
+#include "support/fake_job.hpp"
 #include "runner/execution/job_cost.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/spec/sweep_expansion.hpp"

@@ -2,7 +2,7 @@
 // timeouts, stop requests, identical metrics whatever -j, shard + merge equal to one run.
 #include "runner/execution/sweep_runner.hpp"
 
-#include "runner/execution/fake_job.hpp"
+#include "support/fake_job.hpp"
 #include "runner/spec/sweep_expansion.hpp"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // serializing the whole configuration: the keys must be exactly calc_job_key of the rebuilt
 // configuration, for every kind of axis and for inputs that differ between jobs; and what a
 // sweep keeps per job stays compact (issue 16: under 2 KB a job).
-#include "runner/execution/fake_job.hpp"
+#include "support/fake_job.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/spec/canonical_json.hpp"
 #include "runner/spec/job_key_template.hpp"

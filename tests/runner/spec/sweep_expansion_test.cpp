@@ -1,6 +1,6 @@
 // Expansion: counts (grid × zip × random × repeat), parameters, reproducible random samples,
 // keys independent of how the spec is written; the fast job assembly against the plain one.
-#include "runner/execution/fake_job.hpp"
+#include "support/fake_job.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/spec/canonical_json.hpp"
 #include "runner/spec/spec_error.hpp"

@@ -3,7 +3,7 @@
 // block of a spec.
 #include "runner/spec/sweep_spec.hpp"
 
-#include "runner/execution/fake_job.hpp"
+#include "support/fake_job.hpp"
 #include "runner/execution/job_executor.hpp"
 #include "runner/spec/spec_error.hpp"
 #include "runner/spec/sweep_expansion.hpp"

@@ -3,7 +3,7 @@
 // point into the stage's merged document, not into the file).
 #include "runner/spec/sweep_stages.hpp"
 
-#include "runner/execution/fake_job.hpp"
+#include "support/fake_job.hpp"
 #include "runner/spec/spec_error.hpp"
 
 #include <gtest/gtest.h>

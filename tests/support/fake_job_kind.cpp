@@ -1,7 +1,7 @@
 // The test binary armfarm_fakejobs runs the fake job (runner/execution/job_kind.hpp): the runner's
 // process tests (runs killed, paused, resumed, merged, sharded, submitted to Slurm) drive it
 // through the real command line at almost no CPU. Never linked into the product armfarm.
-#include "runner/execution/fake_job.hpp"
+#include "support/fake_job.hpp"
 #include "runner/execution/job_kind.hpp"
 
 namespace armfarm {

@@ -1,4 +1,4 @@
-#include "runner/execution/fake_job.hpp"
+#include "support/fake_job.hpp"
 
 #include "engine/experiment/metric_catalog.hpp"
 #include "engine/learning/learning_config.hpp"
