@@ -91,7 +91,8 @@ void calc_full_gradient(const LwprParams& params, const ReceptiveField& rf, cons
 }
 
 // Step 1 of a full metric's update: scratch.grad (and with meta learning scratch.curvature) =
-// the gradient of J w.r.t. M at the sample, from md = M·(x − c) (scratch.md).
+// the gradient of J w.r.t. M at the sample, from md = M·(x − c) (sample.md if given, else
+// computed into scratch.md).
 template <int N>
 void calc_full_metric_gradient(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
                                double dJ1_dw, const ReceptiveField& rf, FieldScratch& scratch) {
@@ -99,12 +100,16 @@ void calc_full_metric_gradient(const LwprParams& params, const Eigen::VectorXd& 
   const double d2J1_dw2 = 2.0 * sample.e_cv.head(rf.n_reg()).squaredNorm() / (sample.W * sample.W);
   scratch.grad.resize(n, n);
   if (params.meta) scratch.curvature.resize(n, n);
-  scratch.md.resize(n);
-  double* md = scratch.md.data();
-  if (N > 0 || n <= kTrmvPanel) {
-    multiply_factor<N>(rf.metric_factor.data(), diff.data(), n, md);
+  const double* md = nullptr;
+  if (sample.md != nullptr) {
+    md = sample.md->data();  // calc_factor_product's: multiply_factor<N> for n ≤ kTrmvPanel, else Eigen's, as below
+  } else if (N > 0 || n <= kTrmvPanel) {
+    scratch.md.resize(n);
+    multiply_factor<N>(rf.metric_factor.data(), diff.data(), n, scratch.md.data());
+    md = scratch.md.data();
   } else {
     scratch.md.noalias() = rf.metric_factor.triangularView<Eigen::Upper>() * diff;
+    md = scratch.md.data();
   }
   double* curvature = params.meta ? scratch.curvature.data() : nullptr;
   calc_full_gradient<N>(params, rf, diff.data(), md, sample, dJ1_dw, d2J1_dw2, scratch.grad.data(), curvature);

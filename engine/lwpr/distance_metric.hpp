@@ -25,6 +25,10 @@ struct MetricSample {
   const Eigen::VectorXd& e_cv;  ///< its leave-one-out version e_r/(1 − w s_r²/Σλws_r²) (≥ R)
   double W = 0.0;        ///< Σλw including the sample
   double E = 0.0;        ///< Σλw Σ_r e_cv,r² including the sample
+  /// M·(x−c) of a full metric (n elements) when the caller already has it (it computed q from
+  /// it with calc_factor_product and the same M): the metric step then uses it instead of
+  /// multiplying again (the same function, so the same bits). Null: the step computes it.
+  const Eigen::VectorXd* md = nullptr;
 };
 
 /// ∂J1/∂w (the PRESS part of J w.r.t. this sample's activation), from the sample and the field's

@@ -673,6 +673,7 @@ void finish_field_update(const LwprParams& params, double trust_n_data, const Ei
       } else {
         calc_factor_product(rf.metric_factor, scratch.diff, scratch.md);
         sample.q = scratch.md.squaredNorm();
+        sample.md = &scratch.md;  // the metric step's M·(x − c): M is unchanged until then
       }
       sample.W = rf.sum_w(0);
       sample.E = rf.press_E;

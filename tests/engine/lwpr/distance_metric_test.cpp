@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 
 namespace armfarm::lwpr {
 namespace {
@@ -158,6 +159,55 @@ TEST(DistanceMetric, FactorProductsMatchEigen) {
     EXPECT_LE((D - D_eigen).cwiseAbs().maxCoeff(), 1e-14 * n) << "n " << n;
     if (n <= 3) {
       EXPECT_EQ(D, D.transpose()) << "n " << n;  // computed once per pair and mirrored
+    }
+  }
+}
+
+// A full metric's step given the caller's M·(x − c) (sample.md, from calc_factor_product as
+// update_receptive_field computes q) leaves the same bits as the step that multiplies itself, for
+// the unrolled sizes, the loop (n ≤ 8) and Eigen's product (n > 8), with and without meta
+// learning; and it does use sample.md (a perturbed one gives another metric).
+TEST(DistanceMetric, FullStepGivenTheFactorProductMatchesTheStepThatMultipliesBitForBit) {
+  std::srand(11);
+  for (const bool meta : {false, true}) {
+    for (const int n : {2, 3, 5, 9}) {
+      LwprParams params;
+      params.penalty = 1e-3;
+      params.meta = meta;
+      params.diag_only = false;
+      const Eigen::MatrixXd A = Eigen::MatrixXd::Random(n, n);
+      const Eigen::MatrixXd D = A.transpose() * A + 2.0 * Eigen::MatrixXd::Identity(n, n);
+      const ReceptiveField start = make_receptive_field(params, Eigen::VectorXd::Zero(n), D);
+      ASSERT_FALSE(start.diagonal());
+      const Eigen::VectorXd diff = 0.3 * Eigen::VectorXd::Random(n);
+      Eigen::VectorXd s = Eigen::Vector2d(0.5, 0.1), e = Eigen::Vector2d(0.3, 0.2), ecv = Eigen::Vector2d(0.4, 0.25);
+      FieldScratch scratch;
+      scratch.resize(n, false);
+      Eigen::VectorXd md;
+      calc_factor_product(start.metric_factor, diff, md);
+      auto step = [&](const Eigen::VectorXd* given) {
+        ReceptiveField rf = start;
+        MetricSample sample(s, e, ecv);
+        sample.q = md.squaredNorm();
+        sample.w = std::exp(-0.5 * sample.q);
+        sample.W = 5.0;
+        sample.E = 0.5;
+        sample.md = given;
+        scratch.md.setConstant(n, 7.0);  // stale scratch: the step must not read it
+        update_distance_metric(params, diff, sample, 0.7, rf, scratch);
+        return rf;
+      };
+      const ReceptiveField computed = step(nullptr);
+      const ReceptiveField given = step(&md);
+      ASSERT_NE(computed.metric_factor, start.metric_factor) << "n " << n << " meta " << meta;  // a step was taken
+      EXPECT_EQ(std::memcmp(given.metric_factor.data(), computed.metric_factor.data(), sizeof(double) * n * n), 0)
+          << "n " << n << " meta " << meta;
+      EXPECT_EQ(std::memcmp(given.metric.data(), computed.metric.data(), sizeof(double) * n * n), 0)
+          << "n " << n << " meta " << meta;
+      EXPECT_EQ(std::memcmp(given.log_alpha.data(), computed.log_alpha.data(), sizeof(double) * n * n), 0);
+      EXPECT_EQ(std::memcmp(given.meta_trace.data(), computed.meta_trace.data(), sizeof(double) * n * n), 0);
+      const Eigen::VectorXd perturbed = 1.5 * md;
+      EXPECT_NE(step(&perturbed).metric_factor, computed.metric_factor) << "n " << n << " meta " << meta;
     }
   }
 }
