@@ -108,12 +108,12 @@ LoadedJob load_job_config(const std::string& path, const JobConfigSchema& schema
     if (!recorded.is_object()) throw std::runtime_error(path + ": inputs: expected an object (as `armfarm expand --json` writes it)");
     overrides.erase("inputs");
   }
-  std::vector<std::string> errors;
+  std::vector<CheckedValueProblem> errors;
   const nlohmann::json checked = calc_checked_value(overrides, schema.type_reference(), "", errors);
   if (!errors.empty()) {
-    const std::string& line = errors.front();
-    const std::string where = document.describe_position(line.substr(0, line.find(": ")));
-    throw std::runtime_error(path + ": " + line + (where.empty() ? "" : " (" + where + ")"));
+    const CheckedValueProblem& first = errors.front();
+    const std::string where = document.describe_position(first.path);
+    throw std::runtime_error(path + ": " + first.line() + (where.empty() ? "" : " (" + where + ")"));
   }
   nlohmann::json config = schema.defaults;
   merge_config_into(config, checked);

@@ -36,22 +36,22 @@ std::string child_path(const std::string& path, const std::string& key) { return
 }  // namespace
 
 nlohmann::json calc_checked_value(const nlohmann::json& value, const nlohmann::json& reference, const std::string& path,
-                                  std::vector<std::string>& errors) {
+                                  std::vector<CheckedValueProblem>& errors) {
   const std::string where = path.empty() ? std::string("(configuration)") : path;
   auto wrong_type = [&] {
     if (value.is_string() && reference.is_number() && is_non_finite_number_text(value.get<std::string>())) {
-      errors.push_back(where + ": expected a finite number, got " + show(value) +
-                       " (NaN and infinities are not numbers a job configuration can hold)");
+      errors.push_back({where, "expected a finite number, got " + show(value) +
+                                   " (NaN and infinities are not numbers a job configuration can hold)"});
       return value;
     }
-    errors.push_back(where + ": expected " + describe_type(reference) + ", got " + show(value));
+    errors.push_back({where, "expected " + describe_type(reference) + ", got " + show(value)});
     return value;
   };
   switch (reference.type()) {
     case nlohmann::json::value_t::null:
       if (value.is_string() && is_non_finite_number_text(value.get<std::string>())) {
-        errors.push_back(where + ": got " + show(value) + ", which is not a number a job configuration can hold" +
-                         " (NaN and infinities are refused)");
+        errors.push_back({where, "got " + show(value) + ", which is not a number a job configuration can hold" +
+                                     " (NaN and infinities are refused)"});
       }
       return value;
     case nlohmann::json::value_t::object: {
@@ -62,8 +62,7 @@ nlohmann::json calc_checked_value(const nlohmann::json& value, const nlohmann::j
       for (const auto& [key, item] : value.items()) {
         const auto found = reference.find(key);
         if (found == reference.end()) {
-          errors.push_back(child_path(path, key) + ": unknown key" +
-                           make_did_you_mean(key, known));
+          errors.push_back({child_path(path, key), "unknown key" + make_did_you_mean(key, known)});
           continue;
         }
         checked[key] = calc_checked_value(item, *found, child_path(path, key), errors);

@@ -13,10 +13,20 @@
 
 namespace armfarm {
 
-/// Checks `value` against `reference` (the default at `path`), appending "path: problem" lines
-/// to `errors`. Returns the normalized value (meaningless when errors were added).
+/// One problem calc_checked_value found: the value's path as the message prints it
+/// ("base.control.kp[0]", an unknown key as written, "(configuration)" for the whole value) and
+/// what is wrong there. Readers that locate the problem in a document read `path`, not the line.
+struct CheckedValueProblem {
+  std::string path;
+  std::string problem;
+  /// "path: problem", the line a user sees.
+  std::string line() const { return path + ": " + problem; }
+};
+
+/// Checks `value` against `reference` (the default at `path`), appending its problems to
+/// `problems`. Returns the normalized value (meaningless when problems were added).
 nlohmann::json calc_checked_value(const nlohmann::json& value, const nlohmann::json& reference, const std::string& path,
-                                  std::vector<std::string>& errors);
+                                  std::vector<CheckedValueProblem>& problems);
 
 /// The default that describes the element a path names: object keys descend into the
 /// defaults, array indices into the default array's first element (a number for an empty one).

@@ -52,13 +52,13 @@ std::string normalize_location(const std::string& location) {
   return out;
 }
 
-// "FILE: path: problem (line L, column C)" for a "path: problem" line of calc_checked_value;
-// "FILE: path: problem" under SpecPositions::omitted.
-std::string locate_line(const std::string& file, const JsonDocument& document, const std::string& line, SpecPositions positions) {
-  if (positions == SpecPositions::omitted) return file + ": " + line;
-  const std::size_t colon = line.find(": ");
-  std::string where = colon == std::string::npos ? std::string() : document.describe_position(normalize_location(line.substr(0, colon)));
-  return file + ": " + line + (where.empty() ? "" : " (" + where + ")");
+// "FILE: path: problem (line L, column C)" for a problem of calc_checked_value, located by its
+// path; "FILE: path: problem" under SpecPositions::omitted.
+std::string locate_line(const std::string& file, const JsonDocument& document, const CheckedValueProblem& problem,
+                        SpecPositions positions) {
+  if (positions == SpecPositions::omitted) return file + ": " + problem.line();
+  const std::string where = document.describe_position(normalize_location(problem.path));
+  return file + ": " + problem.line() + (where.empty() ? "" : " (" + where + ")");
 }
 
 std::string quoted(const std::string& parent, const std::string& key) { return parent + "[\"" + key + "\"]"; }
@@ -96,9 +96,9 @@ class SpecParser {
     resolved_ = schema_.defaults;
     if (root.contains("include")) read_includes(root["include"]);
     if (root.contains("base")) {
-      std::vector<std::string> lines;
+      std::vector<CheckedValueProblem> lines;
       const nlohmann::json base = calc_checked_value(root["base"], schema_.type_reference(), "base", lines);
-      for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
+      for (const CheckedValueProblem& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
       if (lines.empty()) merge_config_into(resolved_, base);
     }
     spec.base = resolved_;
@@ -196,9 +196,9 @@ class SpecParser {
         errors_.insert(errors_.end(), e.lines().begin(), e.lines().end());
         continue;
       }
-      std::vector<std::string> lines;
+      std::vector<CheckedValueProblem> lines;
       const nlohmann::json checked = calc_checked_value(document.value, schema_.type_reference(), "", lines);
-      for (const std::string& line : lines) errors_.push_back(locate_line(path, document, line, positions_));
+      for (const CheckedValueProblem& line : lines) errors_.push_back(locate_line(path, document, line, positions_));
       if (!lines.empty()) continue;
       merge_config_into(resolved_, checked);
       const std::string include_folder = std::filesystem::path(path).parent_path().string();
@@ -252,11 +252,11 @@ class SpecParser {
       error(location, "expected a non-empty list of values");
       return std::nullopt;
     }
-    std::vector<std::string> lines;
+    std::vector<CheckedValueProblem> lines;
     for (std::size_t i = 0; i < values.size(); ++i) {
       axis.values.push_back(calc_checked_value(values[i], *reference, location + "[" + std::to_string(i) + "]", lines));
     }
-    for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
+    for (const CheckedValueProblem& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
     if (!lines.empty()) return std::nullopt;
     return axis;
   }
@@ -356,12 +356,12 @@ class SpecParser {
           error(location + ".choice", "expected a non-empty list of values");
           continue;
         }
-        std::vector<std::string> lines;
+        std::vector<CheckedValueProblem> lines;
         for (std::size_t i = 0; i < arguments.size(); ++i) {
           param.choices.push_back(
               calc_checked_value(arguments[i], *reference, location + ".choice[" + std::to_string(i) + "]", lines));
         }
-        for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
+        for (const CheckedValueProblem& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
         if (lines.empty()) result.params.push_back(std::move(param));
         continue;
       }
@@ -696,11 +696,11 @@ class SpecParser {
           error(where + ".categorical", "expected a list of at least two values");
           continue;
         }
-        std::vector<std::string> lines;
+        std::vector<CheckedValueProblem> lines;
         for (std::size_t i = 0; i < arguments.size(); ++i) {
           axis.choices.push_back(calc_checked_value(arguments[i], *reference, where + ".categorical[" + std::to_string(i) + "]", lines));
         }
-        for (const std::string& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
+        for (const CheckedValueProblem& line : lines) errors_.push_back(locate_line(file_, document_, line, positions_));
         if (!lines.empty()) continue;
         sampled.choice_count = axis.choices.size();
       } else {

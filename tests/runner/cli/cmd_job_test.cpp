@@ -109,6 +109,19 @@ TEST(CmdJob, BadConfigurationIsOneLineNamingFileAndPath) {
   EXPECT_EQ(std::count(result.output.begin(), result.output.end(), '\n'), 1) << result.output;
 }
 
+// The refused value is located by its path, not by reading the problem's line: a key written
+// with ": " in it is not taken for the key its text begins with ("dt", at line 1, column 8).
+TEST(CmdJob, AValuesProblemIsLocatedByItsPathNotByItsText) {
+  const std::string located = write_config("located", "{\"dt\": \"fast\"}");
+  const CommandResult typed = run_job(located);
+  EXPECT_EQ(typed.exit_code, 2);
+  EXPECT_EQ(typed.output, "armfarm: " + located + ": dt: expected a number, got \"fast\" (line 1, column 8)\n");
+  const std::string colon = write_config("colon_key", "{\"dt\": 0.001, \"dt: 2\": 1}");
+  const CommandResult unknown = run_job(colon);
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_EQ(unknown.output, "armfarm: " + colon + ": dt: 2: unknown key\n");
+}
+
 TEST(CmdJob, NonsenseValuesAreRefusedBeforeTheJobStarts) {
   // Each of these used to run: dt 1e-300 ended done with NULL metrics, duration 1e300 overflowed
   // the tick count, integrator_accuracy 1e-300 hung.

@@ -84,6 +84,21 @@ TEST(SweepSpec, ErrorsNameTheSpecFile) {
   EXPECT_NE(collect_errors(kSpecs + "bad/no_such_file.json").at(0).find("no such file"), std::string::npos);
 }
 
+// A problem of a base value is located by its path, not by reading its line: a key written with
+// ": " in it is not taken for the key its text begins with (the line's own text would have put
+// the second problem at base.control.gain_scale, where the first one is).
+TEST(SweepSpec, AValuesProblemIsLocatedByItsPathNotByItsText) {
+  const std::string path = test_support::scratch_file("colon_key.json");
+  std::ofstream(path) << "{\"name\": \"colon_key\",\n"
+                         " \"base\": {\"control\": {\"gain_scale\": \"x\",\n"
+                         "                      \"gain_scale: 2\": 1}}}\n";
+  const std::vector<std::string> errors = collect_errors(path);
+  std::filesystem::remove(path);
+  ASSERT_EQ(errors.size(), 2u);
+  EXPECT_EQ(errors[0], path + ": base.control.gain_scale: expected a number, got \"x\" (line 2, column 37)");
+  EXPECT_EQ(errors[1], path + ": base.control.gain_scale: 2: unknown key (did you mean 'gain_scale'?)");
+}
+
 TEST(SweepSpec, IncludesMergeInOrderAndBaseOverridesThem) {
   const JobConfigSchema schema = make_fake_job_config_schema();
   const SweepSpec spec = load_sweep_spec(kSpecs + "fake_include.json", schema);
