@@ -210,14 +210,18 @@ namespace {
 
 // predict_receptive_field() on vectors V (Pair or Quad, as update_statistics below): one pass per
 // projection, projection r's deflation fused with projection r+1's dot product. With Leverage
-// false the leverage is not computed (and not written); y is the same either way.
-template <class V, bool Leverage>
+// false the leverage is not computed (and not written); y is the same either way. N > 0 fixes the
+// input dimension at compile time: the loops unroll, and z lives in a local array that the
+// compiler keeps in registers (no store and reload of z per projection); N = 0 takes n from the
+// field and z from the scratch. The same operations in the same order either way.
+template <int N, class V, bool Leverage>
 __attribute__((always_inline)) inline double predict_field(const ReceptiveField& rf, const Eigen::VectorXd& x,
                                                            double& leverage, FieldScratch& scratch) {
   constexpr int kWidth = static_cast<int>(sizeof(V) / sizeof(double));
   constexpr int kGroups = kLanes / kWidth;
-  const int n = rf.input_dim();
-  double* z = scratch.z.data();
+  const int n = N > 0 ? N : rf.input_dim();
+  double z_local[N > 0 ? N : 1];
+  double* z = N > 0 ? z_local : scratch.z.data();
   const double* xp = x.data();
   const double* mean_x = rf.mean_x.data();
   const double* u = rf.directions.col(0).data();
@@ -282,12 +286,14 @@ __attribute__((always_inline)) inline double predict_field(const ReceptiveField&
 
 template <bool Leverage>
 double predict_field_sse2(const ReceptiveField& rf, const Eigen::VectorXd& x, double& leverage, FieldScratch& scratch) {
-  return predict_field<Pair, Leverage>(rf, x, leverage, scratch);
+  return predict_field<0, Pair, Leverage>(rf, x, leverage, scratch);
 }
+// AVX2, with a fixed-size copy for 21 inputs (as update_statistics_avx2).
 template <bool Leverage>
 __attribute__((target("avx2"))) double predict_field_avx2(const ReceptiveField& rf, const Eigen::VectorXd& x,
                                                           double& leverage, FieldScratch& scratch) {
-  return predict_field<Quad, Leverage>(rf, x, leverage, scratch);
+  if (rf.input_dim() == 21) return predict_field<21, Quad, Leverage>(rf, x, leverage, scratch);
+  return predict_field<0, Quad, Leverage>(rf, x, leverage, scratch);
 }
 
 }  // namespace

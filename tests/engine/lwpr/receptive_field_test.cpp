@@ -428,5 +428,64 @@ TEST(ReceptiveField, FieldUpdateMatchesAPlainScalarLoopBitForBit) {
   }
 }
 
+// A field with random statistics: n inputs, R projections, the cached directions and loadings
+// filled directly (prediction reads only those, β, β₀, x₀ and Σλws²).
+ReceptiveField make_random_field(int n, int R, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  LwprParams params;
+  params.init_n_reg = 1;
+  ReceptiveField rf = make_receptive_field(params, Eigen::VectorXd::Zero(n), Eigen::MatrixXd::Identity(n, n));
+  while (rf.n_reg() < R) add_projection(params, rf);
+  auto fill = [&](auto& m) { m = m.NullaryExpr(m.rows(), m.cols(), [&] { return uniform(rng); }); };
+  fill(rf.mean_x);
+  fill(rf.directions);
+  fill(rf.loadings);
+  fill(rf.beta);
+  rf.ss2 = Eigen::VectorXd::NullaryExpr(R, [&] { return 0.5 + std::abs(uniform(rng)); });
+  rf.beta0 = uniform(rng);
+  return rf;
+}
+
+// The field prediction (with and without the leverage) on every copy, among them AVX2's fixed-size
+// one for 21 inputs (z kept in registers), against a plain loop with the documented summation order
+// (element i in partial sum i mod 4, added as (p0 + p1) + (p2 + p3)), at 1 to 6 projections.
+TEST(ReceptiveField, FieldPredictionMatchesAPlainLoopBitForBitOnEveryCopy) {
+  std::mt19937_64 rng(2026);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (const int n : {4, 5, 7, 8, 13, 20, 21, 22}) {
+    for (int R = 1; R <= 6; ++R) {
+      const ReceptiveField rf = make_random_field(n, R, rng);
+      for (int t = 0; t < 20; ++t) {
+        const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(n, [&] { return uniform(rng); });
+        std::vector<double> z(n);
+        for (int i = 0; i < n; ++i) z[i] = x(i) - rf.mean_x(i);
+        double y_ref = rf.beta0, leverage_ref = 0.0;
+        for (int r = 0; r < R; ++r) {
+          double part[4] = {0.0, 0.0, 0.0, 0.0};
+          for (int i = 0; i < n; ++i) part[i % 4] += rf.directions(i, r) * z[i];
+          const double s = (part[0] + part[1]) + (part[2] + part[3]);
+          y_ref += rf.beta(r) * s;
+          leverage_ref += s * s / rf.ss2(r);
+          for (int i = 0; i < n; ++i) z[i] -= s * rf.loadings(i, r);
+        }
+        for (const bool avx2 : {false, true}) {
+          if (avx2 && !has_avx2()) continue;
+          FieldScratch scratch;
+          scratch.resize(n, true);
+          scratch.use_avx2 = avx2;
+          const std::string where = "n = " + std::to_string(n) + ", R = " + std::to_string(R) +
+                                    (avx2 ? ", AVX2" : ", SSE2");
+          double leverage = 0.0;
+          const double y = predict_receptive_field(rf, x, leverage, scratch);
+          const double y_value = predict_receptive_field_value(rf, x, scratch);
+          EXPECT_EQ(std::memcmp(&y, &y_ref, sizeof(double)), 0) << where << ": " << y << " vs " << y_ref;
+          EXPECT_EQ(std::memcmp(&y_value, &y_ref, sizeof(double)), 0) << where;
+          EXPECT_EQ(std::memcmp(&leverage, &leverage_ref, sizeof(double)), 0) << where;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace armfarm::lwpr
