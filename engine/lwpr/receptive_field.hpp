@@ -50,6 +50,8 @@ struct ReceptiveField {
 
 /// Whether this CPU runs AVX2 (checked once).
 bool has_avx2();
+/// Whether this CPU runs AVX-512 F, VL and DQ (checked once).
+bool has_avx512();
 
 /// Scratch space for one field update or prediction (sized once, reused; no allocation per call).
 struct FieldScratch {
@@ -67,6 +69,9 @@ struct FieldScratch {
   /// Field updates of more than 3 inputs on AVX2 (the same bits as SSE2; has_avx2() by default,
   /// tests compare the two).
   bool use_avx2 = has_avx2();
+  /// With use_avx2, the field update of 21 inputs on AVX-512 (the same bits; has_avx512() by
+  /// default, tests compare it with AVX2 and SSE2).
+  bool use_avx512 = has_avx512();
   void resize(int n, bool diagonal);
 };
 

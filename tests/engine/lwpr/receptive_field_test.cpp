@@ -487,5 +487,61 @@ TEST(ReceptiveField, FieldPredictionMatchesAPlainLoopBitForBitOnEveryCopy) {
   }
 }
 
+// The AVX-512 copy of the 21-input field update (single fields and pairs) against AVX2 and SSE2:
+// every statistic the same bits after 2 000 samples, with and without update_D, projections added,
+// the pair's fields one projection apart. Fails when the copy is allowed FMA contraction.
+TEST(ReceptiveField, Avx512FieldUpdateMatchesAvx2AndSse2BitForBit) {
+  if (!has_avx512()) GTEST_SKIP() << "this CPU has no AVX-512 (F, VL, DQ): the AVX-512 field update is not tested";
+  constexpr int n = 21;
+  for (const bool update_d : {false, true}) {
+    LwprParams params;
+    params.update_D = update_d;
+    params.init_lambda = 0.99;
+    params.add_threshold = 0.9;  // add projections readily, so the test covers added ones
+    const Eigen::MatrixXd D_a = 2.0 * Eigen::MatrixXd::Identity(n, n);
+    const Eigen::MatrixXd D_b = 0.5 * Eigen::MatrixXd::Identity(n, n);
+    const ReceptiveField start_a = make_receptive_field(params, Eigen::VectorXd::Zero(n), D_a);
+    ReceptiveField start_b = make_receptive_field(params, Eigen::VectorXd::Constant(n, 0.2), D_b);
+    add_projection(params, start_b);  // b one projection ahead
+    // Per copy (0 SSE2, 1 AVX2, 2 AVX-512): a single field, and a pair.
+    ReceptiveField single[3], pair_a[3], pair_b[3];
+    FieldScratch scratch[3][2];
+    for (int c = 0; c < 3; ++c) {
+      single[c] = start_a;
+      pair_a[c] = start_a;
+      pair_b[c] = start_b;
+      for (FieldScratch& sc : scratch[c]) {
+        sc.resize(n, true);
+        sc.use_avx2 = c >= 1;
+        sc.use_avx512 = c == 2;
+      }
+    }
+    std::mt19937_64 rng(static_cast<unsigned>(512 + update_d));
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    for (int i = 0; i < 2000; ++i) {
+      const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(n, [&] { return 0.5 * uniform(rng); });
+      const double y = std::sin(3.0 * x(0)) + x(1) * x(n - 1) + 0.05 * uniform(rng);
+      const double w_a = 0.05 + 0.95 * std::abs(uniform(rng));
+      const double w_b = 0.05 + 0.95 * std::abs(uniform(rng));
+      for (int c = 0; c < 3; ++c) {
+        update_receptive_field(params, 2.0 * n, x, y, w_a, single[c], scratch[c][0]);
+        update_receptive_field_pair(params, 2.0 * n, x, y, w_a, pair_a[c], scratch[c][0], w_b, pair_b[c],
+                                    scratch[c][1]);
+      }
+    }
+    EXPECT_GT(single[2].n_reg(), params.init_n_reg) << "no projection was added";
+    const char* names[3] = {"SSE2", "AVX2", "AVX-512"};
+    for (int c = 0; c < 2; ++c) {
+      for (const auto& [field, copies] : {std::pair{"single", single}, std::pair{"pair a", pair_a},
+                                         std::pair{"pair b", pair_b}}) {
+        const std::vector<double> expected = flatten_field(copies[c]), actual = flatten_field(copies[2]);
+        ASSERT_EQ(expected.size(), actual.size()) << field << ", " << names[c];
+        EXPECT_EQ(std::memcmp(expected.data(), actual.data(), expected.size() * sizeof(double)), 0)
+            << field << ": AVX-512 against " << names[c] << ", update_D " << update_d;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace armfarm::lwpr
