@@ -619,8 +619,8 @@ __attribute__((target("avx2"))) void update_statistics_pair_avx2(const Eigen::Ve
   }
 }
 // The 21-input update for AVX-512 (F, VL, DQ): the same template on Quad, so the same operations on
-// the same lanes; the target gives the compiler 32 vector registers and EVEX forms (9 % less
-// time per update at the reference point on this Zen 4, README "Speed"; blocks of 8 did not pay).
+// the same lanes; the target gives the compiler 32 vector registers and EVEX forms (what it saves,
+// and why blocks of 8 are not used: engine/lwpr/README.md, "AVX-512 on Zen 4").
 // AVX-512F has FMA and GCC contracts a·b + c into it under this target, so these copies are
 // compiled with fp-contract=off: no FMA, the same roundings as SSE2 and AVX2.
 #define ARMFARM_AVX512 target("avx512f,avx512vl,avx512dq"), optimize("fp-contract=off")
