@@ -659,7 +659,10 @@ void finish_field_update(const LwprParams& params, double trust_n_data, const Ei
     }
     // The rest feeds the metric step only: without update_D it is never read (a model's
     // parameters are fixed, in its file too), so sum_e2, press_E, press_H and press_R stay 0.
-    if (params.update_D) {
+    const int n = rf.input_dim();
+    if (params.update_D && n <= 3 && !rf.diagonal() && scratch.small_full_metric) {
+      update_small_full_field_metric(params, x, w, scratch, rf);  // the same bits as the code below
+    } else if (params.update_D) {
       for (int r = 0; r < n_reg; ++r) {  // projection r's own leave-one-out residual
         scratch.e_cv(r) = scratch.residual(r) / scratch.one_minus_h(r);
       }
