@@ -400,6 +400,15 @@ __attribute__((always_inline)) inline bool all_finite(const double* v) {
   return zero == zero;
 }
 
+// α_k = exp(log α_k), k < K; exp() once per run of equal log-rates, as step_full_factor() (the same
+// values either way). Not inlined: the caller's live values are saved once around this call, not
+// around each exp() (every vector register is caller-saved).
+template <int K>
+__attribute__((noinline)) void calc_rates(const double* log_alpha, double* alpha) {
+  alpha[0] = std::exp(log_alpha[0]);
+  for (int k = 1; k < K; ++k) alpha[k] = log_alpha[k] == log_alpha[k - 1] ? alpha[k - 1] : std::exp(log_alpha[k]);
+}
+
 // step_full_factor() on the upper triangle in three passes: the log-rates (IDBD), their exp()
 // (back to back: no other value is live across the calls), then the steps, the safeguard and the
 // traces. Each element's operations are step_full_factor()'s in the same order (only the exp of
@@ -421,8 +430,7 @@ __attribute__((always_inline)) inline void step_small_factor(const LwprParams& p
       log_alpha[k] = std::clamp(log_alpha[k] + change, -10.0, 10.0);
     }
   }
-  alpha[0] = std::exp(log_alpha[0]);
-  for (int k = 1; k < kUpper; ++k) alpha[k] = log_alpha[k] == log_alpha[k - 1] ? alpha[k - 1] : std::exp(log_alpha[k]);
+  calc_rates<kUpper>(log_alpha, alpha);
   const double log_half = std::log(0.5);
   for (int k = 0; k < kUpper; ++k) {
     const double step = alpha[k] * transient * g[at[k]];
@@ -442,8 +450,8 @@ __attribute__((always_inline)) inline void step_small_factor(const LwprParams& p
 }
 
 // update_distance_metric()'s steps on locals: dJ1/dw, M·(x−c) and the gradient (step 1), its
-// check and max|M| (step 2), the step (3), D = MᵀM and its check (4). M and D are read once; M, D,
-// log α and the trace are written as the general step leaves them.
+// check and max|M| (step 2), the step (3) on a copy of M, D = MᵀM and its check (4); M, D, log α
+// and the trace are written as the general step leaves them.
 template <int N, int R>
 __attribute__((always_inline)) inline void step_small_full_metric(const LwprParams& params,
                                                                   const SmallMetricSample& sample, double transient,
@@ -453,9 +461,9 @@ __attribute__((always_inline)) inline void step_small_full_metric(const LwprPara
   constexpr int kSize = N * N;
   const double dJ1_dw = calc_press_dw_of<R>(rf, sample.s, sample.e, sample.e_cv, sample.W, sample.E);
   const double d2J1_dw2 = 2.0 * sample.e_cv2 / (sample.W * sample.W);
-  double m[kSize], dd[kSize], g[kSize], c[kSize];
-  std::copy(rf.metric_factor.data(), rf.metric_factor.data() + kSize, m);
-  std::copy(rf.metric.data(), rf.metric.data() + kSize, dd);
+  const double* m = rf.metric_factor.data();  // read only; the step works on a copy
+  const double* dd = rf.metric.data();
+  double g[kSize], c[kSize];
   double md[N];
   multiply_factor<N>(m, sample.diff, N, md);  // calc_factor_product's
   KernelSlopes slopes;
@@ -487,17 +495,14 @@ __attribute__((always_inline)) inline void step_small_full_metric(const LwprPara
   std::copy(D_new, D_new + kSize, rf.metric.data());
 }
 
-template <int N, int R>
-void update_small_full_metric_of(const LwprParams& params, const SmallMetricSample& sample, double transient,
-                                 ReceptiveField& rf) {
-  step_small_full_metric<N, R>(params, sample, transient, rf);
-}
 
 // finish_field_update()'s metric part (update_small_full_field_metric()): the same operations in
 // the same order as its general code, then the step above, then the PRESS memory terms.
 template <int N, int R>
-void update_small_full_field_metric_of(const LwprParams& params, const Eigen::VectorXd& x, double w,
-                                       const FieldScratch& scratch, ReceptiveField& rf) {
+__attribute__((always_inline)) inline void update_small_full_field_metric_of(const LwprParams& params,
+                                                                             const Eigen::VectorXd& x, double w,
+                                                                             const FieldScratch& scratch,
+                                                                             ReceptiveField& rf) {
   const double lambda = rf.lambda;
   const double* residual = scratch.residual.data();
   const double* one_minus_h = scratch.one_minus_h.data();
@@ -539,16 +544,61 @@ void update_small_full_field_metric_of(const LwprParams& params, const Eigen::Ve
   }
 }
 
+// Each (n, R) compiled twice: for SSE2 and for AVX2 (target("avx2") without FMA: the same
+// operations with three-operand encodings, so the same bits and fewer register copies).
+template <int N, int R>
+void update_small_full_metric_sse2(const LwprParams& params, const SmallMetricSample& sample, double transient,
+                                   ReceptiveField& rf) {
+  step_small_full_metric<N, R>(params, sample, transient, rf);
+}
+template <int N, int R>
+__attribute__((target("avx2"))) void update_small_full_metric_avx2(const LwprParams& params,
+                                                                   const SmallMetricSample& sample, double transient,
+                                                                   ReceptiveField& rf) {
+  step_small_full_metric<N, R>(params, sample, transient, rf);
+}
+template <int N, int R>
+void update_small_full_field_metric_sse2(const LwprParams& params, const Eigen::VectorXd& x, double w,
+                                         const FieldScratch& scratch, ReceptiveField& rf) {
+  update_small_full_field_metric_of<N, R>(params, x, w, scratch, rf);
+}
+template <int N, int R>
+__attribute__((target("avx2"))) void update_small_full_field_metric_avx2(const LwprParams& params,
+                                                                         const Eigen::VectorXd& x, double w,
+                                                                         const FieldScratch& scratch,
+                                                                         ReceptiveField& rf) {
+  update_small_full_field_metric_of<N, R>(params, x, w, scratch, rf);
+}
+
+template <int N, int R>
+void step_small(bool avx2, const LwprParams& params, const SmallMetricSample& sample, double transient,
+                ReceptiveField& rf) {
+  if (avx2) {
+    update_small_full_metric_avx2<N, R>(params, sample, transient, rf);
+  } else {
+    update_small_full_metric_sse2<N, R>(params, sample, transient, rf);
+  }
+}
+template <int N, int R>
+void update_small(const LwprParams& params, const Eigen::VectorXd& x, double w, const FieldScratch& scratch,
+                  ReceptiveField& rf) {
+  if (scratch.use_avx2) {
+    update_small_full_field_metric_avx2<N, R>(params, x, w, scratch, rf);
+  } else {
+    update_small_full_field_metric_sse2<N, R>(params, x, w, scratch, rf);
+  }
+}
+
 }  // namespace
 
 void update_small_full_metric(const LwprParams& params, const SmallMetricSample& sample, double transient,
-                              ReceptiveField& rf) {
+                              ReceptiveField& rf, bool use_avx2) {
   switch (rf.input_dim() * 4 + rf.n_reg()) {
-    case 2 * 4 + 1: update_small_full_metric_of<2, 1>(params, sample, transient, rf); break;
-    case 2 * 4 + 2: update_small_full_metric_of<2, 2>(params, sample, transient, rf); break;
-    case 3 * 4 + 1: update_small_full_metric_of<3, 1>(params, sample, transient, rf); break;
-    case 3 * 4 + 2: update_small_full_metric_of<3, 2>(params, sample, transient, rf); break;
-    case 3 * 4 + 3: update_small_full_metric_of<3, 3>(params, sample, transient, rf); break;
+    case 2 * 4 + 1: step_small<2, 1>(use_avx2, params, sample, transient, rf); break;
+    case 2 * 4 + 2: step_small<2, 2>(use_avx2, params, sample, transient, rf); break;
+    case 3 * 4 + 1: step_small<3, 1>(use_avx2, params, sample, transient, rf); break;
+    case 3 * 4 + 2: step_small<3, 2>(use_avx2, params, sample, transient, rf); break;
+    case 3 * 4 + 3: step_small<3, 3>(use_avx2, params, sample, transient, rf); break;
     default: throw std::invalid_argument("update_small_full_metric: a full metric of 2 or 3 inputs only");
   }
 }
@@ -556,11 +606,11 @@ void update_small_full_metric(const LwprParams& params, const SmallMetricSample&
 void update_small_full_field_metric(const LwprParams& params, const Eigen::VectorXd& x, double w,
                                     const FieldScratch& scratch, ReceptiveField& rf) {
   switch (rf.input_dim() * 4 + rf.n_reg()) {
-    case 2 * 4 + 1: update_small_full_field_metric_of<2, 1>(params, x, w, scratch, rf); break;
-    case 2 * 4 + 2: update_small_full_field_metric_of<2, 2>(params, x, w, scratch, rf); break;
-    case 3 * 4 + 1: update_small_full_field_metric_of<3, 1>(params, x, w, scratch, rf); break;
-    case 3 * 4 + 2: update_small_full_field_metric_of<3, 2>(params, x, w, scratch, rf); break;
-    case 3 * 4 + 3: update_small_full_field_metric_of<3, 3>(params, x, w, scratch, rf); break;
+    case 2 * 4 + 1: update_small<2, 1>(params, x, w, scratch, rf); break;
+    case 2 * 4 + 2: update_small<2, 2>(params, x, w, scratch, rf); break;
+    case 3 * 4 + 1: update_small<3, 1>(params, x, w, scratch, rf); break;
+    case 3 * 4 + 2: update_small<3, 2>(params, x, w, scratch, rf); break;
+    case 3 * 4 + 3: update_small<3, 3>(params, x, w, scratch, rf); break;
     default: throw std::invalid_argument("update_small_full_field_metric: a full metric of 2 or 3 inputs only");
   }
 }

@@ -67,16 +67,17 @@ struct SmallMetricSample {
 /// dJ1/dw, gradient, curvature, safeguard, IDBD step, D = MᵀM), so the same bits, but for the
 /// Gaussian kernel's slopes: they come from sample.w, which must be exp(−q/2) of q = |M(x−c)|² with
 /// each row and the sum of squares in ascending order (the activation calc_activation() and the
-/// model's scan give; the general step evaluates that exp again). Throws std::invalid_argument
-/// for another n.
+/// model's scan give; the general step evaluates that exp again). With use_avx2 (only on a CPU
+/// that has it, has_avx2()) the copy compiled for AVX2 runs, the same bits. Throws
+/// std::invalid_argument for another n.
 void update_small_full_metric(const LwprParams& params, const SmallMetricSample& sample, double transient,
-                              ReceptiveField& rf);
+                              ReceptiveField& rf, bool use_avx2);
 
 /// What update_receptive_field() does for the metric of a full metric of 2 or 3 inputs after the
 /// leave-one-out sums (update_D, the start rule passed): the sample's leave-one-out residuals from
 /// scratch (s, residual, one_minus_h), sum_e2, press_E, the transient multiplier, the step of
 /// update_small_full_metric() and the PRESS memory terms; the same bits as the general code, w the
-/// field's activation as there.
+/// field's activation as there. The AVX2 copy runs if scratch.use_avx2.
 void update_small_full_field_metric(const LwprParams& params, const Eigen::VectorXd& x, double w,
                                     const FieldScratch& scratch, ReceptiveField& rf);
 

@@ -220,8 +220,8 @@ TEST(DistanceMetric, FullStepGivenTheFactorProductMatchesTheStepThatMultipliesBi
 namespace armfarm::lwpr {
 namespace {
 
-// The fixed-size step of a full metric with 2 or 3 inputs (update_small_full_metric) against the
-// general one (update_distance_metric) on the same terms, w = exp(−q/2) of the q the general step
+// The fixed-size step of a full metric with 2 or 3 inputs (update_small_full_metric, SSE2 and AVX2
+// copies) against the general one (update_distance_metric) on the same terms, w = exp(−q/2) of the q the general step
 // is given: M, D, log α and the trace the same bits, with and without meta learning, for both
 // kernels, at random metrics, samples and field memories; and a degenerate sample (a gradient that
 // is not finite) leaves both unchanged.
@@ -271,7 +271,6 @@ TEST(DistanceMetric, SmallFullStepMatchesTheGeneralStepBitForBit) {
           sample.E = E;
           update_distance_metric(params, diff, sample, transient, general, scratch);
 
-          ReceptiveField small = start;
           SmallMetricSample terms;
           terms.w = w;
           terms.W = W;
@@ -281,16 +280,21 @@ TEST(DistanceMetric, SmallFullStepMatchesTheGeneralStepBitForBit) {
           terms.e = e.data();
           terms.e_cv = e_cv.data();
           terms.diff = diff.data();
-          update_small_full_metric(params, terms, transient, small);
-          const std::string where = "n " + std::to_string(n) + " meta " + std::to_string(meta) + " kernel " +
-                                    std::to_string(static_cast<int>(kernel)) + " trial " + std::to_string(trial);
-          const auto same = [n](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
-            return std::memcmp(a.data(), b.data(), sizeof(double) * n * n) == 0;
-          };
-          EXPECT_TRUE(same(small.metric_factor, general.metric_factor)) << where;
-          EXPECT_TRUE(same(small.metric, general.metric)) << where;
-          EXPECT_TRUE(same(small.log_alpha, general.log_alpha)) << where;
-          EXPECT_TRUE(same(small.meta_trace, general.meta_trace)) << where;
+          for (const bool avx2 : {false, true}) {
+            if (avx2 && !has_avx2()) continue;
+            ReceptiveField small = start;
+            update_small_full_metric(params, terms, transient, small, avx2);
+            const std::string where = "n " + std::to_string(n) + " meta " + std::to_string(meta) + " kernel " +
+                                      std::to_string(static_cast<int>(kernel)) + " trial " + std::to_string(trial) +
+                                      (avx2 ? " AVX2" : " SSE2");
+            const auto same = [n](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+              return std::memcmp(a.data(), b.data(), sizeof(double) * n * n) == 0;
+            };
+            EXPECT_TRUE(same(small.metric_factor, general.metric_factor)) << where;
+            EXPECT_TRUE(same(small.metric, general.metric)) << where;
+            EXPECT_TRUE(same(small.log_alpha, general.log_alpha)) << where;
+            EXPECT_TRUE(same(small.meta_trace, general.meta_trace)) << where;
+          }
           steps += general.metric_factor != start.metric_factor ? 1 : 0;
           if (!meta && general.log_alpha != start.log_alpha) ++skipped;  // the safeguard halved a rate
         }
@@ -305,7 +309,6 @@ TEST(DistanceMetric, SmallFullStepMatchesTheGeneralStepBitForBit) {
   params.diag_only = false;
   params.meta = true;
   const ReceptiveField start = make_receptive_field(params, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity() * 4.0);
-  ReceptiveField small = start;
   const double big[2] = {1e300, 1e300};
   const double diff[2] = {0.5, 0.5};
   SmallMetricSample terms;
@@ -317,11 +320,15 @@ TEST(DistanceMetric, SmallFullStepMatchesTheGeneralStepBitForBit) {
   terms.e = big;
   terms.e_cv = big;
   terms.diff = diff;
-  update_small_full_metric(params, terms, 1.0, small);
-  EXPECT_EQ(small.metric_factor, start.metric_factor);
-  EXPECT_EQ(small.metric, start.metric);
-  EXPECT_EQ(small.log_alpha, start.log_alpha);
-  EXPECT_EQ(small.meta_trace, start.meta_trace);
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !has_avx2()) continue;
+    ReceptiveField small = start;
+    update_small_full_metric(params, terms, 1.0, small, avx2);
+    EXPECT_EQ(small.metric_factor, start.metric_factor);
+    EXPECT_EQ(small.metric, start.metric);
+    EXPECT_EQ(small.log_alpha, start.log_alpha);
+    EXPECT_EQ(small.meta_trace, start.meta_trace);
+  }
 }
 
 }  // namespace
