@@ -409,9 +409,8 @@ __attribute__((noinline)) void calc_rates(const double* log_alpha, double* alpha
   for (int k = 1; k < K; ++k) alpha[k] = log_alpha[k] == log_alpha[k - 1] ? alpha[k - 1] : std::exp(log_alpha[k]);
 }
 
-// step_full_factor() on the upper triangle in three passes: the log-rates (IDBD), their exp()
-// (back to back: no other value is live across the calls), then the steps, the safeguard and the
-// traces. Each element's operations are step_full_factor()'s in the same order (only the exp of
+// step_full_factor() on the upper triangle in three passes: the log-rates (IDBD), their exp() in
+// one call (calc_rates), then the steps, the safeguard and the traces. Each element's operations are step_full_factor()'s in the same order (only the exp of
 // one element's log-rate is shared with the next when they are equal, as there), so the same bits.
 template <int N>
 __attribute__((always_inline)) inline void step_small_factor(const LwprParams& params, const double* g,
@@ -494,7 +493,6 @@ __attribute__((always_inline)) inline void step_small_full_metric(const LwprPara
   std::copy(stepped, stepped + kSize, rf.metric_factor.data());
   std::copy(D_new, D_new + kSize, rf.metric.data());
 }
-
 
 // finish_field_update()'s metric part (update_small_full_field_metric()): the same operations in
 // the same order as its general code, then the step above, then the PRESS memory terms.
