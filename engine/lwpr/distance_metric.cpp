@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace armfarm::lwpr {
 namespace {
@@ -51,19 +52,20 @@ inline void multiply_factor_transposed(const double* m, int n_runtime, double* D
 }
 
 // Gradient (and with c ≠ nullptr the IDBD curvature) of J w.r.t. the full factor M (n×n, upper
-// triangle filled, lower set to 0), given md = M·diff. Row r's sums run over all n columns in
-// ascending order (M's lower zeros included), as Eigen's row products did; |M_r|² once per row.
+// triangle filled, lower set to 0; m = M, dd = D, both column-major), given d = x − c, md = M·d and
+// the kernel slopes at q. Row r's sums run over all n columns in ascending order (M's lower zeros
+// included), as Eigen's row products did; |M_r|² once per row.
 template <int N>
-void calc_full_gradient(const LwprParams& params, const ReceptiveField& rf, const double* d, const double* md,
-                        const MetricSample& sample, double dJ1_dw, double d2J1_dw2, double* g, double* c) {
-  const int n = dim<N>(rf.input_dim());
-  const double* m = rf.metric_factor.data();
-  const double* dd = rf.metric.data();
-  const KernelSlopes slopes = calc_kernel_slopes(params.kernel, sample.q);
+__attribute__((always_inline)) inline void calc_full_gradient(const LwprParams& params, const double* m,
+                                                              const double* dd, int n_runtime, const double* d,
+                                                              const double* md, double w, double W,
+                                                              const KernelSlopes& slopes, double dJ1_dw,
+                                                              double d2J1_dw2, double* g, double* c) {
+  const int n = dim<N>(n_runtime);
   const double dw_dq = slopes.dw_dq;
   const double d2w_dq2 = slopes.d2w_dq2;
   const double penalty = params.penalty / n;  // γ/n
-  const double penalty_weight = sample.w / sample.W;
+  const double penalty_weight = w / W;
   // q = |M d|²: ∂q/∂M_rl = 2(Md)_r d_l;  J2 = (γ/n)·tr(D²): ∂J2/∂M = 4(γ/n)·M D.
   for (int r = 0; r < n; ++r) {
     double row2 = m[r] * m[r];
@@ -112,13 +114,15 @@ void calc_full_metric_gradient(const LwprParams& params, const Eigen::VectorXd& 
     md = scratch.md.data();
   }
   double* curvature = params.meta ? scratch.curvature.data() : nullptr;
-  calc_full_gradient<N>(params, rf, diff.data(), md, sample, dJ1_dw, d2J1_dw2, scratch.grad.data(), curvature);
+  calc_full_gradient<N>(params, rf.metric_factor.data(), rf.metric.data(), n, diff.data(), md, sample.w, sample.W,
+                        calc_kernel_slopes(params.kernel, sample.q), dJ1_dw, d2J1_dw2, scratch.grad.data(),
+                        curvature);
 }
 
 // Step 2: whether the gradient's upper triangle is finite, and max|M| over the upper triangle
 // (the step safeguard's scale).
 template <int N>
-bool check_full_gradient(const double* g, const double* m, int n_runtime, double& max_abs) {
+__attribute__((always_inline)) inline bool check_full_gradient(const double* g, const double* m, int n_runtime, double& max_abs) {
   const int n = dim<N>(n_runtime);
   bool finite = true;
   max_abs = 0.0;
@@ -135,14 +139,14 @@ bool check_full_gradient(const double* g, const double* m, int n_runtime, double
 // (with meta learning log α first moves against the gradient's correlation with the trace); an
 // element whose step would exceed `bound` is skipped and its rate halved (the library's
 // safeguard); with meta learning the trace decays by the curvature and takes the applied step.
+// m, log_alpha_data and trace are M, log α and the IDBD trace (n×n, column-major).
 template <int N>
-void step_full_factor(const LwprParams& params, const double* g, const double* curvature, double transient,
-                      double bound, int n_runtime, ReceptiveField& rf) {
+__attribute__((always_inline)) inline void step_full_factor(const LwprParams& params, const double* g,
+                                                            const double* curvature, double transient, double bound,
+                                                            int n_runtime, double* m, double* log_alpha_data,
+                                                            double* trace) {
   const int n = dim<N>(n_runtime);
-  double* m = rf.metric_factor.data();
   const double log_half = std::log(0.5);
-  double* log_alpha_data = rf.log_alpha.data();
-  double* trace = rf.meta_trace.data();
   // Without meta learning the rates only change when a step is too large, so neighbouring elements
   // nearly always share one log-rate: exp() is evaluated only when the log-rate differs from the
   // previous element's (the same value, bit for bit, as evaluating it every time).
@@ -216,23 +220,37 @@ void update_full_metric(const LwprParams& params, const Eigen::VectorXd& diff, c
   const double* m = rf.metric_factor.data();
   for (int i = 0; i < n * n; ++i) old[i] = m[i];
   const double* curvature = params.meta ? scratch.curvature.data() : nullptr;
-  step_full_factor<N>(params, g, curvature, transient, 0.1 * max_abs, n, rf);
+  step_full_factor<N>(params, g, curvature, transient, 0.1 * max_abs, n, rf.metric_factor.data(), rf.log_alpha.data(),
+                      rf.meta_trace.data());
   accept_full_metric<N>(old, rf, scratch);
+}
+
+// J1 sums the leave-one-out errors of the R univariate regressions. Per projection r, with
+// P_r = 1/Σλws_r²: ∂J1/∂w ≈ −E/W² + (1/W)·Σ_r (e_cv,r² − 2 e_r P_r s_r H_r − 2 P_r² s_r² R_r),
+// where the H and R terms carry the effect of w on β_r and P_r for the samples already seen.
+// s, e, e_cv: the sample's R = rf.n_reg() projections, residuals and leave-one-out residuals (R
+// fixed at compile time if R > 0).
+template <int R>
+__attribute__((always_inline)) inline double calc_press_dw_of(const ReceptiveField& rf, const double* s,
+                                                              const double* e, const double* e_cv, double W,
+                                                              double E) {
+  const int n_reg = R > 0 ? R : rf.n_reg();
+  const double* ss2 = rf.ss2.data();
+  const double* press_H = rf.press_H.data();
+  const double* press_R = rf.press_R.data();
+  double sum = 0.0;
+  for (int r = 0; r < n_reg; ++r) {
+    const double ps = s[r] / ss2[r];
+    const double e_cv_r = e_cv[r];
+    sum += e_cv_r * e_cv_r - 2.0 * e[r] * ps * press_H[r] - 2.0 * ps * ps * press_R[r];
+  }
+  return -E / (W * W) + sum / W;
 }
 
 }  // namespace
 
 double calc_press_dw(const ReceptiveField& rf, const MetricSample& sample) {
-  // J1 sums the leave-one-out errors of the R univariate regressions. Per projection r, with
-  // P_r = 1/Σλws_r²: ∂J1/∂w ≈ −E/W² + (1/W)·Σ_r (e_cv,r² − 2 e_r P_r s_r H_r − 2 P_r² s_r² R_r),
-  // where the H and R terms carry the effect of w on β_r and P_r for the samples already seen.
-  double sum = 0.0;
-  for (int r = 0; r < rf.n_reg(); ++r) {
-    const double ps = sample.s(r) / rf.ss2(r);
-    const double e_cv = sample.e_cv(r);
-    sum += e_cv * e_cv - 2.0 * sample.e(r) * ps * rf.press_H(r) - 2.0 * ps * ps * rf.press_R(r);
-  }
-  return -sample.E / (sample.W * sample.W) + sum / sample.W;
+  return calc_press_dw_of<0>(rf, sample.s.data(), sample.e.data(), sample.e_cv.data(), sample.W, sample.E);
 }
 
 void calc_factor_product(const Eigen::MatrixXd& M, const Eigen::VectorXd& diff, Eigen::VectorXd& md) {
@@ -260,10 +278,22 @@ void calc_metric_gradient(const LwprParams& params, const ReceptiveField& rf, co
   double* c = curvature != nullptr ? curvature->data() : nullptr;
   if (!rf.diagonal()) {
     calc_factor_product(M, diff, md);
+    const KernelSlopes slopes = calc_kernel_slopes(params.kernel, sample.q);
+    const double* m = M.data();
+    const double* dd = rf.metric.data();
     switch (n) {
-      case 2: calc_full_gradient<2>(params, rf, diff.data(), md.data(), sample, dJ1_dw, d2J1_dw2, g, c); break;
-      case 3: calc_full_gradient<3>(params, rf, diff.data(), md.data(), sample, dJ1_dw, d2J1_dw2, g, c); break;
-      default: calc_full_gradient<0>(params, rf, diff.data(), md.data(), sample, dJ1_dw, d2J1_dw2, g, c); break;
+      case 2:
+        calc_full_gradient<2>(params, m, dd, n, diff.data(), md.data(), sample.w, sample.W, slopes, dJ1_dw, d2J1_dw2,
+                              g, c);
+        break;
+      case 3:
+        calc_full_gradient<3>(params, m, dd, n, diff.data(), md.data(), sample.w, sample.W, slopes, dJ1_dw, d2J1_dw2,
+                              g, c);
+        break;
+      default:
+        calc_full_gradient<0>(params, m, dd, n, diff.data(), md.data(), sample.w, sample.W, slopes, dJ1_dw, d2J1_dw2,
+                              g, c);
+        break;
     }
     return;
   }
@@ -354,6 +384,234 @@ void update_diagonal_metric(const LwprParams& params, const Eigen::VectorXd& dif
 }
 
 }  // namespace
+
+namespace {
+
+// The fixed-size path of a full metric with N = 2 or 3 inputs and R projections (both known at
+// compile time: every loop unrolls, no alias checks, the values stay in registers).
+
+// Whether every value is finite: x·0 is ±0 for a finite x and NaN for ±∞ or NaN, so the sum is
+// NaN exactly when a value is not finite (no overflow: the products are zeros). The same answer
+// as std::isfinite() of each, in two operations per value.
+template <int K>
+__attribute__((always_inline)) inline bool all_finite(const double* v) {
+  double zero = 0.0;
+  for (int i = 0; i < K; ++i) zero += v[i] * 0.0;
+  return zero == zero;
+}
+
+// α_k = exp(log α_k), k < K; exp() once per run of equal log-rates, as step_full_factor() (the same
+// values either way). Not inlined: the caller's live values are saved once around this call, not
+// around each exp() (every vector register is caller-saved).
+template <int K>
+__attribute__((noinline)) void calc_rates(const double* log_alpha, double* alpha) {
+  alpha[0] = std::exp(log_alpha[0]);
+  for (int k = 1; k < K; ++k) alpha[k] = log_alpha[k] == log_alpha[k - 1] ? alpha[k - 1] : std::exp(log_alpha[k]);
+}
+
+// step_full_factor() on the upper triangle in three passes: the log-rates (IDBD), their exp() in
+// one call (calc_rates), then the steps, the safeguard and the traces. Each element's operations are step_full_factor()'s in the same order (only the exp of
+// one element's log-rate is shared with the next when they are equal, as there), so the same bits.
+template <int N>
+__attribute__((always_inline)) inline void step_small_factor(const LwprParams& params, const double* g,
+                                                             const double* curvature, double transient, double bound,
+                                                             double* m, double* log_alpha_data, double* trace) {
+  constexpr int kUpper = N * (N + 1) / 2;
+  int at[kUpper];
+  for (int col = 0, k = 0; col < N; ++col) {
+    for (int row = 0; row <= col; ++row, ++k) at[k] = row + col * N;
+  }
+  double log_alpha[kUpper], alpha[kUpper];
+  for (int k = 0; k < kUpper; ++k) {
+    log_alpha[k] = log_alpha_data[at[k]];
+    if (params.meta) {
+      const double change = std::clamp(-params.meta_rate * g[at[k]] * trace[at[k]], -0.1, 0.1);
+      log_alpha[k] = std::clamp(log_alpha[k] + change, -10.0, 10.0);
+    }
+  }
+  calc_rates<kUpper>(log_alpha, alpha);
+  const double log_half = std::log(0.5);
+  for (int k = 0; k < kUpper; ++k) {
+    const double step = alpha[k] * transient * g[at[k]];
+    double applied = 0.0;
+    if (std::abs(step) > bound) {
+      log_alpha[k] += log_half;  // too large a step: halve the rate, skip this element
+    } else {
+      m[at[k]] -= step;
+      applied = -step;
+    }
+    if (params.meta) {
+      const double decay = std::max(0.0, 1.0 - alpha[k] * curvature[at[k]]);
+      trace[at[k]] = trace[at[k]] * decay + applied;
+    }
+    log_alpha_data[at[k]] = log_alpha[k];
+  }
+}
+
+// update_distance_metric()'s steps on locals: dJ1/dw, M·(x−c) and the gradient (step 1), its
+// check and max|M| (step 2), the step (3) on a copy of M, D = MᵀM and its check (4); M, D, log α
+// and the trace are written as the general step leaves them.
+template <int N, int R>
+__attribute__((always_inline)) inline void step_small_full_metric(const LwprParams& params,
+                                                                  const SmallMetricSample& sample, double transient,
+                                                                  ReceptiveField& rf) {
+  static_assert(N == 2 || N == 3, "the fixed-size full metric step is for 2 or 3 inputs");
+  static_assert(R >= 1 && R <= N, "1 to N projections");
+  constexpr int kSize = N * N;
+  const double dJ1_dw = calc_press_dw_of<R>(rf, sample.s, sample.e, sample.e_cv, sample.W, sample.E);
+  const double d2J1_dw2 = 2.0 * sample.e_cv2 / (sample.W * sample.W);
+  const double* m = rf.metric_factor.data();  // read only; the step works on a copy
+  const double* dd = rf.metric.data();
+  double g[kSize], c[kSize];
+  double md[N];
+  multiply_factor<N>(m, sample.diff, N, md);  // calc_factor_product's
+  KernelSlopes slopes;
+  if (params.kernel == Kernel::kGaussian) {
+    slopes = {-0.5 * sample.w, 0.25 * sample.w};  // calc_kernel_slopes() at q, whose exp(−q/2) is w
+  } else {
+    double q = md[0] * md[0];  // md's squaredNorm: Eigen sums up to 3 elements in ascending order
+    for (int r = 1; r < N; ++r) q += md[r] * md[r];
+    slopes = calc_kernel_slopes(params.kernel, q);
+  }
+  double* curvature = params.meta ? c : nullptr;
+  calc_full_gradient<N>(params, m, dd, N, sample.diff, md, sample.w, sample.W, slopes, dJ1_dw, d2J1_dw2, g, curvature);
+  double max_abs = 0.0;
+  if (!check_full_gradient<N>(g, m, N, max_abs)) return;  // a degenerate sample: keep the metric as it is
+  double stepped[kSize];
+  std::copy(m, m + kSize, stepped);
+  step_small_factor<N>(params, g, curvature, transient, 0.1 * max_abs, stepped, rf.log_alpha.data(),
+                       rf.meta_trace.data());
+  double D_new[kSize];
+  multiply_factor_transposed<N>(stepped, N, D_new);
+  // D_new is symmetric (each pair computed once), so its upper triangle decides for all of it.
+  double checked[N * (N + 1) / 2 + kSize];
+  for (int col = 0, k = 0; col < N; ++col) {
+    for (int row = 0; row <= col; ++row, ++k) checked[k] = D_new[row + col * N];
+  }
+  std::copy(stepped, stepped + kSize, checked + N * (N + 1) / 2);
+  if (!all_finite<N * (N + 1) / 2 + kSize>(checked)) return;  // never a NaN metric: M stays as it was
+  std::copy(stepped, stepped + kSize, rf.metric_factor.data());
+  std::copy(D_new, D_new + kSize, rf.metric.data());
+}
+
+// finish_field_update()'s metric part (update_small_full_field_metric()): the same operations in
+// the same order as its general code, then the step above, then the PRESS memory terms.
+template <int N, int R>
+__attribute__((always_inline)) inline void update_small_full_field_metric_of(const LwprParams& params,
+                                                                             const Eigen::VectorXd& x, double w,
+                                                                             const FieldScratch& scratch,
+                                                                             ReceptiveField& rf) {
+  const double lambda = rf.lambda;
+  const double* residual = scratch.residual.data();
+  const double* one_minus_h = scratch.one_minus_h.data();
+  const double* s = scratch.s.data();
+  double e_cv[R];
+  for (int r = 0; r < R; ++r) e_cv[r] = residual[r] / one_minus_h[r];  // projection r's own residual
+  const double e = residual[R - 1];
+  rf.sum_e2 = lambda * rf.sum_e2 + w * e * e;
+  double e_cv2 = e_cv[0] * e_cv[0];  // e_cv.head(R).squaredNorm(): Eigen sums up to 3 in ascending order
+  for (int r = 1; r < R; ++r) e_cv2 += e_cv[r] * e_cv[r];
+  const double press_E = lambda * rf.press_E + w * e_cv2;
+  rf.press_E = press_E;
+  double diff[N];
+  const double* xp = x.data();
+  const double* c = rf.center.data();
+  for (int k = 0; k < N; ++k) diff[k] = xp[k] - c[k];
+  SmallMetricSample sample;
+  sample.w = w;
+  sample.W = rf.sum_w(0);
+  sample.E = press_E;
+  sample.e_cv2 = e_cv2;
+  sample.s = s;
+  sample.e = residual;
+  sample.e_cv = e_cv;
+  sample.diff = diff;
+  // The library's transient multiplier: small steps while the leave-one-out error is still much
+  // larger than the fitted error (a young or changing field).
+  const double ratio = rf.sum_e2 / (rf.sum_e_cv2(R - 1) + 1e-10);
+  const double transient = std::min(1.0, ratio * ratio * ratio * ratio);
+  step_small_full_metric<N, R>(params, sample, transient, rf);
+  double H[R], Rm[R];
+  for (int r = 0; r < R; ++r) {
+    H[r] = lambda * rf.press_H(r) + w * s[r] * e_cv[r] / one_minus_h[r];
+    Rm[r] = lambda * rf.press_R(r) + w * w * s[r] * s[r] * e_cv[r] * e_cv[r] / one_minus_h[r];
+  }
+  for (int r = 0; r < R; ++r) {
+    rf.press_H(r) = H[r];
+    rf.press_R(r) = Rm[r];
+  }
+}
+
+// Each (n, R) compiled twice: for SSE2 and for AVX2 (target("avx2") without FMA: the same
+// operations with three-operand encodings, so the same bits and fewer register copies).
+template <int N, int R>
+void update_small_full_metric_sse2(const LwprParams& params, const SmallMetricSample& sample, double transient,
+                                   ReceptiveField& rf) {
+  step_small_full_metric<N, R>(params, sample, transient, rf);
+}
+template <int N, int R>
+__attribute__((target("avx2"))) void update_small_full_metric_avx2(const LwprParams& params,
+                                                                   const SmallMetricSample& sample, double transient,
+                                                                   ReceptiveField& rf) {
+  step_small_full_metric<N, R>(params, sample, transient, rf);
+}
+template <int N, int R>
+void update_small_full_field_metric_sse2(const LwprParams& params, const Eigen::VectorXd& x, double w,
+                                         const FieldScratch& scratch, ReceptiveField& rf) {
+  update_small_full_field_metric_of<N, R>(params, x, w, scratch, rf);
+}
+template <int N, int R>
+__attribute__((target("avx2"))) void update_small_full_field_metric_avx2(const LwprParams& params,
+                                                                         const Eigen::VectorXd& x, double w,
+                                                                         const FieldScratch& scratch,
+                                                                         ReceptiveField& rf) {
+  update_small_full_field_metric_of<N, R>(params, x, w, scratch, rf);
+}
+
+template <int N, int R>
+void step_small(bool avx2, const LwprParams& params, const SmallMetricSample& sample, double transient,
+                ReceptiveField& rf) {
+  if (avx2) {
+    update_small_full_metric_avx2<N, R>(params, sample, transient, rf);
+  } else {
+    update_small_full_metric_sse2<N, R>(params, sample, transient, rf);
+  }
+}
+template <int N, int R>
+void update_small(const LwprParams& params, const Eigen::VectorXd& x, double w, const FieldScratch& scratch,
+                  ReceptiveField& rf) {
+  if (scratch.use_avx2) {
+    update_small_full_field_metric_avx2<N, R>(params, x, w, scratch, rf);
+  } else {
+    update_small_full_field_metric_sse2<N, R>(params, x, w, scratch, rf);
+  }
+}
+
+}  // namespace
+
+void update_small_full_metric(const LwprParams& params, const SmallMetricSample& sample, double transient,
+                              ReceptiveField& rf, bool use_avx2) {
+  switch (rf.input_dim() * 4 + rf.n_reg()) {
+    case 2 * 4 + 1: step_small<2, 1>(use_avx2, params, sample, transient, rf); break;
+    case 2 * 4 + 2: step_small<2, 2>(use_avx2, params, sample, transient, rf); break;
+    case 3 * 4 + 1: step_small<3, 1>(use_avx2, params, sample, transient, rf); break;
+    case 3 * 4 + 2: step_small<3, 2>(use_avx2, params, sample, transient, rf); break;
+    case 3 * 4 + 3: step_small<3, 3>(use_avx2, params, sample, transient, rf); break;
+    default: throw std::invalid_argument("update_small_full_metric: a full metric of 2 or 3 inputs only");
+  }
+}
+
+void update_small_full_field_metric(const LwprParams& params, const Eigen::VectorXd& x, double w,
+                                    const FieldScratch& scratch, ReceptiveField& rf) {
+  switch (rf.input_dim() * 4 + rf.n_reg()) {
+    case 2 * 4 + 1: update_small<2, 1>(params, x, w, scratch, rf); break;
+    case 2 * 4 + 2: update_small<2, 2>(params, x, w, scratch, rf); break;
+    case 3 * 4 + 1: update_small<3, 1>(params, x, w, scratch, rf); break;
+    case 3 * 4 + 2: update_small<3, 2>(params, x, w, scratch, rf); break;
+    case 3 * 4 + 3: update_small<3, 3>(params, x, w, scratch, rf); break;
+    default: throw std::invalid_argument("update_small_full_field_metric: a full metric of 2 or 3 inputs only");
+  }
+}
 
 void update_distance_metric(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
                             double transient, ReceptiveField& rf, FieldScratch& scratch) {

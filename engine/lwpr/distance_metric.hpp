@@ -48,6 +48,39 @@ void calc_metric_gradient(const LwprParams& params, const ReceptiveField& rf, co
 void update_distance_metric(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,
                             double transient, ReceptiveField& rf, FieldScratch& scratch);
 
+/// What the fixed-size metric step of a full metric with N = 2 or 3 inputs reads
+/// (update_small_full_metric): the MetricSample's terms in arrays (R = rf.n_reg() ≤ N entries of
+/// s, e and e_cv, N of diff).
+struct SmallMetricSample {
+  double w = 0.0;          ///< activation of the sample: calc_kernel() of q = |M(x−c)|² (see below)
+  double W = 0.0;          ///< Σλw including the sample
+  double E = 0.0;          ///< Σλw Σ_r e_cv,r² including the sample
+  double e_cv2 = 0.0;      ///< Σ_r e_cv,r² of the sample, summed in ascending r
+  const double* s = nullptr;
+  const double* e = nullptr;
+  const double* e_cv = nullptr;
+  const double* diff = nullptr;  ///< x − c
+};
+
+/// update_distance_metric() for a full metric of 2 or 3 inputs (n = rf.input_dim(), R = rf.n_reg())
+/// compiled for each n and R: the same operations in the same order as the general step (M·(x−c),
+/// dJ1/dw, gradient, curvature, safeguard, IDBD step, D = MᵀM), so the same bits, but for the
+/// Gaussian kernel's slopes: they come from sample.w, which must be exp(−q/2) of q = |M(x−c)|² with
+/// each row and the sum of squares in ascending order (the activation calc_activation() and the
+/// model's scan give; the general step evaluates that exp again). With use_avx2 (only on a CPU
+/// that has it, has_avx2()) the copy compiled for AVX2 runs, the same bits. Throws
+/// std::invalid_argument for another n.
+void update_small_full_metric(const LwprParams& params, const SmallMetricSample& sample, double transient,
+                              ReceptiveField& rf, bool use_avx2);
+
+/// What update_receptive_field() does for the metric of a full metric of 2 or 3 inputs after the
+/// leave-one-out sums (update_D, the start rule passed): the sample's leave-one-out residuals from
+/// scratch (s, residual, one_minus_h), sum_e2, press_E, the transient multiplier, the step of
+/// update_small_full_metric() and the PRESS memory terms; the same bits as the general code, w the
+/// field's activation as there. The AVX2 copy runs if scratch.use_avx2.
+void update_small_full_field_metric(const LwprParams& params, const Eigen::VectorXd& x, double w,
+                                    const FieldScratch& scratch, ReceptiveField& rf);
+
 /// md = M·diff for an upper triangular n×n factor M (n): the full metric's part of q = |M·diff|².
 void calc_factor_product(const Eigen::MatrixXd& M, const Eigen::VectorXd& diff, Eigen::VectorXd& md);
 

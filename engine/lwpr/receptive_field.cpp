@@ -684,6 +684,45 @@ void update_field_statistics(const Eigen::VectorXd& x, double y, double w, Recep
   }
 }
 
+// finish_field_update()'s metric part (update_D, past the start rule): the sample's own
+// leave-one-out residuals, sum_e2, press_E, the transient multiplier, the metric step and the
+// PRESS memory terms.
+void update_field_metric(const LwprParams& params, const Eigen::VectorXd& x, double w, ReceptiveField& rf,
+                         FieldScratch& scratch) {
+  const double lambda = rf.lambda;
+  const int n_reg = rf.n_reg();
+  const double e = scratch.residual(n_reg - 1);
+  for (int r = 0; r < n_reg; ++r) {  // projection r's own leave-one-out residual
+    scratch.e_cv(r) = scratch.residual(r) / scratch.one_minus_h(r);
+  }
+  rf.sum_e2 = lambda * rf.sum_e2 + w * e * e;
+  rf.press_E = lambda * rf.press_E + w * scratch.e_cv.head(n_reg).squaredNorm();
+  MetricSample sample(scratch.s, scratch.residual, scratch.e_cv);
+  sample.w = w;
+  scratch.diff = x - rf.center;
+  if (rf.diagonal()) {
+    sample.q = rf.metric.col(0).dot(scratch.diff.cwiseAbs2());
+  } else {
+    calc_factor_product(rf.metric_factor, scratch.diff, scratch.md);
+    sample.q = scratch.md.squaredNorm();
+    sample.md = &scratch.md;  // the metric step's M·(x − c): M is unchanged until then
+  }
+  sample.W = rf.sum_w(0);
+  sample.E = rf.press_E;
+  // The library's transient multiplier: small steps while the leave-one-out error is still
+  // much larger than the fitted error (a young or changing field).
+  const double ratio = rf.sum_e2 / (rf.sum_e_cv2(n_reg - 1) + 1e-10);
+  const double transient = std::min(1.0, ratio * ratio * ratio * ratio);
+  update_distance_metric(params, scratch.diff, sample, transient, rf, scratch);
+  for (int r = 0; r < n_reg; ++r) {
+    const double s = scratch.s(r);
+    const double e_cv = scratch.e_cv(r);
+    const double one_minus_h = scratch.one_minus_h(r);
+    rf.press_H(r) = lambda * rf.press_H(r) + w * s * e_cv / one_minus_h;
+    rf.press_R(r) = lambda * rf.press_R(r) + w * w * s * s * e_cv * e_cv / one_minus_h;
+  }
+}
+
 // What update_receptive_field() does after the statistics: the leave-one-out sums, the metric
 // step, the add-projection test, λ's annealing and the trust flag.
 void finish_field_update(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double w,
@@ -698,7 +737,6 @@ void finish_field_update(const LwprParams& params, double trust_n_data, const Ei
   const double library_n = 0.1 / std::max(1.0 - lambda, 1e-12);
   const double ready_n = params.loo_start == LooStart::kEarly ? std::min(library_n, 4.0 * (n_reg + 1)) : library_n;
   if (rf.n_data(0) > ready_n) {
-    const double e = scratch.residual(n_reg - 1);
     // Leave-one-out error of the model with r+1 projections, for the add_threshold rule.
     double leverage_r = 0.0;
     for (int r = 0; r < n_reg; ++r) {
@@ -709,34 +747,10 @@ void finish_field_update(const LwprParams& params, double trust_n_data, const Ei
     // The rest feeds the metric step only: without update_D it is never read (a model's
     // parameters are fixed, in its file too), so sum_e2, press_E, press_H and press_R stay 0.
     if (params.update_D) {
-      for (int r = 0; r < n_reg; ++r) {  // projection r's own leave-one-out residual
-        scratch.e_cv(r) = scratch.residual(r) / scratch.one_minus_h(r);
-      }
-      rf.sum_e2 = lambda * rf.sum_e2 + w * e * e;
-      rf.press_E = lambda * rf.press_E + w * scratch.e_cv.head(n_reg).squaredNorm();
-      MetricSample sample(scratch.s, scratch.residual, scratch.e_cv);
-      sample.w = w;
-      scratch.diff = x - rf.center;
-      if (rf.diagonal()) {
-        sample.q = rf.metric.col(0).dot(scratch.diff.cwiseAbs2());
+      if (rf.input_dim() <= 3 && !rf.diagonal() && scratch.small_full_metric) {
+        update_small_full_field_metric(params, x, w, scratch, rf);  // the same bits as update_field_metric()
       } else {
-        calc_factor_product(rf.metric_factor, scratch.diff, scratch.md);
-        sample.q = scratch.md.squaredNorm();
-        sample.md = &scratch.md;  // the metric step's M·(x − c): M is unchanged until then
-      }
-      sample.W = rf.sum_w(0);
-      sample.E = rf.press_E;
-      // The library's transient multiplier: small steps while the leave-one-out error is still
-      // much larger than the fitted error (a young or changing field).
-      const double ratio = rf.sum_e2 / (rf.sum_e_cv2(n_reg - 1) + 1e-10);
-      const double transient = std::min(1.0, ratio * ratio * ratio * ratio);
-      update_distance_metric(params, scratch.diff, sample, transient, rf, scratch);
-      for (int r = 0; r < n_reg; ++r) {
-        const double s = scratch.s(r);
-        const double e_cv = scratch.e_cv(r);
-        const double one_minus_h = scratch.one_minus_h(r);
-        rf.press_H(r) = lambda * rf.press_H(r) + w * s * e_cv / one_minus_h;
-        rf.press_R(r) = lambda * rf.press_R(r) + w * w * s * s * e_cv * e_cv / one_minus_h;
+        update_field_metric(params, x, w, rf, scratch);
       }
     }
   }

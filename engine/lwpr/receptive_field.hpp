@@ -72,6 +72,10 @@ struct FieldScratch {
   /// With use_avx2, the field update of 21 inputs on AVX-512 (the same bits; has_avx512() by
   /// default, tests compare it with AVX2 and SSE2).
   bool use_avx512 = has_avx512();
+  /// The metric step of a full metric with 2 or 3 inputs, with its leave-one-out glue, on
+  /// fixed-size arrays (update_small_full_field_metric). It gives the same bits as the general
+  /// code, which tests run by clearing this.
+  bool small_full_metric = true;
   void resize(int n, bool diagonal);
 };
 
@@ -117,12 +121,15 @@ double predict_receptive_field_value(const ReceptiveField& rf, const Eigen::Vect
 /// The field's leave-one-out estimate of the output noise variance (normalised units²).
 double calc_field_noise_variance(const ReceptiveField& rf);
 
-/// Learns one sample (x, y) (normalised) seen with activation w > 0 (computed with the current
-/// metric): updates the means, the PLS projections and regressions, the leave-one-out error
-/// statistics, the distance metric (if params.update_D), adds a projection when the add_threshold
-/// rule says so, and anneals λ. n_data counts samples (forgetting-discounted, Σλ·1), whatever
-/// their activation; sum_w sums activations. `trust_n_data` is the sample count after which the
-/// field predicts.
+/// Learns one sample (x, y) (normalised) seen with activation w > 0. w must be computed with the
+/// current metric, as calc_kernel() of q = (x−c)ᵀD(x−c); for a full metric q = |M(x−c)|², each
+/// row of M(x−c) and the sum of squares in ascending order, as calc_activation() and the model's
+/// scan compute it. A full metric's step of 2 or 3 inputs with the Gaussian kernel takes w itself
+/// as exp(−q/2), which gives the same bits. Updates the means, the PLS projections and
+/// regressions, the leave-one-out error statistics, the distance metric (if params.update_D),
+/// adds a projection when the add_threshold rule says so, and anneals λ. n_data counts samples
+/// (forgetting-discounted, Σλ·1), whatever their activation; sum_w sums activations.
+/// `trust_n_data` is the sample count after which the field predicts.
 void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x,
                             double y, double w, ReceptiveField& rf, FieldScratch& scratch);
 

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
+#include <string>
 
 namespace armfarm::lwpr {
 namespace {
@@ -209,6 +211,123 @@ TEST(DistanceMetric, FullStepGivenTheFactorProductMatchesTheStepThatMultipliesBi
       const Eigen::VectorXd perturbed = 1.5 * md;
       EXPECT_NE(step(&perturbed).metric_factor, computed.metric_factor) << "n " << n << " meta " << meta;
     }
+  }
+}
+
+}  // namespace
+}  // namespace armfarm::lwpr
+
+namespace armfarm::lwpr {
+namespace {
+
+// The fixed-size step of a full metric with 2 or 3 inputs (update_small_full_metric, SSE2 and AVX2
+// copies) against the general one (update_distance_metric) on the same terms, w = exp(−q/2) of the q the general step
+// is given: M, D, log α and the trace the same bits, with and without meta learning, for both
+// kernels, at random metrics, samples and field memories; and a degenerate sample (a gradient that
+// is not finite) leaves both unchanged.
+TEST(DistanceMetric, SmallFullStepMatchesTheGeneralStepBitForBit) {
+  std::srand(23);
+  int steps = 0, skipped = 0;
+  for (const Kernel kernel : {Kernel::kGaussian, Kernel::kBisquare}) {
+    for (const bool meta : {false, true}) {
+      for (const int n : {2, 3}) {
+        for (int trial = 0; trial < 200; ++trial) {
+          LwprParams params;
+          params.kernel = kernel;
+          params.penalty = 1e-3;
+          params.meta = meta;
+          params.diag_only = false;
+          const Eigen::MatrixXd A = Eigen::MatrixXd::Random(n, n);
+          const Eigen::MatrixXd D = 4.0 * (A.transpose() * A) + Eigen::MatrixXd::Identity(n, n);
+          params.init_n_reg = 1;
+          ReceptiveField start = make_receptive_field(params, Eigen::VectorXd::Zero(n), D);
+          const int n_reg = 1 + trial % n;  // R = 1 … n
+          while (start.n_reg() < n_reg) add_projection(params, start);
+          start.ss2 = Eigen::VectorXd::Random(n_reg).cwiseAbs() + Eigen::VectorXd::Constant(n_reg, 0.1);
+          start.press_H = Eigen::VectorXd::Random(n_reg);
+          start.press_R = Eigen::VectorXd::Random(n_reg).cwiseAbs();
+          start.log_alpha.triangularView<Eigen::Upper>() =
+              Eigen::MatrixXd::Random(n, n) + Eigen::MatrixXd::Constant(n, n, std::log(50.0));
+          if (meta) start.meta_trace.triangularView<Eigen::Upper>() = 1e-3 * Eigen::MatrixXd::Random(n, n);
+          const Eigen::VectorXd diff = (trial % 2 == 0 ? 0.2 : 0.6) * Eigen::VectorXd::Random(n);
+          const Eigen::VectorXd s = Eigen::VectorXd::Random(n_reg), e = 0.5 * Eigen::VectorXd::Random(n_reg);
+          const Eigen::VectorXd e_cv = 1.2 * e;
+          Eigen::VectorXd md;
+          calc_factor_product(start.metric_factor, diff, md);
+          const double q = md.squaredNorm();
+          const double w = calc_kernel(kernel, q);
+          if (!(w > 0.0)) continue;
+          const double W = 2.0 + 10.0 * std::abs(Eigen::VectorXd::Random(1)(0));
+          const double E = W * (0.1 + e_cv.squaredNorm());
+          const double transient = trial % 3 == 0 ? 1.0 : 0.3;
+
+          ReceptiveField general = start;
+          FieldScratch scratch;
+          scratch.resize(n, false);
+          MetricSample sample(s, e, e_cv);
+          sample.w = w;
+          sample.q = q;
+          sample.W = W;
+          sample.E = E;
+          update_distance_metric(params, diff, sample, transient, general, scratch);
+
+          SmallMetricSample terms;
+          terms.w = w;
+          terms.W = W;
+          terms.E = E;
+          terms.e_cv2 = e_cv.squaredNorm();
+          terms.s = s.data();
+          terms.e = e.data();
+          terms.e_cv = e_cv.data();
+          terms.diff = diff.data();
+          for (const bool avx2 : {false, true}) {
+            if (avx2 && !has_avx2()) continue;
+            ReceptiveField small = start;
+            update_small_full_metric(params, terms, transient, small, avx2);
+            const std::string where = "n " + std::to_string(n) + " meta " + std::to_string(meta) + " kernel " +
+                                      std::to_string(static_cast<int>(kernel)) + " trial " + std::to_string(trial) +
+                                      (avx2 ? " AVX2" : " SSE2");
+            const auto same = [n](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+              return std::memcmp(a.data(), b.data(), sizeof(double) * n * n) == 0;
+            };
+            EXPECT_TRUE(same(small.metric_factor, general.metric_factor)) << where;
+            EXPECT_TRUE(same(small.metric, general.metric)) << where;
+            EXPECT_TRUE(same(small.log_alpha, general.log_alpha)) << where;
+            EXPECT_TRUE(same(small.meta_trace, general.meta_trace)) << where;
+          }
+          steps += general.metric_factor != start.metric_factor ? 1 : 0;
+          if (!meta && general.log_alpha != start.log_alpha) ++skipped;  // the safeguard halved a rate
+        }
+      }
+    }
+  }
+  EXPECT_GT(steps, 1000);   // most samples move the metric
+  EXPECT_GT(skipped, 10);   // and some steps were too large (rate halved, element skipped)
+
+  // A gradient that is not finite: no step, in both.
+  LwprParams params;
+  params.diag_only = false;
+  params.meta = true;
+  const ReceptiveField start = make_receptive_field(params, Eigen::Vector2d::Zero(), Eigen::Matrix2d::Identity() * 4.0);
+  const double big[2] = {1e300, 1e300};
+  const double diff[2] = {0.5, 0.5};
+  SmallMetricSample terms;
+  terms.w = std::exp(-0.5 * 4.0 * 0.5);
+  terms.W = 1e-300;
+  terms.E = 1e300;
+  terms.e_cv2 = std::numeric_limits<double>::infinity();
+  terms.s = big;
+  terms.e = big;
+  terms.e_cv = big;
+  terms.diff = diff;
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !has_avx2()) continue;
+    ReceptiveField small = start;
+    update_small_full_metric(params, terms, 1.0, small, avx2);
+    EXPECT_EQ(small.metric_factor, start.metric_factor);
+    EXPECT_EQ(small.metric, start.metric);
+    EXPECT_EQ(small.log_alpha, start.log_alpha);
+    EXPECT_EQ(small.meta_trace, start.meta_trace);
   }
 }
 

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace armfarm::lwpr {
@@ -538,6 +539,93 @@ TEST(ReceptiveField, Avx512FieldUpdateMatchesAvx2AndSse2BitForBit) {
         ASSERT_EQ(expected.size(), actual.size()) << field << ", " << names[c];
         EXPECT_EQ(std::memcmp(expected.data(), actual.data(), expected.size() * sizeof(double)), 0)
             << field << ": AVX-512 against " << names[c] << ", update_D " << update_d;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace armfarm::lwpr
+
+namespace armfarm::lwpr {
+namespace {
+
+// A full metric's leave-one-out sums and metric step with 2 or 3 inputs on fixed-size arrays
+// (FieldScratch::small_full_metric, the default) against the general code (the flag cleared):
+// every statistic the same bits after the same stream, single and pair updates, with and without
+// meta learning, for both kernels, the SSE2 and AVX2 copies, with w the field's own activation (calc_activation(), which
+// sums q as the model's scan does; the fixed-size step takes the Gaussian's exp(−q/2) from w).
+// At n = 3 a projection is added on the way.
+TEST(ReceptiveField, SmallFullMetricUpdateMatchesTheGeneralUpdateBitForBit) {
+  for (const int n : {2, 3}) {
+    for (const bool meta : {false, true}) {
+      for (const Kernel kernel : {Kernel::kGaussian, Kernel::kBisquare}) {
+        for (const bool avx2 : {false, true}) {
+          if (avx2 && !has_avx2()) continue;
+          LwprParams params;
+          params.diag_only = false;
+          params.update_D = true;
+          params.meta = meta;
+          params.kernel = kernel;
+          params.init_lambda = 0.99;
+          params.add_threshold = 0.9;  // add projections readily
+          params.penalty = 1e-4;
+          std::mt19937_64 rng(static_cast<unsigned>(31 * n + 2 * meta + static_cast<int>(kernel)));
+          std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+          Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return uniform(rng); });
+          const Eigen::MatrixXd D = 3.0 * Eigen::MatrixXd::Identity(n, n) + A.transpose() * A;
+          const Eigen::VectorXd c_b = Eigen::VectorXd::Constant(n, 0.1);
+          const ReceptiveField start[2] = {make_receptive_field(params, Eigen::VectorXd::Zero(n), D),
+                                           make_receptive_field(params, c_b, 0.5 * D)};
+          ReceptiveField general[2] = {start[0], start[1]}, small[2] = {start[0], start[1]};
+          ReceptiveField general_pair[2] = {start[0], start[1]}, small_pair[2] = {start[0], start[1]};
+          FieldScratch scratch[4];
+          for (int k = 0; k < 4; ++k) {
+            scratch[k].resize(n, false);
+            scratch[k].small_full_metric = k >= 2;  // 0, 1 general; 2, 3 fixed-size
+            scratch[k].use_avx2 = avx2;
+          }
+          int updates = 0;
+          for (int i = 0; i < 3000; ++i) {
+            const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(n, [&] { return 0.4 * uniform(rng); });
+            const double y = std::sin(3.0 * x(0)) + x(1) * x(n - 1) + 0.05 * uniform(rng);
+            for (int k = 0; k < 2; ++k) {
+              const double w_general = calc_activation(general[k], kernel, x, 0.0, scratch[0]);
+              const double w_small = calc_activation(small[k], kernel, x, 0.0, scratch[2]);
+              if (w_general > 0.0) update_receptive_field(params, 2.0 * n, x, y, w_general, general[k], scratch[0]);
+              if (w_small > 0.0) update_receptive_field(params, 2.0 * n, x, y, w_small, small[k], scratch[2]);
+              updates += w_general > 0.0 ? 1 : 0;
+            }
+            const double wg[2] = {calc_activation(general_pair[0], kernel, x, 0.0, scratch[0]),
+                                  calc_activation(general_pair[1], kernel, x, 0.0, scratch[0])};
+            const double ws[2] = {calc_activation(small_pair[0], kernel, x, 0.0, scratch[2]),
+                                  calc_activation(small_pair[1], kernel, x, 0.0, scratch[2])};
+            if (wg[0] > 0.0 && wg[1] > 0.0) {
+              update_receptive_field_pair(params, 2.0 * n, x, y, wg[0], general_pair[0], scratch[0], wg[1],
+                                          general_pair[1], scratch[1]);
+            }
+            if (ws[0] > 0.0 && ws[1] > 0.0) {
+              update_receptive_field_pair(params, 2.0 * n, x, y, ws[0], small_pair[0], scratch[2], ws[1], small_pair[1],
+                                          scratch[3]);
+            }
+          }
+          const std::string where = "n = " + std::to_string(n) + ", meta " + std::to_string(meta) + ", kernel " +
+                                    std::to_string(static_cast<int>(kernel)) + (avx2 ? ", AVX2" : ", SSE2");
+          EXPECT_GT(updates, 3000) << where;
+          if (n == 3) {
+            EXPECT_GT(general[0].n_reg(), params.init_n_reg) << where << ": no projection was added";
+          }
+          for (int k = 0; k < 2; ++k) {
+            EXPECT_NE(general[k].metric_factor, start[k].metric_factor) << where << ": the metric never moved";
+            const std::pair<const ReceptiveField*, const ReceptiveField*> compared[2] = {
+                {&general[k], &small[k]}, {&general_pair[k], &small_pair[k]}};
+            for (const auto& [a, b] : compared) {
+              const std::vector<double> fa = flatten_field(*a), fb = flatten_field(*b);
+              ASSERT_EQ(fa.size(), fb.size()) << where << ", field " << k;
+              EXPECT_EQ(std::memcmp(fa.data(), fb.data(), fa.size() * sizeof(double)), 0) << where << ", field " << k;
+            }
+          }
+        }
       }
     }
   }
