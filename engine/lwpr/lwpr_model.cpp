@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <typeinfo>
 #include <utility>
 
 namespace armfarm::lwpr {
@@ -528,23 +529,37 @@ OutputBlend blend_fields(const LwprParams& params, const std::vector<ReceptiveFi
 
 void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail,
                              bool with_bounds, Prediction& prediction) const {
-  require_vector(x, n_in_, "x");
-  auto* ws = dynamic_cast<LwprWorkspace*>(&workspace);
-  if (ws == nullptr) throw std::invalid_argument("LWPR: predict() needs a workspace from make_workspace()");
-  ws->x_normalised = x.cwiseQuotient(norm_in_);
-  const Eigen::VectorXd& xn = ws->x_normalised;
-  ws->x_padded.resize(stride_, 0.0);
-  std::copy(xn.data(), xn.data() + n_in_, ws->x_padded.begin());
-  ws->scan_diff.resize(static_cast<std::size_t>(n_in_) * kScanGroup);
-
-  prediction.value.setZero(n_out_);  // no allocation when the sizes are already n_out
-  if (with_bounds) {
-    prediction.confidence.setConstant(n_out_, std::numeric_limits<double>::infinity());
-  } else {
-    prediction.confidence.resize(0);
+  // The checks of require_vector() and the workspace's, in that order, with the same messages;
+  // the finiteness check runs inside the normalisation loop (require_vector() then names the
+  // first non-finite element). LwprWorkspace is final: its typeid is the dynamic_cast's test.
+  if (x.size() != n_in_) require_vector(x, n_in_, "x");
+  if (typeid(workspace) != typeid(LwprWorkspace)) {
+    require_vector(x, n_in_, "x");
+    throw std::invalid_argument("LWPR: predict() needs a workspace from make_workspace()");
   }
+  auto* ws = static_cast<LwprWorkspace*>(&workspace);
+  if (ws->x_normalised.size() != n_in_) ws->x_normalised.resize(n_in_);
+  if (ws->x_padded.size() != static_cast<std::size_t>(stride_)) ws->x_padded.resize(stride_, 0.0);
+  if (ws->scan_diff.size() < static_cast<std::size_t>(n_in_) * kScanGroup) {
+    ws->scan_diff.resize(static_cast<std::size_t>(n_in_) * kScanGroup);
+  }
+  double* xn_data = ws->x_normalised.data();
+  double* padded = ws->x_padded.data();
+  for (int i = 0; i < n_in_; ++i) {
+    const double v = x(i);
+    if (!std::isfinite(v)) require_vector(x, n_in_, "x");
+    xn_data[i] = v / norm_in_(i);  // x.cwiseQuotient(norm_in_)
+    padded[i] = xn_data[i];
+  }
+  const Eigen::VectorXd& xn = ws->x_normalised;
+
+  // Every element of value, confidence and output_trusted is written below (no allocation when
+  // the sizes are already n_out).
+  prediction.value.resize(n_out_);
+  prediction.confidence.resize(with_bounds ? n_out_ : 0);
   prediction.trustworthy = true;
-  prediction.output_trusted.assign(n_out_, false);
+  // (vector<bool>::resize calls its out-of-line fill even when the size is already right)
+  if (prediction.output_trusted.size() != static_cast<std::size_t>(n_out_)) prediction.output_trusted.resize(n_out_);
   if (detail != nullptr) {
     detail->max_activation = Eigen::VectorXd::Zero(n_out_);
     detail->trustworthy.assign(n_out_, false);
@@ -559,6 +574,9 @@ void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& work
     if (detail != nullptr) detail->max_activation(o) = b.w_best;
     min_of_max = std::min(min_of_max, b.w_best);
     if (b.w_best <= 0.0) {
+      prediction.value(o) = 0.0;
+      if (with_bounds) prediction.confidence(o) = std::numeric_limits<double>::infinity();
+      prediction.output_trusted[o] = false;
       prediction.trustworthy = false;
       continue;
     }

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <numeric>
 #include <random>
 #include <vector>
@@ -761,6 +762,60 @@ TEST(LwprModel, FullMetricGroupScanMatchesAPlainLoopBitForBit) {
 TEST(LwprModel, DiagonalGroupScanMatchesAPlainLoopBitForBit) {
   check_scan_matches_plain_loop(true, 3, false);
   check_scan_matches_plain_loop(true, 9, true);
+}
+
+// predict(), predict_into() and predict_values_into() refuse a wrong size, a non-finite element
+// and a workspace of another class with these messages, checked in this order; a workspace made
+// by a model of another input size predicts the same bits as the model's own.
+TEST(LwprModel, PredictRefusesBadInputsInOrderAndTakesAnotherModelsWorkspace) {
+  struct ForeignWorkspace final : PredictionWorkspace {};
+  LwprParams params;
+  params.init_D = Eigen::MatrixXd::Constant(1, 1, 6.0);
+  params.w_gen = 0.3;
+  LwprModel model(3, 2, params);
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int i = 0; i < 800; ++i) {
+    const Eigen::Vector3d x(uniform(rng), uniform(rng), uniform(rng));
+    model.update(x, Eigen::Vector2d(std::sin(2.0 * x(0)) + x(2), x(0) * x(1)));
+  }
+  auto own = model.make_workspace();
+  ForeignWorkspace foreign;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const Eigen::VectorXd wrong_size = Eigen::Vector2d(0.1, 0.2);
+  const Eigen::VectorXd not_finite = Eigen::Vector3d(0.1, nan, std::numeric_limits<double>::infinity());
+  const Eigen::VectorXd good = Eigen::Vector3d(0.1, 0.2, 0.3);
+  auto message = [&](const Eigen::VectorXd& x, PredictionWorkspace& ws, int call) {
+    Prediction out;
+    try {
+      if (call == 0) model.predict(x, ws);
+      if (call == 1) model.predict_into(x, ws, out);
+      if (call == 2) model.predict_values_into(x, ws, out);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  for (int call = 0; call < 3; ++call) {
+    EXPECT_EQ(message(wrong_size, *own, call), "LWPR: x has 2 elements, expected 3");
+    EXPECT_EQ(message(wrong_size, foreign, call), "LWPR: x has 2 elements, expected 3");
+    EXPECT_EQ(message(not_finite, *own, call), "LWPR: x[1] is not finite");
+    EXPECT_EQ(message(not_finite, foreign, call), "LWPR: x[1] is not finite");
+    EXPECT_EQ(message(good, foreign, call), "LWPR: predict() needs a workspace from make_workspace()");
+    EXPECT_EQ(message(good, *own, call), "no error");
+  }
+  const LwprModel other(9, 1, params);
+  auto borrowed = other.make_workspace();
+  for (int i = 0; i < 100; ++i) {
+    const Eigen::Vector3d x(uniform(rng), uniform(rng), uniform(rng));
+    const Prediction a = model.predict(x, *own);
+    const Prediction b = model.predict(x, *borrowed);
+    for (int o = 0; o < 2; ++o) {
+      EXPECT_EQ(std::memcmp(&a.value(o), &b.value(o), sizeof(double)), 0) << "point " << i;
+      EXPECT_EQ(std::memcmp(&a.confidence(o), &b.confidence(o), sizeof(double)), 0) << "point " << i;
+    }
+    EXPECT_EQ(a.output_trusted, b.output_trusted);
+  }
 }
 
 TEST(LwprModel, FlagsPredictionsWithoutTrustworthyFields) {
