@@ -174,6 +174,19 @@ __attribute__((always_inline)) inline void scan_groups(std::size_t count, const 
   }
 }
 
+// Writes M's upper triangle row by row into one lane of the group layout (element j at
+// to[j·kScanGroup]); after every metric step, so n = 2 and 3 are fixed sizes (N > 0; a dynamic
+// loop's control was most of it), other n run with n_runtime.
+template <int N>
+__attribute__((always_inline)) inline void copy_upper_triangle(const Eigen::MatrixXd& M, int n_runtime, double* to) {
+  const int n = N > 0 ? N : n_runtime;
+  const double* column = M.data();
+  const auto rows = static_cast<std::size_t>(M.rows());
+  for (int r = 0; r < n; ++r) {
+    for (int k = r; k < n; ++k, to += kScanGroup) *to = column[static_cast<std::size_t>(k) * rows + r];  // M(r, k)
+  }
+}
+
 }  // namespace
 
 LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
@@ -211,9 +224,12 @@ inline void LwprModel::write_scan_metric(int output, std::size_t i, const Recept
     for (int k = 0; k < n_in_; ++k) to[k * kScanGroup] = rf.metric(k, 0);
     return;
   }
-  const Eigen::MatrixXd& M = rf.metric_factor;
-  for (int r = 0; r < n_in_; ++r) {
-    for (int k = r; k < n_in_; ++k, to += kScanGroup) *to = M(r, k);
+  if (n_in_ == 2) {
+    copy_upper_triangle<2>(rf.metric_factor, 2, to);
+  } else if (n_in_ == 3) {
+    copy_upper_triangle<3>(rf.metric_factor, 3, to);
+  } else {
+    copy_upper_triangle<0>(rf.metric_factor, n_in_, to);
   }
 }
 
@@ -365,11 +381,25 @@ inline void LwprModel::scan_active_loop(int output, const double* x_padded, bool
   }
 }
 
+inline void LwprModel::normalise_input(const Eigen::VectorXd& x, double* normalised, double* padded) const {
+  for (int i = 0; i < n_in_; ++i) {
+    const double v = x(i);
+    if (!std::isfinite(v)) require_vector(x, n_in_, "x");  // throws, naming the first such element
+    normalised[i] = v / norm_in_(i);  // x.cwiseQuotient(norm_in_)
+    padded[i] = normalised[i];
+  }
+}
+
 void LwprModel::update(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
-  require_vector(x, n_in_, "x");
-  require_vector(y, n_out_, "y");
-  x_normalised_ = x.cwiseQuotient(norm_in_);
-  std::copy(x_normalised_.data(), x_normalised_.data() + n_in_, x_padded_.begin());
+  // require_vector(x), then require_vector(y): the same checks in the same order, x's finiteness
+  // inside the normalisation loop (x_normalised_ and x_padded_ are scratch: the model is
+  // unchanged when y is refused after them).
+  if (x.size() != n_in_) require_vector(x, n_in_, "x");
+  normalise_input(x, x_normalised_.data(), x_padded_.data());
+  if (y.size() != n_out_) require_vector(y, n_out_, "y");
+  for (int o = 0; o < n_out_; ++o) {
+    if (!std::isfinite(y(o))) require_vector(y, n_out_, "y");
+  }
   if (shared_scan_) scan_active(0, x_padded_.data(), false, scratch_.use_avx2, scan_diff_.data(), active_);
   for (int o = 0; o < n_out_; ++o) {
     if (!shared_scan_) scan_active(o, x_padded_.data(), false, scratch_.use_avx2, scan_diff_.data(), active_);
@@ -543,14 +573,7 @@ void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& work
   if (ws->scan_diff.size() < static_cast<std::size_t>(n_in_) * kScanGroup) {
     ws->scan_diff.resize(static_cast<std::size_t>(n_in_) * kScanGroup);
   }
-  double* xn_data = ws->x_normalised.data();
-  double* padded = ws->x_padded.data();
-  for (int i = 0; i < n_in_; ++i) {
-    const double v = x(i);
-    if (!std::isfinite(v)) require_vector(x, n_in_, "x");
-    xn_data[i] = v / norm_in_(i);  // x.cwiseQuotient(norm_in_)
-    padded[i] = xn_data[i];
-  }
+  normalise_input(x, ws->x_normalised.data(), ws->x_padded.data());
   const Eigen::VectorXd& xn = ws->x_normalised;
 
   // Every element of value, confidence and output_trusted is written below (no allocation when

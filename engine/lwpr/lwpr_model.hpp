@@ -102,6 +102,9 @@ class LwprModel final : public Learner {
     int prune_b = -1;
   };
   ActiveSummary update_active_fields(int output, double y, const std::vector<ActiveField>& active);
+  // x (n_in elements, checked) divided by norm_in into `normalised` and the first n_in of
+  // `padded`; throws require_vector()'s error for the first non-finite element.
+  void normalise_input(const Eigen::VectorXd& x, double* normalised, double* padded) const;
   // Every predict(): writes `prediction` (its confidence only `with_bounds`, else left empty);
   // `detail` (may be null: then nothing of it is allocated) receives the per-output activations
   // and trust flags.

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstring>
 
 #include <algorithm>
@@ -765,9 +766,10 @@ TEST(LwprModel, DiagonalGroupScanMatchesAPlainLoopBitForBit) {
 }
 
 // predict(), predict_into() and predict_values_into() refuse a wrong size, a non-finite element
-// and a workspace of another class with these messages, checked in this order; a workspace made
-// by a model of another input size predicts the same bits as the model's own.
-TEST(LwprModel, PredictRefusesBadInputsInOrderAndTakesAnotherModelsWorkspace) {
+// and a workspace of another class with these messages, checked in this order, and update()
+// refuses bad x and y in its order with the model unchanged; a workspace made by a model of
+// another input size predicts the same bits as the model's own.
+TEST(LwprModel, RefusesBadInputsInOrderAndPredictsWithAnotherModelsWorkspace) {
   struct ForeignWorkspace final : PredictionWorkspace {};
   LwprParams params;
   params.init_D = Eigen::MatrixXd::Constant(1, 1, 6.0);
@@ -804,6 +806,29 @@ TEST(LwprModel, PredictRefusesBadInputsInOrderAndTakesAnotherModelsWorkspace) {
     EXPECT_EQ(message(good, foreign, call), "LWPR: predict() needs a workspace from make_workspace()");
     EXPECT_EQ(message(good, *own, call), "no error");
   }
+  // update() in the same order (x's size, x's elements, y's size, y's elements), model unchanged.
+  auto update_message = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+    try {
+      model.update(x, y);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const Eigen::VectorXd y_good = Eigen::Vector2d(0.5, -0.5);
+  const Eigen::VectorXd y_wrong_size = Eigen::Vector3d(0.5, -0.5, 0.0);
+  const Eigen::VectorXd y_not_finite = Eigen::Vector2d(0.5, -nan);
+  const Prediction before = model.predict(good, *own);
+  const std::uint64_t updates = model.n_updates();
+  EXPECT_EQ(update_message(wrong_size, y_good), "LWPR: x has 2 elements, expected 3");
+  EXPECT_EQ(update_message(wrong_size, y_wrong_size), "LWPR: x has 2 elements, expected 3");
+  EXPECT_EQ(update_message(not_finite, y_wrong_size), "LWPR: x[1] is not finite");
+  EXPECT_EQ(update_message(good, y_wrong_size), "LWPR: y has 3 elements, expected 2");
+  EXPECT_EQ(update_message(good, y_not_finite), "LWPR: y[1] is not finite");
+  EXPECT_EQ(model.n_updates(), updates);
+  const Prediction after = model.predict(good, *own);
+  for (int o = 0; o < 2; ++o) EXPECT_EQ(std::memcmp(&before.value(o), &after.value(o), sizeof(double)), 0);
+
   const LwprModel other(9, 1, params);
   auto borrowed = other.make_workspace();
   for (int i = 0; i < 100; ++i) {
