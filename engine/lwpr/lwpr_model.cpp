@@ -94,7 +94,7 @@ __attribute__((always_inline)) inline void calc_group_distances(const double* x,
 // element j of lane l at m[j·kScanGroup + l], the centres in the group layout. Each lane runs a
 // field's own operations in their order: diff_k = x_k − c_k, each row's product summed in
 // ascending column order, q summed row by row; a lane is out once q ≥ q_limit at the end of a row
-// (q only grows), and the rows stop once every lane is out. N > 0 fixes n at compile time
+// (q only grows), and the rows stop once every lane is out (n > 2). N > 0 fixes n at compile time
 // (unrolled, the differences in registers), N = 0 takes n_runtime and keeps the differences in
 // `diff` (n·kScanGroup doubles). `out` as calc_group_distances().
 template <int N>
@@ -138,7 +138,9 @@ __attribute__((always_inline)) inline void calc_group_full_distances(const doubl
       q += v * v;
     }
     out |= q >= limit;
-    if (r + 1 < n && lane_bits(out) == kAllLanes) return;
+    // Not at n = 2: on the cross function a group's lanes were all out after its first row in
+    // about one group of nine, so the test cost more than the row it saved (callgrind).
+    if (N != 2 && r + 1 < n && lane_bits(out) == kAllLanes) return;
   }
 }
 
