@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <typeinfo>
 #include <utility>
 
 namespace armfarm::lwpr {
@@ -39,24 +41,39 @@ constexpr int kScanGroup = 4;
 typedef double GroupLanes __attribute__((vector_size(kScanGroup * sizeof(double))));
 typedef decltype(GroupLanes{} >= GroupLanes{}) GroupMask;
 
-inline bool all_lanes(const GroupMask& m) {
-  bool all = true;
-  for (int l = 0; l < kScanGroup; ++l) all = all && m[l] != 0;
-  return all;
+constexpr unsigned kAllLanes = (1u << kScanGroup) - 1;
+
+// Bit l set when lane l of the mask is set: the sign bits of its two halves (SSE2's movmskpd,
+// which the portable and the AVX2 copy both have; a lane-by-lane loop compiles to four extracts).
+inline unsigned lane_bits(const GroupMask& m) {
+  static_assert(kScanGroup == 4, "two halves of two lanes");
+  typedef double Half __attribute__((vector_size(2 * sizeof(double))));
+  Half low, high;
+  std::memcpy(&low, &m, sizeof low);
+  std::memcpy(&high, reinterpret_cast<const char*>(&m) + sizeof low, sizeof high);
+  return static_cast<unsigned>(__builtin_ia32_movmskpd(low) | (__builtin_ia32_movmskpd(high) << 2));
+}
+
+// Sets `out` to the mask with lane l set where bit l of `bits` is clear (by reference, as
+// calc_group_distances() below).
+inline void set_lanes_without(unsigned bits, GroupMask& out) {
+  typedef std::remove_reference_t<decltype(GroupMask{}[0])> Lane;
+  const GroupMask lane_bit = {1, 2, 4, 8};
+  out = (lane_bit & static_cast<Lane>(bits)) == 0;
 }
 
 // q_l = Σ_i d_l,i (x_i − c_l,i)² for the kScanGroup fields of one group (lane l: field l), c and d
 // in the group layout (element i of lane l at [i·kScanGroup + l]), `stride` a multiple of
-// kScanBlock (zero-padded). Lane l's q is summed in one order whatever the vector width: each
-// block's eight products in a fixed tree, the blocks in order. `out` holds the lanes
-// already excluded on entry and gets every lane whose q reached q_limit at the end of a block
-// (there one field's scan stopped and returned +∞); the loop stops once every lane is out. The
-// vectors go by reference (a vector returned by value can change the call ABI between builds).
+// kScanBlock (zero-padded), `limit` q_limit in every lane. Lane l's q is summed in one order
+// whatever the vector width: each block's eight products in a fixed tree, the blocks in order.
+// `out` holds the lanes already excluded on entry and gets every lane whose q reached q_limit at
+// the end of a block (there one field's scan stopped and returned +∞); the loop stops once every
+// lane is out. The vectors go by reference (a vector returned by value can change the call ABI
+// between builds).
 __attribute__((always_inline)) inline void calc_group_distances(const double* x, const double* c, const double* d,
-                                                                int stride, double q_limit, GroupLanes& q,
-                                                                GroupMask& out) {
+                                                                int stride, const GroupLanes& limit,
+                                                                GroupLanes& q, GroupMask& out) {
   q = GroupLanes{};
-  const GroupLanes limit = GroupLanes{} + q_limit;
   for (int b = 0; b < stride; b += kScanBlock) {
     GroupLanes part[kScanBlock];
     for (int k = 0; k < kScanBlock; ++k) {
@@ -68,29 +85,108 @@ __attribute__((always_inline)) inline void calc_group_distances(const double* x,
     }
     q += ((part[0] + part[1]) + (part[2] + part[3])) + ((part[4] + part[5]) + (part[6] + part[7]));
     out |= q >= limit;
-    if (all_lanes(out)) break;
+    if (lane_bits(out) == kAllLanes) break;
   }
 }
 
-// q = |M(x − c)|² for a full metric's upper triangular factor M stored row by row (row r holds
-// M_r,r … M_r,n−1: n(n+1)/2 doubles), or +∞ as soon as a row ends with q ≥ q_limit. Each row's
-// product is summed in ascending column order, as the field-wise calc_activation_within() does,
-// so both give the same bits. N > 0 fixes n at compile time (unrolled), N = 0 takes n_runtime;
-// c_k is at c[k·kScanGroup] (the group layout); `diff` is scratch for x − c (n).
+// q_l = |M_l(x − c_l)|² for the kScanGroup fields of one group with full metrics: each field's
+// upper triangular factor M stored row by row (row r holds M_r,r … M_r,n−1: n(n+1)/2 elements),
+// element j of lane l at m[j·kScanGroup + l], the centres in the group layout. Each lane runs a
+// field's own operations in their order: diff_k = x_k − c_k, each row's product summed in
+// ascending column order, q summed row by row; a lane is out once q ≥ q_limit at the end of a row
+// (q only grows), and the rows stop once every lane is out (n > 2). N > 0 fixes n at compile time
+// (unrolled, the differences in registers), N = 0 takes n_runtime and keeps the differences in
+// `diff` (n·kScanGroup doubles). `out` as calc_group_distances().
 template <int N>
-inline double calc_full_distance(const double* x, const double* c, const double* m, int n_runtime, double q_limit,
-                                 double* diff) {
+__attribute__((always_inline)) inline void calc_group_full_distances(const double* x, const double* c,
+                                                                     const double* m, int n_runtime,
+                                                                     const GroupLanes& limit, double* diff,
+                                                                     GroupLanes& q, GroupMask& out) {
   const int n = N > 0 ? N : n_runtime;
-  for (int k = 0; k < n; ++k) diff[k] = x[k] - c[k * kScanGroup];
-  double q = 0.0;
-  for (int r = 0; r < n; ++r) {
-    double v = m[0] * diff[r];
-    for (int k = r + 1; k < n; ++k) v += m[k - r] * diff[k];
-    m += n - r;
-    q += v * v;
-    if (q >= q_limit) return std::numeric_limits<double>::infinity();
+  GroupLanes fixed[N > 0 ? N : 1];
+  auto load_diff = [&](int k, GroupLanes& d) __attribute__((always_inline)) {
+    if constexpr (N > 0) {
+      d = fixed[k];
+    } else {
+      std::memcpy(&d, diff + k * kScanGroup, sizeof d);
+    }
+  };
+  for (int k = 0; k < n; ++k) {
+    GroupLanes cv;
+    std::memcpy(&cv, c + k * kScanGroup, sizeof cv);
+    const GroupLanes d = x[k] - cv;
+    if constexpr (N > 0) {
+      fixed[k] = d;
+    } else {
+      std::memcpy(diff + k * kScanGroup, &d, sizeof d);
+    }
   }
-  return q;
+  for (int r = 0; r < n; ++r) {
+    GroupLanes mv, d;
+    std::memcpy(&mv, m, sizeof mv);
+    load_diff(r, d);
+    GroupLanes v = mv * d;
+    for (int k = r + 1; k < n; ++k) {
+      std::memcpy(&mv, m + (k - r) * kScanGroup, sizeof mv);
+      load_diff(k, d);
+      v += mv * d;
+    }
+    m += (n - r) * kScanGroup;
+    if (r == 0) {
+      q = v * v;  // the field-wise sum's 0 + v²: the same bits (v² is +0, positive or NaN, never −0)
+    } else {
+      q += v * v;
+    }
+    out |= q >= limit;
+    // Not at n = 2: on the cross function a group's lanes were all out after its first row in
+    // about one group of nine, so the test cost more than the row it saved (callgrind).
+    if (N != 2 && r + 1 < n && lane_bits(out) == kAllLanes) return;
+  }
+}
+
+// One output's scan over its groups: `distances(c, m, q, out)` gives a group's q (centres at c,
+// metrics at m) with `out` as calc_group_distances(); the lanes inside get their activation, and
+// the fields with w > cutoff are appended in field order. `trusted_lanes` holds one byte per group
+// (bit l: lane l's field is trustworthy); with TrustedOnly a group's other lanes start out and a
+// group without a trustworthy field is skipped.
+template <bool TrustedOnly, class Distances>
+__attribute__((always_inline)) inline void scan_groups(std::size_t count, const double* centres,
+                                                       std::size_t centre_stride, const double* metrics,
+                                                       std::size_t metric_stride, const unsigned char* trusted_lanes,
+                                                       Kernel kernel, double cutoff, std::vector<ActiveField>& active,
+                                                       Distances&& distances) {
+  for (std::size_t first = 0, g = 0; first < count; first += kScanGroup, ++g) {
+    GroupMask out = {};  // lanes past the last field, or untrusted ones when only trusted ones count
+    if constexpr (TrustedOnly) {
+      const unsigned bits = trusted_lanes[g];
+      if (bits == 0) continue;
+      if (bits != kAllLanes) set_lanes_without(bits, out);
+    } else if (first + kScanGroup > count) {
+      set_lanes_without((1u << (count - first)) - 1, out);
+    }
+    GroupLanes q;
+    distances(centres + first * centre_stride, metrics + first * metric_stride, q, out);
+    unsigned inside = ~lane_bits(out) & kAllLanes;
+    while (inside != 0) {
+      const int l = __builtin_ctz(inside);
+      inside &= inside - 1;
+      const double w = calc_kernel(kernel, q[l]);
+      if (!(w <= cutoff) && w > 0.0) active.push_back({first + static_cast<std::size_t>(l), w});
+    }
+  }
+}
+
+// Writes M's upper triangle row by row into one lane of the group layout (element j at
+// to[j·kScanGroup]); after every metric step, so n = 2 and 3 are fixed sizes (N > 0; a dynamic
+// loop's control was most of it), other n run with n_runtime.
+template <int N>
+__attribute__((always_inline)) inline void copy_upper_triangle(const Eigen::MatrixXd& M, int n_runtime, double* to) {
+  const int n = N > 0 ? N : n_runtime;
+  const double* column = M.data();
+  const auto rows = static_cast<std::size_t>(M.rows());
+  for (int r = 0; r < n; ++r) {
+    for (int k = r; k < n; ++k, to += kScanGroup) *to = column[static_cast<std::size_t>(k) * rows + r];  // M(r, k)
+  }
 }
 
 }  // namespace
@@ -112,6 +208,7 @@ LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
   x_padded_.assign(stride_, 0.0);
   scratch_.resize(n_in, params_.diag_only);
   scratch_pair_.resize(n_in, params_.diag_only);
+  scan_diff_.assign(static_cast<std::size_t>(n_in) * kScanGroup, 0.0);
   shared_scan_ = !params_.update_D;
 }
 
@@ -119,30 +216,42 @@ std::size_t LwprModel::calc_group_offset(std::size_t i) const {
   return (i / kScanGroup) * static_cast<std::size_t>(stride_) * kScanGroup + i % kScanGroup;
 }
 
+std::size_t LwprModel::calc_metric_offset(std::size_t i) const {
+  return (i / kScanGroup) * static_cast<std::size_t>(metric_stride_) * kScanGroup + i % kScanGroup;
+}
+
 inline void LwprModel::write_scan_metric(int output, std::size_t i, const ReceptiveField& rf) {
-  ScanData& scan = scan_[output];
+  double* to = scan_[output].metrics.data() + calc_metric_offset(i);
   if (diagonal_scan_) {
-    double* to = scan.metrics.data() + calc_group_offset(i);
     for (int k = 0; k < n_in_; ++k) to[k * kScanGroup] = rf.metric(k, 0);
     return;
   }
-  double* to = scan.metrics.data() + i * metric_stride_;
-  const Eigen::MatrixXd& M = rf.metric_factor;
-  for (int r = 0; r < n_in_; ++r) {
-    for (int k = r; k < n_in_; ++k) *to++ = M(r, k);
+  if (n_in_ == 2) {
+    copy_upper_triangle<2>(rf.metric_factor, 2, to);
+  } else if (n_in_ == 3) {
+    copy_upper_triangle<3>(rf.metric_factor, 3, to);
+  } else {
+    copy_upper_triangle<0>(rf.metric_factor, n_in_, to);
   }
+}
+
+void LwprModel::write_scan_trust(ScanData& scan, std::size_t i, bool trusted) {
+  scan.trusted[i] = trusted ? 1 : 0;
+  const auto bit = static_cast<unsigned char>(1u << (i % kScanGroup));
+  unsigned char& lanes = scan.trusted_lanes[i / kScanGroup];
+  lanes = static_cast<unsigned char>(trusted ? lanes | bit : lanes & ~bit);
 }
 
 void LwprModel::append_to_scan(int output, const ReceptiveField& rf) {
   ScanData& scan = scan_[output];
   const std::size_t i = scan.trusted.size();
-  const std::size_t group_doubles = static_cast<std::size_t>(stride_) * kScanGroup;
   if (i % kScanGroup == 0) {  // a new group, zero-filled: padding lanes and elements stay 0
-    scan.centres.resize(scan.centres.size() + group_doubles, 0.0);
-    if (diagonal_scan_) scan.metrics.resize(scan.metrics.size() + group_doubles, 0.0);
+    scan.centres.resize(scan.centres.size() + static_cast<std::size_t>(stride_) * kScanGroup, 0.0);
+    scan.metrics.resize(scan.metrics.size() + static_cast<std::size_t>(metric_stride_) * kScanGroup, 0.0);
+    scan.trusted_lanes.push_back(0);
   }
-  if (!diagonal_scan_) scan.metrics.resize(scan.metrics.size() + metric_stride_);
-  scan.trusted.push_back(rf.trustworthy ? 1 : 0);
+  scan.trusted.push_back(0);
+  write_scan_trust(scan, i, rf.trustworthy);
   double* centre = scan.centres.data() + calc_group_offset(i);
   for (int k = 0; k < n_in_; ++k) centre[k * kScanGroup] = rf.center(k);
   write_scan_metric(output, i, rf);
@@ -153,39 +262,30 @@ void LwprModel::erase_from_scan(int output, std::size_t victim) {
   const std::size_t last = scan.trusted.size() - 1;
   // The group layout: every later field moves down one lane, the last slot is cleared, and an
   // emptied group is dropped.
-  auto shift_down = [&](std::vector<double>& data) {
+  auto shift_down = [&](std::vector<double>& data, int elements) {
+    auto offset = [&](std::size_t j) {
+      return (j / kScanGroup) * static_cast<std::size_t>(elements) * kScanGroup + j % kScanGroup;
+    };
     for (std::size_t j = victim; j < last; ++j) {
-      const double* from = data.data() + calc_group_offset(j + 1);
-      double* to = data.data() + calc_group_offset(j);
-      for (int k = 0; k < stride_; ++k) to[k * kScanGroup] = from[k * kScanGroup];
+      const double* from = data.data() + offset(j + 1);
+      double* to = data.data() + offset(j);
+      for (int k = 0; k < elements; ++k) to[k * kScanGroup] = from[k * kScanGroup];
     }
-    double* cleared = data.data() + calc_group_offset(last);
-    for (int k = 0; k < stride_; ++k) cleared[k * kScanGroup] = 0.0;
-    if (last % kScanGroup == 0) data.resize(data.size() - static_cast<std::size_t>(stride_) * kScanGroup);
+    double* cleared = data.data() + offset(last);
+    for (int k = 0; k < elements; ++k) cleared[k * kScanGroup] = 0.0;
+    if (last % kScanGroup == 0) data.resize(data.size() - static_cast<std::size_t>(elements) * kScanGroup);
   };
-  shift_down(scan.centres);
-  if (diagonal_scan_) {
-    shift_down(scan.metrics);
-  } else {
-    const auto block = static_cast<std::ptrdiff_t>(victim) * metric_stride_;
-    scan.metrics.erase(scan.metrics.begin() + block, scan.metrics.begin() + block + metric_stride_);
-  }
+  shift_down(scan.centres, stride_);
+  shift_down(scan.metrics, metric_stride_);
   scan.trusted.erase(scan.trusted.begin() + static_cast<std::ptrdiff_t>(victim));
-}
-
-inline double LwprModel::calc_full_activation(const double* centre, const double* metric, const double* x_padded,
-                                              FieldScratch& scratch) const {
-  double q;
-  if (n_in_ == 2) {
-    q = calc_full_distance<2>(x_padded, centre, metric, 2, q_limit_, scratch.diff.data());
-  } else if (n_in_ == 3) {
-    q = calc_full_distance<3>(x_padded, centre, metric, 3, q_limit_, scratch.diff.data());
-  } else {
-    q = calc_full_distance<0>(x_padded, centre, metric, n_in_, q_limit_, scratch.diff.data());
+  scan.trusted_lanes.resize((last + kScanGroup - 1) / kScanGroup);
+  for (std::size_t g = victim / kScanGroup; g < scan.trusted_lanes.size(); ++g) {
+    unsigned bits = 0;
+    for (std::size_t j = g * kScanGroup; j < std::min(last, (g + 1) * kScanGroup); ++j) {
+      bits |= (scan.trusted[j] != 0 ? 1u : 0u) << (j % kScanGroup);
+    }
+    scan.trusted_lanes[g] = static_cast<unsigned char>(bits);
   }
-  if (q >= q_limit_) return 0.0;
-  const double w = calc_kernel(params_.kernel, q);
-  return w <= params_.cutoff ? 0.0 : w;
 }
 
 LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params, std::vector<std::vector<ReceptiveField>> fields,
@@ -230,74 +330,81 @@ bool LwprModel::calc_scans_identical() const {
   return true;
 }
 
-void LwprModel::scan_active(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
+void LwprModel::scan_active(int output, const double* x_padded, bool trusted_only, bool avx2, double* diff,
                             std::vector<ActiveField>& active) const {
-  if (scratch.use_avx2) {
-    scan_active_avx2(output, x_padded, trusted_only, scratch, active);
+  if (avx2) {
+    scan_active_avx2(output, x_padded, trusted_only, diff, active);
   } else {
-    scan_active_loop(output, x_padded, trusted_only, scratch, active);
+    scan_active_loop(output, x_padded, trusted_only, diff, active);
   }
 }
 
-void LwprModel::scan_active_avx2(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
+void LwprModel::scan_active_avx2(int output, const double* x_padded, bool trusted_only, double* diff,
                                  std::vector<ActiveField>& active) const {
-  scan_active_loop(output, x_padded, trusted_only, scratch, active);
+  scan_active_loop(output, x_padded, trusted_only, diff, active);
 }
 
-inline void LwprModel::scan_active_loop(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
+inline void LwprModel::scan_active_loop(int output, const double* x_padded, bool trusted_only, double* diff,
                                         std::vector<ActiveField>& active) const {
   active.clear();
-  if (diagonal_scan_) {
-    scan_diagonal_groups(output, x_padded, trusted_only, active);
-    return;
-  }
   const ScanData& scan = scan_[output];
-  const std::size_t count = scan.trusted.size();
-  for (std::size_t first = 0; first < count; first += kScanGroup) {  // field by field, a group's centres together
-    const double* group = scan.centres.data() + first * stride_;  // calc_group_offset(first)
-    const std::size_t lanes = std::min<std::size_t>(kScanGroup, count - first);
-    for (std::size_t l = 0; l < lanes; ++l) {
-      const std::size_t i = first + l;
-      if (trusted_only && scan.trusted[i] == 0) continue;
-      const double w = calc_full_activation(group + l, scan.metrics.data() + i * metric_stride_, x_padded, scratch);
-      if (w > 0.0) active.push_back({i, w});
+  const double* x = x_padded;
+  const GroupLanes limit = GroupLanes{} + q_limit_;  // q_limit in every lane
+  auto scan_with = [&](auto&& distances) __attribute__((always_inline)) {
+    const std::size_t count = scan.trusted.size();
+    const auto centre_stride = static_cast<std::size_t>(stride_);
+    const auto metric_stride = static_cast<std::size_t>(metric_stride_);
+    if (trusted_only) {
+      scan_groups<true>(count, scan.centres.data(), centre_stride, scan.metrics.data(), metric_stride,
+                        scan.trusted_lanes.data(), params_.kernel, params_.cutoff, active, distances);
+    } else {
+      scan_groups<false>(count, scan.centres.data(), centre_stride, scan.metrics.data(), metric_stride,
+                         scan.trusted_lanes.data(), params_.kernel, params_.cutoff, active, distances);
     }
+  };
+  const int n = n_in_;
+  const int stride = stride_;
+  if (diagonal_scan_) {
+    scan_with([&](const double* c, const double* m, GroupLanes& q, GroupMask& out) __attribute__((always_inline)) {
+      calc_group_distances(x, c, m, stride, limit, q, out);
+    });
+  } else if (n == 2) {
+    scan_with([&](const double* c, const double* m, GroupLanes& q, GroupMask& out) __attribute__((always_inline)) {
+      calc_group_full_distances<2>(x, c, m, 2, limit, diff, q, out);
+    });
+  } else if (n == 3) {
+    scan_with([&](const double* c, const double* m, GroupLanes& q, GroupMask& out) __attribute__((always_inline)) {
+      calc_group_full_distances<3>(x, c, m, 3, limit, diff, q, out);
+    });
+  } else {
+    scan_with([&](const double* c, const double* m, GroupLanes& q, GroupMask& out) __attribute__((always_inline)) {
+      calc_group_full_distances<0>(x, c, m, n, limit, diff, q, out);
+    });
   }
 }
 
-inline void LwprModel::scan_diagonal_groups(int output, const double* x_padded, bool trusted_only,
-                                            std::vector<ActiveField>& active) const {
-  const ScanData& scan = scan_[output];
-  const std::size_t count = scan.trusted.size();
-  for (std::size_t first = 0; first < count; first += kScanGroup) {
-    GroupMask out = {};  // lanes past the last field, or untrusted ones when only trusted ones count
-    if (trusted_only || first + kScanGroup > count) {
-      for (int l = 0; l < kScanGroup; ++l) {
-        const std::size_t i = first + l;
-        out[l] = i >= count || (trusted_only && scan.trusted[i] == 0) ? -1 : 0;
-      }
-      if (all_lanes(out)) continue;
-    }
-    const std::size_t offset = first * stride_;  // calc_group_offset(first): first is a group's first field
-    GroupLanes q;
-    calc_group_distances(x_padded, scan.centres.data() + offset, scan.metrics.data() + offset, stride_, q_limit_, q,
-                         out);
-    for (int l = 0; l < kScanGroup; ++l) {
-      if (out[l] != 0) continue;
-      const double w = calc_kernel(params_.kernel, q[l]);
-      if (!(w <= params_.cutoff) && w > 0.0) active.push_back({first + l, w});
-    }
+inline void LwprModel::normalise_input(const Eigen::VectorXd& x, double* normalised, double* padded) const {
+  for (int i = 0; i < n_in_; ++i) {
+    const double v = x(i);
+    if (!std::isfinite(v)) require_vector(x, n_in_, "x");  // throws, naming the first such element
+    normalised[i] = v / norm_in_(i);  // x.cwiseQuotient(norm_in_)
+    padded[i] = normalised[i];
   }
 }
 
 void LwprModel::update(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
-  require_vector(x, n_in_, "x");
-  require_vector(y, n_out_, "y");
-  x_normalised_ = x.cwiseQuotient(norm_in_);
-  std::copy(x_normalised_.data(), x_normalised_.data() + n_in_, x_padded_.begin());
-  if (shared_scan_) scan_active(0, x_padded_.data(), false, scratch_, active_);
+  // require_vector(x), then require_vector(y): the same checks in the same order, x's finiteness
+  // inside the normalisation loop (x_normalised_ and x_padded_ are scratch: the model is
+  // unchanged when y is refused after them).
+  if (x.size() != n_in_) require_vector(x, n_in_, "x");
+  normalise_input(x, x_normalised_.data(), x_padded_.data());
+  if (y.size() != n_out_) require_vector(y, n_out_, "y");
   for (int o = 0; o < n_out_; ++o) {
-    if (!shared_scan_) scan_active(o, x_padded_.data(), false, scratch_, active_);
+    if (!std::isfinite(y(o))) require_vector(y, n_out_, "y");
+  }
+  if (shared_scan_) scan_active(0, x_padded_.data(), false, scratch_.use_avx2, scan_diff_.data(), active_);
+  for (int o = 0; o < n_out_; ++o) {
+    if (!shared_scan_) scan_active(o, x_padded_.data(), false, scratch_.use_avx2, scan_diff_.data(), active_);
     update_output(o, y(o) / norm_out_(o), active_);
   }
   ++n_updates_;
@@ -324,7 +431,7 @@ LwprModel::ActiveSummary LwprModel::update_active_fields(int output, double y, c
   };
   auto after = [&](std::size_t i) {
     if (params_.update_D) write_scan_metric(output, i, fields[i]);
-    scan.trusted[i] = fields[i].trustworthy ? 1 : 0;
+    if ((scan.trusted[i] != 0) != fields[i].trustworthy) write_scan_trust(scan, i, fields[i].trustworthy);
   };
   // Two fields at a time (distinct fields: the scan lists each once), each with its own scratch:
   // the same bits as one by one (update_receptive_field_pair).
@@ -383,6 +490,7 @@ std::unique_ptr<PredictionWorkspace> LwprModel::make_workspace() const {
   workspace->x_normalised.resize(n_in_);
   workspace->x_padded.assign(stride_, 0.0);
   workspace->scratch.resize(n_in_, params_.diag_only);
+  workspace->scan_diff.assign(static_cast<std::size_t>(n_in_) * kScanGroup, 0.0);
   workspace->active.reserve(fields_.empty() ? 0 : fields_[0].size());
   return workspace;
 }
@@ -453,22 +561,30 @@ OutputBlend blend_fields(const LwprParams& params, const std::vector<ReceptiveFi
 
 void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail,
                              bool with_bounds, Prediction& prediction) const {
-  require_vector(x, n_in_, "x");
-  auto* ws = dynamic_cast<LwprWorkspace*>(&workspace);
-  if (ws == nullptr) throw std::invalid_argument("LWPR: predict() needs a workspace from make_workspace()");
-  ws->x_normalised = x.cwiseQuotient(norm_in_);
-  const Eigen::VectorXd& xn = ws->x_normalised;
-  ws->x_padded.resize(stride_, 0.0);
-  std::copy(xn.data(), xn.data() + n_in_, ws->x_padded.begin());
-
-  prediction.value.setZero(n_out_);  // no allocation when the sizes are already n_out
-  if (with_bounds) {
-    prediction.confidence.setConstant(n_out_, std::numeric_limits<double>::infinity());
-  } else {
-    prediction.confidence.resize(0);
+  // The checks of require_vector() and the workspace's, in that order, with the same messages;
+  // the finiteness check runs inside the normalisation loop (require_vector() then names the
+  // first non-finite element). LwprWorkspace is final: its typeid is the dynamic_cast's test.
+  if (x.size() != n_in_) require_vector(x, n_in_, "x");
+  if (typeid(workspace) != typeid(LwprWorkspace)) {
+    require_vector(x, n_in_, "x");
+    throw std::invalid_argument("LWPR: predict() needs a workspace from make_workspace()");
   }
+  auto* ws = static_cast<LwprWorkspace*>(&workspace);
+  if (ws->x_normalised.size() != n_in_) ws->x_normalised.resize(n_in_);
+  if (ws->x_padded.size() != static_cast<std::size_t>(stride_)) ws->x_padded.resize(stride_, 0.0);
+  if (ws->scan_diff.size() < static_cast<std::size_t>(n_in_) * kScanGroup) {
+    ws->scan_diff.resize(static_cast<std::size_t>(n_in_) * kScanGroup);
+  }
+  normalise_input(x, ws->x_normalised.data(), ws->x_padded.data());
+  const Eigen::VectorXd& xn = ws->x_normalised;
+
+  // Every element of value, confidence and output_trusted is written below (no allocation when
+  // the sizes are already n_out).
+  prediction.value.resize(n_out_);
+  prediction.confidence.resize(with_bounds ? n_out_ : 0);
   prediction.trustworthy = true;
-  prediction.output_trusted.assign(n_out_, false);
+  // (vector<bool>::resize calls its out-of-line fill even when the size is already right)
+  if (prediction.output_trusted.size() != static_cast<std::size_t>(n_out_)) prediction.output_trusted.resize(n_out_);
   if (detail != nullptr) {
     detail->max_activation = Eigen::VectorXd::Zero(n_out_);
     detail->trustworthy.assign(n_out_, false);
@@ -476,11 +592,16 @@ void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& work
   double min_of_max = std::numeric_limits<double>::infinity();
 
   for (int o = 0; o < n_out_; ++o) {
-    if (o == 0 || !shared_scan_) scan_active(o, ws->x_padded.data(), true, ws->scratch, ws->active);
+    if (o == 0 || !shared_scan_) {
+      scan_active(o, ws->x_padded.data(), true, ws->scratch.use_avx2, ws->scan_diff.data(), ws->active);
+    }
     const OutputBlend b = blend_fields(params_, fields_[o], ws->active, xn, with_bounds, ws->scratch);
     if (detail != nullptr) detail->max_activation(o) = b.w_best;
     min_of_max = std::min(min_of_max, b.w_best);
     if (b.w_best <= 0.0) {
+      prediction.value(o) = 0.0;
+      if (with_bounds) prediction.confidence(o) = std::numeric_limits<double>::infinity();
+      prediction.output_trusted[o] = false;
       prediction.trustworthy = false;
       continue;
     }

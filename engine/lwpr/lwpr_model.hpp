@@ -28,6 +28,7 @@ class LwprWorkspace final : public PredictionWorkspace {
   std::vector<double> x_padded;  ///< x_normalised padded with zeros to the scan stride
   FieldScratch scratch;
   std::vector<ActiveField> active;  ///< the shared scan's active trustworthy fields
+  std::vector<double> scan_diff;    ///< the full-metric scan's x − c of a group (n_in × 4)
 };
 
 /// Per-output detail of a prediction (all sizes n_out), in the caller's units.
@@ -101,55 +102,58 @@ class LwprModel final : public Learner {
     int prune_b = -1;
   };
   ActiveSummary update_active_fields(int output, double y, const std::vector<ActiveField>& active);
+  // x (n_in elements, checked) divided by norm_in into `normalised` and the first n_in of
+  // `padded`; throws require_vector()'s error for the first non-finite element.
+  void normalise_input(const Eigen::VectorXd& x, double* normalised, double* padded) const;
   // Every predict(): writes `prediction` (its confidence only `with_bounds`, else left empty);
   // `detail` (may be null: then nothing of it is allocated) receives the per-output activations
   // and trust flags.
   void predict_with(const Eigen::VectorXd& x, PredictionWorkspace& workspace, LwprPredictionDetail* detail,
                     bool with_bounds, Prediction& prediction) const;
   // The fields of `output`'s scan active at x_padded (w > 0), in field order; only trustworthy
-  // ones when `trusted_only`.
-  void scan_active(int output, const double* x_padded, bool trusted_only, FieldScratch& scratch,
+  // ones when `trusted_only`. `avx2` picks the AVX2 copy (FieldScratch::use_avx2); `diff` is
+  // scratch of n_in × 4 doubles.
+  void scan_active(int output, const double* x_padded, bool trusted_only, bool avx2, double* diff,
                    std::vector<ActiveField>& active) const;
-  // scan_active's loop, inlined into the portable copy and into the AVX2 one (used when
-  // scratch.use_avx2): the same operations and summation order, no FMA, so the same bits.
+  // scan_active's loop, inlined into the portable copy and into the AVX2 one: the same operations
+  // and summation order, no FMA, so the same bits. Every metric is scanned four fields at a time,
+  // one per vector lane (scan_groups in the .cpp).
   __attribute__((always_inline)) inline void scan_active_loop(int output, const double* x_padded, bool trusted_only,
-                                                              FieldScratch& scratch, std::vector<ActiveField>& active) const;
+                                                              double* diff, std::vector<ActiveField>& active) const;
   __attribute__((target("avx2"))) void scan_active_avx2(int output, const double* x_padded, bool trusted_only,
-                                                        FieldScratch& scratch, std::vector<ActiveField>& active) const;
+                                                        double* diff, std::vector<ActiveField>& active) const;
   // Whether every output's scan data (centres, metrics, trust flags) are the same.
   bool calc_scans_identical() const;
   // Appends a field to `output`'s scan data (as its last field).
   void append_to_scan(int output, const ReceptiveField& rf);
-  // Writes field i's metric into `output`'s scan data (group layout for a diagonal, the factor's
-  // upper triangle row by row for a full metric).
+  // Writes field i's metric into `output`'s scan data, in the group layout: a diagonal's
+  // elements, or a full metric's factor's upper triangle row by row.
   __attribute__((always_inline)) inline void write_scan_metric(int output, std::size_t i, const ReceptiveField& rf);
   // Removes field `victim` from `output`'s scan data (later fields move down one place).
   void erase_from_scan(int output, std::size_t victim);
-  // Where field i's element 0 is in the group layout (element k at + k·kScanGroup).
+  // Where field i's element 0 is in the centres' group layout (element k at + k·kScanGroup).
   std::size_t calc_group_offset(std::size_t i) const;
-  // The activation of a field with a full metric (its centre in the group layout, its factor's
-  // upper triangle at `metric`) at the normalised x, given as x_padded (zero-padded to stride_),
-  // 0 at or below the cutoff.
-  __attribute__((always_inline)) inline double calc_full_activation(const double* centre, const double* metric,
-                                                                    const double* x_padded,
-                                                                    FieldScratch& scratch) const;
-  // The diagonal scan: kScanGroup fields at a time, one per vector lane.
-  __attribute__((always_inline)) inline void scan_diagonal_groups(int output, const double* x_padded, bool trusted_only,
-                                                                  std::vector<ActiveField>& active) const;
+  // The same in the metrics' group layout (metric_stride_ elements per field).
+  std::size_t calc_metric_offset(std::size_t i) const;
 
   // The activation scan's data of one output, in the order of fields_[o] and kept in step with it
-  // on every create, update and prune. Centres (and diagonal metrics) in the group layout: groups
-  // of kScanGroup (4) fields, each group stride_ × kScanGroup doubles with element k of the
-  // group's field l at [k·kScanGroup + l], zero-padded (elements past n_in, lanes past the last
-  // field), so that one vector operation serves four fields. A full metric's factor M per field,
-  // its upper triangle row by row (metric_stride_ = n(n+1)/2 doubles). And the trust flags.
-  // Contiguous, so the scan over hundreds of fields streams through memory instead of chasing
-  // each field's heap blocks.
+  // on every create, update and prune. Centres and metrics in the group layout: groups of
+  // kScanGroup (4) fields, element k of the group's field l at [k·kScanGroup + l], zero-padded
+  // (lanes past the last field, and for centres and diagonal metrics elements past n_in), so that
+  // one vector operation serves four fields. A group holds stride_ × kScanGroup centre doubles and
+  // metric_stride_ × kScanGroup metric doubles: a diagonal metric (stride_ elements), or a full
+  // metric's factor M, its upper triangle row by row (n(n+1)/2 elements). The trust flags, one per
+  // field and one byte per group (bit l: field l of the group is trustworthy), so that
+  // prediction's scan takes a group's lanes with one load. Contiguous, so the scan over hundreds
+  // of fields streams through memory instead of chasing each field's heap blocks.
   struct ScanData {
     std::vector<double> centres;
     std::vector<double> metrics;
     std::vector<unsigned char> trusted;
+    std::vector<unsigned char> trusted_lanes;
   };
+  // Sets field i's trust flag in both of `scan`'s forms.
+  static void write_scan_trust(ScanData& scan, std::size_t i, bool trusted);
 
   int n_in_;
   int n_out_;
@@ -162,7 +166,7 @@ class LwprModel final : public Learner {
   std::vector<ScanData> scan_;
   int stride_;       // n_in rounded up to a multiple of the scan block
   bool diagonal_scan_;  // metrics scanned as diagonals: diag_only, or n_in = 1
-  int metric_stride_;  // doubles per field in ScanData::metrics: stride_ (diagonal) or n_in(n_in+1)/2
+  int metric_stride_;  // metric elements per field in ScanData::metrics: stride_ (diagonal) or n_in(n_in+1)/2
   double q_limit_;   // calc_q_limit(kernel, cutoff)
   // Every output holds the same fields' centres, metrics and trust flags, so one scan serves all
   // outputs. Without update_D a field's metric never changes, and creation (w_gen, the nearest
@@ -177,6 +181,7 @@ class LwprModel final : public Learner {
   FieldScratch scratch_;
   FieldScratch scratch_pair_;  // the second field's of update_receptive_field_pair
   std::vector<ActiveField> active_;
+  std::vector<double> scan_diff_;  // scan_active's diff (n_in × 4)
 };
 
 }  // namespace armfarm::lwpr

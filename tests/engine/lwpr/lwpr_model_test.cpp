@@ -5,12 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstring>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <numeric>
 #include <random>
 #include <vector>
@@ -620,6 +622,225 @@ TEST(LwprModel, PrunedGroupScanMatchesARestoredModelBitForBit) {
   check_pruned_scan_matches_restored_model(true, 3);
   check_pruned_scan_matches_restored_model(true, 9);
   check_pruned_scan_matches_restored_model(false, 2);
+  check_pruned_scan_matches_restored_model(false, 3);
+  check_pruned_scan_matches_restored_model(false, 5);
+}
+
+// The activation a field gets from the scan, written as a plain loop over the field's own
+// numbers with the scan's operations in their order: for a diagonal metric, blocks of eight
+// elements (zero past n) whose products d·(x−c)·(x−c) are summed in a fixed tree, the blocks in
+// order, out once q ≥ q_limit at the end of a block; for a full one, q = |M(x − c)|² row by row,
+// each row's product in ascending column order, out once q ≥ q_limit at the end of a row. 0 when
+// out or at or below the cutoff.
+double calc_plain_scan_activation(const ReceptiveField& rf, const LwprParams& params, const Eigen::VectorXd& xn) {
+  const int n = rf.input_dim();
+  const double q_limit = calc_q_limit(params.kernel, params.cutoff);
+  double q = 0.0;
+  if (rf.diagonal()) {
+    for (int b = 0; b < n; b += 8) {
+      double part[8];
+      for (int k = 0; k < 8; ++k) {
+        const double d = b + k < n ? rf.metric(b + k, 0) : 0.0;
+        const double diff = b + k < n ? xn(b + k) - rf.center(b + k) : 0.0 - 0.0;
+        part[k] = d * diff * diff;
+      }
+      q += ((part[0] + part[1]) + (part[2] + part[3])) + ((part[4] + part[5]) + (part[6] + part[7]));
+      if (q >= q_limit) return 0.0;
+    }
+  } else {
+    std::vector<double> diff(n);
+    for (int k = 0; k < n; ++k) diff[k] = xn(k) - rf.center(k);
+    for (int r = 0; r < n; ++r) {
+      double v = rf.metric_factor(r, r) * diff[r];
+      for (int k = r + 1; k < n; ++k) v += rf.metric_factor(r, k) * diff[k];
+      q += v * v;
+      if (q >= q_limit) return 0.0;
+    }
+  }
+  const double w = calc_kernel(params.kernel, q);
+  return w <= params.cutoff || !(w > 0.0) ? 0.0 : w;
+}
+
+// The group scan (four fields per vector lane, diagonal and full metrics, with the per-group trust
+// lanes) gives each field the plain loop's activation bit for bit, through creates, metric
+// updates, trust changes and prunes across group boundaries:
+// - update's scan (every field): before each update the plain loop gives each field's w; after
+//   it, a field with w > 0 has Σλw = λ·Σλw_before + w (the first thing its update does), the
+//   bits of that sum, and a field with w = 0 is untouched;
+// - predict's scan (trustworthy fields only), portable and AVX2: the largest activation per
+//   output and the blended value equal the plain loop's over the trustworthy fields in order.
+void check_scan_matches_plain_loop(bool diag_only, int n, bool meta) {
+  std::mt19937_64 rng(static_cast<unsigned>(57 + n));
+  LwprParams params;
+  params.diag_only = diag_only;
+  params.update_D = true;
+  params.meta = meta;
+  params.init_D = Eigen::MatrixXd::Constant(1, 1, 60.0 / n);  // narrow enough to create, wide enough to prune
+  params.w_prune = 0.2;
+  params.norm_in = Eigen::VectorXd::LinSpaced(n, 0.5, 1.5);
+  LwprModel model(n, 2, params);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  auto draw = [&] { return Eigen::VectorXd(Eigen::VectorXd::NullaryExpr(n, [&] { return uniform(rng); })); };
+  int prunes = 0, odd_sizes = 0, updated = 0, skipped = 0, untrusted = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Eigen::VectorXd x = draw();
+    const Eigen::VectorXd xn = x.cwiseQuotient(params.norm_in);
+    // Per output and field: the plain loop's w and the Σλw expected after the update.
+    std::vector<std::vector<std::pair<double, double>>> expected(2);
+    for (int o = 0; o < 2; ++o) {
+      for (const ReceptiveField& rf : model.fields(o)) {
+        untrusted += rf.trustworthy ? 0 : 1;
+        const double w = calc_plain_scan_activation(rf, params, xn);
+        expected[o].emplace_back(w, w > 0.0 ? rf.lambda * rf.sum_w(0) + w : rf.sum_w(0));
+      }
+    }
+    model.update(x, Eigen::Vector2d(std::sin(3.0 * x(0)) * x(n - 1), x(0) * x(0)));
+    for (int o = 0; o < 2; ++o) {
+      const std::vector<ReceptiveField>& after = model.fields(o);
+      if (after.size() < expected[o].size()) {  // pruned: the indices moved
+        ++prunes;
+        continue;
+      }
+      odd_sizes += after.size() % 4 != 0 ? 1 : 0;
+      for (std::size_t f = 0; f < expected[o].size(); ++f) {
+        const auto [w, sum_w] = expected[o][f];
+        ASSERT_EQ(std::memcmp(&sum_w, &after[f].sum_w(0), sizeof sum_w), 0)
+            << "n = " << n << ", sample " << i << ", output " << o << ", field " << f << ", w = " << w;
+        (w > 0.0 ? updated : skipped) += 1;
+      }
+    }
+  }
+  EXPECT_GT(prunes, 10) << "n = " << n;
+  EXPECT_GT(odd_sizes, 100) << "n = " << n;
+  EXPECT_GT(updated, 3000) << "n = " << n;
+  EXPECT_GT(skipped, 3000) << "n = " << n;
+  EXPECT_GT(untrusted, 100) << "n = " << n;
+  FieldScratch scratch;
+  scratch.resize(n, diag_only);
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !has_avx2()) continue;
+    auto workspace = model.make_workspace();
+    static_cast<LwprWorkspace&>(*workspace).scratch.use_avx2 = avx2;
+    scratch.use_avx2 = avx2;
+    int trusted = 0;
+    for (int k = 0; k < 400; ++k) {
+      const Eigen::VectorXd x = draw();
+      const Eigen::VectorXd xn = x.cwiseQuotient(params.norm_in);
+      LwprPredictionDetail detail;
+      Prediction p;
+      model.predict_values_into(x, *workspace, p);
+      model.predict(x, *workspace, detail);
+      for (int o = 0; o < 2; ++o) {
+        double w_max = 0.0, sum_w = 0.0, sum_wy = 0.0;
+        for (const ReceptiveField& rf : model.fields(o)) {
+          if (!rf.trustworthy) continue;
+          const double w = calc_plain_scan_activation(rf, params, xn);
+          if (w <= 0.0) continue;
+          const double y = predict_receptive_field_value(rf, xn, scratch);
+          sum_w += w;
+          sum_wy += w * y;
+          w_max = std::max(w_max, w);
+        }
+        EXPECT_EQ(std::memcmp(&w_max, &detail.max_activation(o), sizeof w_max), 0)
+            << "n = " << n << ", point " << k << ", output " << o << (avx2 ? ", AVX2" : ", portable");
+        ASSERT_EQ(p.output_trusted[o], w_max > 0.0) << "n = " << n << ", point " << k;
+        const double value = w_max > 0.0 ? sum_wy / sum_w : 0.0;
+        EXPECT_EQ(std::memcmp(&value, &p.value(o), sizeof value), 0)
+            << "n = " << n << ", point " << k << ", output " << o << (avx2 ? ", AVX2" : ", portable");
+        trusted += w_max > 0.0 ? 1 : 0;
+      }
+    }
+    EXPECT_GT(trusted, 400) << "n = " << n;
+  }
+}
+
+TEST(LwprModel, FullMetricGroupScanMatchesAPlainLoopBitForBit) {
+  check_scan_matches_plain_loop(false, 2, true);
+  check_scan_matches_plain_loop(false, 3, false);
+  check_scan_matches_plain_loop(false, 5, false);
+}
+
+TEST(LwprModel, DiagonalGroupScanMatchesAPlainLoopBitForBit) {
+  check_scan_matches_plain_loop(true, 3, false);
+  check_scan_matches_plain_loop(true, 9, true);
+}
+
+// predict(), predict_into() and predict_values_into() refuse a wrong size, a non-finite element
+// and a workspace of another class with these messages, checked in this order, and update()
+// refuses bad x and y in its order with the model unchanged; a workspace made by a model of
+// another input size predicts the same bits as the model's own.
+TEST(LwprModel, RefusesBadInputsInOrderAndPredictsWithAnotherModelsWorkspace) {
+  struct ForeignWorkspace final : PredictionWorkspace {};
+  LwprParams params;
+  params.init_D = Eigen::MatrixXd::Constant(1, 1, 6.0);
+  params.w_gen = 0.3;
+  LwprModel model(3, 2, params);
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int i = 0; i < 800; ++i) {
+    const Eigen::Vector3d x(uniform(rng), uniform(rng), uniform(rng));
+    model.update(x, Eigen::Vector2d(std::sin(2.0 * x(0)) + x(2), x(0) * x(1)));
+  }
+  auto own = model.make_workspace();
+  ForeignWorkspace foreign;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const Eigen::VectorXd wrong_size = Eigen::Vector2d(0.1, 0.2);
+  const Eigen::VectorXd not_finite = Eigen::Vector3d(0.1, nan, std::numeric_limits<double>::infinity());
+  const Eigen::VectorXd good = Eigen::Vector3d(0.1, 0.2, 0.3);
+  auto message = [&](const Eigen::VectorXd& x, PredictionWorkspace& ws, int call) {
+    Prediction out;
+    try {
+      if (call == 0) model.predict(x, ws);
+      if (call == 1) model.predict_into(x, ws, out);
+      if (call == 2) model.predict_values_into(x, ws, out);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  for (int call = 0; call < 3; ++call) {
+    EXPECT_EQ(message(wrong_size, *own, call), "LWPR: x has 2 elements, expected 3");
+    EXPECT_EQ(message(wrong_size, foreign, call), "LWPR: x has 2 elements, expected 3");
+    EXPECT_EQ(message(not_finite, *own, call), "LWPR: x[1] is not finite");
+    EXPECT_EQ(message(not_finite, foreign, call), "LWPR: x[1] is not finite");
+    EXPECT_EQ(message(good, foreign, call), "LWPR: predict() needs a workspace from make_workspace()");
+    EXPECT_EQ(message(good, *own, call), "no error");
+  }
+  // update() in the same order (x's size, x's elements, y's size, y's elements), model unchanged.
+  auto update_message = [&](const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
+    try {
+      model.update(x, y);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const Eigen::VectorXd y_good = Eigen::Vector2d(0.5, -0.5);
+  const Eigen::VectorXd y_wrong_size = Eigen::Vector3d(0.5, -0.5, 0.0);
+  const Eigen::VectorXd y_not_finite = Eigen::Vector2d(0.5, -nan);
+  const Prediction before = model.predict(good, *own);
+  const std::uint64_t updates = model.n_updates();
+  EXPECT_EQ(update_message(wrong_size, y_good), "LWPR: x has 2 elements, expected 3");
+  EXPECT_EQ(update_message(wrong_size, y_wrong_size), "LWPR: x has 2 elements, expected 3");
+  EXPECT_EQ(update_message(not_finite, y_wrong_size), "LWPR: x[1] is not finite");
+  EXPECT_EQ(update_message(good, y_wrong_size), "LWPR: y has 3 elements, expected 2");
+  EXPECT_EQ(update_message(good, y_not_finite), "LWPR: y[1] is not finite");
+  EXPECT_EQ(model.n_updates(), updates);
+  const Prediction after = model.predict(good, *own);
+  for (int o = 0; o < 2; ++o) EXPECT_EQ(std::memcmp(&before.value(o), &after.value(o), sizeof(double)), 0);
+
+  const LwprModel other(9, 1, params);
+  auto borrowed = other.make_workspace();
+  for (int i = 0; i < 100; ++i) {
+    const Eigen::Vector3d x(uniform(rng), uniform(rng), uniform(rng));
+    const Prediction a = model.predict(x, *own);
+    const Prediction b = model.predict(x, *borrowed);
+    for (int o = 0; o < 2; ++o) {
+      EXPECT_EQ(std::memcmp(&a.value(o), &b.value(o), sizeof(double)), 0) << "point " << i;
+      EXPECT_EQ(std::memcmp(&a.confidence(o), &b.confidence(o), sizeof(double)), 0) << "point " << i;
+    }
+    EXPECT_EQ(a.output_trusted, b.output_trusted);
+  }
 }
 
 TEST(LwprModel, FlagsPredictionsWithoutTrustworthyFields) {
