@@ -2,6 +2,7 @@
 #include "engine/lwpr/receptive_field.hpp"
 
 #include "engine/lwpr/distance_metric.hpp"
+#include "engine/lwpr/small_field_statistics.hpp"
 
 #include <Eigen/Cholesky>
 
@@ -672,8 +673,15 @@ namespace {
 
 void update_field_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveField& rf, FieldScratch& scratch) {
   switch (rf.input_dim()) {
-    case 2: update_statistics<2, Pair>(x, y, w, rf, scratch); break;
-    case 3: update_statistics<3, Pair>(x, y, w, rf, scratch); break;
+    case 2:
+    case 3:  // on local values (small_field_statistics.cpp), the same bits as update_statistics<2 or 3, Pair>
+      if (scratch.small_statistics && update_small_field_statistics(x, y, w, rf, scratch)) break;
+      if (rf.input_dim() == 2) {
+        update_statistics<2, Pair>(x, y, w, rf, scratch);
+      } else {
+        update_statistics<3, Pair>(x, y, w, rf, scratch);
+      }
+      break;
     default:
       if (scratch.use_avx2) {
         update_statistics_avx2(x, y, w, rf, scratch);
@@ -782,7 +790,10 @@ void update_receptive_field_pair(const LwprParams& params, double trust_n_data, 
                                  double w_a, ReceptiveField& rf_a, FieldScratch& scratch_a, double w_b,
                                  ReceptiveField& rf_b, FieldScratch& scratch_b) {
   const int n = rf_a.input_dim();
-  if (n > 3 && rf_b.input_dim() == n && scratch_a.use_avx2 == scratch_b.use_avx2) {
+  const bool small = n <= 3 && scratch_a.small_statistics && scratch_b.small_statistics;
+  if (small && update_small_field_statistics_pair(x, y, w_a, rf_a, scratch_a, w_b, rf_b, scratch_b)) {
+    // n = 2 or 3: both fields' statistics on local values, their scalar steps as pairs of doubles
+  } else if (n > 3 && rf_b.input_dim() == n && scratch_a.use_avx2 == scratch_b.use_avx2) {
     if (scratch_a.use_avx2) {
       update_statistics_pair_avx2(x, y, w_a, rf_a, scratch_a, w_b, rf_b, scratch_b);
     } else {

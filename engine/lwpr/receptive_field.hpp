@@ -66,6 +66,9 @@ struct FieldScratch {
   Eigen::MatrixXd curvature;///< its second derivative (shape of M), for IDBD
   Eigen::MatrixXd old_factor;  ///< M before a metric step, to restore it
   Eigen::MatrixXd new_metric;  ///< D after a metric step, before it is accepted
+  /// The statistics of a field of 2 or 3 inputs on local values (update_small_field_statistics).
+  /// They give the same bits as the general code, which tests run by clearing this.
+  bool small_statistics = true;
   /// Field updates of more than 3 inputs on AVX2 (the same bits as SSE2; has_avx2() by default,
   /// tests compare the two).
   bool use_avx2 = has_avx2();

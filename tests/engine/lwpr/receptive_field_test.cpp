@@ -633,3 +633,112 @@ TEST(ReceptiveField, SmallFullMetricUpdateMatchesTheGeneralUpdateBitForBit) {
 
 }  // namespace
 }  // namespace armfarm::lwpr
+
+namespace armfarm::lwpr {
+namespace {
+
+// The statistics of a field of 2 or 3 inputs on local values (FieldScratch::small_statistics, the
+// default) against the general code (the flag cleared): after every update, every statistic and the
+// s_r, residuals and 1 − h_r the rest of the update reads are the same bits. Single updates and
+// update_receptive_field_pair with every pair of projection counts 1..n (fields that start with 1, 2
+// and n projections; at n = 3 the second adds its third on the way), SSE2 and AVX2, with and
+// without update_D.
+TEST(ReceptiveField, SmallStatisticsMatchTheGeneralStatisticsBitForBit) {
+  auto state = [](const ReceptiveField& rf, const FieldScratch& scratch) {
+    std::vector<double> all = flatten_field(rf);
+    for (const Eigen::VectorXd* v : {&scratch.s, &scratch.residual, &scratch.one_minus_h}) {
+      all.insert(all.end(), v->data(), v->data() + rf.n_reg());
+    }
+    return all;
+  };
+  auto same_bits = [](const std::vector<double>& a, const std::vector<double>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+  };
+  for (const int n : {2, 3}) {
+    for (const bool avx2 : {false, true}) {
+      if (avx2 && !has_avx2()) continue;
+      for (const bool update_d : {false, true}) {
+        const std::string where =
+            "n = " + std::to_string(n) + (avx2 ? ", AVX2" : ", SSE2") + ", update_D " + std::to_string(update_d);
+        constexpr int kKinds = 3;  // fields starting with 1, 2 and n projections
+        const int start_reg[kKinds] = {1, 2, n};
+        ReceptiveField start[kKinds];
+        for (int k = 0; k < kKinds; ++k) {
+          LwprParams params;
+          params.init_n_reg = start_reg[k];
+          params.init_lambda = 0.99;
+          const Eigen::MatrixXd D = (1.0 + k) * Eigen::MatrixXd::Identity(n, n);
+          start[k] = make_receptive_field(params, Eigen::VectorXd::Constant(n, 0.1 * k), D);
+        }
+        LwprParams params;
+        params.update_D = update_d;
+        params.add_threshold = 0.9;  // add projections readily
+        FieldScratch scratch[4];
+        for (int k = 0; k < 4; ++k) {
+          scratch[k].resize(n, true);
+          scratch[k].small_statistics = k >= 2;  // 0, 1 general; 2, 3 on locals
+          scratch[k].use_avx2 = avx2;
+        }
+        ReceptiveField general[kKinds], small[kKinds];
+        ReceptiveField general_pair[kKinds][kKinds][2], small_pair[kKinds][kKinds][2];
+        for (int a = 0; a < kKinds; ++a) {
+          general[a] = small[a] = start[a];
+          for (int b = 0; b < kKinds; ++b) {
+            general_pair[a][b][0] = small_pair[a][b][0] = start[a];
+            general_pair[a][b][1] = small_pair[a][b][1] = start[b];
+          }
+        }
+        std::mt19937_64 rng(static_cast<unsigned>(17 * n + 2 * avx2 + update_d));
+        std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+        std::vector<int> pair_steps(16, 0);  // by (R_a − 1)·4 + R_b − 1
+        std::vector<int> single_steps(4, 0);
+        bool diverged = false;
+        for (int i = 0; i < 1500 && !diverged; ++i) {
+          const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(n, [&] { return 0.5 * uniform(rng); });
+          const double y = std::sin(3.0 * x(0)) + x(1) * x(n - 1) + 0.05 * uniform(rng);
+          double w[kKinds][2];
+          for (auto& wk : w) {
+            for (double& v : wk) v = 0.05 + 0.95 * std::abs(uniform(rng));
+          }
+          for (int a = 0; a < kKinds && !diverged; ++a) {
+            ++single_steps[general[a].n_reg() - 1];
+            update_receptive_field(params, 2.0 * n, x, y, w[a][0], general[a], scratch[0]);
+            update_receptive_field(params, 2.0 * n, x, y, w[a][0], small[a], scratch[2]);
+            if (!same_bits(state(general[a], scratch[0]), state(small[a], scratch[2]))) {
+              ADD_FAILURE() << where << ": single update, field kind " << a << ", sample " << i;
+              diverged = true;
+            }
+            for (int b = 0; b < kKinds && !diverged; ++b) {
+              ReceptiveField(&g)[2] = general_pair[a][b];
+              ReceptiveField(&s)[2] = small_pair[a][b];
+              ++pair_steps[(g[0].n_reg() - 1) * 4 + g[1].n_reg() - 1];
+              update_receptive_field_pair(params, 2.0 * n, x, y, w[a][0], g[0], scratch[0], w[b][1], g[1], scratch[1]);
+              update_receptive_field_pair(params, 2.0 * n, x, y, w[a][0], s[0], scratch[2], w[b][1], s[1], scratch[3]);
+              for (int f = 0; f < 2 && !diverged; ++f) {
+                if (!same_bits(state(g[f], scratch[f]), state(s[f], scratch[2 + f]))) {
+                  ADD_FAILURE() << where << ": pair update (kinds " << a << ", " << b << "), field " << f
+                                << ", sample " << i;
+                  diverged = true;
+                }
+              }
+            }
+          }
+        }
+        if (diverged) continue;  // the stream stopped there
+        // Every projection count, single and in every pair, and (n = 3) the added projection.
+        for (int r = 1; r <= n; ++r) {
+          EXPECT_GT(single_steps[r - 1], 0) << where << ": no single update with R = " << r;
+          for (int rb = 1; rb <= n; ++rb) {
+            EXPECT_GT(pair_steps[(r - 1) * 4 + rb - 1], 0) << where << ": no pair update with R = " << r << ", " << rb;
+          }
+        }
+        if (n == 3) {
+          EXPECT_EQ(general[1].n_reg(), 3) << where << ": the field of 2 projections added none";
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace armfarm::lwpr
