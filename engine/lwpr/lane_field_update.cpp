@@ -100,7 +100,9 @@ void update_lane_field(const LwprParams& params, double trust_n_data, const Eige
 }
 
 // The two fields one after the other: the lane layout already overlaps the outputs' chains (one
-// vector op per projection step for all of them); interleaving two fields' runs is not done yet.
+// vector op per projection step for all of them). Alternating the two fields' runs projection by
+// projection (as update_statistics_pair()) was measured and did not pay (engine/lwpr/README.md,
+// Speed: lane fields).
 void update_lane_field_pair(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, const double* y,
                             double w_a, LaneField& field_a, double w_b, LaneField& field_b, LaneScratch& scratch_a,
                             LaneScratch& scratch_b) {

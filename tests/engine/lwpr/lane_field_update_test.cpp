@@ -159,14 +159,15 @@ TEST(LaneFieldUpdate, MatchesEachOutputsUpdateBitForBitOnAvx512) {
   check_copy(Copy::kAvx512);
 }
 
-// The pair against one field at a time: two fields (different centres, so different activations).
+// The pair against one field at a time: two fields (different centres, so different activations;
+// different projection counts per lane, so their runs end at different projections).
 TEST(LaneFieldUpdate, PairMatchesOneAtATimeBitForBit) {
   const LwprParams params = test_params(LooStart::kEarly);
   for (const Copy copy : {Copy::kSse2, Copy::kAvx2, Copy::kAvx512}) {
     if (skip_copy(copy)) continue;
     for (const int n : {5, 21}) {
-      const int n_out = 7;
-      std::mt19937 rng(5u + n);
+     for (const int n_out : {2, 7, 9}) {
+      std::mt19937 rng(5u + n + n_out);
       std::normal_distribution<double> g(0.0, 0.4);
       const Eigen::MatrixXd D = Eigen::MatrixXd::Identity(n, n) * (2.0 / n);
       Eigen::VectorXd ca = Eigen::VectorXd::Zero(n), cb = Eigen::VectorXd::Constant(n, 0.1);
@@ -174,6 +175,8 @@ TEST(LaneFieldUpdate, PairMatchesOneAtATimeBitForBit) {
       std::vector<ReceptiveField> b(n_out, make_receptive_field(params, cb, D));
       std::vector<const ReceptiveField*> pa, pb;
       for (int o = 0; o < n_out; ++o) {
+        for (int k = 0; k < o % 3; ++k) add_projection(params, a[o]);
+        for (int k = 0; k < (o + 1) % 3; ++k) add_projection(params, b[o]);
         pa.push_back(&a[o]);
         pb.push_back(&b[o]);
       }
@@ -196,6 +199,7 @@ TEST(LaneFieldUpdate, PairMatchesOneAtATimeBitForBit) {
         ASSERT_TRUE(expect_same_field(unpack_lane_field(pair_a, o), unpack_lane_field(one_a, o)));
         ASSERT_TRUE(expect_same_field(unpack_lane_field(pair_b, o), unpack_lane_field(one_b, o)));
       }
+     }
     }
   }
 }
