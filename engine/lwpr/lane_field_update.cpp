@@ -67,7 +67,8 @@ typedef double V __attribute__((vector_size(kW * sizeof(double))));
 __attribute__((always_inline)) inline void vsqrt(V& root, const V& a) {
   __m512d t;
   std::memcpy(&t, &a, sizeof t);
-  t = _mm512_mask_sqrt_pd(t, static_cast<__mmask8>(0xFF), t);  // (_mm512_sqrt_pd: a -Wmaybe-uninitialized in GCC 12's header)
+  // (not _mm512_sqrt_pd: GCC 12's header gives it a -Wmaybe-uninitialized)
+  t = _mm512_mask_sqrt_pd(t, static_cast<__mmask8>(0xFF), t);
   std::memcpy(&root, &t, sizeof t);
 }
 #include "engine/lwpr/lane_field_update_kernel.inc"

@@ -107,7 +107,8 @@ int check_against_per_output(Copy copy, LooStart loo_start, int n, int n_out, in
     for (int i = 0; i < n; ++i) x(i) = centre(i) + g(rng);
     const double w = std::exp(-0.5 * (x - centre).squaredNorm() * (2.0 / n));
     for (int o = 0; o < n_out; ++o) {
-      y[o] = std::sin(x(0) * (o + 1)) + 0.3 * (n > 1 ? x(1) : 0.0) * o + 0.05 * g(rng) + (n > 2 ? x(2) * x(n - 1) : 0.0);
+      y[o] = std::sin(x(0) * (o + 1)) + 0.3 * (n > 1 ? x(1) : 0.0) * o + 0.05 * g(rng) +
+             (n > 2 ? x(2) * x(n - 1) : 0.0);
       update_receptive_field(params, trust_n_data, x, y[o], w, copies[o], field_scratch);
     }
     update_lane_field(params, trust_n_data, x, y.data(), w, field, scratch);
@@ -166,40 +167,40 @@ TEST(LaneFieldUpdate, PairMatchesOneAtATimeBitForBit) {
   for (const Copy copy : {Copy::kSse2, Copy::kAvx2, Copy::kAvx512}) {
     if (skip_copy(copy)) continue;
     for (const int n : {5, 21}) {
-     for (const int n_out : {2, 7, 9}) {
-      std::mt19937 rng(5u + n + n_out);
-      std::normal_distribution<double> g(0.0, 0.4);
-      const Eigen::MatrixXd D = Eigen::MatrixXd::Identity(n, n) * (2.0 / n);
-      Eigen::VectorXd ca = Eigen::VectorXd::Zero(n), cb = Eigen::VectorXd::Constant(n, 0.1);
-      std::vector<ReceptiveField> a(n_out, make_receptive_field(params, ca, D));
-      std::vector<ReceptiveField> b(n_out, make_receptive_field(params, cb, D));
-      std::vector<const ReceptiveField*> pa, pb;
-      for (int o = 0; o < n_out; ++o) {
-        for (int k = 0; k < o % 3; ++k) add_projection(params, a[o]);
-        for (int k = 0; k < (o + 1) % 3; ++k) add_projection(params, b[o]);
-        pa.push_back(&a[o]);
-        pb.push_back(&b[o]);
+      for (const int n_out : {2, 7, 9}) {
+        std::mt19937 rng(5u + n + n_out);
+        std::normal_distribution<double> g(0.0, 0.4);
+        const Eigen::MatrixXd D = Eigen::MatrixXd::Identity(n, n) * (2.0 / n);
+        Eigen::VectorXd ca = Eigen::VectorXd::Zero(n), cb = Eigen::VectorXd::Constant(n, 0.1);
+        std::vector<ReceptiveField> a(n_out, make_receptive_field(params, ca, D));
+        std::vector<ReceptiveField> b(n_out, make_receptive_field(params, cb, D));
+        std::vector<const ReceptiveField*> pa, pb;
+        for (int o = 0; o < n_out; ++o) {
+          for (int k = 0; k < o % 3; ++k) add_projection(params, a[o]);
+          for (int k = 0; k < (o + 1) % 3; ++k) add_projection(params, b[o]);
+          pa.push_back(&a[o]);
+          pb.push_back(&b[o]);
+        }
+        LaneField one_a = pack_lane_field(pa), one_b = pack_lane_field(pb);
+        LaneField pair_a = one_a, pair_b = one_b;
+        LaneScratch s1 = make_scratch(copy, n), s2 = make_scratch(copy, n), s3 = make_scratch(copy, n);
+        std::vector<double> y(n_out);
+        for (int t = 0; t < 600; ++t) {
+          Eigen::VectorXd x(n);
+          for (int i = 0; i < n; ++i) x(i) = g(rng);
+          const double wa = std::exp(-0.5 * (x - ca).squaredNorm() * (2.0 / n));
+          const double wb = std::exp(-0.5 * (x - cb).squaredNorm() * (2.0 / n));
+          for (int o = 0; o < n_out; ++o) y[o] = std::cos(x(0) * (o + 1)) + 0.01 * g(rng);
+          update_lane_field(params, 2.0 * n, x, y.data(), wa, one_a, s1);
+          update_lane_field(params, 2.0 * n, x, y.data(), wb, one_b, s1);
+          update_lane_field_pair(params, 2.0 * n, x, y.data(), wa, pair_a, wb, pair_b, s2, s3);
+        }
+        for (int o = 0; o < n_out; ++o) {
+          SCOPED_TRACE(std::string(copy_name(copy)) + ", n " + std::to_string(n) + ", output " + std::to_string(o));
+          ASSERT_TRUE(expect_same_field(unpack_lane_field(pair_a, o), unpack_lane_field(one_a, o)));
+          ASSERT_TRUE(expect_same_field(unpack_lane_field(pair_b, o), unpack_lane_field(one_b, o)));
+        }
       }
-      LaneField one_a = pack_lane_field(pa), one_b = pack_lane_field(pb);
-      LaneField pair_a = one_a, pair_b = one_b;
-      LaneScratch s1 = make_scratch(copy, n), s2 = make_scratch(copy, n), s3 = make_scratch(copy, n);
-      std::vector<double> y(n_out);
-      for (int t = 0; t < 600; ++t) {
-        Eigen::VectorXd x(n);
-        for (int i = 0; i < n; ++i) x(i) = g(rng);
-        const double wa = std::exp(-0.5 * (x - ca).squaredNorm() * (2.0 / n));
-        const double wb = std::exp(-0.5 * (x - cb).squaredNorm() * (2.0 / n));
-        for (int o = 0; o < n_out; ++o) y[o] = std::cos(x(0) * (o + 1)) + 0.01 * g(rng);
-        update_lane_field(params, 2.0 * n, x, y.data(), wa, one_a, s1);
-        update_lane_field(params, 2.0 * n, x, y.data(), wb, one_b, s1);
-        update_lane_field_pair(params, 2.0 * n, x, y.data(), wa, pair_a, wb, pair_b, s2, s3);
-      }
-      for (int o = 0; o < n_out; ++o) {
-        SCOPED_TRACE(std::string(copy_name(copy)) + ", n " + std::to_string(n) + ", output " + std::to_string(o));
-        ASSERT_TRUE(expect_same_field(unpack_lane_field(pair_a, o), unpack_lane_field(one_a, o)));
-        ASSERT_TRUE(expect_same_field(unpack_lane_field(pair_b, o), unpack_lane_field(one_b, o)));
-      }
-     }
     }
   }
 }
