@@ -26,8 +26,10 @@ void require_vector(const Eigen::VectorXd& v, int size, const char* name) {
   }
 }
 
-double calc_trace(const ReceptiveField& rf) {
-  return rf.diagonal() ? rf.metric.sum() : rf.metric.trace();
+// trace D of a ReceptiveField or a LaneField (a diagonal metric is one column).
+template <class Field>
+double calc_trace(const Field& rf) {
+  return rf.metric.cols() == 1 ? rf.metric.sum() : rf.metric.trace();
 }
 
 // The diagonal scan sums each field's q in blocks of kScanBlock input elements (the early exit
@@ -191,7 +193,7 @@ __attribute__((always_inline)) inline void copy_upper_triangle(const Eigen::Matr
 
 }  // namespace
 
-LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
+LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params, FieldLayout layout)
     : n_in_(n_in), n_out_(n_out), params_(params) {
   validate_lwpr_params(params_, n_in, n_out);
   init_metric_ = calc_init_metric(params_, n_in);
@@ -210,6 +212,12 @@ LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params)
   scratch_pair_.resize(n_in, params_.diag_only);
   scan_diff_.assign(static_cast<std::size_t>(n_in) * kScanGroup, 0.0);
   shared_scan_ = !params_.update_D;
+  lane_layout_ = layout == FieldLayout::kAuto && shared_scan_ && n_in > 3 && n_out >= 2;
+  if (lane_layout_) {
+    lane_scratch_.resize(n_in);
+    lane_scratch_pair_.resize(n_in);
+    y_normalised_.assign(n_out, 0.0);
+  }
 }
 
 std::size_t LwprModel::calc_group_offset(std::size_t i) const {
@@ -220,7 +228,8 @@ std::size_t LwprModel::calc_metric_offset(std::size_t i) const {
   return (i / kScanGroup) * static_cast<std::size_t>(metric_stride_) * kScanGroup + i % kScanGroup;
 }
 
-inline void LwprModel::write_scan_metric(int output, std::size_t i, const ReceptiveField& rf) {
+template <class Field>
+inline void LwprModel::write_scan_metric(int output, std::size_t i, const Field& rf) {
   double* to = scan_[output].metrics.data() + calc_metric_offset(i);
   if (diagonal_scan_) {
     for (int k = 0; k < n_in_; ++k) to[k * kScanGroup] = rf.metric(k, 0);
@@ -242,7 +251,8 @@ void LwprModel::write_scan_trust(ScanData& scan, std::size_t i, bool trusted) {
   lanes = static_cast<unsigned char>(trusted ? lanes | bit : lanes & ~bit);
 }
 
-void LwprModel::append_to_scan(int output, const ReceptiveField& rf) {
+template <class Field>
+void LwprModel::append_to_scan(int output, const Field& rf) {
   ScanData& scan = scan_[output];
   const std::size_t i = scan.trusted.size();
   if (i % kScanGroup == 0) {  // a new group, zero-filled: padding lanes and elements stay 0
@@ -289,8 +299,8 @@ void LwprModel::erase_from_scan(int output, std::size_t victim) {
 }
 
 LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params, std::vector<std::vector<ReceptiveField>> fields,
-                     std::uint64_t n_updates)
-    : LwprModel(n_in, n_out, params) {
+                     std::uint64_t n_updates, FieldLayout layout)
+    : LwprModel(n_in, n_out, params, layout) {
   if (static_cast<int>(fields.size()) != n_out) {
     throw std::invalid_argument("LWPR: " + std::to_string(fields.size()) + " field lists for " +
                                 std::to_string(n_out) + " outputs");
@@ -312,11 +322,32 @@ LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params, std::vector<
       if (!ok) throw std::invalid_argument("LWPR: a receptive field's sizes do not match the model");
     }
   }
+  n_updates_ = n_updates;
+  if (lane_layout_) {
+    // The lane form only if every field's copies agree on what the outputs share (a model this
+    // class trained without update_D always does); else one list per output.
+    bool agree = true;
+    for (int o = 1; o < n_out && agree; ++o) agree = fields[o].size() == fields[0].size();
+    std::vector<const ReceptiveField*> copies(n_out);
+    for (std::size_t i = 0; agree && i < fields[0].size(); ++i) {
+      for (int o = 0; o < n_out; ++o) copies[o] = &fields[o][i];
+      agree = lane_copies_agree(copies);
+    }
+    if (agree) {
+      lane_fields_.reserve(fields[0].size());
+      for (std::size_t i = 0; i < fields[0].size(); ++i) {
+        for (int o = 0; o < n_out; ++o) copies[o] = &fields[o][i];
+        lane_fields_.push_back(pack_lane_field(copies));
+        append_to_scan(0, lane_fields_.back());
+      }
+      return;
+    }
+    lane_layout_ = false;
+  }
   fields_ = std::move(fields);
   for (int o = 0; o < n_out; ++o) {
     for (const ReceptiveField& rf : fields_[o]) append_to_scan(o, rf);
   }
-  n_updates_ = n_updates;
   shared_scan_ = !params_.update_D && calc_scans_identical();
 }
 
@@ -403,6 +434,12 @@ void LwprModel::update(const Eigen::VectorXd& x, const Eigen::VectorXd& y) {
     if (!std::isfinite(y(o))) require_vector(y, n_out_, "y");
   }
   if (shared_scan_) scan_active(0, x_padded_.data(), false, scratch_.use_avx2, scan_diff_.data(), active_);
+  if (lane_layout_) {
+    for (int o = 0; o < n_out_; ++o) y_normalised_[o] = y(o) / norm_out_(o);
+    update_lane_fields(y_normalised_.data(), active_);
+    ++n_updates_;
+    return;
+  }
   for (int o = 0; o < n_out_; ++o) {
     if (!shared_scan_) scan_active(o, x_padded_.data(), false, scratch_.use_avx2, scan_diff_.data(), active_);
     update_output(o, y(o) / norm_out_(o), active_);
@@ -485,13 +522,92 @@ void LwprModel::update_output(int output, double y, const std::vector<ActiveFiel
   }
 }
 
+void LwprModel::update_lane_fields(const double* y, const std::vector<ActiveField>& active) {
+  const Eigen::VectorXd& x = x_normalised_;
+  ScanData& scan = scan_[0];
+  // update_active_fields() and update_output() of every output at once: the active list, the
+  // most active field and the pruning candidates are the same for every output.
+  ActiveSummary summary;
+  auto note = [&](const ActiveField& a) {
+    const int i = static_cast<int>(a.index);
+    if (a.w > summary.w_max) {
+      summary.w_max = a.w;
+      summary.i_max = i;
+    }
+    if (a.w > params_.w_prune) {
+      if (summary.prune_a < 0) {
+        summary.prune_a = i;
+      } else if (summary.prune_b < 0) {
+        summary.prune_b = i;
+      }
+    }
+  };
+  auto after = [&](std::size_t i) {
+    if ((scan.trusted[i] != 0) != lane_fields_[i].trustworthy) write_scan_trust(scan, i, lane_fields_[i].trustworthy);
+  };
+  std::size_t k = 0;
+  for (; k + 1 < active.size(); k += 2) {
+    const ActiveField& a = active[k];
+    const ActiveField& b = active[k + 1];
+    note(a);
+    note(b);
+    update_lane_field_pair(params_, trust_n_data_, x, y, a.w, lane_fields_[a.index], b.w, lane_fields_[b.index],
+                           lane_scratch_, lane_scratch_pair_);
+    after(a.index);
+    after(b.index);
+  }
+  if (k < active.size()) {
+    note(active[k]);
+    update_lane_field(params_, trust_n_data_, x, y, active[k].w, lane_fields_[active[k].index], lane_scratch_);
+    after(active[k].index);
+  }
+  if (summary.w_max <= params_.w_gen && (params_.max_fields == 0 || lane_fields_.size() < params_.max_fields)) {
+    const int i_max = summary.i_max;
+    const bool use_neighbour =
+        i_max >= 0 && summary.w_max > 0.1 * params_.w_gen && lane_fields_[i_max].trustworthy;
+    Eigen::MatrixXd D;
+    if (use_neighbour) {
+      const LaneField& near = lane_fields_[i_max];
+      D = near.metric.cols() == 1 ? Eigen::MatrixXd(near.metric.col(0).asDiagonal()) : near.metric;
+    } else {
+      D = init_metric_;
+    }
+    const ReceptiveField made = make_receptive_field(params_, x, D);
+    lane_fields_.push_back(pack_lane_field(std::vector<const ReceptiveField*>(n_out_, &made)));
+    update_lane_field(params_, trust_n_data_, x, y, 1.0, lane_fields_.back(), lane_scratch_);
+    append_to_scan(0, lane_fields_.back());
+  }
+  if (summary.prune_b >= 0) {
+    const int victim = calc_trace(lane_fields_[summary.prune_a]) >= calc_trace(lane_fields_[summary.prune_b])
+                           ? summary.prune_a
+                           : summary.prune_b;
+    lane_fields_.erase(lane_fields_.begin() + victim);
+    erase_from_scan(0, static_cast<std::size_t>(victim));
+  }
+}
+
+std::vector<ReceptiveField> LwprModel::fields(int output) const {
+  if (output < 0 || output >= n_out_) throw std::out_of_range("LWPR: no output " + std::to_string(output));
+  if (!lane_layout_) return fields_[output];
+  std::vector<ReceptiveField> list;
+  list.reserve(lane_fields_.size());
+  for (const LaneField& f : lane_fields_) list.push_back(unpack_lane_field(f, output));
+  return list;
+}
+
+std::size_t LwprModel::field_count(int output) const {
+  if (output < 0 || output >= n_out_) throw std::out_of_range("LWPR: no output " + std::to_string(output));
+  return lane_layout_ ? lane_fields_.size() : fields_[output].size();
+}
+
 std::unique_ptr<PredictionWorkspace> LwprModel::make_workspace() const {
   auto workspace = std::make_unique<LwprWorkspace>();
   workspace->x_normalised.resize(n_in_);
   workspace->x_padded.assign(stride_, 0.0);
   workspace->scratch.resize(n_in_, params_.diag_only);
   workspace->scan_diff.assign(static_cast<std::size_t>(n_in_) * kScanGroup, 0.0);
-  workspace->active.reserve(fields_.empty() ? 0 : fields_[0].size());
+  workspace->active.reserve(field_count(0));
+  if (lane_layout_) workspace->lane_scratch.resize(n_in_);
   return workspace;
 }
 
@@ -525,6 +641,24 @@ struct OutputBlend {
   double w_best = 0.0, y_best = 0.0, var_best = 0.0;
 };
 
+// Adds one active field's prediction y (activation w, noise variance `variance`) to the blend.
+inline void add_to_blend(const LwprParams& params, bool with_bounds, double w, double y, double variance,
+                         OutputBlend& b) {
+  if (params.blend) {
+    b.sum_w += w;
+    b.sum_wy += w * y;
+    if (with_bounds) {
+      b.sum_wyy += w * y * y;
+      b.sum_wvar += w * variance;
+    }
+  }
+  if (w > b.w_best) {
+    b.w_best = w;
+    b.y_best = y;
+    b.var_best = variance;
+  }
+}
+
 OutputBlend blend_fields(const LwprParams& params, const std::vector<ReceptiveField>& fields,
                          const std::vector<ActiveField>& active, const Eigen::VectorXd& xn, bool with_bounds,
                          FieldScratch& scratch) {
@@ -540,19 +674,23 @@ OutputBlend blend_fields(const LwprParams& params, const std::vector<ReceptiveFi
     } else {
       y = predict_receptive_field_value(rf, xn, scratch);
     }
-    if (params.blend) {
-      b.sum_w += w;
-      b.sum_wy += w * y;
-      if (with_bounds) {
-        b.sum_wyy += w * y * y;
-        b.sum_wvar += w * variance;
-      }
-    }
-    if (w > b.w_best) {
-      b.w_best = w;
-      b.y_best = y;
-      b.var_best = variance;
-    }
+    add_to_blend(params, with_bounds, w, y, variance, b);
+  }
+  return b;
+}
+
+// blend_fields() of output o in the lane form, from the active fields' predictions (`values`,
+// `leverages`: active field k's output o at [k·n_out + o], computed once for every output).
+OutputBlend blend_lane_fields(const LwprParams& params, const std::vector<LaneField>& fields,
+                              const std::vector<ActiveField>& active, int o, int n_out, const double* values,
+                              const double* leverages, bool with_bounds) {
+  OutputBlend b;
+  for (std::size_t k = 0; k < active.size(); ++k) {
+    const double w = active[k].w;
+    const std::size_t at = k * static_cast<std::size_t>(n_out) + static_cast<std::size_t>(o);
+    const double variance =
+        with_bounds ? calc_lane_noise_variance(fields[active[k].index], o) * (1.0 + w * leverages[at]) : 0.0;
+    add_to_blend(params, with_bounds, w, values[at], variance, b);
   }
   return b;
 }
@@ -591,11 +729,29 @@ void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& work
   }
   double min_of_max = std::numeric_limits<double>::infinity();
 
+  if (lane_layout_) {
+    // One scan and one lane prediction per active field serve every output.
+    scan_active(0, ws->x_padded.data(), true, ws->scratch.use_avx2, ws->scan_diff.data(), ws->active);
+    if (ws->lane_scratch.z.size() < static_cast<std::size_t>(n_in_) * kOutputLanes) ws->lane_scratch.resize(n_in_);
+    const std::size_t count = ws->active.size() * static_cast<std::size_t>(n_out_);
+    if (ws->lane_values.size() < count) {
+      ws->lane_values.resize(count);
+      ws->lane_leverages.resize(count);
+    }
+    for (std::size_t k = 0; k < ws->active.size(); ++k) {
+      const std::size_t at = k * static_cast<std::size_t>(n_out_);
+      predict_lane_field(lane_fields_[ws->active[k].index], xn, ws->lane_values.data() + at,
+                         with_bounds ? ws->lane_leverages.data() + at : nullptr, ws->lane_scratch);
+    }
+  }
   for (int o = 0; o < n_out_; ++o) {
-    if (o == 0 || !shared_scan_) {
+    if (!lane_layout_ && (o == 0 || !shared_scan_)) {
       scan_active(o, ws->x_padded.data(), true, ws->scratch.use_avx2, ws->scan_diff.data(), ws->active);
     }
-    const OutputBlend b = blend_fields(params_, fields_[o], ws->active, xn, with_bounds, ws->scratch);
+    const OutputBlend b =
+        lane_layout_ ? blend_lane_fields(params_, lane_fields_, ws->active, o, n_out_, ws->lane_values.data(),
+                                         ws->lane_leverages.data(), with_bounds)
+                     : blend_fields(params_, fields_[o], ws->active, xn, with_bounds, ws->scratch);
     if (detail != nullptr) detail->max_activation(o) = b.w_best;
     min_of_max = std::min(min_of_max, b.w_best);
     if (b.w_best <= 0.0) {
@@ -619,6 +775,7 @@ void LwprModel::predict_with(const Eigen::VectorXd& x, PredictionWorkspace& work
 }
 
 std::size_t LwprModel::size() const {
+  if (lane_layout_) return lane_fields_.size() * static_cast<std::size_t>(n_out_);
   std::size_t total = 0;
   for (const auto& list : fields_) total += list.size();
   return total;
@@ -627,6 +784,7 @@ std::size_t LwprModel::size() const {
 std::size_t LwprModel::calc_memory_bytes() const {
   std::size_t doubles = static_cast<std::size_t>(init_metric_.size() + norm_in_.size() + norm_out_.size());
   std::size_t flags = 0;
+  for (const LaneField& f : lane_fields_) doubles += count_lane_field_doubles(f);
   for (const auto& list : fields_) {
     for (const ReceptiveField& rf : list) {
       doubles += static_cast<std::size_t>(
@@ -639,9 +797,11 @@ std::size_t LwprModel::calc_memory_bytes() const {
   }
   // The scan's numbers per field (a centre and a metric, padded to the scan stride), not the
   // group layout's padding lanes: the metric stays the same whatever the layout.
+  // (The lane form keeps one scan for all outputs: counted once per output, as one per output is.)
+  const std::size_t scans = lane_layout_ ? static_cast<std::size_t>(n_out_) : 1;
   for (const ScanData& scan : scan_) {
-    doubles += scan.trusted.size() * static_cast<std::size_t>(stride_ + metric_stride_);
-    flags += scan.trusted.size();
+    doubles += scans * scan.trusted.size() * static_cast<std::size_t>(stride_ + metric_stride_);
+    flags += scans * scan.trusted.size();
   }
   return sizeof(double) * doubles + flags;
 }
@@ -649,6 +809,10 @@ std::size_t LwprModel::calc_memory_bytes() const {
 double LwprModel::calc_mean_projections() const {
   std::size_t fields = 0;
   double projections = 0.0;
+  for (const LaneField& f : lane_fields_) {
+    for (int o = 0; o < n_out_; ++o) projections += f.n_reg(o);
+    fields += static_cast<std::size_t>(n_out_);
+  }
   for (const auto& list : fields_) {
     for (const ReceptiveField& rf : list) projections += rf.n_reg();
     fields += list.size();

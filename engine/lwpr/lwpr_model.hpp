@@ -3,6 +3,7 @@
 // per output, each field a locally weighted PLS regression. Inputs and outputs are in the
 // caller's units; the model normalises them by LwprParams::norm_in / norm_out internally.
 #include "engine/learner/learner.hpp"
+#include "engine/lwpr/lane_fields.hpp"
 #include "engine/lwpr/lwpr_params.hpp"
 #include "engine/lwpr/receptive_field.hpp"
 
@@ -29,7 +30,16 @@ class LwprWorkspace final : public PredictionWorkspace {
   FieldScratch scratch;
   std::vector<ActiveField> active;  ///< the shared scan's active trustworthy fields
   std::vector<double> scan_diff;    ///< the full-metric scan's x − c of a group (n_in × 4)
+  LaneScratch lane_scratch;         ///< the lane form's prediction scratch
+  std::vector<double> lane_values;  ///< the lane form's predictions, active field k's output o at [k·n_out + o]
+  std::vector<double> lane_leverages;  ///< their leverages, likewise
 };
+
+/// How a model stores its fields. kAuto: without update_D, for more than 3 inputs and at least 2
+/// outputs, each field once with its outputs' regressions in vector lanes (lane_fields.hpp), else
+/// one list per output; kPerOutput: one list per output always. Both give the same bits (tests
+/// compare them).
+enum class FieldLayout { kAuto, kPerOutput };
 
 /// Per-output detail of a prediction (all sizes n_out), in the caller's units.
 struct LwprPredictionDetail {
@@ -41,12 +51,12 @@ class LwprModel final : public Learner {
  public:
   /// An empty model (no fields) learning n_in → n_out. Throws std::invalid_argument if the
   /// parameters are invalid for these sizes (see validate_lwpr_params()).
-  LwprModel(int n_in, int n_out, const LwprParams& params);
+  LwprModel(int n_in, int n_out, const LwprParams& params, FieldLayout layout = FieldLayout::kAuto);
 
   /// A model restored from saved state: `fields` has one list per output, `n_updates` the samples
   /// learnt. Throws std::invalid_argument if the sizes are inconsistent.
   LwprModel(int n_in, int n_out, const LwprParams& params, std::vector<std::vector<ReceptiveField>> fields,
-            std::uint64_t n_updates);
+            std::uint64_t n_updates, FieldLayout layout = FieldLayout::kAuto);
 
   int input_dim() const override { return n_in_; }
   int output_dim() const override { return n_out_; }
@@ -80,7 +90,12 @@ class LwprModel final : public Learner {
   std::size_t size() const override;
 
   const LwprParams& params() const { return params_; }
-  const std::vector<ReceptiveField>& fields(int output) const { return fields_.at(output); }
+  /// Output `output`'s fields (a copy: in the lane form they are unpacked).
+  std::vector<ReceptiveField> fields(int output) const;
+  /// The number of output `output`'s fields.
+  std::size_t field_count(int output) const;
+  /// Whether the fields are stored in the lane form (FieldLayout).
+  bool lane_layout() const { return lane_layout_; }
   std::uint64_t n_updates() const override { return n_updates_; }
   /// Bytes of the fields' numbers (every statistic and cached derivative) and the activation
   /// scan's data (Learner::calc_memory_bytes).
@@ -102,6 +117,8 @@ class LwprModel final : public Learner {
     int prune_b = -1;
   };
   ActiveSummary update_active_fields(int output, double y, const std::vector<ActiveField>& active);
+  // update_output() of every output at once in the lane form (y: the normalised outputs).
+  void update_lane_fields(const double* y, const std::vector<ActiveField>& active);
   // x (n_in elements, checked) divided by norm_in into `normalised` and the first n_in of
   // `padded`; throws require_vector()'s error for the first non-finite element.
   void normalise_input(const Eigen::VectorXd& x, double* normalised, double* padded) const;
@@ -124,11 +141,13 @@ class LwprModel final : public Learner {
                                                         double* diff, std::vector<ActiveField>& active) const;
   // Whether every output's scan data (centres, metrics, trust flags) are the same.
   bool calc_scans_identical() const;
-  // Appends a field to `output`'s scan data (as its last field).
-  void append_to_scan(int output, const ReceptiveField& rf);
+  // Appends a field (a ReceptiveField or a LaneField) to `output`'s scan data (as its last field).
+  template <class Field>
+  void append_to_scan(int output, const Field& rf);
   // Writes field i's metric into `output`'s scan data, in the group layout: a diagonal's
   // elements, or a full metric's factor's upper triangle row by row.
-  __attribute__((always_inline)) inline void write_scan_metric(int output, std::size_t i, const ReceptiveField& rf);
+  template <class Field>
+  __attribute__((always_inline)) inline void write_scan_metric(int output, std::size_t i, const Field& rf);
   // Removes field `victim` from `output`'s scan data (later fields move down one place).
   void erase_from_scan(int output, std::size_t victim);
   // Where field i's element 0 is in the centres' group layout (element k at + k·kScanGroup).
@@ -174,6 +193,13 @@ class LwprModel final : public Learner {
   // depend on the output, so the outputs' field sets stay identical; set when the model is built
   // (checked on restored fields) and kept by construction.
   bool shared_scan_ = false;
+  // The lane form (FieldLayout): lane_fields_ holds the fields, fields_ is empty, and scan_[0] is
+  // the one scan (shared_scan_ holds).
+  bool lane_layout_ = false;
+  std::vector<LaneField> lane_fields_;
+  LaneScratch lane_scratch_;
+  LaneScratch lane_scratch_pair_;
+  std::vector<double> y_normalised_;  // update()'s y / norm_out (n_out)
   std::uint64_t n_updates_ = 0;
   // Update scratch (update() is not const; predict() uses the caller's workspace instead).
   Eigen::VectorXd x_normalised_;

@@ -160,8 +160,9 @@ void write_lwpr_model(const LwprModel& model, std::ostream& out) {
   payload.put_u64(model.n_updates());
   put_params(payload, model.params());
   for (int o = 0; o < model.output_dim(); ++o) {
-    payload.put_u64(model.fields(o).size());
-    for (const ReceptiveField& rf : model.fields(o)) put_field(payload, rf);
+    const std::vector<ReceptiveField> fields = model.fields(o);
+    payload.put_u64(fields.size());
+    for (const ReceptiveField& rf : fields) put_field(payload, rf);
   }
   write_model_file_frame(out, kMagic, kLwprModelFormatVersion, payload, "LWPR");
 }

@@ -14,8 +14,6 @@
 namespace armfarm::lwpr {
 namespace {
 
-constexpr double kTinyWeight = 1e-10;  // initial Σw and n_data, so that divisions stay finite
-constexpr double kMinOneMinusH = 1e-3;  // floor of 1 − leverage in leave-one-out residuals
 
 // Reductions over length-n vectors keep kLanes partial sums, element i in lane i mod kLanes
 // (the tail continues from lane 0), added in a fixed order at the end.

@@ -48,6 +48,11 @@ struct ReceptiveField {
   bool diagonal() const { return metric.cols() == 1; }
 };
 
+/// Initial Σw of a new projection and n_data of a new field's projections, so that divisions stay finite.
+constexpr double kTinyWeight = 1e-10;
+/// Floor of 1 − leverage in the leave-one-out residuals.
+constexpr double kMinOneMinusH = 1e-3;
+
 /// Whether this CPU runs AVX2 (checked once).
 bool has_avx2();
 /// Whether this CPU runs AVX-512 F, VL and DQ (checked once).

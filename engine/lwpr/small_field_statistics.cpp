@@ -12,9 +12,8 @@ namespace armfarm::lwpr {
 namespace {
 
 // These mirror the general field update (receptive_field.cpp, StatisticsRun): the same floor of
-// 1 − h, and reductions in four partial sums, element i in partial sum i mod 4 (here i < 4, so
+// 1 − h (kMinOneMinusH), and reductions in four partial sums, element i in partial sum i mod 4 (here i < 4, so
 // element i in partial sum i), added as (p0 + p1) + (p2 + p3), the unused partial sums 0.
-constexpr double kMinOneMinusH = 1e-3;
 constexpr int kLanes = 4;
 inline double sum_lanes(const double (&part)[kLanes]) { return (part[0] + part[1]) + (part[2] + part[3]); }
 

@@ -235,7 +235,7 @@ void print_fit_json(const Learner& learner, const FitOptions& opt, const FitData
   if (const lwpr::LwprModel* lwpr_model = find_lwpr_model(learner)) {
     out["n_rf"] = lwpr_model->size();
     std::vector<std::size_t> per_output;
-    for (int o = 0; o < data.n_out; ++o) per_output.push_back(lwpr_model->fields(o).size());
+    for (int o = 0; o < data.n_out; ++o) per_output.push_back(lwpr_model->field_count(o));
     out["n_rf_per_output"] = per_output;
     out["mean_projections"] = lwpr_model->calc_mean_projections();
   }
@@ -256,7 +256,7 @@ void print_fit_text(const Learner& learner, const FitData& data, const FitReport
   const ssgpr::SsgprModel* ssgpr_model = find_ssgpr_model(learner);
   for (int o = 0; o < data.n_out; ++o) {
     std::printf("output %-12s nMSE %.5f", data.header[data.n_in + o].c_str(), report.nmse[o]);
-    if (lwpr_model) std::printf("  fields %zu", lwpr_model->fields(o).size());
+    if (lwpr_model) std::printf("  fields %zu", lwpr_model->field_count(o));
     std::printf("\n");
   }
   if (lwpr_model) {

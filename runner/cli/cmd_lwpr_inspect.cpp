@@ -33,7 +33,7 @@ nlohmann::json make_stats(std::vector<double> values) {
 nlohmann::json describe_lwpr(const lwpr::LwprModel& model) {
   nlohmann::json outputs = nlohmann::json::array();
   for (int o = 0; o < model.output_dim(); ++o) {
-    const std::vector<lwpr::ReceptiveField>& fields = model.fields(o);
+    const std::vector<lwpr::ReceptiveField> fields = model.fields(o);
     std::vector<double> n_data, diagonal, projections;
     int trusted = 0;
     for (const lwpr::ReceptiveField& rf : fields) {

@@ -2,6 +2,7 @@
 // irrelevant inputs), a 1-D function, forgetting, determinism, memory count, NaN rejection, field
 // cap, trust.
 #include "engine/lwpr/lwpr_model.hpp"
+#include "engine/lwpr/lwpr_model_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,6 +16,7 @@
 #include <string>
 #include <numeric>
 #include <random>
+#include <sstream>
 #include <vector>
 
 namespace armfarm::lwpr {
@@ -866,6 +868,97 @@ TEST(LwprModel, FlagsPredictionsWithoutTrustworthyFields) {
   const Prediction far = model.predict(Eigen::Vector2d(5.0, 5.0), *workspace);
   EXPECT_FALSE(far.trustworthy);
   EXPECT_EQ(far.value(0), 0.0);
+}
+
+}  // namespace
+}  // namespace armfarm::lwpr
+
+namespace armfarm::lwpr {
+namespace {
+
+// Bit equality of two doubles (−0 and NaN included).
+bool same_double_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// The lane form (FieldLayout::kAuto without update_D) against one list per output, through the
+// model: the same fields, predictions, confidences, sizes, memory count, projections and model
+// file bytes, bit for bit; outputs whose copies add projections at different times (add_threshold
+// near 1); a restored model takes the lane form again, and one whose outputs disagree does not.
+TEST(LwprModel, LaneLayoutMatchesPerOutputLayoutBitForBit) {
+  for (const auto& [n, n_out] : {std::pair{5, 3}, std::pair{21, 7}, std::pair{6, 9}}) {
+    SCOPED_TRACE("n " + std::to_string(n) + ", n_out " + std::to_string(n_out));
+    LwprParams params;
+    params.update_D = false;
+    params.init_D = Eigen::MatrixXd::Constant(1, 1, 1.0);
+    params.w_gen = 0.3;
+    params.add_threshold = 0.99;
+    params.init_lambda = 0.99;  // projections are added after 0.5/(1 − λ) = 50 samples
+    params.final_lambda = 0.99;
+    params.norm_in = Eigen::VectorXd::Constant(n, 1.0);
+    params.norm_out = Eigen::VectorXd::LinSpaced(n_out, 1.0, 2.0);
+    LwprModel lanes(n, n_out, params);
+    LwprModel lists(n, n_out, params, FieldLayout::kPerOutput);
+    ASSERT_TRUE(lanes.lane_layout());
+    ASSERT_FALSE(lists.lane_layout());
+    std::mt19937_64 rng(n * 100 + n_out);
+    std::normal_distribution<double> g(0.0, 0.5);
+    std::vector<Eigen::VectorXd> xs;
+    for (int t = 0; t < 1500; ++t) {
+      Eigen::VectorXd x(n), y(n_out);
+      for (int i = 0; i < n; ++i) x(i) = g(rng);
+      for (int o = 0; o < n_out; ++o) y(o) = std::sin((o + 1) * x(o % n)) + 0.2 * x((o + 1) % n) * o + 0.05 * g(rng);
+      lanes.update(x, y);
+      lists.update(x, y);
+      xs.push_back(x);
+    }
+    ASSERT_EQ(lanes.size(), lists.size());
+    ASSERT_GT(lanes.size(), static_cast<std::size_t>(4 * n_out));
+    EXPECT_EQ(lanes.calc_memory_bytes(), lists.calc_memory_bytes());
+    EXPECT_TRUE(same_double_bits(lanes.calc_mean_projections(), lists.calc_mean_projections()));
+    bool projections_differ = false;
+    for (int o = 0; o < n_out; ++o) {
+      const std::vector<ReceptiveField> a = lanes.fields(o), b = lists.fields(o);
+      ASSERT_EQ(a.size(), b.size());
+      EXPECT_EQ(lanes.field_count(o), b.size());
+      for (std::size_t f = 0; f < a.size(); ++f) {
+        EXPECT_EQ(a[f].n_reg(), b[f].n_reg());
+        EXPECT_TRUE(a[f].sxs == b[f].sxs && a[f].directions == b[f].directions && a[f].beta == b[f].beta &&
+                    a[f].sum_e_cv2 == b[f].sum_e_cv2 && a[f].mean_x == b[f].mean_x &&
+                    same_double_bits(a[f].beta0, b[f].beta0) && a[f].trustworthy == b[f].trustworthy)
+            << "output " << o << ", field " << f;
+        projections_differ = projections_differ || a[f].n_reg() != lanes.fields(0)[f].n_reg();
+      }
+    }
+    EXPECT_TRUE(projections_differ) << "the outputs' copies should differ in projections";
+    std::ostringstream file_a, file_b;
+    write_lwpr_model(lanes, file_a);
+    write_lwpr_model(lists, file_b);
+    EXPECT_TRUE(file_a.str() == file_b.str()) << "the model files differ";
+    std::vector<std::vector<ReceptiveField>> saved;
+    for (int o = 0; o < n_out; ++o) saved.push_back(lists.fields(o));
+    const LwprModel restored(n, n_out, params, saved, lists.n_updates());
+    EXPECT_TRUE(restored.lane_layout());
+    saved[1][0].lambda = std::nextafter(saved[1][0].lambda, 0.0);
+    const LwprModel mixed(n, n_out, params, saved, lists.n_updates());
+    EXPECT_FALSE(mixed.lane_layout());
+    auto wa = lanes.make_workspace(), wb = lists.make_workspace(), wr = restored.make_workspace();
+    LwprPredictionDetail da, db;
+    Prediction va, vb;
+    for (std::size_t t = 0; t < 300; ++t) {
+      const Eigen::VectorXd& x = xs[t * 5];
+      const Prediction a = lanes.predict(x, *wa, da), b = lists.predict(x, *wb, db), r = restored.predict(x, *wr);
+      lanes.predict_values_into(x, *wa, va);
+      lists.predict_values_into(x, *wb, vb);
+      for (int o = 0; o < n_out; ++o) {
+        ASSERT_TRUE(same_double_bits(a.value(o), b.value(o))) << "t " << t << ", output " << o;
+        ASSERT_TRUE(same_double_bits(a.confidence(o), b.confidence(o))) << "t " << t << ", output " << o;
+        ASSERT_TRUE(same_double_bits(r.value(o), b.value(o))) << "t " << t << ", output " << o;
+        ASSERT_TRUE(same_double_bits(va.value(o), vb.value(o))) << "t " << t << ", output " << o;
+        ASSERT_TRUE(same_double_bits(da.max_activation(o), db.max_activation(o)));
+        ASSERT_EQ(a.output_trusted[o], b.output_trusted[o]);
+      }
+      ASSERT_TRUE(same_double_bits(a.max_activation, b.max_activation));
+    }
+  }
 }
 
 }  // namespace
