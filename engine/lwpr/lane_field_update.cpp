@@ -32,8 +32,14 @@ void update(const LwprParams& params, double trust_n_data, const Eigen::VectorXd
 }
 }  // namespace sse2
 
+// Each copy's functions get its instruction set from a region pragma (GCC's target pragma; clang,
+// which the fuzz build uses, takes an attribute pragma instead).
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx2")
+#endif
 namespace avx2 {
 constexpr int kW = 4;
 typedef double V __attribute__((vector_size(kW * sizeof(double))));
@@ -54,13 +60,22 @@ __attribute__((noinline)) void update_21(const LwprParams& params, double trust_
   update_field<21>(params, trust_n_data, x, y, w, field, scratch);
 }
 }  // namespace avx2
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 
 // AVX-512F has FMA and GCC would contract a·b + c into it: fp-contract=off keeps the roundings of
 // SSE2 and AVX2 (as receptive_field.cpp's AVX-512 copies).
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx512f,avx512vl,avx512dq"))), apply_to = function)
+#pragma clang fp contract(off)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx512f,avx512vl,avx512dq")
 #pragma GCC optimize("fp-contract=off")
+#endif
 namespace avx512 {
 constexpr int kW = 8;
 typedef double V __attribute__((vector_size(kW * sizeof(double))));
@@ -82,7 +97,11 @@ __attribute__((noinline)) void update_21(const LwprParams& params, double trust_
   update_field<21>(params, trust_n_data, x, y, w, field, scratch);
 }
 }  // namespace avx512
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
 
 }  // namespace
 
