@@ -452,20 +452,7 @@ LwprModel::ActiveSummary LwprModel::update_active_fields(int output, double y, c
   const Eigen::VectorXd& x = x_normalised_;
   ScanData& scan = scan_[output];
   ActiveSummary summary;
-  auto note = [&](const ActiveField& a) {
-    const int i = static_cast<int>(a.index);
-    if (a.w > summary.w_max) {
-      summary.w_max = a.w;
-      summary.i_max = i;
-    }
-    if (a.w > params_.w_prune) {
-      if (summary.prune_a < 0) {
-        summary.prune_a = i;
-      } else if (summary.prune_b < 0) {
-        summary.prune_b = i;
-      }
-    }
-  };
+  auto note = [&](const ActiveField& a) { summary.note(a, params_.w_prune); };
   auto after = [&](std::size_t i) {
     if (params_.update_D) write_scan_metric(output, i, fields[i]);
     if ((scan.trusted[i] != 0) != fields[i].trustworthy) write_scan_trust(scan, i, fields[i].trustworthy);
@@ -528,20 +515,7 @@ void LwprModel::update_lane_fields(const double* y, const std::vector<ActiveFiel
   // update_active_fields() and update_output() of every output at once: the active list, the
   // most active field and the pruning candidates are the same for every output.
   ActiveSummary summary;
-  auto note = [&](const ActiveField& a) {
-    const int i = static_cast<int>(a.index);
-    if (a.w > summary.w_max) {
-      summary.w_max = a.w;
-      summary.i_max = i;
-    }
-    if (a.w > params_.w_prune) {
-      if (summary.prune_a < 0) {
-        summary.prune_a = i;
-      } else if (summary.prune_b < 0) {
-        summary.prune_b = i;
-      }
-    }
-  };
+  auto note = [&](const ActiveField& a) { summary.note(a, params_.w_prune); };
   auto after = [&](std::size_t i) {
     if ((scan.trusted[i] != 0) != lane_fields_[i].trustworthy) write_scan_trust(scan, i, lane_fields_[i].trustworthy);
   };
@@ -583,6 +557,21 @@ void LwprModel::update_lane_fields(const double* y, const std::vector<ActiveFiel
                            : summary.prune_b;
     lane_fields_.erase(lane_fields_.begin() + victim);
     erase_from_scan(0, static_cast<std::size_t>(victim));
+  }
+}
+
+void LwprModel::ActiveSummary::note(const ActiveField& a, double w_prune) {
+  const int i = static_cast<int>(a.index);
+  if (a.w > w_max) {
+    w_max = a.w;
+    i_max = i;
+  }
+  if (a.w > w_prune) {
+    if (prune_a < 0) {
+      prune_a = i;
+    } else if (prune_b < 0) {
+      prune_b = i;
+    }
   }
 }
 

@@ -115,6 +115,8 @@ class LwprModel final : public Learner {
     int i_max = -1;
     int prune_a = -1;
     int prune_b = -1;
+    // Takes one active field into account (in the scan's order).
+    void note(const ActiveField& a, double w_prune);
   };
   ActiveSummary update_active_fields(int output, double y, const std::vector<ActiveField>& active);
   // update_output() of every output at once in the lane form (y: the normalised outputs).
