@@ -16,6 +16,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -109,6 +110,32 @@ Figures read_figures(const json& j) {
   f.us_update = j.contains("cpu_us_per_update") ? j["cpu_us_per_update"].get<double>() : j.at("us_per_update").get<double>();
   f.us_predict = j.contains("cpu_us_per_predict") ? j["cpu_us_per_predict"].get<double>() : j.at("us_per_predict").get<double>();
   return f;
+}
+
+// The figures of several runs of one fit: nMSE and fields of the first (every run fits the same
+// way), the median update and predict times; nothing unless all `expected` runs succeeded.
+std::optional<Figures> calc_median_run(const std::vector<Figures>& runs, int expected) {
+  if (runs.empty() || static_cast<int>(runs.size()) != expected) return std::nullopt;
+  auto median = [&](double Figures::*member) {
+    std::vector<double> v;
+    for (const Figures& f : runs) v.push_back(f.*member);
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  Figures f = runs.front();
+  f.us_update = median(&Figures::us_update);
+  f.us_predict = median(&Figures::us_predict);
+  return f;
+}
+
+// One line: the fastest, the quartiles and the slowest update time of the runs.
+void print_spread(const char* who, const std::vector<Figures>& runs) {
+  std::vector<double> v;
+  for (const Figures& f : runs) v.push_back(f.us_update);
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  std::printf("  %s update us over the runs: min %.3f, quartiles %.3f %.3f %.3f, max %.3f\n", who, v[0], v[n / 4],
+              v[n / 2], v[(3 * n) / 4], v[n - 1]);
 }
 
 std::string write_params(const fs::path& dir, const std::string& name, const json& params) {
@@ -236,14 +263,22 @@ int main() {
                                                  {"diag_only", false}, {"meta", true}, {"meta_rate", 250.0},
                                                  {"update_D", true}});
   const std::string ctrain = (data / "cross2d_train.csv").string(), ctest = (data / "cross2d_test.csv").string();
-  std::optional<Figures> cross_ours, cross_ref;
-  if (auto j = run_json({ARMFARM_BINARY, "lwpr", "fit", "--train", ctrain, "--test", ctest, "--inputs", "2", "--epochs",
-                         "20", "--shuffle", "5", "--params", cross_params, "--json"})) {
-    cross_ours = read_figures(*j);
+  // One cross run times about 10 ms of updates, and on a shared or virtual machine one run's time
+  // varies by up to 2x (both programs'), so each program runs kCrossRuns times, interleaved, and the
+  // row shows the median run's times (the fit itself is the same in every run).
+  constexpr int kCrossRuns = 15;
+  std::vector<Figures> ours_runs, ref_runs;
+  for (int run = 0; run < kCrossRuns; ++run) {
+    if (auto j = run_json({ARMFARM_BINARY, "lwpr", "fit", "--train", ctrain, "--test", ctest, "--inputs", "2",
+                           "--epochs", "20", "--shuffle", "5", "--params", cross_params, "--json"})) {
+      ours_runs.push_back(read_figures(*j));
+    }
+    if (!ref_fit.empty()) {
+      if (auto j = run_json({ref_fit, "cross", ctrain, ctest, "2", "1", "20"})) ref_runs.push_back(read_figures(*j));
+    }
   }
-  if (!ref_fit.empty()) {
-    if (auto j = run_json({ref_fit, "cross", ctrain, ctest, "2", "1", "20"})) cross_ref = read_figures(*j);
-  }
+  const std::optional<Figures> cross_ours = calc_median_run(ours_runs, kCrossRuns);
+  const std::optional<Figures> cross_ref = calc_median_run(ref_runs, kCrossRuns);
   print_row("cross 2-D (20 epochs, full D, meta)", cross_ref, cross_ours);
 
   if (ref_point && our_point) {
@@ -253,8 +288,10 @@ int main() {
                 ref_point->us_predict / our_point->us_predict, our_point->us_predict, ref_point->us_predict);
   }
   if (cross_ref && cross_ours) {
-    std::printf("speed on the cross function: update %.1fx, predict %.1fx\n", cross_ref->us_update / cross_ours->us_update,
-                cross_ref->us_predict / cross_ours->us_predict);
+    std::printf("speed on the cross function (medians of %d interleaved runs of each): update %.1fx, predict %.1fx\n",
+                kCrossRuns, cross_ref->us_update / cross_ours->us_update, cross_ref->us_predict / cross_ours->us_predict);
+    print_spread("armfarm", ours_runs);
+    print_spread("reference", ref_runs);
   }
   return 0;
 }
