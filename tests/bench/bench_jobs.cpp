@@ -21,6 +21,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <ctime>
 
@@ -29,6 +30,7 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace {
 
@@ -72,7 +74,8 @@ JobConfig make_job(int kind, int dof, int integrator) {
 /// What the summary lines print: filled by the two benchmarks the goals are about, when they run.
 struct JobFigures {
   bool reaching7_ran = false;
-  double reaching7_sim_s = 0.0, reaching7_cpu_s = 0.0, reaching7_wall_s = 0.0;
+  double reaching7_sim_s = 0.0, reaching7_cpu_s = 0.0, reaching7_wall_s = 0.0;  // the median run's
+  std::vector<double> reaching7_factors;  // simulated s per CPU s of every run, ascending
   bool reaching1000_ran = false;
   double reaching1000_cpu_s = 0.0, reaching1000_wall_s = 0.0, reaching1000_fields = 0.0;
 };
@@ -91,8 +94,12 @@ void print_job_figures(const JobFigures& figures) {
   if (figures.reaching7_ran) {
     const double cpu_factor = figures.reaching7_sim_s / figures.reaching7_cpu_s;
     const double wall_factor = figures.reaching7_sim_s / figures.reaching7_wall_s;
-    std::printf("  30-reach 7-DOF online job (BM_Job/2/7/7): %.1fx real time per CPU second (%.1fx per wall second; %.1f simulated s in %.3f CPU s), goal >= 100x: %s\n",
-                cpu_factor, wall_factor, figures.reaching7_sim_s, figures.reaching7_cpu_s, cpu_factor >= 100.0 ? "met" : "not met");
+    const std::vector<double>& runs = figures.reaching7_factors;
+    std::printf("  30-reach 7-DOF online job (BM_Job/2/7/7, the median of %zu runs): %.1fx real time per CPU second (%.1fx per wall second; %.1f simulated s in %.3f CPU s), goal >= 100x: %s\n",
+                runs.size(), cpu_factor, wall_factor, figures.reaching7_sim_s, figures.reaching7_cpu_s, cpu_factor >= 100.0 ? "met" : "not met");
+    std::printf("    every run, ascending:");
+    for (double factor : runs) std::printf(" %.1fx", factor);
+    std::printf("\n");
   } else {
     std::printf("  30-reach 7-DOF online job (BM_Job/2/7/7): not run (--benchmark_filter)\n");
   }
@@ -138,10 +145,36 @@ void BM_Job(benchmark::State& state) {
   }
   state.counters["sim_s_per_cpu_s"] = simulated / cpu;
   if (!state.error_occurred() && kind == 2 && dof == 7 && integrator == static_cast<int>(IntegratorKind::runge_kutta_4)) {
-    job_figures().reaching7_ran = true;
-    job_figures().reaching7_sim_s = simulated;
-    job_figures().reaching7_cpu_s = cpu;
-    job_figures().reaching7_wall_s = wall;
+    // The goal's figure: one run takes about half a second, and on a shared or virtual machine
+    // one run's rate varied from 92x to 124x, so the goal line takes the median of kGoalRuns runs
+    // (this one and more, outside the library's timing; the table keeps this run's counters).
+    constexpr int kGoalRuns = 7;
+    struct Run {
+      double sim_s, cpu_s, wall_s;
+    };
+    std::vector<Run> runs = {{simulated, cpu, wall}};
+    for (int extra = 1; extra < kGoalRuns; ++extra) {
+      const double wall_start = wall_seconds();
+      const double start = cpu_seconds();
+      JobOutcome outcome;
+      try {
+        outcome = run_experiment(lwr3(), config);
+      } catch (const std::exception&) {
+        break;
+      }
+      const double run_cpu = cpu_seconds() - start, run_wall = wall_seconds() - wall_start;
+      if (outcome.status != JobStatus::done) break;
+      runs.push_back({job_metrics(outcome)[metric_names::simulated_seconds], run_cpu, run_wall});
+    }
+    std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.sim_s / a.cpu_s < b.sim_s / b.cpu_s; });
+    const Run& median = runs[runs.size() / 2];
+    JobFigures& figures = job_figures();
+    figures.reaching7_ran = true;
+    figures.reaching7_sim_s = median.sim_s;
+    figures.reaching7_cpu_s = median.cpu_s;
+    figures.reaching7_wall_s = median.wall_s;
+    figures.reaching7_factors.clear();
+    for (const Run& run : runs) figures.reaching7_factors.push_back(run.sim_s / run.cpu_s);
   }
   const double total = metrics[metric_names::tick_us_total];
   state.counters["tick_us"] = total;
