@@ -120,6 +120,21 @@ std::map<std::string, double> job_metrics(const JobOutcome& outcome) {
   return values;
 }
 
+/// One job on the LWR III and the CPU and wall seconds it took (run_experiment's exceptions pass).
+struct TimedJob {
+  JobOutcome outcome;
+  double cpu_s = 0.0, wall_s = 0.0;
+};
+TimedJob run_timed_job(const JobConfig& config) {
+  const double wall_start = wall_seconds();
+  const double start = cpu_seconds();
+  TimedJob run;
+  run.outcome = run_experiment(lwr3(), config);
+  run.cpu_s = cpu_seconds() - start;
+  run.wall_s = wall_seconds() - wall_start;
+  return run;
+}
+
 void BM_Job(benchmark::State& state) {
   const int kind = static_cast<int>(state.range(0));
   const int dof = static_cast<int>(state.range(1));
@@ -128,17 +143,16 @@ void BM_Job(benchmark::State& state) {
   double simulated = 0.0, cpu = 0.0, wall = 0.0;
   std::map<std::string, double> metrics;
   for (auto _ : state) {
-    const double wall_start = wall_seconds();
-    const double start = cpu_seconds();
-    JobOutcome outcome;
+    TimedJob run;
     try {
-      outcome = run_experiment(lwr3(), config);
+      run = run_timed_job(config);
     } catch (const std::exception& error) {
       state.SkipWithError(error.what());
       return;
     }
-    cpu += cpu_seconds() - start;
-    wall += wall_seconds() - wall_start;
+    const JobOutcome& outcome = run.outcome;
+    cpu += run.cpu_s;
+    wall += run.wall_s;
     if (outcome.status != JobStatus::done) state.SkipWithError(outcome.message.c_str());
     metrics = job_metrics(outcome);
     simulated += metrics[metric_names::simulated_seconds];
@@ -154,17 +168,14 @@ void BM_Job(benchmark::State& state) {
     };
     std::vector<Run> runs = {{simulated, cpu, wall}};
     for (int extra = 1; extra < kGoalRuns; ++extra) {
-      const double wall_start = wall_seconds();
-      const double start = cpu_seconds();
-      JobOutcome outcome;
+      TimedJob run;
       try {
-        outcome = run_experiment(lwr3(), config);
+        run = run_timed_job(config);
       } catch (const std::exception&) {
         break;
       }
-      const double run_cpu = cpu_seconds() - start, run_wall = wall_seconds() - wall_start;
-      if (outcome.status != JobStatus::done) break;
-      runs.push_back({job_metrics(outcome)[metric_names::simulated_seconds], run_cpu, run_wall});
+      if (run.outcome.status != JobStatus::done) break;
+      runs.push_back({job_metrics(run.outcome)[metric_names::simulated_seconds], run.cpu_s, run.wall_s});
     }
     std::sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.sim_s / a.cpu_s < b.sim_s / b.cpu_s; });
     const Run& median = runs[runs.size() / 2];
@@ -208,11 +219,10 @@ void BM_Reaching1000(benchmark::State& state) {
   config.control.gain_scale = 0.2;
   double wall = 0.0, cpu = 0.0;
   for (auto _ : state) {
-    const auto wall_start = std::chrono::steady_clock::now();
-    const double start = cpu_seconds();
-    const JobOutcome outcome = run_experiment(lwr3(), config);
-    cpu += cpu_seconds() - start;
-    wall += std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    const TimedJob run = run_timed_job(config);
+    const JobOutcome& outcome = run.outcome;
+    cpu += run.cpu_s;
+    wall += run.wall_s;
     if (outcome.status != JobStatus::done) state.SkipWithError(outcome.message.c_str());
     const auto metrics = job_metrics(outcome);
     state.counters["fields"] = metrics.count(metric_names::n_receptive_fields) ? metrics.at(metric_names::n_receptive_fields) : 0.0;

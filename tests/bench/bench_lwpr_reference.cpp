@@ -112,27 +112,27 @@ Figures read_figures(const json& j) {
   return f;
 }
 
+// One time of every run, ascending.
+std::vector<double> calc_sorted(const std::vector<Figures>& runs, double Figures::*member) {
+  std::vector<double> v;
+  for (const Figures& f : runs) v.push_back(f.*member);
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
 // The figures of several runs of one fit: nMSE and fields of the first (every run fits the same
 // way), the median update and predict times; nothing unless all `expected` runs succeeded.
 std::optional<Figures> calc_median_run(const std::vector<Figures>& runs, int expected) {
-  if (runs.empty() || static_cast<int>(runs.size()) != expected) return std::nullopt;
-  auto median = [&](double Figures::*member) {
-    std::vector<double> v;
-    for (const Figures& f : runs) v.push_back(f.*member);
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
-  };
+  if (static_cast<int>(runs.size()) != expected || expected == 0) return std::nullopt;
   Figures f = runs.front();
-  f.us_update = median(&Figures::us_update);
-  f.us_predict = median(&Figures::us_predict);
+  f.us_update = calc_sorted(runs, &Figures::us_update)[runs.size() / 2];
+  f.us_predict = calc_sorted(runs, &Figures::us_predict)[runs.size() / 2];
   return f;
 }
 
 // One line: the fastest, the quartiles and the slowest update time of the runs.
 void print_spread(const char* who, const std::vector<Figures>& runs) {
-  std::vector<double> v;
-  for (const Figures& f : runs) v.push_back(f.us_update);
-  std::sort(v.begin(), v.end());
+  const std::vector<double> v = calc_sorted(runs, &Figures::us_update);
   const std::size_t n = v.size();
   std::printf("  %s update us over the runs: min %.3f, quartiles %.3f %.3f %.3f, max %.3f\n", who, v[0], v[n / 4],
               v[n / 2], v[(3 * n) / 4], v[n - 1]);
