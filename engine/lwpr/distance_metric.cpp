@@ -3,11 +3,83 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <string>
+#include <type_traits>
 
 namespace armfarm::lwpr {
 namespace {
+
+// The full-metric helpers below work on a value type T: double (one field) or Quad, four fields
+// at once, field l in vector lane l (a GCC/Clang vector extension; only the AVX2 copies use it).
+// Element-wise arithmetic, comparisons and selects on Quad round and decide exactly as the scalar
+// code in each lane, so every field gets the bits it gets alone.
+// These helpers, and those below that take or return T, are always inlined into one copy compiled
+// for one target, so a Quad never crosses a call: GCC's note that passing one by value without
+// AVX changes the ABI (-Wpsabi) does not apply, and is silenced for this file.
+#pragma GCC diagnostic ignored "-Wpsabi"
+typedef double Quad __attribute__((vector_size(4 * sizeof(double))));
+typedef long long QuadBits __attribute__((vector_size(4 * sizeof(long long))));
+template <class T>
+constexpr int kLaneCount = static_cast<int>(sizeof(T) / sizeof(double));
+
+// v in every lane.
+template <class T>
+__attribute__((always_inline)) inline T splat(double v) {
+  if constexpr (std::is_same_v<T, double>) {
+    return v;
+  } else {
+    T out;
+    for (int l = 0; l < kLaneCount<T>; ++l) out[l] = v;
+    return out;
+  }
+}
+// Lane l's value.
+template <class T>
+__attribute__((always_inline)) inline double lane(const T& v, int l) {
+  if constexpr (std::is_same_v<T, double>) {
+    return v;
+  } else {
+    return v[l];
+  }
+}
+// Whether lane l of a comparison's result is true (a bool, or a vector of all-ones / zero lanes).
+template <class M>
+__attribute__((always_inline)) inline bool lane_true(const M& m, int l) {
+  if constexpr (std::is_same_v<M, bool>) {
+    return m;
+  } else {
+    return m[l] != 0;
+  }
+}
+// std::max(a, b), std::min(a, b), std::clamp(v, lo, hi) and std::abs lane by lane: the same
+// comparisons and selects (libstdc++'s), so the same value in every lane, NaNs included.
+template <class T>
+__attribute__((always_inline)) inline T max_of(const T& a, const T& b) {
+  return a < b ? b : a;
+}
+template <class T>
+__attribute__((always_inline)) inline T min_of(const T& a, const T& b) {
+  return b < a ? b : a;
+}
+template <class T>
+__attribute__((always_inline)) inline T clamp_of(const T& v, double lo, double hi) {
+  const T low = splat<T>(lo), high = splat<T>(hi);
+  return v < low ? low : (high < v ? high : v);
+}
+template <class T>
+__attribute__((always_inline)) inline T abs_of(const T& v) {
+  if constexpr (std::is_same_v<T, double>) {
+    return std::abs(v);
+  } else {
+    static_assert(std::is_same_v<T, Quad>, "lanes: double or Quad");
+    QuadBits magnitude;
+    for (int l = 0; l < kLaneCount<T>; ++l) magnitude[l] = 0x7fffffffffffffffLL;
+    return (T)((QuadBits)v & magnitude);  // a cast between vectors of one size keeps the bits: |v| as fabs
+  }
+}
 
 // The full-metric loops below reproduce the evaluation order of the Eigen expressions they
 // replaced, so the results are the same bits: Eigen's triangular matrix-vector product handles a
@@ -26,11 +98,11 @@ inline int dim(int n) {
 }
 
 // md = M·d for an upper triangular M (n×n, column-major), n ≤ kTrmvPanel.
-template <int N>
-inline void multiply_factor(const double* m, const double* d, int n_runtime, double* md) {
+template <int N, class T>
+__attribute__((always_inline)) inline void multiply_factor(const T* m, const T* d, int n_runtime, T* md) {
   const int n = dim<N>(n_runtime);
   for (int r = 0; r < n; ++r) {
-    double v = 0.0;
+    T v = splat<T>(0.0);
     for (int k = r; k < n; ++k) v += m[r + k * n] * d[k];
     md[r] = v;
   }
@@ -38,12 +110,12 @@ inline void multiply_factor(const double* m, const double* d, int n_runtime, dou
 
 // D = MᵀM (n×n, column-major) for n ≤ kOrderedProductMax: the upper triangle summed in ascending
 // order and mirrored (M_iᵀM_j and M_jᵀM_i are the same products in the same order).
-template <int N>
-inline void multiply_factor_transposed(const double* m, int n_runtime, double* D) {
+template <int N, class T>
+__attribute__((always_inline)) inline void multiply_factor_transposed(const T* m, int n_runtime, T* D) {
   const int n = dim<N>(n_runtime);
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i <= j; ++i) {
-      double v = m[i * n] * m[j * n];
+      T v = m[i * n] * m[j * n];
       for (int k = 1; k < n; ++k) v += m[k + i * n] * m[k + j * n];
       D[i + j * n] = v;
       D[j + i * n] = v;
@@ -53,39 +125,36 @@ inline void multiply_factor_transposed(const double* m, int n_runtime, double* D
 
 // Gradient (and with c ≠ nullptr the IDBD curvature) of J w.r.t. the full factor M (n×n, upper
 // triangle filled, lower set to 0; m = M, dd = D, both column-major), given d = x − c, md = M·d and
-// the kernel slopes at q. Row r's sums run over all n columns in ascending order (M's lower zeros
-// included), as Eigen's row products did; |M_r|² once per row.
-template <int N>
-__attribute__((always_inline)) inline void calc_full_gradient(const LwprParams& params, const double* m,
-                                                              const double* dd, int n_runtime, const double* d,
-                                                              const double* md, double w, double W,
-                                                              const KernelSlopes& slopes, double dJ1_dw,
-                                                              double d2J1_dw2, double* g, double* c) {
+// the kernel slopes dw/dq and d²w/dq² at q. Row r's sums run over all n columns in ascending order
+// (M's lower zeros included), as Eigen's row products did; |M_r|² once per row.
+template <int N, class T>
+__attribute__((always_inline)) inline void calc_full_gradient(const LwprParams& params, const T* m, const T* dd,
+                                                              int n_runtime, const T* d, const T* md, const T& w,
+                                                              const T& W, const T& dw_dq, const T& d2w_dq2,
+                                                              const T& dJ1_dw, const T& d2J1_dw2, T* g, T* c) {
   const int n = dim<N>(n_runtime);
-  const double dw_dq = slopes.dw_dq;
-  const double d2w_dq2 = slopes.d2w_dq2;
   const double penalty = params.penalty / n;  // γ/n
-  const double penalty_weight = w / W;
+  const T penalty_weight = w / W;
   // q = |M d|²: ∂q/∂M_rl = 2(Md)_r d_l;  J2 = (γ/n)·tr(D²): ∂J2/∂M = 4(γ/n)·M D.
   for (int r = 0; r < n; ++r) {
-    double row2 = m[r] * m[r];
+    T row2 = m[r] * m[r];
     for (int k = 1; k < n; ++k) row2 += m[r + k * n] * m[r + k * n];
     for (int l = 0; l < r; ++l) {
-      g[r + l * n] = 0.0;
-      if (c != nullptr) c[r + l * n] = 0.0;
+      g[r + l * n] = splat<T>(0.0);
+      if (c != nullptr) c[r + l * n] = splat<T>(0.0);
     }
     for (int l = r; l < n; ++l) {
-      const double* D_l = dd + l * n;
-      double dot = m[r] * D_l[0];
+      const T* D_l = dd + l * n;
+      T dot = m[r] * D_l[0];
       for (int k = 1; k < n; ++k) dot += m[r + k * n] * D_l[k];
-      const double dJ2 = 4.0 * penalty * dot;
-      const double d2J2 = 4.0 * penalty * (m[r + l * n] * m[r + l * n] + row2 + D_l[l]);
-      const double dq = 2.0 * md[r] * d[l];
-      const double d2q = 2.0 * d[l] * d[l];
-      const double dw = dw_dq * dq;
+      const T dJ2 = 4.0 * penalty * dot;
+      const T d2J2 = 4.0 * penalty * (m[r + l * n] * m[r + l * n] + row2 + D_l[l]);
+      const T dq = 2.0 * md[r] * d[l];
+      const T d2q = 2.0 * d[l] * d[l];
+      const T dw = dw_dq * dq;
       g[r + l * n] = dJ1_dw * dw + penalty_weight * dJ2;
       if (c != nullptr) {
-        const double d2w = d2w_dq2 * dq * dq + dw_dq * d2q;
+        const T d2w = d2w_dq2 * dq * dq + dw_dq * d2q;
         c[r + l * n] = d2J1_dw2 * dw * dw + dJ1_dw * d2w + penalty_weight * d2J2;
       }
     }
@@ -114,9 +183,9 @@ void calc_full_metric_gradient(const LwprParams& params, const Eigen::VectorXd& 
     md = scratch.md.data();
   }
   double* curvature = params.meta ? scratch.curvature.data() : nullptr;
+  const KernelSlopes slopes = calc_kernel_slopes(params.kernel, sample.q);
   calc_full_gradient<N>(params, rf.metric_factor.data(), rf.metric.data(), n, diff.data(), md, sample.w, sample.W,
-                        calc_kernel_slopes(params.kernel, sample.q), dJ1_dw, d2J1_dw2, scratch.grad.data(),
-                        curvature);
+                        slopes.dw_dq, slopes.d2w_dq2, dJ1_dw, d2J1_dw2, scratch.grad.data(), curvature);
 }
 
 // Step 2: whether the gradient's upper triangle is finite, and max|M| over the upper triangle
@@ -230,18 +299,16 @@ void update_full_metric(const LwprParams& params, const Eigen::VectorXd& diff, c
 // where the H and R terms carry the effect of w on β_r and P_r for the samples already seen.
 // s, e, e_cv: the sample's R = rf.n_reg() projections, residuals and leave-one-out residuals (R
 // fixed at compile time if R > 0).
-template <int R>
-__attribute__((always_inline)) inline double calc_press_dw_of(const ReceptiveField& rf, const double* s,
-                                                              const double* e, const double* e_cv, double W,
-                                                              double E) {
-  const int n_reg = R > 0 ? R : rf.n_reg();
-  const double* ss2 = rf.ss2.data();
-  const double* press_H = rf.press_H.data();
-  const double* press_R = rf.press_R.data();
-  double sum = 0.0;
+// ss2, press_H, press_R: the field's Σλws², H and R (before this sample's memory terms).
+template <int R, class T>
+__attribute__((always_inline)) inline T calc_press_dw_of(int n_runtime, const T* ss2, const T* press_H,
+                                                         const T* press_R, const T* s, const T* e, const T* e_cv,
+                                                         const T& W, const T& E) {
+  const int n_reg = R > 0 ? R : n_runtime;
+  T sum = splat<T>(0.0);
   for (int r = 0; r < n_reg; ++r) {
-    const double ps = s[r] / ss2[r];
-    const double e_cv_r = e_cv[r];
+    const T ps = s[r] / ss2[r];
+    const T e_cv_r = e_cv[r];
     sum += e_cv_r * e_cv_r - 2.0 * e[r] * ps * press_H[r] - 2.0 * ps * ps * press_R[r];
   }
   return -E / (W * W) + sum / W;
@@ -250,7 +317,8 @@ __attribute__((always_inline)) inline double calc_press_dw_of(const ReceptiveFie
 }  // namespace
 
 double calc_press_dw(const ReceptiveField& rf, const MetricSample& sample) {
-  return calc_press_dw_of<0>(rf, sample.s.data(), sample.e.data(), sample.e_cv.data(), sample.W, sample.E);
+  return calc_press_dw_of<0>(rf.n_reg(), rf.ss2.data(), rf.press_H.data(), rf.press_R.data(), sample.s.data(),
+                             sample.e.data(), sample.e_cv.data(), sample.W, sample.E);
 }
 
 void calc_factor_product(const Eigen::MatrixXd& M, const Eigen::VectorXd& diff, Eigen::VectorXd& md) {
@@ -283,16 +351,16 @@ void calc_metric_gradient(const LwprParams& params, const ReceptiveField& rf, co
     const double* dd = rf.metric.data();
     switch (n) {
       case 2:
-        calc_full_gradient<2>(params, m, dd, n, diff.data(), md.data(), sample.w, sample.W, slopes, dJ1_dw, d2J1_dw2,
-                              g, c);
+        calc_full_gradient<2>(params, m, dd, n, diff.data(), md.data(), sample.w, sample.W, slopes.dw_dq,
+                              slopes.d2w_dq2, dJ1_dw, d2J1_dw2, g, c);
         break;
       case 3:
-        calc_full_gradient<3>(params, m, dd, n, diff.data(), md.data(), sample.w, sample.W, slopes, dJ1_dw, d2J1_dw2,
-                              g, c);
+        calc_full_gradient<3>(params, m, dd, n, diff.data(), md.data(), sample.w, sample.W, slopes.dw_dq,
+                              slopes.d2w_dq2, dJ1_dw, d2J1_dw2, g, c);
         break;
       default:
-        calc_full_gradient<0>(params, m, dd, n, diff.data(), md.data(), sample.w, sample.W, slopes, dJ1_dw, d2J1_dw2,
-                              g, c);
+        calc_full_gradient<0>(params, m, dd, n, diff.data(), md.data(), sample.w, sample.W, slopes.dw_dq,
+                              slopes.d2w_dq2, dJ1_dw, d2J1_dw2, g, c);
         break;
     }
     return;
@@ -388,12 +456,17 @@ void update_diagonal_metric(const LwprParams& params, const Eigen::VectorXd& dif
 namespace {
 
 // The fixed-size path of a full metric with N = 2 or 3 inputs and R projections (both known at
-// compile time: every loop unrolls, no alias checks, the values stay in registers).
+// compile time: every loop unrolls, no alias checks, the values stay in registers), on T = double
+// for one field or on Quad for four fields at once: each field's values are gathered into its lane
+// from its own storage and scattered back, and every lane runs the one field's operations.
 
 // Finiteness of many values: zero = Σ v·0 from 0 is NaN exactly when a v is not finite (x·0 is ±0
 // for a finite x and NaN for ±∞ or NaN; no overflow: the products are zeros). The same answer as
 // std::isfinite() of each, in two operations per value; this is one step of that sum.
-__attribute__((always_inline)) inline double add_times_zero(double zero, double v) { return zero + v * 0.0; }
+template <class T>
+__attribute__((always_inline)) inline T add_times_zero(const T& zero, const T& v) {
+  return zero + v * 0.0;
+}
 
 // α_k = exp(log α_k), k < K; exp() once per run of equal log-rates, as step_full_factor() (the same
 // values either way). Not inlined: the caller's live values are saved once around this call, not
@@ -404,193 +477,337 @@ __attribute__((noinline)) void calc_rates(const double* log_alpha, double* alpha
   for (int k = 1; k < K; ++k) alpha[k] = log_alpha[k] == log_alpha[k - 1] ? alpha[k - 1] : std::exp(log_alpha[k]);
 }
 
+// calc_rates() of the first `count` of L fields, element k of field l at [k·L + l]; the lanes past
+// them repeat lane 0's inputs, so they take its rates.
+template <int K, int L>
+__attribute__((noinline)) void calc_rate_lanes(const double* log_alpha, int count, double* alpha) {
+  for (int l = 0; l < count; ++l) {
+    double field_log[K], field_alpha[K];
+    for (int k = 0; k < K; ++k) field_log[k] = log_alpha[k * L + l];
+    calc_rates<K>(field_log, field_alpha);
+    for (int k = 0; k < K; ++k) alpha[k * L + l] = field_alpha[k];
+  }
+  for (int l = count; l < L; ++l) {
+    for (int k = 0; k < K; ++k) alpha[k * L + l] = alpha[k * L];
+  }
+}
+
+template <int K, class T>
+__attribute__((always_inline)) inline void calc_rates_of(const T* log_alpha, int count, T* alpha) {
+  if constexpr (std::is_same_v<T, double>) {
+    calc_rates<K>(log_alpha, alpha);
+  } else {
+    constexpr int L = kLaneCount<T>;
+    double in[K * L], out[K * L];
+    std::memcpy(in, log_alpha, sizeof in);
+    calc_rate_lanes<K, L>(in, count, out);
+    // Element by element: one wide load of the call's narrow stores would wait for them to retire
+    // (no store forwarding), the largest stall of this step when it was a memcpy.
+    for (int k = 0; k < K; ++k) {
+      for (int l = 0; l < L; ++l) alpha[k][l] = out[k * L + l];
+    }
+  }
+}
+
+// The fields of one metric step on T: lane l's field, scratch and activation. Lanes from `count`
+// on repeat lane 0's field, scratch and activation, so they compute lane 0's values, bit for bit,
+// and writing them back writes what lane 0 writes: every store takes all lanes, unconditionally.
+template <class T>
+struct FieldLanes {
+  static constexpr int kLanes = kLaneCount<T>;
+  ReceptiveField* rf[kLanes];
+  const FieldScratch* scratch[kLanes];
+  double w[kLanes];
+  int count = 1;
+
+  // The vector whose lane l is f(l).
+  template <class F>
+  __attribute__((always_inline)) T gather(F&& f) const {
+    if constexpr (std::is_same_v<T, double>) {
+      return f(0);
+    } else {
+      T out;
+      for (int l = 0; l < kLanes; ++l) out[l] = f(l);
+      return out;
+    }
+  }
+  // f(l, lane l of v) for every lane l.
+  template <class F>
+  __attribute__((always_inline)) void scatter(const T& v, F&& f) const {
+    for (int l = 0; l < kLanes; ++l) f(l, lane(v, l));
+  }
+};
+
+// What update_distance_metric() reads of the sample, on T (SmallMetricSample's terms).
+template <int N, int R, class T>
+struct SmallMetricLanes {
+  T w, W, E, e_cv2;
+  T s[R], e[R], e_cv[R], diff[N];
+};
+
 // step_full_factor() on the upper triangle in three passes: the log-rates (IDBD), their exp() in
-// one call (calc_rates), then the steps, the safeguard and the traces. Each element's operations are step_full_factor()'s in the same order (only the exp of
-// one element's log-rate is shared with the next when they are equal, as there), so the same bits.
-template <int N>
-__attribute__((always_inline)) inline void step_small_factor(const LwprParams& params, const double* g,
-                                                             const double* curvature, double transient, double bound,
-                                                             double* m, double* log_alpha_data, double* trace) {
+// one call (calc_rates), then the steps, the safeguard and the traces. Each element's operations
+// are step_full_factor()'s in the same order (only the exp of one element's log-rate is shared with
+// the next when they are equal, as there), so the same bits. m, g and curvature are n×n
+// column-major; log_alpha and trace hold the upper triangle's elements column by column; `count`
+// is FieldLanes::count.
+template <int N, class T>
+__attribute__((always_inline)) inline void step_small_factor(const LwprParams& params, const T* g, const T* curvature,
+                                                             const T& transient, const T& bound, int count, T* m,
+                                                             T* log_alpha, T* trace) {
   constexpr int kUpper = N * (N + 1) / 2;
   int at[kUpper];
   for (int col = 0, k = 0; col < N; ++col) {
     for (int row = 0; row <= col; ++row, ++k) at[k] = row + col * N;
   }
-  double log_alpha[kUpper], alpha[kUpper];
-  for (int k = 0; k < kUpper; ++k) {
-    log_alpha[k] = log_alpha_data[at[k]];
-    if (params.meta) {
-      const double change = std::clamp(-params.meta_rate * g[at[k]] * trace[at[k]], -0.1, 0.1);
-      log_alpha[k] = std::clamp(log_alpha[k] + change, -10.0, 10.0);
+  if (params.meta) {
+    for (int k = 0; k < kUpper; ++k) {
+      const T change = clamp_of(-params.meta_rate * g[at[k]] * trace[k], -0.1, 0.1);
+      log_alpha[k] = clamp_of(log_alpha[k] + change, -10.0, 10.0);
     }
   }
-  calc_rates<kUpper>(log_alpha, alpha);
+  T alpha[kUpper];
+  calc_rates_of<kUpper>(log_alpha, count, alpha);
   const double log_half = std::log(0.5);
   for (int k = 0; k < kUpper; ++k) {
-    const double step = alpha[k] * transient * g[at[k]];
+    const T step = alpha[k] * transient * g[at[k]];
     // Too large a step: halve the rate, skip this element. M's element is written either way (a
-    // select, not a conditional store), so that the caller's copy of M stays in registers: its
-    // element stores followed by wide loads missed store forwarding.
-    const bool skip = std::abs(step) > bound;
-    if (skip) log_alpha[k] += log_half;
-    const double kept = m[at[k]];
+    // select, not a conditional store), so that M stays in registers.
+    const auto skip = abs_of(step) > bound;
+    log_alpha[k] = skip ? log_alpha[k] + log_half : log_alpha[k];
+    const T kept = m[at[k]];
     m[at[k]] = skip ? kept : kept - step;
-    const double applied = skip ? 0.0 : -step;
+    const T applied = skip ? splat<T>(0.0) : -step;
     if (params.meta) {
-      const double decay = std::max(0.0, 1.0 - alpha[k] * curvature[at[k]]);
-      trace[at[k]] = trace[at[k]] * decay + applied;
+      const T decay = max_of(splat<T>(0.0), 1.0 - alpha[k] * curvature[at[k]]);
+      trace[k] = trace[k] * decay + applied;
     }
-    log_alpha_data[at[k]] = log_alpha[k];
   }
 }
 
-// update_distance_metric()'s steps on locals: dJ1/dw, M·(x−c) and the gradient (step 1), its
-// check and max|M| (step 2), the step (3) on a copy of M, D = MᵀM and its check (4); M, D, log α
-// and the trace are written as the general step leaves them.
-template <int N, int R>
+// update_distance_metric()'s steps: dJ1/dw, M·(x−c) and the gradient (step 1), its check and
+// max|M| (step 2), the step (3) on a copy of M, D = MᵀM and its check (4). Each field's M, D, log α
+// and trace are written as the general step leaves them: nothing for a non-finite gradient, and M
+// and D only if the stepped ones are finite.
+template <int N, int R, class T>
 __attribute__((always_inline)) inline void step_small_full_metric(const LwprParams& params,
-                                                                  const SmallMetricSample& sample, double transient,
-                                                                  ReceptiveField& rf) {
+                                                                  const SmallMetricLanes<N, R, T>& sample,
+                                                                  const T& transient, const FieldLanes<T>& lanes) {
   static_assert(N == 2 || N == 3, "the fixed-size full metric step is for 2 or 3 inputs");
   static_assert(R >= 1 && R <= N, "1 to N projections");
   constexpr int kSize = N * N;
-  const double dJ1_dw = calc_press_dw_of<R>(rf, sample.s, sample.e, sample.e_cv, sample.W, sample.E);
-  const double d2J1_dw2 = 2.0 * sample.e_cv2 / (sample.W * sample.W);
-  const double* m = rf.metric_factor.data();  // read only; the step works on a copy
-  const double* dd = rf.metric.data();
-  double g[kSize], c[kSize];
-  double md[N];
-  multiply_factor<N>(m, sample.diff, N, md);  // calc_factor_product's
-  KernelSlopes slopes;
-  if (params.kernel == Kernel::kGaussian) {
-    slopes = {-0.5 * sample.w, 0.25 * sample.w};  // calc_kernel_slopes() at q, whose exp(−q/2) is w
-  } else {
-    double q = md[0] * md[0];  // md's squaredNorm: Eigen sums up to 3 elements in ascending order
-    for (int r = 1; r < N; ++r) q += md[r] * md[r];
-    slopes = calc_kernel_slopes(params.kernel, q);
+  constexpr int kUpper = N * (N + 1) / 2;
+  constexpr int L = kLaneCount<T>;
+  ReceptiveField* const* rf = lanes.rf;
+  T ss2[R], press_H[R], press_R[R];
+  for (int r = 0; r < R; ++r) {
+    ss2[r] = lanes.gather([&](int l) { return rf[l]->ss2.data()[r]; });
+    press_H[r] = lanes.gather([&](int l) { return rf[l]->press_H.data()[r]; });
+    press_R[r] = lanes.gather([&](int l) { return rf[l]->press_R.data()[r]; });
   }
-  double* curvature = params.meta ? c : nullptr;
-  calc_full_gradient<N>(params, m, dd, N, sample.diff, md, sample.w, sample.W, slopes, dJ1_dw, d2J1_dw2, g, curvature);
-  double max_abs = 0.0;
-  if (!check_full_gradient<N>(g, m, N, max_abs)) return;  // a degenerate sample: keep the metric as it is
-  double stepped[kSize];
+  const T dJ1_dw = calc_press_dw_of<R>(R, ss2, press_H, press_R, sample.s, sample.e, sample.e_cv, sample.W, sample.E);
+  const T d2J1_dw2 = 2.0 * sample.e_cv2 / (sample.W * sample.W);
+  T m[kSize], dd[kSize];
+  for (int i = 0; i < kSize; ++i) {
+    m[i] = lanes.gather([&](int l) { return rf[l]->metric_factor.data()[i]; });
+    dd[i] = lanes.gather([&](int l) { return rf[l]->metric.data()[i]; });
+  }
+  T md[N];
+  multiply_factor<N>(m, sample.diff, N, md);  // calc_factor_product's
+  T dw_dq, d2w_dq2;
+  if (params.kernel == Kernel::kGaussian) {
+    dw_dq = -0.5 * sample.w;  // calc_kernel_slopes() at q, whose exp(−q/2) is w
+    d2w_dq2 = 0.25 * sample.w;
+  } else {
+    T q = md[0] * md[0];  // md's squaredNorm: Eigen sums up to 3 elements in ascending order
+    for (int r = 1; r < N; ++r) q += md[r] * md[r];
+    KernelSlopes slopes[L];
+    for (int l = 0; l < L; ++l) slopes[l] = calc_kernel_slopes(params.kernel, lane(q, l));
+    dw_dq = lanes.gather([&](int l) { return slopes[l].dw_dq; });
+    d2w_dq2 = lanes.gather([&](int l) { return slopes[l].d2w_dq2; });
+  }
+  T g[kSize], c[kSize];
+  T* curvature = params.meta ? c : nullptr;
+  calc_full_gradient<N>(params, m, dd, N, sample.diff, md, sample.w, sample.W, dw_dq, d2w_dq2, dJ1_dw, d2J1_dw2, g,
+                        curvature);
+  int at[kUpper];
+  for (int col = 0, k = 0; col < N; ++col) {
+    for (int row = 0; row <= col; ++row, ++k) at[k] = row + col * N;
+  }
+  T zero = splat<T>(0.0), max_abs = splat<T>(0.0);
+  T log_alpha[kUpper], trace[kUpper];
+  for (int k = 0; k < kUpper; ++k) {
+    zero = add_times_zero(zero, g[at[k]]);
+    max_abs = max_of(max_abs, abs_of(m[at[k]]));
+    log_alpha[k] = lanes.gather([&](int l) { return rf[l]->log_alpha.data()[at[k]]; });
+    trace[k] = lanes.gather([&](int l) { return rf[l]->meta_trace.data()[at[k]]; });
+  }
+  const auto finite_gradient = zero == zero;
+  bool any = false;
+  for (int l = 0; l < L; ++l) any = any || lane_true(finite_gradient, l);
+  if (!any) return;  // a degenerate sample in every field: each keeps its metric as it is
+  T stepped[kSize];
   std::copy(m, m + kSize, stepped);
-  step_small_factor<N>(params, g, curvature, transient, 0.1 * max_abs, stepped, rf.log_alpha.data(),
-                       rf.meta_trace.data());
+  T new_log_alpha[kUpper], new_trace[kUpper];
+  std::copy(log_alpha, log_alpha + kUpper, new_log_alpha);
+  std::copy(trace, trace + kUpper, new_trace);
+  step_small_factor<N>(params, g, curvature, transient, 0.1 * max_abs, lanes.count, stepped, new_log_alpha, new_trace);
+  // A field whose gradient is not finite keeps its log α and trace (selects, not conditional stores).
+  for (int k = 0; k < kUpper; ++k) {
+    const T kept_log_alpha = finite_gradient ? new_log_alpha[k] : log_alpha[k];
+    lanes.scatter(kept_log_alpha, [&](int l, double v) { rf[l]->log_alpha.data()[at[k]] = v; });
+    if (params.meta) {
+      const T kept_trace = finite_gradient ? new_trace[k] : trace[k];
+      lanes.scatter(kept_trace, [&](int l, double v) { rf[l]->meta_trace.data()[at[k]] = v; });
+    }
+  }
   // The stepped factor as values in registers (the empty asm only pins each in a register), so
   // that the code below does not read them back from `stepped` with wide loads right after its
   // element stores (which missed store forwarding).
-  double m_new[kSize];
+  T m_new[kSize];
   for (int i = 0; i < kSize; ++i) {
-    double v = stepped[i];
+    T v = stepped[i];
     asm("" : "+x"(v));
     m_new[i] = v;
   }
-  double D_new[kSize];
+  T D_new[kSize];
   multiply_factor_transposed<N>(m_new, N, D_new);
-  // D_new is symmetric (each pair computed once), so its upper triangle decides for all of it. The
-  // values are summed where they are (no array gathering them: its element stores and then one
-  // wide load missed store forwarding, about 15 % of this function's time).
-  double zero = 0.0;
-  for (int col = 0; col < N; ++col) {
-    for (int row = 0; row <= col; ++row) zero = add_times_zero(zero, D_new[row + col * N]);
+  // D_new is symmetric (each pair computed once), so its upper triangle decides for all of it.
+  T zero_new = splat<T>(0.0);
+  for (int k = 0; k < kUpper; ++k) zero_new = add_times_zero(zero_new, D_new[at[k]]);
+  for (int i = 0; i < kSize; ++i) zero_new = add_times_zero(zero_new, m_new[i]);
+  // Never a NaN metric: a field keeps M and D unless its gradient and its new M and D are finite.
+  const auto accepted = finite_gradient && zero_new == zero_new;
+  for (int i = 0; i < kSize; ++i) {
+    const T kept_m = accepted ? m_new[i] : m[i];
+    const T kept_D = accepted ? D_new[i] : dd[i];
+    lanes.scatter(kept_m, [&](int l, double v) { rf[l]->metric_factor.data()[i] = v; });
+    lanes.scatter(kept_D, [&](int l, double v) { rf[l]->metric.data()[i] = v; });
   }
-  for (int i = 0; i < kSize; ++i) zero = add_times_zero(zero, m_new[i]);
-  if (!(zero == zero)) return;  // never a NaN metric: M stays as it was
-  std::copy(m_new, m_new + kSize, rf.metric_factor.data());
-  std::copy(D_new, D_new + kSize, rf.metric.data());
 }
 
 // finish_field_update()'s metric part (update_small_full_field_metric()): the same operations in
 // the same order as its general code, then the step above, then the PRESS memory terms.
-template <int N, int R>
-__attribute__((always_inline)) inline void update_small_full_field_metric_of(const LwprParams& params,
-                                                                             const Eigen::VectorXd& x, double w,
-                                                                             const FieldScratch& scratch,
-                                                                             ReceptiveField& rf) {
-  const double lambda = rf.lambda;
-  const double* residual = scratch.residual.data();
-  const double* one_minus_h = scratch.one_minus_h.data();
-  const double* s = scratch.s.data();
-  double e_cv[R];
-  for (int r = 0; r < R; ++r) e_cv[r] = residual[r] / one_minus_h[r];  // projection r's own residual
-  const double e = residual[R - 1];
-  rf.sum_e2 = lambda * rf.sum_e2 + w * e * e;
-  double e_cv2 = e_cv[0] * e_cv[0];  // e_cv.head(R).squaredNorm(): Eigen sums up to 3 in ascending order
-  for (int r = 1; r < R; ++r) e_cv2 += e_cv[r] * e_cv[r];
-  const double press_E = lambda * rf.press_E + w * e_cv2;
-  rf.press_E = press_E;
-  double diff[N];
-  const double* xp = x.data();
-  const double* c = rf.center.data();
-  for (int k = 0; k < N; ++k) diff[k] = xp[k] - c[k];
-  SmallMetricSample sample;
-  sample.w = w;
-  sample.W = rf.sum_w(0);
-  sample.E = press_E;
+template <int N, int R, class T>
+__attribute__((always_inline)) inline void update_small_full_field_metric_of(const LwprParams& params, const double* x,
+                                                                             const FieldLanes<T>& lanes) {
+  ReceptiveField* const* rf = lanes.rf;
+  const FieldScratch* const* scratch = lanes.scratch;
+  const T lambda = lanes.gather([&](int l) { return rf[l]->lambda; });
+  SmallMetricLanes<N, R, T> sample;
+  sample.w = lanes.gather([&](int l) { return lanes.w[l]; });
+  const T& w = sample.w;
+  T one_minus_h[R];
+  for (int r = 0; r < R; ++r) {
+    sample.s[r] = lanes.gather([&](int l) { return scratch[l]->s.data()[r]; });
+    sample.e[r] = lanes.gather([&](int l) { return scratch[l]->residual.data()[r]; });
+    one_minus_h[r] = lanes.gather([&](int l) { return scratch[l]->one_minus_h.data()[r]; });
+    sample.e_cv[r] = sample.e[r] / one_minus_h[r];  // projection r's own residual
+  }
+  const T e = sample.e[R - 1];
+  const T sum_e2 = lambda * lanes.gather([&](int l) { return rf[l]->sum_e2; }) + w * e * e;
+  lanes.scatter(sum_e2, [&](int l, double v) { rf[l]->sum_e2 = v; });
+  T e_cv2 = sample.e_cv[0] * sample.e_cv[0];  // e_cv.head(R).squaredNorm(): Eigen sums up to 3 in ascending order
+  for (int r = 1; r < R; ++r) e_cv2 += sample.e_cv[r] * sample.e_cv[r];
   sample.e_cv2 = e_cv2;
-  sample.s = s;
-  sample.e = residual;
-  sample.e_cv = e_cv;
-  sample.diff = diff;
+  sample.E = lambda * lanes.gather([&](int l) { return rf[l]->press_E; }) + w * e_cv2;
+  lanes.scatter(sample.E, [&](int l, double v) { rf[l]->press_E = v; });
+  for (int k = 0; k < N; ++k) sample.diff[k] = x[k] - lanes.gather([&](int l) { return rf[l]->center.data()[k]; });
+  sample.W = lanes.gather([&](int l) { return rf[l]->sum_w.data()[0]; });
   // The library's transient multiplier: small steps while the leave-one-out error is still much
   // larger than the fitted error (a young or changing field).
-  const double ratio = rf.sum_e2 / (rf.sum_e_cv2(R - 1) + 1e-10);
-  const double transient = std::min(1.0, ratio * ratio * ratio * ratio);
-  step_small_full_metric<N, R>(params, sample, transient, rf);
-  double H[R], Rm[R];
+  const T ratio = sum_e2 / (lanes.gather([&](int l) { return rf[l]->sum_e_cv2.data()[R - 1]; }) + 1e-10);
+  const T transient = min_of(splat<T>(1.0), ratio * ratio * ratio * ratio);
+  step_small_full_metric<N, R>(params, sample, transient, lanes);
   for (int r = 0; r < R; ++r) {
-    H[r] = lambda * rf.press_H(r) + w * s[r] * e_cv[r] / one_minus_h[r];
-    Rm[r] = lambda * rf.press_R(r) + w * w * s[r] * s[r] * e_cv[r] * e_cv[r] / one_minus_h[r];
-  }
-  for (int r = 0; r < R; ++r) {
-    rf.press_H(r) = H[r];
-    rf.press_R(r) = Rm[r];
+    const T s = sample.s[r], e_cv = sample.e_cv[r];
+    const T H = lambda * lanes.gather([&](int l) { return rf[l]->press_H.data()[r]; }) + w * s * e_cv / one_minus_h[r];
+    const T Rm = lambda * lanes.gather([&](int l) { return rf[l]->press_R.data()[r]; }) +
+                 w * w * s * s * e_cv * e_cv / one_minus_h[r];
+    lanes.scatter(H, [&](int l, double v) { rf[l]->press_H.data()[r] = v; });
+    lanes.scatter(Rm, [&](int l, double v) { rf[l]->press_R.data()[r] = v; });
   }
 }
 
-// Each (n, R) compiled twice: for SSE2 and for AVX2 (target("avx2") without FMA: the same
-// operations with three-operand encodings, so the same bits and fewer register copies).
+// Each (n, R) compiled for SSE2 and for AVX2 on one field (target("avx2") without FMA: the same
+// operations with three-operand encodings, so the same bits and fewer register copies), and for
+// AVX2 on four.
 template <int N, int R>
-void update_small_full_metric_sse2(const LwprParams& params, const SmallMetricSample& sample, double transient,
-                                   ReceptiveField& rf) {
-  step_small_full_metric<N, R>(params, sample, transient, rf);
+void step_one_sse2(const LwprParams& params, const SmallMetricLanes<N, R, double>& sample, double transient,
+                   const FieldLanes<double>& field) {
+  step_small_full_metric<N, R>(params, sample, transient, field);
 }
 template <int N, int R>
-__attribute__((target("avx2"))) void update_small_full_metric_avx2(const LwprParams& params,
-                                                                   const SmallMetricSample& sample, double transient,
-                                                                   ReceptiveField& rf) {
-  step_small_full_metric<N, R>(params, sample, transient, rf);
+__attribute__((target("avx2"))) void step_one_avx2(const LwprParams& params,
+                                                   const SmallMetricLanes<N, R, double>& sample, double transient,
+                                                   const FieldLanes<double>& field) {
+  step_small_full_metric<N, R>(params, sample, transient, field);
 }
 template <int N, int R>
-void update_small_full_field_metric_sse2(const LwprParams& params, const Eigen::VectorXd& x, double w,
-                                         const FieldScratch& scratch, ReceptiveField& rf) {
-  update_small_full_field_metric_of<N, R>(params, x, w, scratch, rf);
+void field_metric_one_sse2(const LwprParams& params, const double* x, const FieldLanes<double>& field) {
+  update_small_full_field_metric_of<N, R>(params, x, field);
 }
 template <int N, int R>
-__attribute__((target("avx2"))) void update_small_full_field_metric_avx2(const LwprParams& params,
-                                                                         const Eigen::VectorXd& x, double w,
-                                                                         const FieldScratch& scratch,
-                                                                         ReceptiveField& rf) {
-  update_small_full_field_metric_of<N, R>(params, x, w, scratch, rf);
+__attribute__((target("avx2"))) void field_metric_one_avx2(const LwprParams& params, const double* x,
+                                                           const FieldLanes<double>& field) {
+  update_small_full_field_metric_of<N, R>(params, x, field);
+}
+template <int N, int R>
+__attribute__((target("avx2"))) void field_metric_four_avx2(const LwprParams& params, const double* x,
+                                                            const FieldLanes<Quad>& fields) {
+  update_small_full_field_metric_of<N, R>(params, x, fields);
 }
 
 template <int N, int R>
-void step_small(bool avx2, const LwprParams& params, const SmallMetricSample& sample, double transient,
-                ReceptiveField& rf) {
+void step_one(bool avx2, const LwprParams& params, const SmallMetricSample& in, double transient, ReceptiveField& rf) {
+  SmallMetricLanes<N, R, double> sample;
+  sample.w = in.w;
+  sample.W = in.W;
+  sample.E = in.E;
+  sample.e_cv2 = in.e_cv2;
+  std::copy(in.s, in.s + R, sample.s);
+  std::copy(in.e, in.e + R, sample.e);
+  std::copy(in.e_cv, in.e_cv + R, sample.e_cv);
+  std::copy(in.diff, in.diff + N, sample.diff);
+  FieldLanes<double> field;
+  field.rf[0] = &rf;
+  field.scratch[0] = nullptr;
+  field.w[0] = in.w;
   if (avx2) {
-    update_small_full_metric_avx2<N, R>(params, sample, transient, rf);
+    step_one_avx2<N, R>(params, sample, transient, field);
   } else {
-    update_small_full_metric_sse2<N, R>(params, sample, transient, rf);
+    step_one_sse2<N, R>(params, sample, transient, field);
   }
 }
+
+// The fields' metric steps: four at a time on AVX2 when every scratch allows it, else one by one.
 template <int N, int R>
-void update_small(const LwprParams& params, const Eigen::VectorXd& x, double w, const FieldScratch& scratch,
-                  ReceptiveField& rf) {
-  if (scratch.use_avx2) {
-    update_small_full_field_metric_avx2<N, R>(params, x, w, scratch, rf);
-  } else {
-    update_small_full_field_metric_sse2<N, R>(params, x, w, scratch, rf);
+void field_metrics(const LwprParams& params, const double* x, int count, const double* w,
+                   const FieldScratch* const* scratch, ReceptiveField* const* rf) {
+  bool avx2 = true;
+  for (int k = 0; k < count; ++k) avx2 = avx2 && scratch[k]->use_avx2;
+  if (avx2 && count > 1) {
+    FieldLanes<Quad> fields;
+    fields.count = count;
+    for (int l = 0; l < FieldLanes<Quad>::kLanes; ++l) {
+      const int k = l < count ? l : 0;
+      fields.rf[l] = rf[k];
+      fields.scratch[l] = scratch[k];
+      fields.w[l] = w[k];
+    }
+    field_metric_four_avx2<N, R>(params, x, fields);
+    return;
+  }
+  for (int k = 0; k < count; ++k) {
+    FieldLanes<double> field;
+    field.rf[0] = rf[k];
+    field.scratch[0] = scratch[k];
+    field.w[0] = w[k];
+    if (scratch[k]->use_avx2) {
+      field_metric_one_avx2<N, R>(params, x, field);
+    } else {
+      field_metric_one_sse2<N, R>(params, x, field);
+    }
   }
 }
 
@@ -599,25 +816,41 @@ void update_small(const LwprParams& params, const Eigen::VectorXd& x, double w, 
 void update_small_full_metric(const LwprParams& params, const SmallMetricSample& sample, double transient,
                               ReceptiveField& rf, bool use_avx2) {
   switch (rf.input_dim() * 4 + rf.n_reg()) {
-    case 2 * 4 + 1: step_small<2, 1>(use_avx2, params, sample, transient, rf); break;
-    case 2 * 4 + 2: step_small<2, 2>(use_avx2, params, sample, transient, rf); break;
-    case 3 * 4 + 1: step_small<3, 1>(use_avx2, params, sample, transient, rf); break;
-    case 3 * 4 + 2: step_small<3, 2>(use_avx2, params, sample, transient, rf); break;
-    case 3 * 4 + 3: step_small<3, 3>(use_avx2, params, sample, transient, rf); break;
+    case 2 * 4 + 1: step_one<2, 1>(use_avx2, params, sample, transient, rf); break;
+    case 2 * 4 + 2: step_one<2, 2>(use_avx2, params, sample, transient, rf); break;
+    case 3 * 4 + 1: step_one<3, 1>(use_avx2, params, sample, transient, rf); break;
+    case 3 * 4 + 2: step_one<3, 2>(use_avx2, params, sample, transient, rf); break;
+    case 3 * 4 + 3: step_one<3, 3>(use_avx2, params, sample, transient, rf); break;
     default: throw std::invalid_argument("update_small_full_metric: a full metric of 2 or 3 inputs only");
+  }
+}
+
+void update_small_full_field_metrics(const LwprParams& params, const Eigen::VectorXd& x, int count, const double* w,
+                                     const FieldScratch* const* scratch, ReceptiveField* const* rf) {
+  if (count < 1 || count > kMetricLanes) {
+    throw std::invalid_argument("update_small_full_field_metrics: 1 to " + std::to_string(kMetricLanes) + " fields");
+  }
+  const int n = rf[0]->input_dim(), n_reg = rf[0]->n_reg();
+  for (int k = 1; k < count; ++k) {
+    if (rf[k]->input_dim() != n || rf[k]->n_reg() != n_reg) {
+      throw std::invalid_argument("update_small_full_field_metrics: fields of one input dimension and projection count");
+    }
+  }
+  switch (n * 4 + n_reg) {
+    case 2 * 4 + 1: field_metrics<2, 1>(params, x.data(), count, w, scratch, rf); break;
+    case 2 * 4 + 2: field_metrics<2, 2>(params, x.data(), count, w, scratch, rf); break;
+    case 3 * 4 + 1: field_metrics<3, 1>(params, x.data(), count, w, scratch, rf); break;
+    case 3 * 4 + 2: field_metrics<3, 2>(params, x.data(), count, w, scratch, rf); break;
+    case 3 * 4 + 3: field_metrics<3, 3>(params, x.data(), count, w, scratch, rf); break;
+    default: throw std::invalid_argument("update_small_full_field_metrics: a full metric of 2 or 3 inputs only");
   }
 }
 
 void update_small_full_field_metric(const LwprParams& params, const Eigen::VectorXd& x, double w,
                                     const FieldScratch& scratch, ReceptiveField& rf) {
-  switch (rf.input_dim() * 4 + rf.n_reg()) {
-    case 2 * 4 + 1: update_small<2, 1>(params, x, w, scratch, rf); break;
-    case 2 * 4 + 2: update_small<2, 2>(params, x, w, scratch, rf); break;
-    case 3 * 4 + 1: update_small<3, 1>(params, x, w, scratch, rf); break;
-    case 3 * 4 + 2: update_small<3, 2>(params, x, w, scratch, rf); break;
-    case 3 * 4 + 3: update_small<3, 3>(params, x, w, scratch, rf); break;
-    default: throw std::invalid_argument("update_small_full_field_metric: a full metric of 2 or 3 inputs only");
-  }
+  const FieldScratch* scratches[1] = {&scratch};
+  ReceptiveField* fields[1] = {&rf};
+  update_small_full_field_metrics(params, x, 1, &w, scratches, fields);
 }
 
 void update_distance_metric(const LwprParams& params, const Eigen::VectorXd& diff, const MetricSample& sample,

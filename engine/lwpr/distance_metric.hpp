@@ -81,6 +81,17 @@ void update_small_full_metric(const LwprParams& params, const SmallMetricSample&
 void update_small_full_field_metric(const LwprParams& params, const Eigen::VectorXd& x, double w,
                                     const FieldScratch& scratch, ReceptiveField& rf);
 
+/// The most fields update_small_full_field_metrics() takes at once: the lanes of one AVX2 vector.
+constexpr int kMetricLanes = 4;
+
+/// update_small_full_field_metric() for `count` (1..kMetricLanes) different fields of the same n (2
+/// or 3) and R and the same x, field k with activation w[k] and its own scratch[k] (its s,
+/// residuals and 1 − h after the statistics): when every scratch says use_avx2 (only on a CPU that
+/// has it), in the lanes of one vector, field k in lane k; else one by one. Each field ends with
+/// the same bits as alone. Throws std::invalid_argument for another count, n or mixed n or R.
+void update_small_full_field_metrics(const LwprParams& params, const Eigen::VectorXd& x, int count, const double* w,
+                                     const FieldScratch* const* scratch, ReceptiveField* const* rf);
+
 /// md = M·diff for an upper triangular n×n factor M (n): the full metric's part of q = |M·diff|².
 void calc_factor_product(const Eigen::MatrixXd& M, const Eigen::VectorXd& diff, Eigen::VectorXd& md);
 

@@ -209,7 +209,7 @@ LwprModel::LwprModel(int n_in, int n_out, const LwprParams& params, FieldLayout 
   x_normalised_.resize(n_in);
   x_padded_.assign(stride_, 0.0);
   scratch_.resize(n_in, params_.diag_only);
-  scratch_pair_.resize(n_in, params_.diag_only);
+  for (FieldScratch& s : group_scratch_) s.resize(n_in, params_.diag_only);
   scan_diff_.assign(static_cast<std::size_t>(n_in) * kScanGroup, 0.0);
   shared_scan_ = !params_.update_D;
   lane_layout_ = layout == FieldLayout::kAuto && shared_scan_ && n_in > 3 && n_out >= 2;
@@ -457,23 +457,22 @@ LwprModel::ActiveSummary LwprModel::update_active_fields(int output, double y, c
     if (params_.update_D) write_scan_metric(output, i, fields[i]);
     if ((scan.trusted[i] != 0) != fields[i].trustworthy) write_scan_trust(scan, i, fields[i].trustworthy);
   };
-  // Two fields at a time (distinct fields: the scan lists each once), each with its own scratch:
-  // the same bits as one by one (update_receptive_field_pair).
-  std::size_t k = 0;
-  for (; k + 1 < active.size(); k += 2) {
-    const ActiveField& a = active[k];
-    const ActiveField& b = active[k + 1];
-    note(a);
-    note(b);
-    update_receptive_field_pair(params_, trust_n_data_, x, y, a.w, fields[a.index], scratch_, b.w, fields[b.index],
-                                scratch_pair_);
-    after(a.index);
-    after(b.index);
-  }
-  if (k < active.size()) {
-    note(active[k]);
-    update_receptive_field(params_, trust_n_data_, x, y, active[k].w, fields[active[k].index], scratch_);
-    after(active[k].index);
+  // kFieldGroup fields at a time (distinct fields: the scan lists each once), each with its own
+  // scratch: the same bits as one by one (update_receptive_fields).
+  for (std::size_t k = 0; k < active.size(); k += kFieldGroup) {
+    const int count = static_cast<int>(std::min<std::size_t>(kFieldGroup, active.size() - k));
+    double w[kFieldGroup];
+    ReceptiveField* group[kFieldGroup];
+    FieldScratch* scratch[kFieldGroup] = {&scratch_};
+    for (int j = 0; j < count; ++j) {
+      const ActiveField& a = active[k + j];
+      note(a);
+      w[j] = a.w;
+      group[j] = &fields[a.index];
+      if (j > 0) scratch[j] = &group_scratch_[j - 1];
+    }
+    update_receptive_fields(params_, trust_n_data_, x, y, count, w, group, scratch);
+    for (int j = 0; j < count; ++j) after(active[k + j].index);
   }
   return summary;
 }

@@ -108,7 +108,7 @@ class LwprModel final : public Learner {
   // Updates output `output` with y (normalised) given the fields active at x (every field with
   // w > 0, in field order), creating and pruning as update() says.
   void update_output(int output, double y, const std::vector<ActiveField>& active);
-  // The active fields' updates of update_output(), two at a time; the most active field and the
+  // The active fields' updates of update_output(), kFieldGroup at a time; the most active field and the
   // first two above w_prune (−1 where none).
   struct ActiveSummary {
     double w_max = 0.0;
@@ -207,7 +207,7 @@ class LwprModel final : public Learner {
   Eigen::VectorXd x_normalised_;
   std::vector<double> x_padded_;
   FieldScratch scratch_;
-  FieldScratch scratch_pair_;  // the second field's of update_receptive_field_pair
+  FieldScratch group_scratch_[kFieldGroup - 1];  // the other fields' of update_receptive_fields
   std::vector<ActiveField> active_;
   std::vector<double> scan_diff_;  // scan_active's diff (n_in × 4)
 };

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace armfarm::lwpr {
 namespace {
@@ -729,10 +731,13 @@ void update_field_metric(const LwprParams& params, const Eigen::VectorXd& x, dou
   }
 }
 
-// What update_receptive_field() does after the statistics: the leave-one-out sums, the metric
-// step, the add-projection test, λ's annealing and the trust flag.
-void finish_field_update(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double w,
-                         ReceptiveField& rf, FieldScratch& scratch) {
+// Which metric step a field's update makes after its leave-one-out sums.
+enum class MetricStep { kNone, kSmallFull, kGeneral };
+
+// What update_receptive_field() does after the statistics, in three parts so that a group's metric
+// steps can run together: (1) the leave-one-out sums, and which metric step is due; (2) the step
+// (update_small_full_field_metric() or update_field_metric()); (3) finish_field_update().
+MetricStep update_loo_sums(const LwprParams& params, double w, ReceptiveField& rf, const FieldScratch& scratch) {
   const double lambda = rf.lambda;
   const int n_reg = rf.n_reg();
   // Leave-one-out statistics and the metric update wait until the field has some data: the
@@ -753,13 +758,18 @@ void finish_field_update(const LwprParams& params, double trust_n_data, const Ei
     // The rest feeds the metric step only: without update_D it is never read (a model's
     // parameters are fixed, in its file too), so sum_e2, press_E, press_H and press_R stay 0.
     if (params.update_D) {
-      if (rf.input_dim() <= 3 && !rf.diagonal() && scratch.small_full_metric) {
-        update_small_full_field_metric(params, x, w, scratch, rf);  // the same bits as update_field_metric()
-      } else {
-        update_field_metric(params, x, w, rf, scratch);
-      }
+      // The fixed-size step gives the same bits as update_field_metric().
+      return rf.input_dim() <= 3 && !rf.diagonal() && scratch.small_full_metric ? MetricStep::kSmallFull
+                                                                                 : MetricStep::kGeneral;
     }
   }
+  return MetricStep::kNone;
+}
+
+// (3) The add-projection test, λ's annealing and the trust flag.
+void finish_field_update(const LwprParams& params, double trust_n_data, ReceptiveField& rf) {
+  const double lambda = rf.lambda;
+  const int n_reg = rf.n_reg();
 
   // Add a projection when the last one still cut the leave-one-out error by enough and has seen
   // (nearly) all the data the field has.
@@ -776,17 +786,9 @@ void finish_field_update(const LwprParams& params, double trust_n_data, const Ei
   rf.trustworthy = rf.n_data(0) >= trust_n_data;
 }
 
-}  // namespace
-
-void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
-                            double w, ReceptiveField& rf, FieldScratch& scratch) {
-  update_field_statistics(x, y, w, rf, scratch);
-  finish_field_update(params, trust_n_data, x, w, rf, scratch);
-}
-
-void update_receptive_field_pair(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
-                                 double w_a, ReceptiveField& rf_a, FieldScratch& scratch_a, double w_b,
-                                 ReceptiveField& rf_b, FieldScratch& scratch_b) {
+// Two different fields' statistics for the same sample, interleaved where their sizes allow.
+void update_field_statistics_pair(const Eigen::VectorXd& x, double y, double w_a, ReceptiveField& rf_a,
+                                  FieldScratch& scratch_a, double w_b, ReceptiveField& rf_b, FieldScratch& scratch_b) {
   const int n = rf_a.input_dim();
   const bool small = n <= 3 && scratch_a.small_statistics && scratch_b.small_statistics;
   if (small && update_small_field_statistics_pair(x, y, w_a, rf_a, scratch_a, w_b, rf_b, scratch_b)) {
@@ -801,8 +803,67 @@ void update_receptive_field_pair(const LwprParams& params, double trust_n_data, 
     update_field_statistics(x, y, w_a, rf_a, scratch_a);
     update_field_statistics(x, y, w_b, rf_b, scratch_b);
   }
-  finish_field_update(params, trust_n_data, x, w_a, rf_a, scratch_a);
-  finish_field_update(params, trust_n_data, x, w_b, rf_b, scratch_b);
+}
+
+}  // namespace
+
+void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
+                            double w, ReceptiveField& rf, FieldScratch& scratch) {
+  update_field_statistics(x, y, w, rf, scratch);
+  switch (update_loo_sums(params, w, rf, scratch)) {
+    case MetricStep::kSmallFull: update_small_full_field_metric(params, x, w, scratch, rf); break;
+    case MetricStep::kGeneral: update_field_metric(params, x, w, rf, scratch); break;
+    case MetricStep::kNone: break;
+  }
+  finish_field_update(params, trust_n_data, rf);
+}
+
+static_assert(kFieldGroup <= kMetricLanes, "a group's metric steps fit one call");
+
+void update_receptive_fields(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
+                             int count, const double* w, ReceptiveField* const* rf, FieldScratch* const* scratch) {
+  if (count < 1 || count > kFieldGroup) {
+    throw std::invalid_argument("update_receptive_fields: 1 to " + std::to_string(kFieldGroup) + " fields");
+  }
+  int k = 0;
+  for (; k + 1 < count; k += 2) {
+    update_field_statistics_pair(x, y, w[k], *rf[k], *scratch[k], w[k + 1], *rf[k + 1], *scratch[k + 1]);
+  }
+  if (k < count) update_field_statistics(x, y, w[k], *rf[k], *scratch[k]);
+  MetricStep due[kFieldGroup];
+  for (k = 0; k < count; ++k) due[k] = update_loo_sums(params, w[k], *rf[k], *scratch[k]);
+  // The fixed-size steps of fields with the same n and R together (fields are independent, so the
+  // order of their steps does not matter), the general ones one by one.
+  for (k = 0; k < count; ++k) {
+    if (due[k] == MetricStep::kGeneral) update_field_metric(params, x, w[k], *rf[k], *scratch[k]);
+    if (due[k] != MetricStep::kSmallFull) continue;
+    double group_w[kFieldGroup];
+    const FieldScratch* group_scratch[kFieldGroup];
+    ReceptiveField* group_rf[kFieldGroup];
+    int size = 0;
+    for (int j = k; j < count; ++j) {
+      if (due[j] != MetricStep::kSmallFull || rf[j]->input_dim() != rf[k]->input_dim() ||
+          rf[j]->n_reg() != rf[k]->n_reg()) {
+        continue;
+      }
+      group_w[size] = w[j];
+      group_scratch[size] = scratch[j];
+      group_rf[size] = rf[j];
+      ++size;
+      due[j] = MetricStep::kNone;  // taken
+    }
+    update_small_full_field_metrics(params, x, size, group_w, group_scratch, group_rf);
+  }
+  for (k = 0; k < count; ++k) finish_field_update(params, trust_n_data, *rf[k]);
+}
+
+void update_receptive_field_pair(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
+                                 double w_a, ReceptiveField& rf_a, FieldScratch& scratch_a, double w_b,
+                                 ReceptiveField& rf_b, FieldScratch& scratch_b) {
+  const double w[2] = {w_a, w_b};
+  ReceptiveField* rf[2] = {&rf_a, &rf_b};
+  FieldScratch* scratch[2] = {&scratch_a, &scratch_b};
+  update_receptive_fields(params, trust_n_data, x, y, 2, w, rf, scratch);
 }
 
 }  // namespace armfarm::lwpr

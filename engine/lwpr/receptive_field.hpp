@@ -149,6 +149,18 @@ void update_receptive_field_pair(const LwprParams& params, double trust_n_data, 
                                  double w_a, ReceptiveField& rf_a, FieldScratch& scratch_a, double w_b,
                                  ReceptiveField& rf_b, FieldScratch& scratch_b);
 
+/// The most fields update_receptive_fields() takes at once (the metric step's vector lanes).
+constexpr int kFieldGroup = 4;
+
+/// update_receptive_field() for `count` (1..kFieldGroup) different fields and the same sample
+/// (x, y), field k with activation w[k] and its own scratch[k]: the statistics two at a time (as
+/// update_receptive_field_pair), then the metric steps of the fields with a full metric of 2 or 3
+/// inputs and the same R together, in vector lanes (update_small_full_field_metrics()). Each field
+/// ends with the same bits as update_receptive_field() gives it. Throws std::invalid_argument for
+/// another count.
+void update_receptive_fields(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
+                             int count, const double* w, ReceptiveField* const* rf, FieldScratch* const* scratch);
+
 /// Recomputes the cached directions, loadings and β from the sufficient statistics.
 void refresh_receptive_field(ReceptiveField& rf);
 

@@ -331,5 +331,124 @@ TEST(DistanceMetric, SmallFullStepMatchesTheGeneralStepBitForBit) {
   }
 }
 
+// update_small_full_field_metrics() on 1–4 fields at once (the AVX2 copy puts field k in vector lane
+// k) against update_small_full_field_metric() on each field alone, on the SSE2 copy: every
+// statistic the step writes (M, D, log α, trace, sum_e2, press_E, H, R) the same bits, for n = 2
+// and 3, R = 1..n, with and without meta learning, both kernels. Some groups hold degenerate
+// fields: one whose gradient is not finite (its R memory term is +∞: no step at all) and one whose
+// stepped D overflows (M and D kept, the rates and trace stepped), next to ordinary ones.
+TEST(DistanceMetric, FieldMetricLanesMatchOneFieldAtATimeBitForBit) {
+  if (!has_avx2()) GTEST_SKIP() << "this CPU has no AVX2: the fields' metric steps run one by one";
+  std::srand(41);
+  int groups = 0, moved = 0, frozen = 0, overflowed = 0;
+  for (const Kernel kernel : {Kernel::kGaussian, Kernel::kBisquare}) {
+    for (const bool meta : {false, true}) {
+      for (const int n : {2, 3}) {
+        for (int trial = 0; trial < 60; ++trial) {
+          LwprParams params;
+          params.kernel = kernel;
+          params.penalty = 1e-3;
+          params.meta = meta;
+          params.diag_only = false;
+          params.init_n_reg = 1;
+          const int n_reg = 1 + trial % n;
+          const int count = 1 + trial % kMetricLanes;
+          const bool degenerate = trial % 5 == 4;
+          const Eigen::VectorXd x = 0.3 * Eigen::VectorXd::Random(n);
+          ReceptiveField start[kMetricLanes];
+          FieldScratch scratch[kMetricLanes];
+          double w[kMetricLanes];
+          for (int k = 0; k < count; ++k) {
+            const Eigen::MatrixXd A = Eigen::MatrixXd::Random(n, n);
+            const Eigen::MatrixXd D = 4.0 * (A.transpose() * A) + Eigen::MatrixXd::Identity(n, n);
+            ReceptiveField& rf = start[k];
+            rf = make_receptive_field(params, 0.2 * Eigen::VectorXd::Random(n), D);
+            while (rf.n_reg() < n_reg) add_projection(params, rf);
+            rf.ss2 = Eigen::VectorXd::Random(n_reg).cwiseAbs() + Eigen::VectorXd::Constant(n_reg, 0.1);
+            rf.press_H = Eigen::VectorXd::Random(n_reg);
+            rf.press_R = Eigen::VectorXd::Random(n_reg).cwiseAbs();
+            rf.sum_w = Eigen::VectorXd::Constant(n_reg, 2.0 + 10.0 * std::abs(Eigen::VectorXd::Random(1)(0)));
+            rf.sum_e_cv2 = Eigen::VectorXd::Random(n_reg).cwiseAbs() + Eigen::VectorXd::Constant(n_reg, 0.05);
+            rf.sum_e2 = 0.5 * rf.sum_e_cv2(n_reg - 1) * (trial % 3 == 0 ? 3.0 : 1.0);
+            rf.press_E = 0.3 * rf.sum_w(0);
+            rf.lambda = 0.99 + 0.009 * std::abs(Eigen::VectorXd::Random(1)(0));
+            rf.log_alpha.triangularView<Eigen::Upper>() =
+                Eigen::MatrixXd::Random(n, n) + Eigen::MatrixXd::Constant(n, n, std::log(50.0));
+            if (meta) rf.meta_trace.triangularView<Eigen::Upper>() = 1e-3 * Eigen::MatrixXd::Random(n, n);
+            if (degenerate && k == 1) rf.press_R(0) = std::numeric_limits<double>::infinity();
+            if (degenerate && k == 2) {
+              // A factor whose MᵀM overflows (the step's D is refused) with a finite gradient: the D
+              // the gradient reads is set apart from it.
+              rf.metric_factor = Eigen::MatrixXd::Constant(n, n, 1e154).triangularView<Eigen::Upper>();
+              rf.metric = 4.0 * Eigen::MatrixXd::Identity(n, n);
+            }
+            scratch[k].resize(n, false);
+            scratch[k].s.head(n_reg) = Eigen::VectorXd::Random(n_reg);
+            scratch[k].residual.head(n_reg) = 0.5 * Eigen::VectorXd::Random(n_reg);
+            scratch[k].one_minus_h.head(n_reg) = Eigen::VectorXd::Constant(n_reg, 0.9) +
+                                                 0.09 * Eigen::VectorXd::Random(n_reg);
+            Eigen::VectorXd md;
+            calc_factor_product(rf.metric_factor, x - rf.center, md);
+            w[k] = degenerate && k == 2 ? 0.5 : calc_kernel(kernel, md.squaredNorm());
+            if (!(w[k] > 0.0)) w[k] = 0.01;  // past the bisquare's support: any activation will do here
+          }
+          ReceptiveField lanes[kMetricLanes], alone[kMetricLanes];
+          const FieldScratch* scratches[kMetricLanes];
+          ReceptiveField* fields[kMetricLanes];
+          for (int k = 0; k < count; ++k) {
+            lanes[k] = start[k];
+            alone[k] = start[k];
+            scratch[k].use_avx2 = true;
+            scratches[k] = &scratch[k];
+            fields[k] = &lanes[k];
+          }
+          update_small_full_field_metrics(params, x, count, w, scratches, fields);
+          for (int k = 0; k < count; ++k) {
+            FieldScratch one = scratch[k];
+            one.use_avx2 = false;
+            update_small_full_field_metric(params, x, w[k], one, alone[k]);
+          }
+          ++groups;
+          for (int k = 0; k < count; ++k) {
+            const std::string where = "n " + std::to_string(n) + " R " + std::to_string(n_reg) + " meta " +
+                                      std::to_string(meta) + " kernel " + std::to_string(static_cast<int>(kernel)) +
+                                      " trial " + std::to_string(trial) + " field " + std::to_string(k) + " of " +
+                                      std::to_string(count);
+            const auto same = [](const auto& a, const auto& b) {
+              return a.size() == b.size() && std::memcmp(a.data(), b.data(), sizeof(double) * a.size()) == 0;
+            };
+            EXPECT_TRUE(same(lanes[k].metric_factor, alone[k].metric_factor)) << where;
+            EXPECT_TRUE(same(lanes[k].metric, alone[k].metric)) << where;
+            EXPECT_TRUE(same(lanes[k].log_alpha, alone[k].log_alpha)) << where;
+            EXPECT_TRUE(same(lanes[k].meta_trace, alone[k].meta_trace)) << where;
+            EXPECT_TRUE(same(lanes[k].press_H, alone[k].press_H)) << where;
+            EXPECT_TRUE(same(lanes[k].press_R, alone[k].press_R)) << where;
+            EXPECT_EQ(std::memcmp(&lanes[k].sum_e2, &alone[k].sum_e2, sizeof(double)), 0) << where;
+            EXPECT_EQ(std::memcmp(&lanes[k].press_E, &alone[k].press_E, sizeof(double)), 0) << where;
+            if (degenerate && k == 1) {
+              EXPECT_EQ(lanes[k].metric_factor, start[k].metric_factor) << where;  // no step at all
+              EXPECT_EQ(lanes[k].log_alpha, start[k].log_alpha) << where;
+              ++frozen;
+            } else if (degenerate && k == 2) {
+              EXPECT_EQ(lanes[k].metric_factor, start[k].metric_factor) << where;  // the overflowing D refused
+              EXPECT_EQ(lanes[k].metric, start[k].metric) << where;
+              if (meta) {
+                EXPECT_NE(lanes[k].log_alpha, start[k].log_alpha) << where;  // the rates stepped all the same
+                ++overflowed;
+              }
+            } else {
+              moved += lanes[k].metric_factor != start[k].metric_factor ? 1 : 0;
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(groups, 480);
+  EXPECT_GT(moved, 500);  // most ordinary fields' metrics moved
+  EXPECT_GT(frozen, 20);
+  EXPECT_GT(overflowed, 5);
+}
+
 }  // namespace
 }  // namespace armfarm::lwpr

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -228,6 +229,18 @@ std::vector<double> flatten_field(const ReceptiveField& rf) {
   }
   all.insert(all.end(), {rf.lambda, rf.beta0, rf.sum_e2, rf.press_E, rf.trustworthy ? 1.0 : 0.0});
   return all;
+}
+
+// Full metrics that adapt quickly: λ from 0.99, projections added readily, a small penalty.
+LwprParams make_full_metric_params(bool meta) {
+  LwprParams params;
+  params.diag_only = false;
+  params.update_D = true;
+  params.meta = meta;
+  params.init_lambda = 0.99;
+  params.add_threshold = 0.9;
+  params.penalty = 1e-4;
+  return params;
 }
 
 TEST(ReceptiveField, Avx2FieldUpdateMatchesSse2BitForBit) {
@@ -562,14 +575,8 @@ TEST(ReceptiveField, SmallFullMetricUpdateMatchesTheGeneralUpdateBitForBit) {
       for (const Kernel kernel : {Kernel::kGaussian, Kernel::kBisquare}) {
         for (const bool avx2 : {false, true}) {
           if (avx2 && !has_avx2()) continue;
-          LwprParams params;
-          params.diag_only = false;
-          params.update_D = true;
-          params.meta = meta;
+          LwprParams params = make_full_metric_params(meta);
           params.kernel = kernel;
-          params.init_lambda = 0.99;
-          params.add_threshold = 0.9;  // add projections readily
-          params.penalty = 1e-4;
           std::mt19937_64 rng(static_cast<unsigned>(31 * n + 2 * meta + static_cast<int>(kernel)));
           std::uniform_real_distribution<double> uniform(-1.0, 1.0);
           Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return uniform(rng); });
@@ -738,6 +745,81 @@ TEST(ReceptiveField, SmallStatisticsMatchTheGeneralStatisticsBitForBit) {
       }
     }
   }
+}
+
+}  // namespace
+}  // namespace armfarm::lwpr
+
+namespace armfarm::lwpr {
+namespace {
+
+// update_receptive_fields() on groups of 1–4 fields against update_receptive_field() on each:
+// every statistic the same bits after the same stream, for n = 2 and 3 with full metrics, fields
+// of different projection counts in one group (so a group's metric steps split by R, and at n = 3
+// projections are added on the way), with and without meta learning, on SSE2 (the steps one by
+// one) and on AVX2 (in vector lanes).
+TEST(ReceptiveField, FieldGroupUpdateMatchesSingleUpdatesBitForBit) {
+  for (const int n : {2, 3}) {
+    for (const bool meta : {false, true}) {
+      for (const bool avx2 : {false, true}) {
+        if (avx2 && !has_avx2()) continue;
+        LwprParams params = make_full_metric_params(meta);
+        params.init_n_reg = 1;
+        std::mt19937_64 rng(static_cast<unsigned>(17 * n + 2 * meta + avx2));
+        std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+        ReceptiveField start[kFieldGroup];
+        for (int k = 0; k < kFieldGroup; ++k) {
+          Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return uniform(rng); });
+          const Eigen::MatrixXd D = 2.0 * Eigen::MatrixXd::Identity(n, n) + A.transpose() * A;
+          start[k] = make_receptive_field(params, Eigen::VectorXd::Constant(n, 0.05 * k), D);
+          while (start[k].n_reg() < 1 + k % n) add_projection(params, start[k]);  // R = 1, 2, (3,) 1, …
+        }
+        for (int count = 1; count <= kFieldGroup; ++count) {
+          ReceptiveField group[kFieldGroup], alone[kFieldGroup];
+          FieldScratch scratch[kFieldGroup], single;
+          single.resize(n, false);
+          single.use_avx2 = false;
+          ReceptiveField* fields[kFieldGroup];
+          FieldScratch* scratches[kFieldGroup];
+          for (int k = 0; k < count; ++k) {
+            group[k] = start[k];
+            alone[k] = start[k];
+            scratch[k].resize(n, false);
+            scratch[k].use_avx2 = avx2;
+            fields[k] = &group[k];
+            scratches[k] = &scratch[k];
+          }
+          int stepped = 0;
+          for (int i = 0; i < 1500; ++i) {
+            const Eigen::VectorXd x = Eigen::VectorXd::NullaryExpr(n, [&] { return 0.3 * uniform(rng); });
+            const double y = std::sin(3.0 * x(0)) + x(1) * x(n - 1) + 0.05 * uniform(rng);
+            double w[kFieldGroup];
+            for (int k = 0; k < count; ++k) {
+              w[k] = calc_activation(group[k], Kernel::kGaussian, x, 0.0, single);
+              const double w_alone = calc_activation(alone[k], Kernel::kGaussian, x, 0.0, single);
+              update_receptive_field(params, 2.0 * n, x, y, w_alone, alone[k], single);
+            }
+            update_receptive_fields(params, 2.0 * n, x, y, count, w, fields, scratches);
+          }
+          const std::string where = "n = " + std::to_string(n) + ", meta " + std::to_string(meta) + ", " +
+                                    std::to_string(count) + " fields" + (avx2 ? ", AVX2" : ", SSE2");
+          for (int k = 0; k < count; ++k) {
+            stepped += group[k].metric_factor != start[k].metric_factor ? 1 : 0;
+            const std::vector<double> a = flatten_field(group[k]), b = flatten_field(alone[k]);
+            ASSERT_EQ(a.size(), b.size()) << where << ", field " << k;
+            EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0) << where << ", field " << k;
+          }
+          EXPECT_EQ(stepped, count) << where << ": every field's metric moved";
+          if (n == 3 && count >= 2) {  // field 1 starts with 2 of 3 projections (the rule needs 2)
+            EXPECT_GT(group[1].n_reg(), start[1].n_reg()) << where << ": no projection was added";
+          }
+        }
+      }
+    }
+  }
+  EXPECT_THROW(update_receptive_fields(LwprParams{}, 4.0, Eigen::VectorXd::Zero(2), 0.0, kFieldGroup + 1, nullptr,
+                                       nullptr, nullptr),
+               std::invalid_argument);
 }
 
 }  // namespace
