@@ -81,6 +81,73 @@ __attribute__((always_inline)) inline T abs_of(const T& v) {
   }
 }
 
+// exp(x) for the metrics' learning rates α = exp(log α) (calc_rate_exp()), on T = double or Quad:
+// the same operations in every lane, so the same bits alone or in a vector, and with any libm.
+// x = k·ln 2 + r with k = round(x/ln 2) and |r| ≤ ln 2/2 (Cody–Waite: ln 2 split so that k·ln2_hi
+// is exact); exp(r) by its Taylor series to r¹³ (the next term is below 10⁻¹⁷), evaluated in
+// Estrin's scheme for a short dependency chain, 1 + r added exactly; then 2^k as two exact power-of-two factors, so
+// that results near overflow and in the subnormal range round once. x is clamped to [−746, 710]
+// first (past them exp is 0 or +∞ in double; a NaN passes through).
+constexpr double kRound = 6755399441055744.0;  // 1.5·2⁵²: t + kRound − kRound rounds t to an integer
+constexpr double kInvLn2 = 1.4426950408889634074;
+constexpr double kLn2Hi = 6.93147180369123816490e-01;  // ln 2's leading 32 bits: k·kLn2Hi is exact for |k| < 2²¹
+constexpr double kLn2Lo = 1.90821492927058770002e-10;  // ln 2 − kLn2Hi
+
+// 2^k for an integer-valued k in [−1022, 1023]: the exponent field built from k's bits.
+template <class T>
+__attribute__((always_inline)) inline T calc_power_of_two(const T& k) {
+  const T shifted = k + kRound;  // k's two's complement in the low bits of the significand
+  if constexpr (std::is_same_v<T, double>) {
+    long long bits, base;
+    std::memcpy(&bits, &shifted, sizeof bits);
+    const double round = kRound;
+    std::memcpy(&base, &round, sizeof base);
+    const unsigned long long exponent = static_cast<unsigned long long>(bits - base + 1023) << 52;
+    double out;
+    std::memcpy(&out, &exponent, sizeof out);
+    return out;
+  } else {
+    const QuadBits base = (QuadBits)splat<T>(kRound);
+    const QuadBits exponent = ((QuadBits)shifted - base + 1023) << 52;
+    return (T)exponent;
+  }
+}
+
+template <class T>
+__attribute__((always_inline)) inline T calc_rate_exp_of(const T& x_in) {
+  const T x = clamp_of(x_in, -746.0, 710.0);
+  const T k = (x * kInvLn2 + kRound) - kRound;
+  const T a = x - k * kLn2Hi;  // exact
+  const T b = k * kLn2Lo;
+  const T r = a - b;
+  const T r_error = (a - r) - b;  // what r = a − b rounded off (Fast2Sum: |a| ≥ |b|)
+  // 1/j! for j = 2..13.
+  constexpr double c2 = 1.0 / 2, c3 = 1.0 / 6, c4 = 1.0 / 24, c5 = 1.0 / 120, c6 = 1.0 / 720, c7 = 1.0 / 5040,
+                   c8 = 1.0 / 40320, c9 = 1.0 / 362880, c10 = 1.0 / 3628800, c11 = 1.0 / 39916800,
+                   c12 = 1.0 / 479001600, c13 = 1.0 / 6227020800;
+  const T r2 = r * r;
+  const T r4 = r2 * r2;
+  const T q0 = (c2 + c3 * r) + r2 * (c4 + c5 * r);
+  const T q1 = (c6 + c7 * r) + r2 * (c8 + c9 * r);
+  const T q2 = (c10 + c11 * r) + r2 * (c12 + c13 * r);
+  const T q = q0 + r4 * (q1 + r4 * q2);  // Σ_{j≥2} r^(j−2)/j!
+  // 1 + r + r²q with 1 + r split exactly into hi + lo (Fast2Sum: |r| < 1), so that only the last
+  // addition rounds at 1's scale.
+  const T hi = 1.0 + r;
+  const T lo = (1.0 - hi) + r;
+  const T p = hi + ((lo + r_error * hi) + r2 * q);  // exp(r + r_error) ≈ exp(r)·(1 + r_error)
+  const T k1 = (k * 0.5 + kRound) - kRound;  // k = k1 + k2, both within 2^k's normal range
+  return (p * calc_power_of_two(k1)) * calc_power_of_two(k - k1);
+}
+
+// A learning rate α = exp(log α): with meta learning (log α moves at every step) calc_rate_exp(),
+// which runs in vector lanes; without it the C library's exp, as before calc_rate_exp() existed,
+// so that fields without meta learning keep their numbers (their log-rates rarely change, so the
+// exp is rarely evaluated).
+__attribute__((always_inline)) inline double calc_rate(bool meta, double log_alpha) {
+  return meta ? calc_rate_exp_of(log_alpha) : std::exp(log_alpha);
+}
+
 // The full-metric loops below reproduce the evaluation order of the Eigen expressions they
 // replaced, so the results are the same bits: Eigen's triangular matrix-vector product handles a
 // factor of up to 8 columns as one panel, summing each row in ascending column order, and its
@@ -232,7 +299,7 @@ __attribute__((always_inline)) inline void step_full_factor(const LwprParams& pa
       }
       if (!(log_alpha == last_log_alpha)) {
         last_log_alpha = log_alpha;
-        last_alpha = std::exp(log_alpha);
+        last_alpha = calc_rate(params.meta, log_alpha);
       }
       const double alpha = last_alpha;
       const double step = alpha * transient * grad;
@@ -315,6 +382,8 @@ __attribute__((always_inline)) inline T calc_press_dw_of(int n_runtime, const T*
 }
 
 }  // namespace
+
+double calc_rate_exp(double x) { return calc_rate_exp_of(x); }
 
 double calc_press_dw(const ReceptiveField& rf, const MetricSample& sample) {
   return calc_press_dw_of<0>(rf.n_reg(), rf.ss2.data(), rf.press_H.data(), rf.press_R.data(), sample.s.data(),
@@ -432,7 +501,7 @@ void update_diagonal_metric(const LwprParams& params, const Eigen::VectorXd& dif
   for (int i = 0; i < n; ++i) {
     if (!(log_alpha[i] == last_log_alpha)) {
       last_log_alpha = log_alpha[i];
-      last_alpha = std::exp(log_alpha[i]);
+      last_alpha = std::exp(log_alpha[i]);  // calc_rate() without meta learning
     }
     const double step = last_alpha * transient * grad[i];
     old[i] = M[i];
@@ -468,42 +537,38 @@ __attribute__((always_inline)) inline T add_times_zero(const T& zero, const T& v
   return zero + v * 0.0;
 }
 
-// α_k = exp(log α_k), k < K; exp() once per run of equal log-rates, as step_full_factor() (the same
-// values either way). Not inlined: the caller's live values are saved once around this call, not
-// around each exp() (every vector register is caller-saved).
-template <int K>
-__attribute__((noinline)) void calc_rates(const double* log_alpha, double* alpha) {
-  alpha[0] = std::exp(log_alpha[0]);
-  for (int k = 1; k < K; ++k) alpha[k] = log_alpha[k] == log_alpha[k - 1] ? alpha[k - 1] : std::exp(log_alpha[k]);
-}
-
-// calc_rates() of the first `count` of L fields, element k of field l at [k·L + l]; the lanes past
-// them repeat lane 0's inputs, so they take its rates.
+// Without meta learning, calc_rate() of K elements of L fields (element k of field l at [k·L + l])
+// with the C library's exp, once per run of equal log-rates in a field, as step_full_factor() (the
+// same values either way). Not inlined: the caller's live values are saved once around this call,
+// not around each exp() (every vector register is caller-saved).
 template <int K, int L>
-__attribute__((noinline)) void calc_rate_lanes(const double* log_alpha, int count, double* alpha) {
-  for (int l = 0; l < count; ++l) {
-    double field_log[K], field_alpha[K];
-    for (int k = 0; k < K; ++k) field_log[k] = log_alpha[k * L + l];
-    calc_rates<K>(field_log, field_alpha);
-    for (int k = 0; k < K; ++k) alpha[k * L + l] = field_alpha[k];
-  }
-  for (int l = count; l < L; ++l) {
-    for (int k = 0; k < K; ++k) alpha[k * L + l] = alpha[k * L];
+__attribute__((noinline)) void calc_library_rates(const double* log_alpha, double* alpha) {
+  for (int l = 0; l < L; ++l) {
+    alpha[l] = std::exp(log_alpha[l]);
+    for (int k = 1; k < K; ++k) {
+      const int at = k * L + l;
+      alpha[at] = log_alpha[at] == log_alpha[at - L] ? alpha[at - L] : std::exp(log_alpha[at]);
+    }
   }
 }
 
+// α_k = calc_rate(log α_k), k < K, in each lane.
 template <int K, class T>
-__attribute__((always_inline)) inline void calc_rates_of(const T* log_alpha, int count, T* alpha) {
-  if constexpr (std::is_same_v<T, double>) {
-    calc_rates<K>(log_alpha, alpha);
-  } else {
-    constexpr int L = kLaneCount<T>;
-    double in[K * L], out[K * L];
-    std::memcpy(in, log_alpha, sizeof in);
-    calc_rate_lanes<K, L>(in, count, out);
-    // Element by element: one wide load of the call's narrow stores would wait for them to retire
-    // (no store forwarding), the largest stall of this step when it was a memcpy.
-    for (int k = 0; k < K; ++k) {
+__attribute__((always_inline)) inline void calc_rates_of(bool meta, const T* log_alpha, T* alpha) {
+  if (meta) {
+    for (int k = 0; k < K; ++k) alpha[k] = calc_rate_exp_of(log_alpha[k]);
+    return;
+  }
+  constexpr int L = kLaneCount<T>;
+  double in[K * L], out[K * L];
+  std::memcpy(in, log_alpha, sizeof in);
+  calc_library_rates<K, L>(in, out);
+  // Element by element: one wide load of the call's narrow stores would wait for them to retire
+  // (no store forwarding).
+  for (int k = 0; k < K; ++k) {
+    if constexpr (L == 1) {
+      alpha[k] = out[k];
+    } else {
       for (int l = 0; l < L; ++l) alpha[k][l] = out[k * L + l];
     }
   }
@@ -545,16 +610,15 @@ struct SmallMetricLanes {
   T s[R], e[R], e_cv[R], diff[N];
 };
 
-// step_full_factor() on the upper triangle in three passes: the log-rates (IDBD), their exp() in
-// one call (calc_rates), then the steps, the safeguard and the traces. Each element's operations
-// are step_full_factor()'s in the same order (only the exp of one element's log-rate is shared with
-// the next when they are equal, as there), so the same bits. m, g and curvature are n×n
-// column-major; log_alpha and trace hold the upper triangle's elements column by column; `count`
-// is FieldLanes::count.
+// step_full_factor() on the upper triangle in three passes: the log-rates (IDBD), their rates
+// (calc_rates_of), then the steps, the safeguard and the traces. Each element's operations are
+// step_full_factor()'s in the same order (there an element shares the previous one's rate when
+// their log-rates are equal: the same value), so the same bits. m, g and curvature are n×n
+// column-major; log_alpha and trace hold the upper triangle's elements column by column.
 template <int N, class T>
 __attribute__((always_inline)) inline void step_small_factor(const LwprParams& params, const T* g, const T* curvature,
-                                                             const T& transient, const T& bound, int count, T* m,
-                                                             T* log_alpha, T* trace) {
+                                                             const T& transient, const T& bound, T* m, T* log_alpha,
+                                                             T* trace) {
   constexpr int kUpper = N * (N + 1) / 2;
   int at[kUpper];
   for (int col = 0, k = 0; col < N; ++col) {
@@ -567,7 +631,7 @@ __attribute__((always_inline)) inline void step_small_factor(const LwprParams& p
     }
   }
   T alpha[kUpper];
-  calc_rates_of<kUpper>(log_alpha, count, alpha);
+  calc_rates_of<kUpper>(params.meta, log_alpha, alpha);
   const double log_half = std::log(0.5);
   for (int k = 0; k < kUpper; ++k) {
     const T step = alpha[k] * transient * g[at[k]];
@@ -651,7 +715,7 @@ __attribute__((always_inline)) inline void step_small_full_metric(const LwprPara
   T new_log_alpha[kUpper], new_trace[kUpper];
   std::copy(log_alpha, log_alpha + kUpper, new_log_alpha);
   std::copy(trace, trace + kUpper, new_trace);
-  step_small_factor<N>(params, g, curvature, transient, 0.1 * max_abs, lanes.count, stepped, new_log_alpha, new_trace);
+  step_small_factor<N>(params, g, curvature, transient, 0.1 * max_abs, stepped, new_log_alpha, new_trace);
   // A field whose gradient is not finite keeps its log α and trace (selects, not conditional stores).
   for (int k = 0; k < kUpper; ++k) {
     const T kept_log_alpha = finite_gradient ? new_log_alpha[k] : log_alpha[k];
@@ -893,7 +957,7 @@ void update_distance_metric(const LwprParams& params, const Eigen::VectorXd& dif
   for (int i = 0; i < n; ++i) {
     const double change = std::clamp(-params.meta_rate * g[i] * trace[i], -0.1, 0.1);
     log_alpha[i] = std::clamp(log_alpha[i] + change, -10.0, 10.0);
-    const double alpha = std::exp(log_alpha[i]);
+    const double alpha = calc_rate(true, log_alpha[i]);
     const double step = alpha * transient * g[i];
     double applied = 0.0;
     if (std::abs(step) > bound) {

@@ -31,6 +31,13 @@ struct MetricSample {
   const Eigen::VectorXd* md = nullptr;
 };
 
+/// exp(x) as the metric steps compute the learning rates α = exp(log α) with meta learning
+/// (LwprParams::meta; without it they use the C library's exp): armfarm's own, within 0.7 ulp of
+/// the exact value, the same bits in every vector copy and with any libm (glibc's exp differs
+/// between its FMA and plain variants, and between versions). 0 below −745.2, +∞ above 709.8,
+/// NaN for NaN.
+double calc_rate_exp(double x);
+
 /// ∂J1/∂w (the PRESS part of J w.r.t. this sample's activation), from the sample and the field's
 /// memory terms (the univariate case of Schaal & Atkeson 1998's derivation, per projection).
 double calc_press_dw(const ReceptiveField& rf, const MetricSample& sample);
