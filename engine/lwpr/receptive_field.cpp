@@ -826,6 +826,9 @@ void update_receptive_fields(const LwprParams& params, double trust_n_data, cons
     throw std::invalid_argument("update_receptive_fields: 1 to " + std::to_string(kFieldGroup) + " fields");
   }
   int k = 0;
+  bool small = count == 4 && rf[0]->input_dim() <= 3;
+  for (int j = 0; j < count; ++j) small = small && scratch[j]->small_statistics;
+  if (small && update_small_field_statistics_four(x, y, w, rf, scratch)) k = count;  // n = 2 or 3, one R
   for (; k + 1 < count; k += 2) {
     update_field_statistics_pair(x, y, w[k], *rf[k], *scratch[k], w[k + 1], *rf[k + 1], *scratch[k + 1]);
   }

@@ -351,6 +351,55 @@ __attribute__((always_inline)) inline void run_pair(const double* x, double y, d
   });
 }
 
+// Four fields of the same R as two pairs in lockstep: both pairs' scalar steps (BothRuns), then
+// both pairs' passes, projection by projection, so that one pair's chain through √ and the
+// divisions overlaps the other's. Each field's operations are those it runs alone, in order.
+template <int N, int R>
+__attribute__((always_inline)) inline void run_two_pairs(const double* x, double y, const double* w,
+                                                         ReceptiveField* const* rf, FieldScratch* const* scratch) {
+  SmallRun<N> a(w[0], *rf[0], *scratch[0]);
+  SmallRun<N> b(w[1], *rf[1], *scratch[1]);
+  SmallRun<N> c(w[2], *rf[2], *scratch[2]);
+  SmallRun<N> d(w[3], *rf[3], *scratch[3]);
+  BothRuns<N> ab{a, b, {}, {}};
+  BothRuns<N> cd{c, d, {}, {}};
+  ab.template start<R, R>(x, y);
+  cd.template start<R, R>(x, y);
+  for_each_projection<R>([&](auto r) __attribute__((always_inline)) {
+    ab.chain(r);
+    cd.chain(r);
+    if constexpr (r + 1 < R) {
+      ab.pass(r);
+      cd.pass(r);
+    } else {
+      a.template pass<true>(r);
+      b.template pass<true>(r);
+      c.template pass<true>(r);
+      d.template pass<true>(r);
+    }
+  });
+}
+
+template <int N>
+__attribute__((always_inline)) inline bool dispatch_two_pairs(const double* x, double y, const double* w,
+                                                              ReceptiveField* const* rf, FieldScratch* const* scratch) {
+  const int r = rf[0]->n_reg();
+  for (int k = 1; k < 4; ++k) {
+    if (rf[k]->n_reg() != r) return false;
+  }
+  switch (r) {
+    case 1: run_two_pairs<N, 1>(x, y, w, rf, scratch); return true;
+    case 2: run_two_pairs<N, 2>(x, y, w, rf, scratch); return true;
+    case 3:
+      if constexpr (N >= 3) {
+        run_two_pairs<N, 3>(x, y, w, rf, scratch);
+        return true;
+      }
+      return false;
+    default: return false;
+  }
+}
+
 template <int N>
 __attribute__((always_inline)) inline bool dispatch_single(const double* x, double y, double w, ReceptiveField& rf,
                                                            FieldScratch& scratch) {
@@ -424,7 +473,32 @@ __attribute__((target("avx2"))) bool small_statistics_pair_avx2(const Eigen::Vec
   return dispatch_pair<3>(x.data(), y, w_a, rf_a, scratch_a, w_b, rf_b, scratch_b);
 }
 
+bool small_statistics_four_sse2(const Eigen::VectorXd& x, double y, const double* w, ReceptiveField* const* rf,
+                                FieldScratch* const* scratch) {
+  if (rf[0]->input_dim() == 2) return dispatch_two_pairs<2>(x.data(), y, w, rf, scratch);
+  return dispatch_two_pairs<3>(x.data(), y, w, rf, scratch);
+}
+__attribute__((target("avx2"))) bool small_statistics_four_avx2(const Eigen::VectorXd& x, double y, const double* w,
+                                                                ReceptiveField* const* rf,
+                                                                FieldScratch* const* scratch) {
+  if (rf[0]->input_dim() == 2) return dispatch_two_pairs<2>(x.data(), y, w, rf, scratch);
+  return dispatch_two_pairs<3>(x.data(), y, w, rf, scratch);
+}
+
 }  // namespace
+
+bool update_small_field_statistics_four(const Eigen::VectorXd& x, double y, const double* w, ReceptiveField* const* rf,
+                                        FieldScratch* const* scratch) {
+  const int n = rf[0]->input_dim();
+  if (n != 2 && n != 3) return false;
+  bool avx2 = true;
+  for (int k = 0; k < 4; ++k) {
+    if (rf[k]->input_dim() != n) return false;
+    avx2 = avx2 && scratch[k]->use_avx2;
+  }
+  if (avx2) return small_statistics_four_avx2(x, y, w, rf, scratch);
+  return small_statistics_four_sse2(x, y, w, rf, scratch);
+}
 
 bool update_small_field_statistics(const Eigen::VectorXd& x, double y, double w, ReceptiveField& rf,
                                    FieldScratch& scratch) {

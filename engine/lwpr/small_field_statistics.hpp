@@ -27,4 +27,12 @@ bool update_small_field_statistics_pair(const Eigen::VectorXd& x, double y, doub
                                         FieldScratch& scratch_a, double w_b, ReceptiveField& rf_b,
                                         FieldScratch& scratch_b);
 
+/// update_small_field_statistics_pair() for four different fields of the same n and R (rf[k] with
+/// activation w[k] and its own scratch[k]): two pairs in lockstep, projection by projection, so
+/// that one pair's chain through √ and the divisions overlaps the other's. Each field ends with
+/// the same bits as alone. The AVX2 copy runs if every scratch says use_avx2. Returns false, and
+/// changes nothing, unless all four qualify.
+bool update_small_field_statistics_four(const Eigen::VectorXd& x, double y, const double* w, ReceptiveField* const* rf,
+                                        FieldScratch* const* scratch);
+
 }  // namespace armfarm::lwpr

@@ -756,23 +756,27 @@ namespace {
 // update_receptive_fields() on groups of 1–4 fields against update_receptive_field() on each:
 // every statistic the same bits after the same stream, for n = 2 and 3 with full metrics, fields
 // of different projection counts in one group (so a group's metric steps split by R, and at n = 3
-// projections are added on the way), with and without meta learning, on SSE2 (the steps one by
-// one) and on AVX2 (in vector lanes).
+// projections are added on the way) and of one projection count (four such fields' statistics run
+// as two pairs in lockstep), with and without meta learning, on SSE2 (the metric steps one by one)
+// and on AVX2 (in vector lanes).
 TEST(ReceptiveField, FieldGroupUpdateMatchesSingleUpdatesBitForBit) {
   for (const int n : {2, 3}) {
-    for (const bool meta : {false, true}) {
+    for (const int mode : {0, 1, 2, 3}) {
+      const bool meta = (mode & 1) != 0;
+      const bool one_r = (mode & 2) != 0;
       for (const bool avx2 : {false, true}) {
         if (avx2 && !has_avx2()) continue;
         LwprParams params = make_full_metric_params(meta);
         params.init_n_reg = 1;
-        std::mt19937_64 rng(static_cast<unsigned>(17 * n + 2 * meta + avx2));
+        std::mt19937_64 rng(static_cast<unsigned>(17 * n + 2 * mode + avx2));
         std::uniform_real_distribution<double> uniform(-1.0, 1.0);
         ReceptiveField start[kFieldGroup];
         for (int k = 0; k < kFieldGroup; ++k) {
           Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return uniform(rng); });
           const Eigen::MatrixXd D = 2.0 * Eigen::MatrixXd::Identity(n, n) + A.transpose() * A;
           start[k] = make_receptive_field(params, Eigen::VectorXd::Constant(n, 0.05 * k), D);
-          while (start[k].n_reg() < 1 + k % n) add_projection(params, start[k]);  // R = 1, 2, (3,) 1, …
+          const int n_reg = one_r ? 2 : 1 + k % n;  // R = 2, 2, 2, 2 or 1, 2, (3,) 1, …
+          while (start[k].n_reg() < n_reg) add_projection(params, start[k]);
         }
         for (int count = 1; count <= kFieldGroup; ++count) {
           ReceptiveField group[kFieldGroup], alone[kFieldGroup];
@@ -801,7 +805,8 @@ TEST(ReceptiveField, FieldGroupUpdateMatchesSingleUpdatesBitForBit) {
             }
             update_receptive_fields(params, 2.0 * n, x, y, count, w, fields, scratches);
           }
-          const std::string where = "n = " + std::to_string(n) + ", meta " + std::to_string(meta) + ", " +
+          const std::string where = "n = " + std::to_string(n) + ", meta " + std::to_string(meta) +
+                                    (one_r ? ", one R, " : ", mixed R, ") +
                                     std::to_string(count) + " fields" + (avx2 ? ", AVX2" : ", SSE2");
           for (int k = 0; k < count; ++k) {
             stepped += group[k].metric_factor != start[k].metric_factor ? 1 : 0;
