@@ -507,7 +507,8 @@ TEST(DistanceMetric, DiagonalMetaStepUsesTheRateExp) {
   ASSERT_EQ(found, n);
   rf.meta_trace.setZero();
   const Eigen::VectorXd diff = Eigen::Vector3d(0.1, -0.2, 0.15);
-  const Eigen::VectorXd s = Eigen::VectorXd::Constant(1, 0.4), e = Eigen::VectorXd::Constant(1, 0.2);
+  const Eigen::VectorXd s = Eigen::VectorXd::Constant(rf.n_reg(), 0.4);
+  const Eigen::VectorXd e = Eigen::VectorXd::Constant(rf.n_reg(), 0.2);
   const Eigen::VectorXd e_cv = 1.1 * e;
   MetricSample sample(s, e, e_cv);
   sample.q = rf.metric.col(0).dot(diff.cwiseAbs2());
