@@ -84,10 +84,11 @@ __attribute__((always_inline)) inline T abs_of(const T& v) {
 // exp(x) for the metrics' learning rates α = exp(log α) (calc_rate_exp()), on T = double or Quad:
 // the same operations in every lane, so the same bits alone or in a vector, and with any libm.
 // x = k·ln 2 + r with k = round(x/ln 2) and |r| ≤ ln 2/2 (Cody–Waite: ln 2 split so that k·ln2_hi
-// is exact); exp(r) by its Taylor series to r¹³ (the next term is below 10⁻¹⁷), evaluated in
-// Estrin's scheme for a short dependency chain, 1 + r added exactly; then 2^k as two exact power-of-two factors, so
-// that results near overflow and in the subnormal range round once. x is clamped to [−746, 710]
-// first (past them exp is 0 or +∞ in double; a NaN passes through).
+// is exact, its rounding error carried); exp(r) by its Taylor series to r¹³ (the next term is below
+// 10⁻¹⁷), evaluated in Estrin's scheme for a short dependency chain, 1 + r added exactly; then 2^k
+// as two exact power-of-two factors, so that results near overflow and in the subnormal range
+// round once. x is clamped to [−746, 710] first (past them exp is 0 or +∞ in double; a NaN passes
+// through).
 constexpr double kRound = 6755399441055744.0;  // 1.5·2⁵²: t + kRound − kRound rounds t to an integer
 constexpr double kInvLn2 = 1.4426950408889634074;
 constexpr double kLn2Hi = 6.93147180369123816490e-01;  // ln 2's leading 32 bits: k·kLn2Hi is exact for |k| < 2²¹
@@ -501,7 +502,7 @@ void update_diagonal_metric(const LwprParams& params, const Eigen::VectorXd& dif
   for (int i = 0; i < n; ++i) {
     if (!(log_alpha[i] == last_log_alpha)) {
       last_log_alpha = log_alpha[i];
-      last_alpha = std::exp(log_alpha[i]);  // calc_rate() without meta learning
+      last_alpha = calc_rate(false, log_alpha[i]);
     }
     const double step = last_alpha * transient * grad[i];
     old[i] = M[i];
@@ -574,16 +575,16 @@ __attribute__((always_inline)) inline void calc_rates_of(bool meta, const T* log
   }
 }
 
-// The fields of one metric step on T: lane l's field, scratch and activation. Lanes from `count`
-// on repeat lane 0's field, scratch and activation, so they compute lane 0's values, bit for bit,
-// and writing them back writes what lane 0 writes: every store takes all lanes, unconditionally.
+// The fields of one metric step on T: lane l's field, scratch and activation. Lanes past the
+// group's fields repeat lane 0's field, scratch and activation, so they compute lane 0's values,
+// bit for bit, and writing them back writes what lane 0 writes: every store takes all lanes,
+// unconditionally.
 template <class T>
 struct FieldLanes {
   static constexpr int kLanes = kLaneCount<T>;
   ReceptiveField* rf[kLanes];
   const FieldScratch* scratch[kLanes];
   double w[kLanes];
-  int count = 1;
 
   // The vector whose lane l is f(l).
   template <class F>
@@ -852,7 +853,6 @@ void field_metrics(const LwprParams& params, const double* x, int count, const d
   for (int k = 0; k < count; ++k) avx2 = avx2 && scratch[k]->use_avx2;
   if (avx2 && count > 1) {
     FieldLanes<Quad> fields;
-    fields.count = count;
     for (int l = 0; l < FieldLanes<Quad>::kLanes; ++l) {
       const int k = l < count ? l : 0;
       fields.rf[l] = rf[k];
@@ -897,7 +897,8 @@ void update_small_full_field_metrics(const LwprParams& params, const Eigen::Vect
   const int n = rf[0]->input_dim(), n_reg = rf[0]->n_reg();
   for (int k = 1; k < count; ++k) {
     if (rf[k]->input_dim() != n || rf[k]->n_reg() != n_reg) {
-      throw std::invalid_argument("update_small_full_field_metrics: fields of one input dimension and projection count");
+      throw std::invalid_argument(
+          "update_small_full_field_metrics: fields of one input dimension and projection count");
     }
   }
   switch (n * 4 + n_reg) {

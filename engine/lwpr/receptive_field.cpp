@@ -809,13 +809,9 @@ void update_field_statistics_pair(const Eigen::VectorXd& x, double y, double w_a
 
 void update_receptive_field(const LwprParams& params, double trust_n_data, const Eigen::VectorXd& x, double y,
                             double w, ReceptiveField& rf, FieldScratch& scratch) {
-  update_field_statistics(x, y, w, rf, scratch);
-  switch (update_loo_sums(params, w, rf, scratch)) {
-    case MetricStep::kSmallFull: update_small_full_field_metric(params, x, w, scratch, rf); break;
-    case MetricStep::kGeneral: update_field_metric(params, x, w, rf, scratch); break;
-    case MetricStep::kNone: break;
-  }
-  finish_field_update(params, trust_n_data, rf);
+  ReceptiveField* fields[1] = {&rf};
+  FieldScratch* scratches[1] = {&scratch};
+  update_receptive_fields(params, trust_n_data, x, y, 1, &w, fields, scratches);
 }
 
 static_assert(kFieldGroup <= kMetricLanes, "a group's metric steps fit one call");
